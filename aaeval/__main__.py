@@ -1,0 +1,5 @@
+import sys
+
+from aaeval.cli import main
+
+sys.exit(main())

@@ -1,0 +1,22 @@
+"""``aaeval methods``: the registered methods and their options."""
+
+from __future__ import annotations
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("methods", help="list rendering methods and their options",
+                       description="List every registered rendering method with its options and defaults.")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from aaeval.renderers import METHODS, resolve
+
+    resolve("catmull")  # loads the registry
+    for name in sorted(METHODS):
+        m = METHODS[name]
+        print(f"{name}{'  [exact]' if m.exact else ''}: {m.summary}")
+        for key, opt in sorted(m.options.items()):
+            choices = f" one of {list(opt.choices)}" if opt.choices else ""
+            print(f"    {key}={opt.default!r} ({opt.type.__name__}{choices}) {opt.doc}")
+    return 0

@@ -1,0 +1,87 @@
+"""Writing images: ``.npy`` (float64 linear RGB), ``.exr`` (float32 linear), ``.png`` (8-bit sRGB).
+
+Every write goes to a temporary file beside the target and is moved into place only when
+complete, so a failed run never leaves a half-written image or clobbers an earlier one.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["save_image", "load_image", "linear_to_srgb8", "atomic_write", "SUFFIXES"]
+
+SUFFIXES = (".npy", ".exr", ".png")
+
+
+def linear_to_srgb8(image: np.ndarray) -> np.ndarray:
+    """Linear RGB in [0, 1] to 8-bit sRGB (IEC 61966-2-1 transfer function)."""
+    x = np.clip(np.asarray(image, dtype=np.float64), 0.0, 1.0)
+    srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+    return np.round(srgb * 255.0).astype(np.uint8)
+
+
+def atomic_write(path: str | Path, write) -> Path:
+    """Call ``write(tmp_path)`` then move the temporary file onto ``path``."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
+    os.close(fd)
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+def save_image(path: str | Path, image: np.ndarray) -> Path:
+    """Save an (H, W, 3) linear RGB image; the format follows the suffix."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in SUFFIXES:
+        raise ValueError(f"{path}: unknown image suffix {path.suffix!r}; use one of {', '.join(SUFFIXES)}")
+    image = np.asarray(image)
+    if image.ndim != 3 or image.shape[2] != 3:
+        raise ValueError(f"expected an (H, W, 3) image, got shape {image.shape}")
+    if suffix == ".npy":
+        return atomic_write(path, lambda tmp: np.save(tmp, image.astype(np.float64)))
+    if suffix == ".png":
+        from PIL import Image
+
+        return atomic_write(path, lambda tmp: Image.fromarray(linear_to_srgb8(image), "RGB").save(tmp, format="PNG"))
+    return atomic_write(path, lambda tmp: _write_exr(tmp, image))
+
+
+def _write_exr(path: str, image: np.ndarray) -> None:
+    import mitsuba as mi
+
+    if mi.variant() is None:
+        mi.set_variant("scalar_rgb")
+    bitmap = mi.Bitmap(np.ascontiguousarray(image, dtype=np.float32), mi.Bitmap.PixelFormat.RGB)
+    bitmap.write(str(path), mi.Bitmap.FileFormat.OpenEXR)
+
+
+def load_image(path: str | Path) -> np.ndarray:
+    """Load an image written by :func:`save_image` as float64 (PNG decoded to linear)."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix == ".npy":
+        return np.load(path)
+    if suffix == ".png":
+        from PIL import Image
+
+        s = np.asarray(Image.open(path).convert("RGB"), dtype=np.float64) / 255.0
+        return np.where(s <= 0.04045, s / 12.92, ((s + 0.055) / 1.055) ** 2.4)
+    if suffix == ".exr":
+        import mitsuba as mi
+
+        if mi.variant() is None:
+            mi.set_variant("scalar_rgb")
+        return np.array(mi.Bitmap(str(path)), dtype=np.float64)[..., :3]
+    raise ValueError(f"{path}: unknown image suffix {path.suffix!r}")

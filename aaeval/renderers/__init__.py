@@ -1,0 +1,34 @@
+"""Rendering methods, one module per method, all in one registry.
+
+Importing this package registers every built-in method. Use :func:`render` with a spec
+string (``"catmull"``, ``"supersample:k=4"``) or look methods up in :data:`METHODS`.
+"""
+
+from aaeval.renderers.registry import (
+    METHODS,
+    Method,
+    MethodError,
+    Option,
+    format_spec,
+    parse_spec,
+    register_method,
+    render,
+    render_timed,
+    resolve,
+)
+
+# one import per method module; each registers its methods
+from aaeval.renderers import catmull  # noqa: E402,F401
+
+__all__ = [
+    "METHODS",
+    "Method",
+    "MethodError",
+    "Option",
+    "format_spec",
+    "parse_spec",
+    "register_method",
+    "render",
+    "render_timed",
+    "resolve",
+]

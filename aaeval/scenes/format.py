@@ -1,0 +1,346 @@
+"""The polygon scene format (``shared/SCENE_FORMAT.md``): parsing and validation.
+
+A scene file is TOML. Its core keys are ``[image]``, ``[animation]`` and
+``[[polygons]]``; other top-level tables are extensions, each parsed by a function
+registered with :func:`register_section`. Every rule is checked before anything is
+rendered, and a broken file raises :class:`SceneError` naming the file, the polygon
+and the rule.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any, Callable, Mapping
+
+import numpy as np
+
+__all__ = [
+    "Polygon",
+    "Scene",
+    "SceneError",
+    "load_scene",
+    "parse_scene",
+    "register_section",
+]
+
+# Relative tolerance for "planar": distance of a vertex from the best-fit plane,
+# against the polygon's size. Well above float64 noise, far below any visible tilt.
+PLANARITY_RTOL = 1e-9
+
+
+class SceneError(ValueError):
+    """A scene file (or dictionary) breaks a rule of the scene format."""
+
+
+@dataclass(frozen=True)
+class Polygon:
+    """One flat-coloured planar polygon in image space.
+
+    Attributes
+    ----------
+    vertices : ndarray, shape (n, 3)
+        x, y (pixels, y down) and depth z, in the file's order.
+    color : ndarray, shape (3,)
+        Linear RGB.
+    index : int
+        Position in the file; on an exactly shared depth plane the later one is in front.
+    plane : ndarray, shape (3,)
+        ``(a, b, c)`` with depth ``z = a x + b y + c``; NaN for a polygon seen edge-on
+        (zero projected area), which covers nothing.
+    """
+
+    vertices: np.ndarray
+    color: np.ndarray
+    index: int
+    plane: np.ndarray
+
+    @property
+    def xy(self) -> np.ndarray:
+        return self.vertices[:, :2]
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A parsed, validated scene at one frame of its animation."""
+
+    width: int
+    height: int
+    background: np.ndarray
+    polygons: tuple[Polygon, ...]
+    frames: int = 1
+    translate: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    frame: int = 0
+    source: str = "<scene>"
+    extensions: Mapping[str, Any] = field(default_factory=dict)
+
+    def at_frame(self, k: int) -> "Scene":
+        """The scene translated to frame ``k`` (0-based) of its animation."""
+        if not (isinstance(k, (int, np.integer)) and 0 <= k < self.frames):
+            raise SceneError(f"{self.source}: frame {k} is outside 0..{self.frames - 1}")
+        shift = (int(k) - self.frame) * self.translate
+        if not shift.any():
+            return replace(self, frame=int(k))
+        moved = tuple(_translated(p, shift) for p in self.polygons)
+        extensions = {
+            name: _SECTIONS[name].translate(value, shift) if _SECTIONS[name].translate else value
+            for name, value in self.extensions.items()
+        }
+        return replace(self, polygons=moved, frame=int(k), extensions=extensions)
+
+    @property
+    def shape(self) -> tuple[int, int, int]:
+        return (self.height, self.width, 3)
+
+
+def _translated(p: Polygon, shift: np.ndarray) -> Polygon:
+    v = p.vertices.copy()
+    v[:, :2] += shift
+    return replace(p, vertices=v, plane=_plane_of(v))
+
+
+@dataclass(frozen=True)
+class _Section:
+    parse: Callable[[Any, str, dict], Any]
+    translate: Callable[[Any, np.ndarray], Any] | None
+
+
+_SECTIONS: dict[str, _Section] = {}
+_CORE_KEYS = {"image", "animation", "polygons"}
+
+
+def register_section(
+    name: str,
+    parse: Callable[[Any, str, dict], Any],
+    translate: Callable[[Any, np.ndarray], Any] | None = None,
+) -> None:
+    """Register an extension table of the scene format.
+
+    ``parse(value, where, document)`` validates the raw TOML value (raising
+    :class:`SceneError` with ``where`` in the message) and returns what renderers read
+    from ``scene.extensions[name]``; ``translate(parsed, shift)`` moves it by a frame's
+    translation.
+    """
+    if name in _CORE_KEYS:
+        raise ValueError(f"{name!r} is a core key of the scene format")
+    _SECTIONS[name] = _Section(parse, translate)
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read and validate a scene file.
+
+    Raises
+    ------
+    SceneError
+        The file is missing, is not TOML, or breaks a rule of the format.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise SceneError(f"{path}: cannot read scene file ({exc.strerror})") from None
+    try:
+        document = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{path}: not valid TOML ({exc})") from None
+    return parse_scene(document, source=str(path))
+
+
+def parse_scene(document: Mapping[str, Any], *, source: str = "<scene>") -> Scene:
+    """Validate a scene given as a dictionary (the parsed TOML)."""
+    if not isinstance(document, Mapping):
+        raise SceneError(f"{source}: a scene is a table of keys, got {type(document).__name__}")
+    unknown = sorted(set(document) - _CORE_KEYS - set(_SECTIONS))
+    if unknown:
+        known = ", ".join(sorted(_CORE_KEYS | set(_SECTIONS)))
+        raise SceneError(f"{source}: unknown top-level key(s) {unknown}; known keys: {known}")
+
+    image = _table(document, "image", source, required=True)
+    _no_unknown(image, {"width", "height", "background"}, f"{source}: [image]")
+    width = _positive_int(image, "width", f"{source}: [image]")
+    height = _positive_int(image, "height", f"{source}: [image]")
+    background = _rgb(image.get("background", [0.0, 0.0, 0.0]), f"{source}: [image].background")
+
+    animation = _table(document, "animation", source, required=False)
+    _no_unknown(animation, {"frames", "translate"}, f"{source}: [animation]")
+    frames = _positive_int(animation, "frames", f"{source}: [animation]") if "frames" in animation else 1
+    translate = _vector(animation.get("translate", [0.0, 0.0]), 2, f"{source}: [animation].translate")
+
+    raw_polygons = document.get("polygons", [])
+    if not isinstance(raw_polygons, list):
+        raise SceneError(f"{source}: 'polygons' must be an array of tables ([[polygons]])")
+    polygons = tuple(_polygon(raw, i, source) for i, raw in enumerate(raw_polygons))
+
+    extensions = {
+        name: _SECTIONS[name].parse(document[name], f"{source}: [{name}]", dict(document))
+        for name in document
+        if name in _SECTIONS
+    }
+    return Scene(
+        width=width,
+        height=height,
+        background=background,
+        polygons=polygons,
+        frames=frames,
+        translate=translate,
+        source=source,
+        extensions=extensions,
+    )
+
+
+# --- checks -----------------------------------------------------------------------
+
+
+def _table(document: Mapping, key: str, source: str, *, required: bool) -> Mapping:
+    if key not in document:
+        if required:
+            raise SceneError(f"{source}: missing required table [{key}]")
+        return {}
+    value = document[key]
+    if not isinstance(value, Mapping):
+        raise SceneError(f"{source}: [{key}] must be a table, got {type(value).__name__}")
+    return value
+
+
+def _no_unknown(table: Mapping, allowed: set[str], where: str) -> None:
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise SceneError(f"{where}: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
+
+
+def _positive_int(table: Mapping, key: str, where: str) -> int:
+    if key not in table:
+        raise SceneError(f"{where}: missing required key '{key}'")
+    value = table[key]
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise SceneError(f"{where}: '{key}' must be an integer, got {value!r}")
+    if value < 1:
+        raise SceneError(f"{where}: '{key}' must be >= 1, got {value}")
+    return value
+
+
+def _number(value: Any, where: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise SceneError(f"{where}: expected a number, got {value!r}")
+    if not math.isfinite(value):
+        raise SceneError(f"{where}: non-finite number {value!r}")
+    return float(value)
+
+
+def _vector(value: Any, n: int, where: str) -> np.ndarray:
+    if not isinstance(value, list) or len(value) != n:
+        raise SceneError(f"{where}: expected a list of {n} numbers, got {value!r}")
+    return np.array([_number(v, where) for v in value], dtype=np.float64)
+
+
+def _rgb(value: Any, where: str) -> np.ndarray:
+    return _vector(value, 3, where)
+
+
+def _polygon(raw: Any, i: int, source: str) -> Polygon:
+    where = f"{source}: polygons[{i}]"
+    if not isinstance(raw, Mapping):
+        raise SceneError(f"{where}: must be a table with 'color' and 'vertices'")
+    _no_unknown(raw, {"color", "vertices"}, where)
+    for key in ("color", "vertices"):
+        if key not in raw:
+            raise SceneError(f"{where}: missing required key '{key}'")
+    color = _rgb(raw["color"], f"{where}.color")
+    vertices_raw = raw["vertices"]
+    if not isinstance(vertices_raw, list):
+        raise SceneError(f"{where}.vertices: expected a list of [x, y, z] points")
+    if len(vertices_raw) < 3:
+        raise SceneError(f"{where}: a polygon needs at least 3 vertices, got {len(vertices_raw)}")
+    vertices = np.array(
+        [_vector(v, 3, f"{where}.vertices[{j}]") for j, v in enumerate(vertices_raw)]
+    )
+    _check_planar(vertices, where)
+    _check_simple(vertices[:, :2], where)
+    return Polygon(vertices=vertices, color=color, index=i, plane=_plane_of(vertices))
+
+
+def newell_normal(vertices: np.ndarray) -> np.ndarray:
+    """Newell's normal of a polygon: twice its vector area, robust for concave outlines."""
+    v = vertices - vertices.mean(axis=0)
+    nxt = np.roll(v, -1, axis=0)
+    return np.array(
+        [
+            np.sum((v[:, 1] - nxt[:, 1]) * (v[:, 2] + nxt[:, 2])),
+            np.sum((v[:, 2] - nxt[:, 2]) * (v[:, 0] + nxt[:, 0])),
+            np.sum((v[:, 0] - nxt[:, 0]) * (v[:, 1] + nxt[:, 1])),
+        ]
+    )
+
+
+def _plane_of(vertices: np.ndarray) -> np.ndarray:
+    """Depth plane ``z = a x + b y + c``; NaN when the polygon is seen edge-on."""
+    n = newell_normal(vertices)
+    size = np.ptp(vertices[:, :2], axis=0).max() if len(vertices) else 0.0
+    if abs(n[2]) <= 1e-12 * max(size, 1.0) ** 2:
+        return np.full(3, np.nan)
+    centre = vertices.mean(axis=0)
+    a, b = -n[0] / n[2], -n[1] / n[2]
+    return np.array([a, b, centre[2] - a * centre[0] - b * centre[1]])
+
+
+def _check_planar(vertices: np.ndarray, where: str) -> None:
+    if len(vertices) == 3:
+        return
+    n = newell_normal(vertices)
+    norm = np.linalg.norm(n)
+    size = np.ptp(vertices, axis=0).max()
+    if norm <= 1e-300 or size == 0.0:
+        raise SceneError(f"{where}: degenerate polygon (all vertices on one line or point)")
+    distance = np.abs((vertices - vertices.mean(axis=0)) @ (n / norm))
+    if distance.max() > PLANARITY_RTOL * size:
+        j = int(distance.argmax())
+        raise SceneError(
+            f"{where}: polygon is not planar (vertex {j} lies {distance.max():.3g} "
+            "from the plane of the others)"
+        )
+
+
+def _check_simple(xy: np.ndarray, where: str) -> None:
+    """Refuse an outline whose non-adjacent edges cross or touch (seen from the camera)."""
+    n = len(xy)
+    if n < 4:
+        return
+    p, q = xy, np.roll(xy, -1, axis=0)
+    i, j = np.triu_indices(n, k=2)
+    keep = ~((i == 0) & (j == n - 1))  # the first and last edges share a vertex
+    i, j = i[keep], j[keep]
+    if len(i) == 0:
+        return
+    hit = _segments_meet(p[i], q[i], p[j], q[j])
+    if hit.any():
+        k = int(np.flatnonzero(hit)[0])
+        raise SceneError(
+            f"{where}: polygon is self-crossing (edge {i[k]} meets edge {j[k]})"
+        )
+
+
+def _segments_meet(a, b, c, d) -> np.ndarray:
+    """Whether closed segments ab and cd share a point (vectorised, exact orientation)."""
+
+    def orient(p, q, r):
+        return np.sign((q[:, 0] - p[:, 0]) * (r[:, 1] - p[:, 1]) - (q[:, 1] - p[:, 1]) * (r[:, 0] - p[:, 0]))
+
+    def within(p, q, r):  # r on segment pq given collinear
+        return (
+            (np.minimum(p[:, 0], q[:, 0]) <= r[:, 0])
+            & (r[:, 0] <= np.maximum(p[:, 0], q[:, 0]))
+            & (np.minimum(p[:, 1], q[:, 1]) <= r[:, 1])
+            & (r[:, 1] <= np.maximum(p[:, 1], q[:, 1]))
+        )
+
+    o1, o2, o3, o4 = orient(a, b, c), orient(a, b, d), orient(c, d, a), orient(c, d, b)
+    proper = (o1 * o2 < 0) & (o3 * o4 < 0)
+    touching = (
+        ((o1 == 0) & within(a, b, c))
+        | ((o2 == 0) & within(a, b, d))
+        | ((o3 == 0) & within(c, d, a))
+        | ((o4 == 0) & within(c, d, b))
+    )
+    return proper | touching

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs aaeval and everything it needs: the Python package with its test extras, and
+# on Debian-like machines the shared libLLVM that Mitsuba's LLVM variant loads.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+PY=${PYTHON:-python3}
+
+have_llvm() { ls /usr/lib/x86_64-linux-gnu/libLLVM.so.1[6-9]* /usr/lib/x86_64-linux-gnu/libLLVM-1[6-9]*.so* \
+  /usr/lib/aarch64-linux-gnu/libLLVM.so.1[6-9]* /usr/lib/aarch64-linux-gnu/libLLVM-1[6-9]*.so* >/dev/null 2>&1; }
+
+if ! have_llvm && [ -z "${DRJIT_LIBLLVM_PATH:-}" ]; then
+  if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
+    echo "installing libllvm19 for Mitsuba's LLVM variant"
+    (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libllvm19 >/dev/null) \
+      || echo "warning: could not install libllvm19; Mitsuba falls back to scalar_rgb (slow)" >&2
+  else
+    echo "note: no libLLVM >= 16 found. Install LLVM 16+ (e.g. 'apt-get install libllvm19' or 'brew install llvm')" >&2
+    echo "      or set DRJIT_LIBLLVM_PATH; otherwise Mitsuba runs its slow scalar_rgb variant." >&2
+  fi
+fi
+
+"$PY" -m pip install -q --disable-pip-version-check -e ".[test]"
