@@ -1,0 +1,1 @@
+# Lets the tests import aaeval from a plain checkout, without installing it.
