@@ -283,11 +283,13 @@ def _strip_coverage(xs, ys, start, n, row, c0, c1, cov, cov_off):
 
 
 @njit(cache=True)
-def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, jagged):
+def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, jagged, centroids):
     """Visible fragments of every pixel.
 
     Returns ``(pix, src, area, cx, cy)``: pixel index ``row * width + col``, source
-    polygon (-1 for background), visible area, and its area centroid.
+    polygon (-1 for background), visible area, and its area centroid. With
+    ``centroids`` false the fast paths skip finding centroids (flat colours need none)
+    and report the pixel centre instead.
     """
     n_polys = pstart0.size
     # I. sort polygons on their first scanline
@@ -548,20 +550,21 @@ def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, ja
                 behind = sp_src[solid]
             if behind != -2:
                 cv = cov[sp_cov[first] + col - sp_c0[first]]
-                # the irregular piece's centroid: clip it to the pixel column
-                need = 6 * sp_len[first] + 16  # two half-plane clips: up to 2n, then 4n
-                if need > ws_x.size:
-                    ws_x = _grow(ws_x, need)
-                    ws_y = _grow(ws_y, need)
-                    ws_f = _grow(ws_f, need)
-                m1 = clip_side(sp_x, sp_y, sp_f, sp_start[first], sp_len[first], 1.0, 0.0, -float(col), 1,
-                               ws_x, ws_y, ws_f, 0)
-                m2 = clip_side(ws_x, ws_y, ws_f, 0, m1, 1.0, 0.0, -float(col + 1), -1,
-                               ws_x, ws_y, ws_f, m1)
-                _, icx, icy = area_centroid(ws_x, ws_y, m1, m2)
-                if m2 == 0:
-                    icx = xc
-                    icy = yc
+                icx = xc
+                icy = yc
+                if centroids:
+                    # the irregular piece's centroid: clip it to the pixel column
+                    need = 6 * sp_len[first] + 16  # two half-plane clips: up to 2n, then 4n
+                    if need > ws_x.size:
+                        ws_x = _grow(ws_x, need)
+                        ws_y = _grow(ws_y, need)
+                        ws_f = _grow(ws_f, need)
+                    m1 = clip_side(sp_x, sp_y, sp_f, sp_start[first], sp_len[first], 1.0, 0.0, -float(col), 1,
+                                   ws_x, ws_y, ws_f, 0)
+                    m2 = clip_side(ws_x, ws_y, ws_f, 0, m1, 1.0, 0.0, -float(col + 1), -1,
+                                   ws_x, ws_y, ws_f, m1)
+                    if m2 > 0:
+                        _, icx, icy = area_centroid(ws_x, ws_y, m1, m2)
                 f_pix[n_frag] = pix
                 f_src[n_frag] = sp_src[first]
                 f_area[n_frag] = cv
