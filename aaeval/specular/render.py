@@ -37,6 +37,7 @@ __all__ = [
     "render_shaded",
     "specular_aliasing_map",
     "fragment_parameters",
+    "scaled_scene",
 ]
 
 SPECULAR_METHODS = ("none", "amanatides", "crow", *MODERN_CLAMPS)
@@ -214,7 +215,7 @@ def _supersampled(expanded: ShadedScene, fragments: Fragments, rows: np.ndarray,
     """K x K-shaded contribution of the chosen pieces, from the scene scaled by K."""
     scene = expanded.scene
     field = expanded.field
-    fine = visible_fragments(_scaled(scene, k))
+    fine = visible_fragments(scaled_scene(scene, k))
     fine_col = fine.pixel % (scene.width * k)
     fine_row = fine.pixel // (scene.width * k)
     parent = (fine_row // k) * scene.width + fine_col // k
@@ -228,7 +229,7 @@ def _supersampled(expanded: ShadedScene, fragments: Fragments, rows: np.ndarray,
     return _accumulate(parent[keep], fine.area[keep] / (k * k), rgb, spec, size)
 
 
-def _scaled(scene: Scene, k: int) -> Scene:
+def scaled_scene(scene: Scene, k: int) -> Scene:
     """The scene magnified k times in x and y (depth planes rescaled to match)."""
     scale = np.array([k, k, 1.0])
     polygons = tuple(
