@@ -2,6 +2,7 @@
 
 from aaeval.scenes.format import (
     Polygon,
+    PolygonArrays,
     Scene,
     SceneError,
     load_scene,
@@ -15,6 +16,7 @@ from aaeval.scenes import shaded  # noqa: E402,F401
 
 __all__ = [
     "Polygon",
+    "PolygonArrays",
     "Scene",
     "SceneError",
     "load_scene",
