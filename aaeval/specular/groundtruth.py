@@ -25,7 +25,18 @@ import numpy as np
 from aaeval.scenes import Scene
 from aaeval.scenes.shaded import expand_shaded
 
-__all__ = ["INTEGRATOR", "phong_integrator", "phong_scene_dict", "render_mitsuba_phong"]
+__all__ = [
+    "INTEGRATOR",
+    "PHONG_VERSION",
+    "phong_integrator",
+    "phong_scene_dict",
+    "render_mitsuba_phong",
+    "shading_digest",
+    "groundtruth_phong",
+]
+
+# bumped whenever the Phong conversion to Mitsuba changes (part of the cache key)
+PHONG_VERSION = 1
 
 INTEGRATOR = "aaeval_phong"
 _REGISTERED: set[str] = set()
@@ -193,3 +204,61 @@ def render_mitsuba_phong(
         rgb[r0:r1] = out[..., :3]
         specular[r0:r1] = out[..., -1]
     return rgb, specular
+
+
+def shading_digest(scene: Scene) -> str:
+    """SHA-256 of a shaded scene at its frame: the expanded geometry and all shading data."""
+    import hashlib
+
+    from aaeval.groundtruth.cache import scene_digest
+
+    expanded = expand_shaded(scene)
+    field = expanded.field
+    h = hashlib.sha256(scene_digest(expanded.scene).encode())
+    for array in (field.shaded, field.G, field.ka, field.kd, field.ks, field.n):
+        h.update(np.ascontiguousarray(array, dtype="<f8").tobytes())
+    if field.light is not None:
+        h.update(field.light.kind.encode())
+        h.update(np.ascontiguousarray(field.light.vector, dtype="<f8").tobytes())
+    return h.hexdigest()
+
+
+def groundtruth_phong(
+    scene: Scene,
+    *,
+    spp: int = 1024,
+    sampler: str = "stratified",
+    seed: int = 0,
+    variant: str = "auto",
+    cache: bool = True,
+) -> tuple[np.ndarray, np.ndarray, bool]:
+    """:func:`render_mitsuba_phong`, cached on disk beside the flat ground truths.
+
+    Returns ``(rgb, specular, hit)``; ``hit`` is True when read from the cache. The key
+    covers the expanded scene and shading (:func:`shading_digest`), spp, sampler, seed,
+    the Mitsuba version and :data:`PHONG_VERSION`; files are written atomically.
+    """
+    import hashlib
+    import json
+
+    from importlib.metadata import version
+
+    from aaeval.groundtruth.cache import cache_dir
+    from aaeval.imageio import atomic_write
+
+    if not cache:
+        return (*render_mitsuba_phong(scene, spp=spp, sampler=sampler, seed=seed, variant=variant), False)
+    config = {"scene": shading_digest(scene), "spp": int(spp), "sampler": sampler, "seed": int(seed),
+              "mitsuba": version("mitsuba"), "phong": PHONG_VERSION}
+    key = hashlib.sha256(json.dumps(config, sort_keys=True).encode()).hexdigest()[:32]
+    path = cache_dir() / f"phong-{key}.npz"
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            rgb, specular = data["rgb"], data["specular"]
+        if rgb.shape == scene.shape and specular.shape == scene.shape[:2]:
+            return rgb, specular, True
+    except (OSError, ValueError, EOFError, KeyError):  # missing or unreadable: render again
+        pass
+    rgb, specular = render_mitsuba_phong(scene, spp=spp, sampler=sampler, seed=seed, variant=variant)
+    atomic_write(path, lambda tmp: np.savez(tmp, rgb=rgb, specular=specular))
+    return rgb, specular, False
