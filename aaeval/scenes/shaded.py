@@ -21,7 +21,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from aaeval.scenes.format import Polygon, Scene, SceneError, _plane_of, register_section
+from aaeval.scenes.format import Polygon, Scene, SceneError, register_section
 
 __all__ = [
     "SECTION",
@@ -152,13 +152,13 @@ def expand_shaded(scene: Scene) -> ShadedScene:
     if section is not None:
         for obj in section.objects:
             vertices, normals = _spun(obj, scene.frame)
-            for tri in obj.triangles:
-                v = vertices[tri]
-                if np.linalg.norm(np.cross(v[1] - v[0], v[2] - v[0])) <= 1e-12 * (1 + np.abs(v).max()) ** 2:
-                    continue
-                rows.append((v, normals[tri], obj.material))
+            v = vertices[obj.triangles]  # (t, 3, 3)
+            twice_area = np.linalg.norm(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), axis=1)
+            keep = twice_area > 1e-12 * (1 + np.abs(v).max()) ** 2
+            rows += [(tv, tn, obj.material) for tv, tn in zip(v[keep], normals[obj.triangles[keep]])]
+    planes = _triangle_planes(np.array([r[0] for r in rows]).reshape(-1, 3, 3))
     polygons = core + [
-        Polygon(vertices=v, color=np.asarray(m.color, dtype=np.float64), index=n_core + i, plane=_plane_of(v))
+        Polygon(vertices=v, color=np.asarray(m.color, dtype=np.float64), index=n_core + i, plane=planes[i])
         for i, (v, _, m) in enumerate(rows)
     ]
     total = len(polygons)
@@ -174,6 +174,19 @@ def expand_shaded(scene: Scene) -> ShadedScene:
         light=None if section is None else section.light,
     )
     return ShadedScene(scene=replace(scene, polygons=tuple(polygons)), field=field)
+
+
+def _triangle_planes(v: np.ndarray) -> np.ndarray:
+    """Depth planes z = a x + b y + c of triangles (t, 3, 3); NaN rows for edge-on ones."""
+    n = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+    size = np.ptp(v[:, :, :2], axis=1).max(axis=1) if len(v) else np.zeros(0)
+    edge_on = np.abs(n[:, 2]) <= 1e-12 * np.maximum(size, 1.0) ** 2
+    nz = np.where(edge_on, 1.0, n[:, 2])
+    a, b = -n[:, 0] / nz, -n[:, 1] / nz
+    centre = v.mean(axis=1)
+    planes = np.stack([a, b, centre[:, 2] - a * centre[:, 0] - b * centre[:, 1]], axis=1)
+    planes[edge_on] = np.nan
+    return planes
 
 
 def _column(rows, n_core: int, name: str) -> np.ndarray:
