@@ -34,6 +34,7 @@ from aaeval.metrics.specular import (
     highlight_energy_flicker,
     highlight_flicker,
     highlight_mask,
+    highlight_profile_flicker,
     highlight_rmse,
 )
 from aaeval.renderers import resolve
@@ -55,6 +56,11 @@ METHODS = [
     "catmull:specular=tokuyoshi,energy=none",
 ]
 MASK_THRESHOLD = 0.02
+# regions holding one highlight line each (cylinders scene): (rows, cols, summed axis)
+PROFILE_REGIONS = {
+    "central": ((slice(60, 160), slice(80, 180)), 1),  # near-vertical line: sum each row
+    "lower right": ((slice(170, 230), slice(195, 245)), 0),  # near-horizontal: each column
+}
 DETECTION_TOLERANCE = 0.02
 
 
@@ -103,6 +109,13 @@ def main(argv=None) -> int:
     true_rgb, true_spec = groundtruth_frames(scene, frames, args.spp, progress)
     mask = highlight_mask(true_spec, threshold=MASK_THRESHOLD)
 
+    everywhere = np.ones(true_spec.shape, bool)
+    regions = {}
+    for name, ((rows_, cols_), axis) in PROFILE_REGIONS.items():
+        region = np.zeros(true_spec.shape[1:], bool)
+        region[rows_, cols_] = True
+        regions[name] = (region, axis)
+
     rows = []
     for spec in METHODS:
         rgb, specular, seconds = method_frames(scene, spec, frames, progress)
@@ -110,7 +123,11 @@ def main(argv=None) -> int:
             "method": spec,
             "highlight_rmse": highlight_rmse(true_rgb, rgb, mask=mask),
             "energy_bias": highlight_energy_bias(true_spec, specular, mask=mask),
+            "total_energy_bias": highlight_energy_bias(true_spec, specular, mask=everywhere),
             "flicker": highlight_flicker(true_rgb, rgb, mask=mask),
+            "change_per_frame": float(np.sqrt(np.mean(np.diff(rgb, axis=0)[:, mask.any(0)] ** 2))),
+            **{f"profile_flicker_{name}": highlight_profile_flicker(true_spec, specular, mask=region, axis=axis)
+               for name, (region, axis) in regions.items()},
             "energy_flicker": highlight_energy_flicker(true_spec, specular, mask=mask),
             "image_rmse": float(np.sqrt(np.mean((rgb - true_rgb) ** 2))),
             "seconds": seconds,
@@ -139,7 +156,11 @@ def main(argv=None) -> int:
         convergence.append({"k": K, "rmse": float(np.sqrt(np.mean((image - true_rgb[0]) ** 2))),
                             "seconds": time.perf_counter() - start})
 
+    truth_change = float(np.sqrt(np.mean(np.diff(true_rgb, axis=0)[:, mask.any(0)] ** 2)))
     report = {"scene": args.scene, "frames": frames, "spp": args.spp, "mask_threshold": MASK_THRESHOLD,
+              "truth_change_per_frame": truth_change,
+              "truth_profile_flicker": {name: highlight_profile_flicker(true_spec, true_spec * 0, mask=region, axis=axis)
+                                        for name, (region, axis) in regions.items()},
               "mask_pixels_per_frame": float(mask.sum() / frames), "methods": rows,
               "detection": detection, "crow_everywhere": convergence}
     text = format_report(report)
@@ -156,12 +177,21 @@ def format_report(report) -> str:
         f"{report['spp']} spp; highlight = truth specular > {report['mask_threshold']} "
         f"({report['mask_pixels_per_frame']:.0f} px/frame)",
         "",
-        "| method | highlight RMSE | energy bias | flicker | energy flicker | image RMSE | s/frame |",
-        "|---|---|---|---|---|---|---|",
+        f"Truth: change per frame {report['truth_change_per_frame']:.4f} in highlight pixels; its own "
+        "cross-section energy varies by "
+        + ", ".join(f"{v:.4f} ({k})" for k, v in report["truth_profile_flicker"].items())
+        + " (relative std over frames).",
+        "",
+        "| method | highlight RMSE | energy bias (highlight px) | energy bias (whole image) "
+        "| temporal error | change/frame | x-section flicker central | x-section flicker lower right "
+        "| energy flicker | image RMSE | s/frame |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in report["methods"]:
         lines.append(
-            f"| {r['method']} | {r['highlight_rmse']:.4f} | {r['energy_bias']:+.3f} | {r['flicker']:.4f} "
+            f"| {r['method'].split(':', 1)[1]} | {r['highlight_rmse']:.4f} | {r['energy_bias']:+.3f} "
+            f"| {r['total_energy_bias']:+.3f} | {r['flicker']:.4f} | {r['change_per_frame']:.4f} "
+            f"| {r['profile_flicker_central']:.4f} | {r['profile_flicker_lower right']:.4f} "
             f"| {r['energy_flicker']:.4f} | {r['image_rmse']:.5f} | {r['seconds']:.3f} |"
         )
     lines += ["", "| detection power | precision | recall | flagged fraction of pixels |", "|---|---|---|---|"]

@@ -11,6 +11,7 @@ from aaeval.metrics.specular import (
     highlight_energy_flicker,
     highlight_flicker,
     highlight_mask,
+    highlight_profile_flicker,
     highlight_rmse,
 )
 
@@ -30,12 +31,39 @@ def test_flicker_ignores_steady_bias_but_sees_breakup():
     rng = np.random.default_rng(1)
     true = rng.random((6, 8, 8))
     mask = np.ones((8, 8), bool)
-    steady = true - 0.1
-    assert highlight_flicker(true, steady, mask=mask) == pytest.approx(0.0, abs=1e-12)
-    noisy = true + 0.1 * np.where(np.arange(6)[:, None, None] % 2 == 0, 1.0, -1.0)
-    assert highlight_flicker(true, noisy, mask=mask) == pytest.approx(0.1)
+    assert highlight_flicker(true, true - 0.1, mask=mask) == pytest.approx(0.0, abs=1e-12)
+    popping = true + 0.1 * np.where(np.arange(6)[:, None, None] % 2 == 0, 1.0, -1.0)
+    assert highlight_flicker(true, popping, mask=mask) == pytest.approx(0.2)
+    # a frozen image while the truth moves also departs from the truth's change
+    frozen = np.broadcast_to(true[0], true.shape)
+    assert highlight_flicker(true, frozen, mask=mask) == pytest.approx(np.sqrt(np.mean(np.diff(true, axis=0) ** 2)))
     assert highlight_energy_flicker(true, true * 0.5, mask=mask) == pytest.approx(0.0, abs=1e-12)
-    assert highlight_energy_flicker(true, noisy, mask=mask) > 0
+    assert highlight_energy_flicker(true, popping, mask=mask) > 0
+
+
+def drifting_line(frames, width, sampler):
+    """A 0.4-px-wide vertical line of unit energy per row, drifting 0.15 px per frame."""
+    out = np.zeros((frames, 5, width))
+    for t in range(frames):
+        left = 3.3 + 0.15 * t
+        out[t] = sampler(left, left + 0.4, np.arange(width))[None, :]
+    return out
+
+
+def test_profile_flicker_separates_area_from_point_sampling():
+    def area(a, b, cols):  # exact box filter: overlap of [a, b] with each pixel, / width
+        return np.clip(np.minimum(b, cols + 1) - np.maximum(a, cols), 0, None) / (b - a)
+
+    def point(a, b, cols):  # pixel-centre sampling of the same line
+        return ((cols + 0.5 >= a) & (cols + 0.5 < b)) / (b - a)
+
+    truth = drifting_line(8, 10, area)
+    mask = np.ones((5, 10), bool)
+    assert highlight_profile_flicker(truth, truth * 0.8, mask=mask) == pytest.approx(0.0, abs=1e-12)
+    sampled = drifting_line(8, 10, point)
+    assert highlight_profile_flicker(truth, sampled, mask=mask) > 0.5
+    with pytest.raises(ValueError, match="axis"):
+        highlight_profile_flicker(truth, sampled, mask=mask, axis=2)
 
 
 def test_precision_recall():

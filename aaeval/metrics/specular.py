@@ -14,6 +14,7 @@ __all__ = [
     "highlight_rmse",
     "highlight_energy_bias",
     "highlight_flicker",
+    "highlight_profile_flicker",
     "highlight_energy_flicker",
     "detection_precision_recall",
 ]
@@ -86,12 +87,13 @@ def highlight_energy_bias(image_true, image_test, *, mask) -> float:
 
 
 def highlight_flicker(frames_true, frames_test, *, mask) -> float:
-    """Temporal standard deviation of the per-pixel error, RMS over the masked pixels.
+    """Temporal error: how much the test's frame-to-frame change departs from the truth's.
 
-    For each pixel, the error ``e_t = test_t - true_t`` of every frame t; a method whose
-    error is steady (even if biased) does not flicker, one whose highlight breaks up
-    differently every frame does. Frames must show the same pixels (translation and
-    spin move the scene inside a fixed image).
+    With ``D_t = frame_{t+1} - frame_t``, the RMS over masked pixels, channels and frame
+    pairs of ``D_t(test) - D_t(true)``. A highlight that moves as the true one does scores
+    0, even if it is biased by a steady amount; one that pops or breaks up between frames
+    scores high — and so does one that stays still while the true highlight moves
+    (over-smoothing shows up here too).
 
     Parameters
     ----------
@@ -105,15 +107,54 @@ def highlight_flicker(frames_true, frames_test, *, mask) -> float:
         NaN when the mask is empty.
     """
     frames_true, frames_test = _frames(frames_true, frames_test)
-    mask = np.asarray(mask, dtype=bool)
-    if mask.ndim == 3:
-        mask = mask.any(axis=0)
-    if mask.shape != frames_true.shape[1:3]:
-        raise ValueError(f"mask shape {mask.shape} does not match frames of shape {frames_true.shape[1:3]}")
+    mask = _still_mask(mask, frames_true.shape)
     if not mask.any():
         return float("nan")
-    error = (frames_test - frames_true)[:, mask]
-    return float(np.sqrt(np.mean(error.var(axis=0))))
+    change = np.diff(frames_test - frames_true, axis=0)[:, mask]
+    return float(np.sqrt(np.mean(change**2)))
+
+
+def highlight_profile_flicker(frames_true, frames_test, *, mask, axis: int = 1) -> float:
+    """Flicker of the highlight's cross-section energy, relative to the truth's.
+
+    Sums the masked pixels along ``axis`` (1: along rows, for a highlight running up and
+    down the image) into a profile per frame. The box-filtered truth keeps each
+    cross-section's energy nearly constant as the highlight drifts sideways by fractions
+    of a pixel; a highlight that breaks up does not. Returns the RMS over profile
+    positions of the temporal standard deviation of ``profile_test - profile_true``,
+    divided by the mean true profile.
+
+    Parameters
+    ----------
+    frames_true, frames_test : ndarray, shape (T, H, W) (specular term) or (T, H, W, C)
+    mask : ndarray of bool, shape (H, W)
+        The region holding one highlight line.
+    axis : {0, 1}, optional
+        Image axis summed over: 1 sums each row (default), 0 each column.
+
+    Returns
+    -------
+    flicker : float
+        Relative; NaN when the truth has no energy in the region.
+    """
+    frames_true, frames_test = _frames(frames_true, frames_test)
+    mask = _still_mask(mask, frames_true.shape)
+    if axis not in (0, 1):
+        raise ValueError(f"axis must be 0 (columns) or 1 (rows), got {axis!r}")
+    weight = mask.astype(np.float64)
+    if frames_true.ndim == 4:
+        weight = weight[..., None]
+
+    def profile(frames):
+        p = (frames * weight).sum(axis=axis + 1)
+        return p.sum(axis=-1) if p.ndim == 3 else p
+
+    true, test = profile(frames_true), profile(frames_test)
+    lines = true.mean(axis=0) > 0
+    if not lines.any():
+        return float("nan")
+    spread = (test - true)[:, lines].std(axis=0)
+    return float(np.sqrt(np.mean(spread**2)) / true[:, lines].mean())
 
 
 def highlight_energy_flicker(frames_true, frames_test, *, mask) -> float:
@@ -182,6 +223,15 @@ def _checked(image_true, image_test, mask):
     if image_true.shape[: mask.ndim] != mask.shape:
         raise ValueError(f"mask shape {mask.shape} does not match images of shape {image_true.shape}")
     return image_true, image_test, mask
+
+
+def _still_mask(mask, shape) -> np.ndarray:
+    mask = np.asarray(mask, dtype=bool)
+    if mask.ndim == 3:
+        mask = mask.any(axis=0)
+    if mask.shape != tuple(shape[1:3]):
+        raise ValueError(f"mask shape {mask.shape} does not match frames of shape {tuple(shape[1:3])}")
+    return mask
 
 
 def _frames(frames_true, frames_test):
