@@ -168,7 +168,7 @@ def slivers(
 
 def picket_fence(
     bar_width: float = 0.3,
-    period: float = 1.3,
+    period: float = 1.0,
     *,
     bars: int = 20,
     width: int = 32,
@@ -214,6 +214,9 @@ def picket_fence(
 
 def scene_to_dict(scene: Scene) -> dict[str, Any]:
     """The core-key dictionary of a scene at frame 0 (what its TOML file parses to).
+
+    A scene at a later frame is first moved back to frame 0, which may change the last
+    bit of its coordinates (``x + k t - k t``); a scene at frame 0 is written exactly.
 
     Raises
     ------
