@@ -415,3 +415,14 @@ def test_scene_to_dict_refuses_extensions():
 
     with pytest.raises(ValueError, match="extension"):
         scene_to_dict(replace(scene, extensions={"lights": []}))
+
+
+@pytest.mark.parametrize(
+    "make",
+    [lambda: random_triangles(25, 24, 20, size=10.0, depth_range=(0.0, 5.0), seed=4),
+     lambda: random_polygons(8, 24, 20, size=12.0, depth_range=(0.0, 5.0), seed=4)],
+    ids=["random_triangles", "random_polygons"],
+)
+def test_generated_interpenetrating_scenes_render_exactly(make):
+    scene = make()
+    np.testing.assert_allclose(catmull(scene), oracle_image(scene), rtol=0, atol=1e-9)

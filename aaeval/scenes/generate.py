@@ -148,7 +148,7 @@ def slivers(
 
     They all pass through the image centre at depths ``0..n-1`` (a star of thin bars,
     crossing each other in the middle pixel), white over black: the case where a point
-    sampler shows dotted lines and area sampling a faint, continuous one.
+    sampler shows dotted lines and area sampling a faint, unbroken (if jagged) one.
     """
     _check_count(n, "n")
     if not width > 0:
