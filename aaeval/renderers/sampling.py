@@ -1,0 +1,72 @@
+"""Point sampling of a scene at ``k x k`` samples per pixel, box-averaged.
+
+The one entry point behind the methods ``point``, ``supersample`` and ``jitter``; the
+numba kernel is :mod:`aaeval.renderers._sampling_kernel`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from aaeval.renderers._sampling_kernel import sample_image
+from aaeval.renderers.catmull import kernel_inputs
+from aaeval.scenes import Scene, parse_scene
+
+__all__ = ["point_sampled", "polygon_colors", "warmup_scene"]
+
+
+def polygon_colors(scene: Scene, source: np.ndarray) -> np.ndarray:
+    """Colours ``(n, 3)`` of the kernel polygons ``source`` (indices into ``scene.polygons``)."""
+    colors = np.array([scene.polygons[i].color for i in source], dtype=np.float64)
+    return colors.reshape(-1, 3)
+
+
+def point_sampled(scene: Scene, k: int, *, seed: int | None = None) -> np.ndarray:
+    """Mean of ``k x k`` point samples per pixel: a regular grid, or jittered when ``seed`` is given.
+
+    Parameters
+    ----------
+    scene : Scene
+    k : int
+        Samples per pixel side (``k >= 1``).
+    seed : int, optional
+        Jitter seed: one uniform sample per stratum of the ``k x k`` grid. ``None`` puts
+        each sample at its stratum's centre.
+
+    Returns
+    -------
+    ndarray, shape (height, width, 3), float64
+    """
+    if k < 1:
+        raise ValueError(f"k must be >= 1, got {k}")
+    starts, lengths, x, y, planes, source, eps_z = kernel_inputs(scene)
+    return sample_image(
+        scene.width,
+        scene.height,
+        int(k),
+        seed is not None,
+        0 if seed is None else int(seed),
+        starts,
+        lengths,
+        x,
+        y,
+        planes,
+        eps_z,
+        polygon_colors(scene, source),
+        np.asarray(scene.background, dtype=np.float64),
+    )
+
+
+def warmup_scene() -> Scene:
+    """A tiny scene with overlap, a concave polygon and one reaching outside the image."""
+    return parse_scene(
+        {
+            "image": {"width": 5, "height": 4, "background": [0.1, 0.2, 0.3]},
+            "polygons": [
+                {"color": [1, 0, 0], "vertices": [[0.2, 0.3, 1], [4.7, 0.6, 2], [1.5, 3.9, 0]]},
+                {"color": [0, 1, 0], "vertices": [[-1, -1, 0.5], [3, 0, 0.5], [1, 1, 0.5], [0, 5, 0.5]]},
+                {"color": [0, 0, 1], "vertices": [[-2, -2, 5], [7, -2, 5], [7, 6, 5], [-2, 6, 5]]},
+            ],
+        },
+        source="<warm-up>",
+    )
