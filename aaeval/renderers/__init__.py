@@ -22,6 +22,8 @@ from aaeval.renderers import catmull  # noqa: E402,F401
 from aaeval.renderers import point  # noqa: E402,F401
 from aaeval.renderers import supersample  # noqa: E402,F401
 from aaeval.renderers import jitter  # noqa: E402,F401
+from aaeval.renderers import abuffer  # noqa: E402,F401
+from aaeval.renderers import skia_painter  # noqa: E402,F401
 
 __all__ = [
     "METHODS",
