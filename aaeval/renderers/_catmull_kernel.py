@@ -354,6 +354,12 @@ def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, ja
                 rem_used += m
                 n_act += 1
         if n_act == 0 and next_in >= n_polys:
+            if n_frag + width > f_pix.size:
+                f_pix = _grow(f_pix, n_frag + width)
+                f_src = _grow(f_src, n_frag + width)
+                f_area = _grow(f_area, n_frag + width)
+                f_cx = _grow(f_cx, n_frag + width)
+                f_cy = _grow(f_cy, n_frag + width)
             for col in range(width):
                 f_pix[n_frag] = row * width + col
                 f_src[n_frag] = BACKGROUND
@@ -518,7 +524,7 @@ def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, ja
             if behind != -2:
                 cv = cov[sp_cov[first] + col - sp_c0[first]]
                 # the irregular piece's centroid: clip it to the pixel column
-                need = 4 * sp_len[first] + 8
+                need = 6 * sp_len[first] + 16  # two half-plane clips: up to 2n, then 4n
                 if need > ws_x.size:
                     ws_x = _grow(ws_x, need)
                     ws_y = _grow(ws_y, need)
@@ -641,10 +647,12 @@ def _pixel_polygons(sp_x, sp_y, sp_f, sp_start, sp_len, sp_src, plist, n_pl, sol
         if t < n_pl and plist[t] != solid:
             k = plist[t]
             n = sp_len[k]
-            if used + 4 * n + 8 > ws_x.size:
+            # a half-plane clip at most doubles the vertex count: the first clip goes
+            # above the space the second one (up to 4n) writes into
+            tmp = used + 4 * n + 8
+            if tmp + 2 * n + 4 > ws_x.size:
                 return -1, 0
             # the pixel column: x >= x0 (side B of x - x0), then x <= x0+1 (side A)
-            tmp = used + 2 * n + 4
             m1 = clip_side(sp_x, sp_y, sp_f, sp_start[k], n, 1.0, 0.0, -x0, 1, ws_x, ws_y, ws_f, tmp)
             m2 = clip_side(ws_x, ws_y, ws_f, tmp, m1, 1.0, 0.0, -(x0 + 1.0), -1, ws_x, ws_y, ws_f, used)
             if m2 == 0:
