@@ -32,7 +32,7 @@ import numpy as np
 from numba import njit
 
 from aaeval.renderers._catmull_kernel import _grow
-from aaeval.renderers._sampling_kernel import inside, row_buckets, strip_edges
+from aaeval.renderers._sampling_kernel import crossings, grid_range, inside, row_buckets, strip_edges
 
 SUBSAMPLES = 32
 SUB_COLS = 8
@@ -50,15 +50,20 @@ def popcount(v):
 
 
 @njit(cache=True)
-def coverage_mask(ex0, ey0, ex1, ey1, m, col, row):
-    """The 32-bit mask of subcell centres of pixel ``(row, col)`` inside the polygon."""
-    mask = 0
+def coverage_masks(ex0, ey0, ex1, ey1, m, row, width, c0, c1, xc, masks):
+    """The 32-bit masks of the polygon over pixels ``c0..c1`` of a row, into ``masks[c0:c1+1]``.
+
+    Bit ``8 j + i`` of pixel ``col`` is the subcell centre ``((8 col + i + 1/2)/8,
+    row + (j + 1/2)/4)``; a bit is set between crossing pairs of its subsample row.
+    """
+    masks[c0 : c1 + 1] = 0
     for j in range(SUB_ROWS):
-        y = row + (j + 0.5) / SUB_ROWS
-        for i in range(SUB_COLS):
-            if inside(ex0, ey0, ex1, ey1, m, col + (i + 0.5) / SUB_COLS, y):
-                mask |= 1 << (j * SUB_COLS + i)
-    return mask
+        nc = crossings(ex0, ey0, ex1, ey1, m, row + (j + 0.5) / SUB_ROWS, xc)
+        for t in range(0, nc - 1, 2):
+            g0, g1 = grid_range(xc[t], xc[t + 1], SUB_COLS, width * SUB_COLS)
+            for g in range(g0, g1):
+                col = g // SUB_COLS
+                masks[col] |= 1 << (j * SUB_COLS + g - col * SUB_COLS)
 
 
 @njit(cache=True)
@@ -186,6 +191,8 @@ def abuffer_image(width, height, starts, lengths, xs, ys, planes, eps_z, colors,
     ey0 = np.empty(maxv)
     ex1 = np.empty(maxv)
     ey1 = np.empty(maxv)
+    xc = np.empty(maxv)
+    masks = np.zeros(width, np.int64)
     fcol = np.empty(64, np.int64)
     fmask = np.empty(64, np.int64)
     fzmin = np.empty(64)
@@ -202,8 +209,11 @@ def abuffer_image(width, height, starts, lengths, xs, ys, planes, eps_z, colors,
                 continue
             c0 = max(0, int(np.floor(xlo)))
             c1 = min(width - 1, int(np.floor(xhi)))
+            if c0 > c1:
+                continue
+            coverage_masks(ex0, ey0, ex1, ey1, m, r, width, c0, c1, xc, masks)
             for col in range(c0, c1 + 1):
-                mask = coverage_mask(ex0, ey0, ex1, ey1, m, col, r)
+                mask = masks[col]
                 if mask == 0:
                     continue
                 zlo, zhi = z_range(ex0, ey0, ex1, ey1, m, col, r, planes[p, 0], planes[p, 1], planes[p, 2])

@@ -140,11 +140,61 @@ def jitter_uniform(seed, row, col, sample, axis):
 
 
 @njit(cache=True)
+def crossings(ex0, ey0, ex1, ey1, m, y, out):
+    """Sorted x of the edges' crossings with the line at ``y`` (half-open rule); returns the count.
+
+    A point ``(x, y)`` is inside exactly when ``out[2t] <= x < out[2t + 1]`` for some ``t``
+    (the same rule as :func:`inside`).
+    """
+    nc = 0
+    for e in range(m):
+        if ey0[e] <= y < ey1[e]:
+            xc = ex0[e] + (y - ey0[e]) * (ex1[e] - ex0[e]) / (ey1[e] - ey0[e])
+            t = nc
+            while t > 0 and out[t - 1] > xc:
+                out[t] = out[t - 1]
+                t -= 1
+            out[t] = xc
+            nc += 1
+    return nc
+
+
+@njit(cache=True, inline="always")
+def grid_x(g, k):
+    """x of column ``g`` of the sample grid with ``k`` samples per pixel: ``(g + 1/2) / k``."""
+    return (g + 0.5) / k
+
+
+@njit(cache=True)
+def grid_range(xa, xb, k, n):
+    """Grid columns ``g`` in ``[0, n)`` with ``xa <= grid_x(g, k) < xb``, as ``(g0, g1)``."""
+    # a first guess from the limits clamped to the grid, then exact fix-ups
+    xa = min(max(xa, -1.0), n / k + 1.0)
+    xb = min(max(xb, -1.0), n / k + 1.0)
+    g0 = max(0, int(np.ceil(xa * k - 0.5)) - 1)
+    while g0 < n and grid_x(g0, k) < xa:
+        g0 += 1
+    g1 = min(n, max(g0, int(np.ceil(xb * k - 0.5)) + 1))
+    while g1 > g0 and grid_x(g1 - 1, k) >= xb:
+        g1 -= 1
+    return g0, g1
+
+
+@njit(cache=True)
+def jitter_offsets(seed, row, width, k, out):
+    """Jittered in-stratum offsets ``u, v`` of every sample of one pixel row into ``out`` (width, k*k, 2)."""
+    for col in range(width):
+        for s in range(k * k):
+            out[col, s, 0] = jitter_uniform(seed, row, col, s, 0)
+            out[col, s, 1] = jitter_uniform(seed, row, col, s, 1)
+
+
+@njit(cache=True)
 def sample_image(width, height, k, jitter, seed, starts, lengths, xs, ys, planes, eps_z, colors, background):
     """Box-filtered image from ``k x k`` point samples per pixel.
 
-    Sample ``(i, j)`` of pixel ``(row, col)`` lies at ``col + (i + u) / k``,
-    ``row + (j + v) / k`` with ``u = v = 1/2`` on the regular grid and ``u, v`` from
+    Sample ``(i, j)`` of pixel ``(row, col)`` lies at ``x = (col k + i + u) / k``,
+    ``y = row + (j + v) / k``, with ``u = v = 1/2`` on the regular grid and ``u, v`` from
     :func:`jitter_uniform` when ``jitter``. Returns ``(height, width, 3)``.
     """
     row_start, polys = row_buckets(height, starts, lengths, ys)
@@ -156,41 +206,55 @@ def sample_image(width, height, k, jitter, seed, starts, lengths, xs, ys, planes
     ey0 = np.empty(maxv)
     ex1 = np.empty(maxv)
     ey1 = np.empty(maxv)
+    xc = np.empty(maxv)
     best_z = np.empty((width, ns))
     best_p = np.empty((width, ns), np.int64)
+    offsets = np.empty((width, ns, 2))
     image = np.zeros((height, width, 3))
     inv_k = 1.0 / k
     for r in range(height):
         best_z[:] = np.inf
         best_p[:] = NO_POLYGON
+        if jitter:
+            jitter_offsets(seed, r, width, k, offsets)
         for j in range(k):
             ya = r + j * inv_k
             yb = r + (j + 1) * inv_k
+            y = r + (j + 0.5) * inv_k
             for q in range(row_start[r], row_start[r + 1]):
                 p = polys[q]
                 m, xlo, xhi = strip_edges(xs, ys, starts[p], lengths[p], ya, yb, ex0, ey0, ex1, ey1)
                 if m == 0:
                     continue
-                c0 = max(0, int(np.floor(xlo)))
-                c1 = min(width - 1, int(np.floor(xhi)))
                 a = planes[p, 0]
                 b = planes[p, 1]
                 c = planes[p, 2]
-                for col in range(c0, c1 + 1):
-                    for i in range(k):
-                        s = j * k + i
-                        if jitter:
-                            x = col + (i + jitter_uniform(seed, r, col, s, 0)) * inv_k
-                            y = r + (j + jitter_uniform(seed, r, col, s, 1)) * inv_k
-                        else:
-                            x = col + (i + 0.5) * inv_k
-                            y = r + (j + 0.5) * inv_k
-                        if not inside(ex0, ey0, ex1, ey1, m, x, y):
-                            continue
-                        z = a * x + b * y + c
-                        if z < best_z[col, s] + eps_z or best_p[col, s] == NO_POLYGON:
-                            best_z[col, s] = z
-                            best_p[col, s] = p
+                if jitter:
+                    # samples of a stratum row have different y: test each one
+                    c0 = max(0, int(np.floor(xlo)))
+                    c1 = min(width - 1, int(np.floor(xhi)))
+                    for col in range(c0, c1 + 1):
+                        for i in range(k):
+                            s = j * k + i
+                            x = (col * k + i + offsets[col, s, 0]) * inv_k
+                            ys_ = r + (j + offsets[col, s, 1]) * inv_k
+                            if inside(ex0, ey0, ex1, ey1, m, x, ys_):
+                                z = a * x + b * ys_ + c
+                                if z < best_z[col, s] + eps_z or best_p[col, s] == NO_POLYGON:
+                                    best_z[col, s] = z
+                                    best_p[col, s] = p
+                else:
+                    # one scanline through the stratum centres: fill between crossings
+                    nc = crossings(ex0, ey0, ex1, ey1, m, y, xc)
+                    for t in range(0, nc - 1, 2):
+                        g0, g1 = grid_range(xc[t], xc[t + 1], k, width * k)
+                        for g in range(g0, g1):
+                            col = g // k
+                            s = j * k + (g - col * k)
+                            z = a * grid_x(g, k) + b * y + c
+                            if z < best_z[col, s] + eps_z or best_p[col, s] == NO_POLYGON:
+                                best_z[col, s] = z
+                                best_p[col, s] = p
         for col in range(width):
             for s in range(ns):
                 p = best_p[col, s]
