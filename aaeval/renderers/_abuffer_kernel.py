@@ -32,7 +32,14 @@ import numpy as np
 from numba import njit
 
 from aaeval.renderers._catmull_kernel import _grow
-from aaeval.renderers._sampling_kernel import crossings, grid_range, inside, row_buckets, strip_edges
+from aaeval.renderers._sampling_kernel import (
+    crossings,
+    edge_buffers,
+    grid_range,
+    inside,
+    row_buckets,
+    strip_edges,
+)
 
 SUBSAMPLES = 32
 SUB_COLS = 8
@@ -184,14 +191,7 @@ def resolve_pixel(order, fmask, fzmin, fzmax, fpoly, planes, eps_z, colors, back
 def abuffer_image(width, height, starts, lengths, xs, ys, planes, eps_z, colors, background):
     """The A-buffer image ``(height, width, 3)`` of the polygons (file order)."""
     row_start, polys = row_buckets(height, starts, lengths, ys)
-    maxv = 3
-    for p in range(starts.size):
-        maxv = max(maxv, lengths[p])
-    ex0 = np.empty(maxv)
-    ey0 = np.empty(maxv)
-    ex1 = np.empty(maxv)
-    ey1 = np.empty(maxv)
-    xc = np.empty(maxv)
+    ex0, ey0, ex1, ey1, xc = edge_buffers(lengths)
     masks = np.zeros(width, np.int64)
     fcol = np.empty(64, np.int64)
     fmask = np.empty(64, np.int64)

@@ -68,6 +68,15 @@ def row_buckets(height, starts, lengths, ys):
 
 
 @njit(cache=True)
+def edge_buffers(lengths):
+    """Scratch arrays for one polygon's edges and crossings: ``(ex0, ey0, ex1, ey1, xc)``."""
+    maxv = 3
+    for n in lengths:
+        maxv = max(maxv, n)
+    return np.empty(maxv), np.empty(maxv), np.empty(maxv), np.empty(maxv), np.empty(maxv)
+
+
+@njit(cache=True)
 def strip_edges(xs, ys, start, n, ya, yb, ex0, ey0, ex1, ey1):
     """Edges of a polygon meeting the closed band ``ya <= y <= yb``.
 
@@ -190,7 +199,7 @@ def jitter_offsets(seed, row, width, k, out):
 
 
 @njit(cache=True)
-def sample_image(width, height, k, jitter, seed, starts, lengths, xs, ys, planes, eps_z, colors, background):
+def sample_image(width, height, starts, lengths, xs, ys, planes, eps_z, colors, background, k, jitter, seed):
     """Box-filtered image from ``k x k`` point samples per pixel.
 
     Sample ``(i, j)`` of pixel ``(row, col)`` lies at ``x = (col k + i + u) / k``,
@@ -199,14 +208,7 @@ def sample_image(width, height, k, jitter, seed, starts, lengths, xs, ys, planes
     """
     row_start, polys = row_buckets(height, starts, lengths, ys)
     ns = k * k
-    maxv = 3
-    for p in range(starts.size):
-        maxv = max(maxv, lengths[p])
-    ex0 = np.empty(maxv)
-    ey0 = np.empty(maxv)
-    ex1 = np.empty(maxv)
-    ey1 = np.empty(maxv)
-    xc = np.empty(maxv)
+    ex0, ey0, ex1, ey1, xc = edge_buffers(lengths)
     best_z = np.empty((width, ns))
     best_p = np.empty((width, ns), np.int64)
     offsets = np.empty((width, ns, 2))

@@ -11,9 +11,8 @@ from __future__ import annotations
 import numpy as np
 
 from aaeval.renderers._abuffer_kernel import abuffer_image
-from aaeval.renderers.catmull import kernel_inputs
 from aaeval.renderers.registry import register_method
-from aaeval.renderers.sampling import polygon_colors, warmup_scene
+from aaeval.renderers.sampling import kernel_scene, warmup_scene
 from aaeval.scenes import Scene
 
 __all__ = ["render_abuffer"]
@@ -25,16 +24,4 @@ __all__ = ["render_abuffer"]
     warmup=lambda: render_abuffer(warmup_scene()),
 )
 def render_abuffer(scene: Scene) -> np.ndarray:
-    starts, lengths, x, y, planes, source, eps_z = kernel_inputs(scene)
-    return abuffer_image(
-        scene.width,
-        scene.height,
-        starts,
-        lengths,
-        x,
-        y,
-        planes,
-        eps_z,
-        polygon_colors(scene, source),
-        np.asarray(scene.background, dtype=np.float64),
-    )
+    return abuffer_image(*kernel_scene(scene))

@@ -12,13 +12,19 @@ from aaeval.renderers._sampling_kernel import sample_image
 from aaeval.renderers.catmull import kernel_inputs
 from aaeval.scenes import Scene, parse_scene
 
-__all__ = ["point_sampled", "polygon_colors", "warmup_scene"]
+__all__ = ["point_sampled", "kernel_scene", "warmup_scene"]
 
 
-def polygon_colors(scene: Scene, source: np.ndarray) -> np.ndarray:
-    """Colours ``(n, 3)`` of the kernel polygons ``source`` (indices into ``scene.polygons``)."""
-    colors = np.array([scene.polygons[i].color for i in source], dtype=np.float64)
-    return colors.reshape(-1, 3)
+def kernel_scene(scene: Scene) -> tuple:
+    """The scene as kernel arguments: ``(width, height, starts, lengths, x, y, planes, eps_z, colors, background)``.
+
+    Polygons are those of :func:`aaeval.renderers.catmull.kernel_inputs` (file order,
+    edge-on ones left out); ``colors[k]`` is kernel polygon ``k``'s colour.
+    """
+    starts, lengths, x, y, planes, source, eps_z = kernel_inputs(scene)
+    colors = np.array([scene.polygons[i].color for i in source], dtype=np.float64).reshape(-1, 3)
+    background = np.asarray(scene.background, dtype=np.float64)
+    return scene.width, scene.height, starts, lengths, x, y, planes, eps_z, colors, background
 
 
 def point_sampled(scene: Scene, k: int, *, seed: int | None = None) -> np.ndarray:
@@ -39,22 +45,7 @@ def point_sampled(scene: Scene, k: int, *, seed: int | None = None) -> np.ndarra
     """
     if k < 1:
         raise ValueError(f"k must be >= 1, got {k}")
-    starts, lengths, x, y, planes, source, eps_z = kernel_inputs(scene)
-    return sample_image(
-        scene.width,
-        scene.height,
-        int(k),
-        seed is not None,
-        0 if seed is None else int(seed),
-        starts,
-        lengths,
-        x,
-        y,
-        planes,
-        eps_z,
-        polygon_colors(scene, source),
-        np.asarray(scene.background, dtype=np.float64),
-    )
+    return sample_image(*kernel_scene(scene), int(k), seed is not None, 0 if seed is None else int(seed))
 
 
 def warmup_scene() -> Scene:
