@@ -19,11 +19,14 @@ assuming the two planes run in opposite directions across the pixel::
 
     front = (g.zmax - f.zmin) / ((f.zmax - f.zmin) + (g.zmax - g.zmin))
 
-(clamped to [0, 1]). A simple version of Carpenter's recursive blender: only the next
-overlapping fragment is blended in (not the whole chain behind it), and two fragments
-on one plane over the pixel are not blended — the later polygon in the file takes the
-shared bits, as the scene format requires. Everything else is quantised to 1/32 of the
-pixel.
+(clamped to [0, 1]). The paper is not in ``shared/seeds``: this formula is the one the
+A-buffer is usually described with, not checked against its text. For planes of equal
+and opposite slope across the pixel the estimate is exact.
+
+This is a simple version of Carpenter's recursive blender: only the next overlapping
+fragment is blended in (not the whole chain behind it), and two fragments on one plane
+over the pixel are not blended — the later polygon in the file takes the shared bits,
+as the scene format requires. Everything else is quantised to 1/32 of the pixel.
 """
 
 from __future__ import annotations
