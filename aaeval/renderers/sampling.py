@@ -22,7 +22,7 @@ def kernel_scene(scene: Scene) -> tuple:
     edge-on ones left out); ``colors[k]`` is kernel polygon ``k``'s colour.
     """
     starts, lengths, x, y, planes, source, eps_z = kernel_inputs(scene)
-    colors = np.array([scene.polygons[i].color for i in source], dtype=np.float64).reshape(-1, 3)
+    colors = np.ascontiguousarray(scene.arrays.colors[source])
     background = np.asarray(scene.background, dtype=np.float64)
     return scene.width, scene.height, starts, lengths, x, y, planes, eps_z, colors, background
 

@@ -29,10 +29,12 @@ __all__ = ["render_skia", "painter_order"]
 
 def painter_order(scene: Scene) -> list[int]:
     """Indices of the drawable polygons, farthest mean depth first (stable on file order)."""
-    drawable = [p for p in scene.polygons if np.isfinite(p.plane).all()]
-    depth = np.array([p.vertices[:, 2].mean() for p in drawable])
-    order = np.argsort(-depth, kind="stable")
-    return [drawable[i].index for i in order]
+    arr = scene.arrays
+    drawable = np.flatnonzero(np.isfinite(arr.planes).all(axis=1))
+    if drawable.size == 0:
+        return []
+    mean_z = np.add.reduceat(arr.vertices[:, 2], arr.start) / arr.length
+    return drawable[np.argsort(-mean_z[drawable], kind="stable")].tolist()
 
 
 @register_method(
