@@ -19,6 +19,7 @@ from aaeval.renderers.registry import (
 
 # one import per method module; each registers its methods
 from aaeval.renderers import catmull  # noqa: E402,F401
+from aaeval.renderers import mitsuba  # noqa: E402,F401
 
 __all__ = [
     "METHODS",
