@@ -78,7 +78,7 @@ FLOAT32_FLOOR = 1e-12
 
 
 @pytest.mark.parametrize("size", [(32, 24), (17, 29)], ids=["wide", "tall"])
-@pytest.mark.parametrize("sampler", ["stratified", "independent"])
+@pytest.mark.parametrize("sampler", gt.SAMPLERS)
 def test_agrees_with_catmull_within_measured_noise(size, sampler):
     scene = mixed_scene(*size)
     reference = exact(scene)

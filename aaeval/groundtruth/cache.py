@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from aaeval.groundtruth.mitsuba import DEFAULT_SAMPLER, DEFAULT_SPP
 from aaeval.imageio import atomic_write
 from aaeval.scenes import Scene
 
@@ -92,8 +93,8 @@ def groundtruth_path(scene: Scene, *, spp: int, sampler: str, seed: int) -> Path
 def groundtruth_image(
     scene: Scene,
     *,
-    spp: int = 4096,
-    sampler: str = "stratified",
+    spp: int = DEFAULT_SPP,
+    sampler: str = DEFAULT_SAMPLER,
     seed: int = 0,
     variant: str = "auto",
     cache: bool = True,

@@ -32,6 +32,8 @@ from aaeval.scenes import Scene
 
 __all__ = [
     "SAMPLERS",
+    "DEFAULT_SAMPLER",
+    "DEFAULT_SPP",
     "MARGIN",
     "NEAR",
     "DEPTH_SPAN",
@@ -53,6 +55,8 @@ __all__ = [
 # Mitsuba samplers that keep each sample inside its pixel with the box filter and make
 # sense for a converging ground truth (stratified and multijitter round spp up to a square).
 SAMPLERS = ("stratified", "independent", "multijitter", "ldsampler")
+DEFAULT_SAMPLER = "stratified"
+DEFAULT_SPP = 4096
 
 MARGIN = 1.0  # pixels kept around the image when clipping
 NEAR = 1.0  # camera depth of the nearest polygon
@@ -216,8 +220,8 @@ def orthographic_sensor(
     width: int,
     height: int,
     *,
-    sampler: str = "stratified",
-    spp: int = 4096,
+    sampler: str = DEFAULT_SAMPLER,
+    spp: int = DEFAULT_SPP,
     rows: tuple[int, int] | None = None,
 ) -> dict:
     """The ``load_dict`` dictionary of a camera showing pixel (col i, row j) as world [i, i+1] x [j, j+1].
@@ -257,8 +261,8 @@ def orthographic_sensor(
 def mitsuba_scene_dict(
     scene: Scene,
     *,
-    spp: int = 4096,
-    sampler: str = "stratified",
+    spp: int = DEFAULT_SPP,
+    sampler: str = DEFAULT_SAMPLER,
     integrator: dict | None = None,
     mesh=None,
     rows: tuple[int, int] | None = None,
@@ -293,8 +297,8 @@ def band_seed(seed: int, band: int) -> int:
 def render_mitsuba(
     scene: Scene,
     *,
-    spp: int = 4096,
-    sampler: str = "stratified",
+    spp: int = DEFAULT_SPP,
+    sampler: str = DEFAULT_SAMPLER,
     seed: int = 0,
     variant: str = "auto",
 ) -> np.ndarray:

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from aaeval.groundtruth.cache import groundtruth_image
-from aaeval.groundtruth.mitsuba import SAMPLERS, render_mitsuba
+from aaeval.groundtruth.mitsuba import DEFAULT_SAMPLER, DEFAULT_SPP, SAMPLERS, render_mitsuba
 from aaeval.renderers.registry import Option, register_method
 from aaeval.scenes import Scene, parse_scene
 
@@ -37,8 +37,8 @@ def _warmup() -> None:
     "mitsuba",
     summary="Mitsuba 3 ground truth: flat colours, box filter, high spp (cached on disk)",
     options={
-        "spp": Option(int, 4096, "samples per pixel (stratified/multijitter round up to a square)", minimum=1),
-        "sampler": Option(str, "stratified", "Mitsuba sampler", choices=SAMPLERS),
+        "spp": Option(int, DEFAULT_SPP, "samples per pixel (stratified/multijitter round up to a square)", minimum=1),
+        "sampler": Option(str, DEFAULT_SAMPLER, "Mitsuba sampler", choices=SAMPLERS),
         "seed": Option(int, 0, "seed of the sampler", minimum=0),
         "variant": Option(str, "auto", "Mitsuba variant: auto (CUDA, else LLVM, else scalar) or an RGB variant name"),
         "cache": Option(bool, True, "reuse images cached in $AAEVAL_CACHE_DIR/groundtruth"),
