@@ -312,3 +312,25 @@ def test_a_variant_set_elsewhere_is_switched_and_images_agree():
     np.testing.assert_array_equal(again, jit)
     # scalar draws other random numbers: it must agree in distribution, not bit for bit
     assert np.mean((scalar - reference) ** 2) < 4 * np.mean((jit - reference) ** 2) + FLOAT32_FLOOR
+
+
+def test_falls_back_to_scalar_with_one_warning_when_nothing_faster_runs(tmp_path):
+    # in a child process: the variant and Dr.Jit's backends are global to a process
+    import subprocess
+    import sys
+
+    code = (
+        "import warnings; warnings.simplefilter('error')\n"
+        "from aaeval.groundtruth.variant import select_variant\n"
+        "try:\n    select_variant()\nexcept RuntimeWarning as w:\n    print('WARNING', w)\n"
+    )
+    env = {
+        **os.environ,
+        gv.LIBLLVM_ENV: str(tmp_path / "libLLVM-19.so"),  # missing file
+        "CUDA_VISIBLE_DEVICES": "",
+        "PYTHONPATH": str(gv.Path(__file__).resolve().parents[1]),
+    }
+    result = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    lines = [line for line in result.stdout.splitlines() if line.startswith("WARNING")]
+    assert len(lines) == 1 and "scalar_rgb" in lines[0] and "libLLVM-19.so" in lines[0]

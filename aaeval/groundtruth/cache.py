@@ -125,7 +125,7 @@ def groundtruth_image(
 def _read(path: Path, shape: tuple[int, ...]) -> np.ndarray | None:
     try:
         image = np.load(path, allow_pickle=False)
-    except (OSError, ValueError):
+    except (OSError, ValueError, EOFError):  # missing or unreadable: render it again
         return None
     # a file of the wrong shape cannot be this key's image: render again, overwrite it
     return image if image.shape == shape and image.dtype == np.float64 else None

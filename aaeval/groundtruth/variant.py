@@ -167,9 +167,11 @@ def select_variant() -> str:
     for name in JIT_RGB_VARIANTS:
         if name in available and _backend_works(name):
             return name
+    llvm = f"{LIBLLVM_ENV}={os.environ[LIBLLVM_ENV]} is not a usable libLLVM >= {LLVM_MIN_VERSION}" if os.environ.get(
+        LIBLLVM_ENV
+    ) else f"no libLLVM >= {LLVM_MIN_VERSION} found (set {LIBLLVM_ENV})"
     warnings.warn(
-        "aaeval: no CUDA GPU and no libLLVM >= 16 found (set DRJIT_LIBLLVM_PATH); "
-        "Mitsuba falls back to the slow scalar_rgb variant",
+        f"aaeval: no CUDA GPU and {llvm}; Mitsuba falls back to the slow scalar_rgb variant",
         RuntimeWarning,
         stacklevel=2,
     )
