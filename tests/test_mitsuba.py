@@ -142,6 +142,19 @@ def test_coplanar_overlap_later_polygon_in_front(order):
     assert (image[3, 4] == colors[order[1]]).all()
 
 
+def test_empty_scene_is_background_and_edge_on_polygons_cover_nothing():
+    empty = parse_scene({"image": {"width": 5, "height": 3, "background": [0.25, 0.5, 0.75]}})
+    np.testing.assert_array_equal(gt.render_mitsuba(empty, spp=4), np.broadcast_to([0.25, 0.5, 0.75], (3, 5, 3)))
+    edge_on = parse_scene(
+        {
+            "image": {"width": 5, "height": 3, "background": [0.25, 0.5, 0.75]},
+            "polygons": [{"color": [1, 0, 0], "vertices": [[0, 0, 0], [2.5, 1.5, 1], [5, 3, 3]]}],
+        }
+    )
+    assert len(gt.triangulate_scene(edge_on).faces) == 0
+    np.testing.assert_array_equal(gt.render_mitsuba(edge_on, spp=4), exact(edge_on))
+
+
 def test_triangulation_covers_each_polygon_once():
     scene = mixed_scene()
     tri = gt.triangulate_scene(scene, margin=1e9)  # nothing clipped
