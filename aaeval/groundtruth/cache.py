@@ -51,13 +51,13 @@ def scene_digest(scene: Scene) -> str:
     little-endian float64 bytes. The source path, frame number and animation settings are
     left out: two files with the same geometry share one digest.
     """
+    arrays = scene.arrays
     h = hashlib.sha256()
     h.update(np.array([scene.width, scene.height, len(scene.polygons)], dtype="<i8").tobytes())
     h.update(np.ascontiguousarray(scene.background, dtype="<f8").tobytes())
-    for p in scene.polygons:
-        h.update(np.array([len(p.vertices)], dtype="<i8").tobytes())
-        h.update(np.ascontiguousarray(p.vertices, dtype="<f8").tobytes())
-        h.update(np.ascontiguousarray(p.color, dtype="<f8").tobytes())
+    h.update(np.ascontiguousarray(arrays.length, dtype="<i8").tobytes())
+    h.update(np.ascontiguousarray(arrays.vertices, dtype="<f8").tobytes())
+    h.update(np.ascontiguousarray(arrays.colors, dtype="<f8").tobytes())
     return h.hexdigest()
 
 

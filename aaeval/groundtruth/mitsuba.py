@@ -116,10 +116,10 @@ def coplanar_ranks(scene: Scene, *, rtol: float = 1e-11) -> np.ndarray:
     three corners of the image (the tolerance ``catmull`` uses for a shared plane).
     Edge-on polygons (NaN plane) get rank 0.
     """
-    planes = np.array([p.plane for p in scene.polygons], dtype=np.float64).reshape(-1, 3)
+    planes = scene.arrays.planes
     corners = np.array([[0.0, 0.0, 1.0], [scene.width, 0.0, 1.0], [0.0, scene.height, 1.0]])
     depth = planes @ corners.T  # (n, 3): depth of each plane at the corners
-    zmax = max((np.abs(p.vertices[:, 2]).max() for p in scene.polygons), default=0.0)
+    zmax = np.abs(scene.arrays.vertices[:, 2]).max(initial=0.0)
     eps = rtol * (1.0 + zmax)
     ranks = np.zeros(len(planes), dtype=np.int64)
     for i in range(1, len(planes)):
@@ -200,8 +200,7 @@ def scene_mesh(scene: Scene, triangles: Triangles | None = None, *, bsdf: dict |
     bg_vertices, bg_faces = _background_quad(scene, MARGIN)
     vertices = np.concatenate([triangles.vertices, bg_vertices])
     faces = np.concatenate([triangles.faces, bg_faces + len(triangles.vertices)])
-    colors = np.array([p.color for p in scene.polygons], dtype=np.float64).reshape(-1, 3)
-    face_colors = np.concatenate([colors[triangles.polygon], np.tile(scene.background, (2, 1))])
+    face_colors = np.concatenate([scene.arrays.colors[triangles.polygon], np.tile(scene.background, (2, 1))])
 
     props = mi.Properties()
     props["bsdf"] = mi.load_dict(
