@@ -346,3 +346,21 @@ def test_falls_back_to_scalar_with_one_warning_when_nothing_faster_runs(tmp_path
     assert result.returncode == 0, result.stderr
     lines = [line for line in result.stdout.splitlines() if line.startswith("WARNING")]
     assert len(lines) == 1 and "scalar_rgb" in lines[0] and "libLLVM-19.so" in lines[0]
+
+
+def test_coplanar_ranks_order_overlapping_polygons_only():
+    square = [[0, 0], [4, 0], [4, 4], [0, 4]]
+    moved = [[x + 10, y] for x, y in square]
+    scene = parse_scene(
+        {
+            "image": {"width": 16, "height": 6},
+            "polygons": [
+                poly([1, 0, 0], square, 0.5, 0.25, 2),
+                poly([0, 1, 0], moved, 0.5, 0.25, 2),  # same plane, elsewhere: no nudge
+                poly([0, 0, 1], [[1, 1], [5, 1], [5, 5]], 0.5, 0.25, 2),  # on top of the first
+                poly([1, 1, 0], [[2, 0], [3, 0], [3, 6]], 0.5, 0.25, 2),  # on top of both
+                poly([1, 0, 1], square, 0.5, 0.25, 2.5),  # another plane
+            ],
+        }
+    )
+    np.testing.assert_array_equal(gt.coplanar_ranks(scene), [0, 0, 1, 2, 0])

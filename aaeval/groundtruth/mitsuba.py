@@ -110,21 +110,30 @@ def clip_to_window(xy: np.ndarray, window: tuple[float, float, float, float]) ->
 
 
 def coplanar_ranks(scene: Scene, *, rtol: float = 1e-11) -> np.ndarray:
-    """For each polygon, how many earlier polygons lie on exactly its depth plane.
+    """Depth order by file position among polygons that overlap on one shared plane.
 
+    ``rank[j] = 1 + max(rank[i])`` over earlier polygons ``i`` on exactly ``j``'s depth
+    plane whose bounding boxes overlap ``j``'s (0 if there are none), so every later
+    polygon of an overlapping pair ranks higher, and ranks stay as small as the stacks of
+    overlapping polygons are deep (each rank costs a nudge, :func:`camera_depths`).
     Two planes count as one when their depths agree within ``rtol * (1 + max |z|)`` at
     three corners of the image (the tolerance ``catmull`` uses for a shared plane).
     Edge-on polygons (NaN plane) get rank 0.
     """
-    planes = scene.arrays.planes
+    arrays = scene.arrays
     corners = np.array([[0.0, 0.0, 1.0], [scene.width, 0.0, 1.0], [0.0, scene.height, 1.0]])
-    depth = planes @ corners.T  # (n, 3): depth of each plane at the corners
-    zmax = np.abs(scene.arrays.vertices[:, 2]).max(initial=0.0)
-    eps = rtol * (1.0 + zmax)
-    ranks = np.zeros(len(planes), dtype=np.int64)
-    for i in range(1, len(planes)):
-        same = np.all(np.abs(depth[:i] - depth[i]) <= eps, axis=1)
-        ranks[i] = np.count_nonzero(same)
+    depth = arrays.planes @ corners.T  # (n, 3): depth of each plane at the corners
+    eps = rtol * (1.0 + np.abs(arrays.vertices[:, 2]).max(initial=0.0))
+    ranks = np.zeros(len(depth), dtype=np.int64)
+    if len(depth) < 2:
+        return ranks
+    xy = arrays.vertices[:, :2]
+    lo, hi = np.minimum.reduceat(xy, arrays.start), np.maximum.reduceat(xy, arrays.start)
+    for j in range(1, len(depth)):
+        below = np.all(np.abs(depth[:j] - depth[j]) <= eps, axis=1)
+        below &= np.all((lo[:j] <= hi[j]) & (hi[:j] >= lo[j]), axis=1)
+        if below.any():
+            ranks[j] = 1 + ranks[:j][below].max()
     return ranks
 
 
@@ -133,11 +142,11 @@ def camera_depths(z: np.ndarray, zmin: float, zmax: float, rank: np.ndarray | in
 
     ``[zmin, zmax]`` goes to ``[NEAR, NEAR + DEPTH_SPAN]`` (a single depth to the middle);
     then each point moves ``rank * COPLANAR_NUDGE`` towards the camera (see
-    :func:`coplanar_ranks`). The camera's near clip (0.01) leaves room for 990 polygons
-    on one plane; more raise ``ValueError``.
+    :func:`coplanar_ranks`). The camera's near clip (0.01) leaves room for stacks of 990
+    overlapping polygons on one plane; deeper ones raise ``ValueError``.
     """
     if np.max(rank, initial=0) * COPLANAR_NUDGE >= NEAR - 0.01:
-        raise ValueError("more than 990 polygons share one depth plane; the mitsuba ground truth cannot order them")
+        raise ValueError("more than 990 overlapping polygons share one depth plane; the mitsuba ground truth cannot order them")
     z = np.asarray(z, dtype=np.float64)
     if zmax > zmin:
         depth = NEAR + (z - zmin) * (DEPTH_SPAN / (zmax - zmin))
