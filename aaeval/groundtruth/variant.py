@@ -65,8 +65,8 @@ _VERSION_IN_DIR = (re.compile(r"^llvm-(\d+)$"), re.compile(r"^llvm@(\d+)$"))
 JIT_RGB_VARIANTS = ("cuda_ad_rgb", "cuda_rgb", "llvm_ad_rgb", "llvm_rgb")
 
 
-class VariantError(RuntimeError):
-    """A Mitsuba variant that was asked for cannot be used here."""
+class VariantError(ValueError):
+    """A Mitsuba variant that was asked for cannot be used here (a bad option value)."""
 
 
 def libllvm_version(path: str | Path) -> int | None:
