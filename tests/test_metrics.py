@@ -274,3 +274,10 @@ def test_dispatcher_refuses_unknown_names_and_options():
         compute_metric("edge_rmse", IMAGE, IMAGE)
     with pytest.raises(MetricError, match="unknown temporal metric"):
         compute_temporal_metric("rmse", IMAGE[None], IMAGE[None])
+
+
+@pytest.mark.parametrize("metric, option", [(psnr, "data_range"), (ssim, "data_range"), (flip, "ppd")])
+@pytest.mark.parametrize("value", [0.0, -1.0, float("nan")])
+def test_non_positive_options_are_refused(metric, option, value):
+    with pytest.raises(ValueError, match=f"{option} must be positive"):
+        metric(IMAGE, IMAGE, **{option: value})

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["check_image_pair", "check_frames_pair"]
+__all__ = ["check_image_pair", "check_frames_pair", "check_positive"]
 
 
 def check_image_pair(image_true, image_test) -> tuple[np.ndarray, np.ndarray]:
@@ -35,3 +35,9 @@ def check_frames_pair(frames_true, frames_test) -> tuple[np.ndarray, np.ndarray]
         if not np.isfinite(frames).all():
             raise ValueError(f"the {label} frames have non-finite values (NaN or inf)")
     return frames_true, frames_test
+
+
+def check_positive(name: str, value) -> None:
+    """Refuse an option that must be a positive number (NaN included)."""
+    if not value > 0:
+        raise ValueError(f"{name} must be positive, got {value!r}")

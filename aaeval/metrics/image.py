@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 from skimage.metrics import peak_signal_noise_ratio, structural_similarity
 
-from aaeval.metrics._checks import check_image_pair
+from aaeval.metrics._checks import check_image_pair, check_positive
 
 __all__ = ["rmse", "psnr", "ssim"]
 
@@ -51,8 +51,7 @@ def psnr(image_true, image_test, *, data_range: float = 1.0) -> float:
         ``10 log10(data_range**2 / MSE)``; ``inf`` for identical images.
     """
     image_true, image_test = check_image_pair(image_true, image_test)
-    if not data_range > 0:
-        raise ValueError(f"data_range must be positive, got {data_range!r}")
+    check_positive("data_range", data_range)
     with np.errstate(divide="ignore"):  # identical images: MSE 0, PSNR inf, not a warning
         return float(peak_signal_noise_ratio(image_true, image_test, data_range=data_range))
 
@@ -81,8 +80,7 @@ def ssim(image_true, image_test, *, data_range: float = 1.0, win_size: int = 7) 
         In [-1, 1]; 1 for identical images.
     """
     image_true, image_test = check_image_pair(image_true, image_test)
-    if not data_range > 0:
-        raise ValueError(f"data_range must be positive, got {data_range!r}")
+    check_positive("data_range", data_range)
     if win_size < 3 or win_size % 2 == 0:
         raise ValueError(f"win_size must be an odd number >= 3, got {win_size!r}")
     side = min(image_true.shape[:2])

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from aaeval.metrics._checks import check_image_pair
+from aaeval.metrics._checks import check_image_pair, check_positive
 
 __all__ = ["flip"]
 
@@ -33,8 +33,8 @@ def flip(image_true, image_test, *, ppd: float | None = None) -> float:
         Mean of the per-pixel FLIP error, in [0, 1]; 0 for identical images.
     """
     image_true, image_test = check_image_pair(image_true, image_test)
-    if ppd is not None and not ppd > 0:
-        raise ValueError(f"ppd must be positive, got {ppd!r}")
+    if ppd is not None:
+        check_positive("ppd", ppd)
     import flip_evaluator
 
     _, mean, _ = flip_evaluator.evaluate(
