@@ -75,6 +75,9 @@ def test_compare_writes_rows_and_temporal_summaries(scene_file, tmp_path, capsys
     assert summary["catmull-jagged"]["flicker"] > 1e-3
     for entry in summary.values():
         assert entry["reference_sum_variation"] == reference_variation and entry["frames"] == 4
+        assert set(entry["mean"]) == set(IMAGE_METRICS)
+    jagged_rmse = [r["rmse"] for r in doc["rows"] if r["method"] == "catmull-jagged"]
+    assert summary["catmull-jagged"]["mean"]["rmse"] == pytest.approx(sum(jagged_rmse) / 4, rel=1e-12)
 
 
 def test_rows_hold_the_metrics_of_the_rendered_frames(scene_file):

@@ -106,13 +106,17 @@ def _summary_table(document: dict):
     from rich.table import Table
 
     frames = len(document["frames"])
-    table = Table(title=f"over {frames} frame{'s' if frames != 1 else ''}: intensity sum variation (max - min) / mean, flicker")
-    for title in ("method", "sum variation", "flicker", "median render ms"):
+    metrics = document["metrics"]
+    table = Table(title=f"over {frames} frame{'s' if frames != 1 else ''}: mean metrics, "
+                  "intensity sum variation (max - min) / mean, flicker")
+    titles = ("method", *(_COLUMNS[m][0] for m in metrics), "sum variation", "flicker", "median render ms")
+    for title in titles:
         table.add_column(title, justify="left" if title == "method" else "right", overflow="fold")
     reference = document["reference_summary"]
-    table.add_row(f"{reference['method']} (reference)", f"{reference['sum_variation']:.3e}", "—",
-                  f"{reference['render_s_median'] * 1e3:.2f}")
+    table.add_row(f"{reference['method']} (reference)", *("" for _ in metrics), f"{reference['sum_variation']:.3e}",
+                  "", f"{reference['render_s_median'] * 1e3:.2f}")
     for entry in document["summary"]:
-        table.add_row(entry["method"], f"{entry['sum_variation']:.3e}", f"{entry['flicker']:.3e}",
+        cells = [_number(entry["mean"][m], _COLUMNS[m][1]) for m in metrics]
+        table.add_row(entry["method"], *cells, f"{entry['sum_variation']:.3e}", f"{entry['flicker']:.3e}",
                       f"{entry['render_s_median'] * 1e3:.2f}")
     return table

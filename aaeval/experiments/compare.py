@@ -114,8 +114,8 @@ def run_comparison(plan: ComparisonPlan, *, on_render: Callable[[str, int], None
         ``rows``: per method and frame ``method``, ``frame``, each metric, ``intensity_sum``
         and ``render_s`` (the render alone, JIT warm-up excluded); ``reference_rows``: the
         reference's ``frame``, ``intensity_sum`` and ``render_s``; ``reference_summary``: its
-        ``sum_variation`` and ``render_s_median``; ``summary``: per method
-        ``sum_variation`` (of its intensity sums over the frames), ``flicker`` (of its error
+        ``sum_variation`` and ``render_s_median``; ``summary``: per method ``mean`` (each
+        metric's mean over the frames), ``sum_variation`` (of its intensity sums over the frames), ``flicker`` (of its error
         against the reference), ``reference_sum_variation``, ``render_s_median``.
     """
     scene = plan.scene
@@ -145,6 +145,7 @@ def run_comparison(plan: ComparisonPlan, *, on_render: Callable[[str, int], None
             {
                 "method": spec,
                 "frames": len(own),
+                "mean": {name: float(np.mean([r[name] for r in own])) for name in plan.metrics},
                 "sum_variation": sum_variation([r["intensity_sum"] for r in own]),
                 "flicker": compute_temporal_metric("flicker", reference_frames, method_frames[spec]),
                 "reference_sum_variation": reference_variation,
