@@ -97,7 +97,7 @@ def test_default_is_one_frame_and_quiet_prints_only_the_summary(scene_file, tmp_
     out = tmp_path / "one.json"
     assert compare(scene_file, "-m", "catmull-jagged", "-r", "catmull", "--json", out, "--quiet") == 0
     printed = capsys.readouterr().out
-    assert "sum variation" in printed and "PSNR" not in printed and "wrote" not in printed
+    assert "sum variation" in printed and "against catmull" not in printed and "wrote" not in printed
     doc = json.loads(out.read_text())
     assert doc["frames"] == [0] and len(doc["rows"]) == 1
 
