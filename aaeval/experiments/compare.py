@@ -16,6 +16,7 @@ import numpy as np
 
 from aaeval.metrics import (
     IMAGE_METRICS,
+    MetricError,
     compute_metric,
     compute_temporal_metric,
     edge_mask,
@@ -91,7 +92,7 @@ def plan_comparison(
     metrics = tuple(IMAGE_METRICS) if metrics is None else tuple(metrics)
     unknown = [m for m in metrics if m not in IMAGE_METRICS]
     if unknown:
-        raise ValueError(f"unknown metric(s) {unknown}; available: {', '.join(IMAGE_METRICS)}")
+        raise MetricError(f"unknown metric(s) {unknown}; available: {', '.join(IMAGE_METRICS)}")
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
     return ComparisonPlan(scene, methods, reference.strip(), parse_frames(frames, scene.frames), metrics)
