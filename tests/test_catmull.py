@@ -150,3 +150,29 @@ def test_jagged_mode_gives_full_pixels_of_polygon_colours():
     distance = np.abs(jag.reshape(-1, 1, 3) - colours[None]).max(axis=2).min(axis=1)
     assert distance.max() == 0.0
     assert not np.allclose(jag, render(scene, "catmull"))
+
+
+def degenerate_scene(seed):
+    """Shared vertices, edges on pixel boundaries, abutting mesh triangles, equal depths."""
+    rng = np.random.default_rng(seed)
+    width, height = int(rng.integers(3, 12)), int(rng.integers(3, 12))
+    polys = []
+    for k in range(int(rng.integers(2, 12))):
+        if seed % 2 == 0:  # half-integer vertices: edges along pixel boundaries, shared vertices
+            xy = rng.integers(-2, 2 * width + 2, (3, 2)) / 2.0
+        else:  # pairs of triangles sharing a diagonal, as in a mesh
+            i, j, s = rng.integers(0, width), rng.integers(0, height), rng.uniform(0.5, 3)
+            xy = np.array([[i, j], [i + s, j], [i, j + s]]) if k % 2 else np.array([[i + s, j], [i + s, j + s], [i, j + s]])
+        x, y = xy[:, 0], xy[:, 1]
+        if abs(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)) < 1e-9:
+            continue
+        a, b = rng.uniform(-2, 2, 2) if rng.random() < 0.7 else (0.0, 0.0)
+        z = a * x + b * y + float(rng.integers(0, 4))  # small integer depths: many shared planes
+        polys.append({"color": rng.uniform(0, 1, 3).tolist(), "vertices": np.column_stack([xy, z]).tolist()})
+    return parse_scene({"image": {"width": width, "height": height}, "polygons": polys})
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_degenerate_placements_match_geos(seed):
+    scene = degenerate_scene(seed)
+    np.testing.assert_allclose(render(scene, "catmull"), oracle_image(scene), rtol=0, atol=1e-9)
