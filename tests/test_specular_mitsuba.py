@@ -9,15 +9,11 @@ from aaeval.renderers import render
 from aaeval.renderers.catmull import visible_fragments
 from aaeval.scenes import parse_scene
 from aaeval.scenes.shaded import expand_shaded
+from aaeval.specular import groundtruth
 from aaeval.specular.render import scaled_scene
 from aaeval.specular.shading import phong
 
 from tests.test_specular_render import small_scene
-
-# the flat-colour ground truth (camera, variant choice) this builds on
-pytest.importorskip("aaeval.groundtruth.mitsuba", reason="needs the mitsuba ground-truth package (branch mitsuba)")
-
-from aaeval.specular import groundtruth  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -62,9 +58,14 @@ def test_integrator_and_aaeval_shade_the_same_points(mi, light):
     np.testing.assert_allclose(np.array(spec_mi), spec, atol=2e-4)
 
 
-def test_ground_truth_agrees_with_crow_everywhere(mi):
+def test_ground_truth_agrees_with_crow_everywhere(mi, tmp_path, monkeypatch):
+    monkeypatch.setenv("AAEVAL_CACHE_DIR", str(tmp_path))
     scene = parse_scene(small_scene())
     rgb, spec = groundtruth.render_mitsuba_phong(scene, spp=1024)
+    # the registered method dispatches shaded scenes to the Phong integrator (and caches)
+    method = render(scene, "mitsuba:spp=1024,sampler=stratified")
+    np.testing.assert_array_equal(method, rgb)
+    assert groundtruth.groundtruth_phong(scene, spp=1024)[2]  # a cache hit now
     crow = render(scene, "catmull:specular=crow,k=16,region=all")
     plain = render(scene, "catmull")
     err_crow = np.sqrt(np.mean((crow - rgb) ** 2))
