@@ -64,6 +64,19 @@ PROFILE_REGIONS = {
 DETECTION_TOLERANCE = 0.02
 
 
+def progress_bars(quiet: bool):
+    """``progress(iterable, label)``: a tqdm bar, or the bare iterable when quiet."""
+
+    def progress(iterable, label):
+        if quiet:
+            return iterable
+        from tqdm import tqdm
+
+        return tqdm(iterable, desc=label, leave=False)
+
+    return progress
+
+
 def groundtruth_frames(scene, frames, spp, progress):
     rgb, spec = [], []
     for k in progress(range(frames), "ground truth"):
@@ -96,13 +109,7 @@ def main(argv=None) -> int:
     parser.add_argument("--out", default="reports/specular")
     parser.add_argument("--quiet", action="store_true")
     args = parser.parse_args(argv)
-
-    def progress(iterable, label):
-        if args.quiet:
-            return iterable
-        from tqdm import tqdm
-
-        return tqdm(iterable, desc=label, leave=False)
+    progress = progress_bars(args.quiet)
 
     scene = load_scene(args.scene)
     frames = min(args.frames or scene.frames, scene.frames)

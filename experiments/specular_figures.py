@@ -30,6 +30,7 @@ from aaeval.scenes import load_scene  # noqa: E402
 from aaeval.specular.groundtruth import groundtruth_phong  # noqa: E402
 from aaeval.specular.render import render_shaded, specular_aliasing_map  # noqa: E402
 from aaeval.specular.tables import cutoff_table, maximum  # noqa: E402
+from experiments.specular_experiment import progress_bars  # noqa: E402
 
 PLATE_METHODS = [
     ("none", {}),
@@ -167,13 +168,7 @@ def main(argv=None) -> int:
     parser.add_argument("--out", default="reports/specular")
     parser.add_argument("--quiet", action="store_true")
     args = parser.parse_args(argv)
-
-    def progress(iterable, label):
-        if args.quiet:
-            return iterable
-        from tqdm import tqdm
-
-        return tqdm(iterable, desc=label, leave=False)
+    progress = progress_bars(args.quiet)
 
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
