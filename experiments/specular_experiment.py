@@ -105,7 +105,7 @@ def main(argv=None) -> int:
     parser.add_argument("--scene", default=SCENE)
     parser.add_argument("--frames", type=int, default=None, help="frames to use (default: all)")
     parser.add_argument("--spp", type=int, default=1024, help="ground-truth samples per pixel")
-    parser.add_argument("--crow-k", default="1,2,4,8", help="K values of the crow-everywhere convergence check")
+    parser.add_argument("--crow-k", default="1,2,4,8,16", help="K values of the crow-everywhere convergence check")
     parser.add_argument("--out", default="reports/specular")
     parser.add_argument("--quiet", action="store_true")
     args = parser.parse_args(argv)
