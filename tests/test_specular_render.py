@@ -307,3 +307,32 @@ def test_shaded_scene_files_load_and_render():
     for name in ("specular_cylinders", "specular_cones"):
         scene = load_scene(f"configs/scenes/{name}.toml")
         assert len(scene.extensions["shaded"].objects) >= 2 and scene.frames > 1
+
+
+def test_detection_matches_the_analytic_normal_turn_of_a_cylinder():
+    # a vertical cylinder seen side-on: the normal at x is (sin t, 0, -cos t) with
+    # sin t = (x - cx) / R, turning at dt/dx = 1 / sqrt(R^2 - (x - cx)^2). Each facet's
+    # normal field is linear across the pixel at the facet's own rate, and detection
+    # takes the most turning facet of the pixel: the turn lies between the rates at
+    # the pixel's two sides
+    R, cx, n = 20.0, 16.0, 29
+    doc = {
+        "image": {"width": 32, "height": 32},
+        "shaded": {
+            "light": {"type": "directional", "direction": [0.0, 0.0, -1.0]},
+            "cylinders": [{"centre": [cx, 16.0, 100.0], "axis": [0.0, 1.0, 0.0], "radius": R, "length": 40.0,
+                           "segments": 720, "caps": False, "material": {**MATERIAL, "n": n}}],
+        },
+    }
+    m = specular_aliasing_map(parse_scene(doc))
+    # away from the silhouette, where one facet's linear normal field, extended over the
+    # pixel, follows the circle closely
+    cols = np.arange(6, 26)
+    rate = 1 / np.sqrt(R**2 - (np.stack([cols, cols + 1]) - cx) ** 2)
+    turn = np.arccos(m.dot[16, cols])
+    assert (turn >= rate.min(axis=0) * (1 - 2e-3)).all() and (turn <= rate.max(axis=0) * (1 + 2e-3)).all()
+    threshold = np.pi / (2 * n)  # MinDot[n] = cos(pi / 2n)
+    np.testing.assert_array_equal(m.flag[16, cols], turn > threshold)
+    assert m.flag[16, cols].any() and not m.flag[16, cols].all()
+    np.testing.assert_allclose(m.rate[16, cols], turn / threshold, rtol=1e-9)
+

@@ -98,3 +98,25 @@ def test_bad_exponent_is_refused():
         power_cutoff(-1, 0.99)
     with pytest.raises(ValueError, match="exponent"):
         tables.cutoff_table(2.5, 0.99)
+
+
+def test_clamp_follows_the_papers_code_fragment():
+    from aaeval.specular.shading import clamp_amanatides
+
+    n, ks = np.array([500.0, 500.0, 500.0]), np.full(3, 0.8)
+    turn = np.array([0.001, 0.01, 0.05])  # radians between the most divergent corner normals
+    dot = np.cos(turn)
+    n_c, ks_c, flagged = clamp_amanatides(dot, n, ks)
+    assert flagged.tolist() == [False, True, True]  # MinDot[500] = cos(pi / 1000)
+    frequency = np.pi / (2 * turn[1:])  # sampleFrequency = pi / delta_alpha, delta_alpha = 2 acos(dot)
+    np.testing.assert_allclose(n_c, [500.0, *frequency])
+    expected_ks = [0.8] + [0.8 * math.comb(500, 250) / 2**500 / float(maximum(f)) for f in frequency]
+    np.testing.assert_allclose(ks_c, expected_ks)
+
+    n_a, ks_a, flagged_a = clamp_amanatides(dot, n, ks, power=0.999)
+    assert flagged_a.tolist() == [False, False, True]  # aggressive MinDot = cos(pi / (2 * 52))
+    exact = [exact_cutoff(m, Fraction("0.999")) for m in range(300)]
+    allowed = max(m for m in range(300) if all(c <= frequency[1] for c in exact[: m + 1]))
+    assert 160 < allowed < 299  # cutoff(160) = 30 fits under 31.4
+    assert n_a[2] == allowed
+    assert ks_a[2] == pytest.approx(0.8 * float(maximum(500)) / float(maximum(allowed)))
