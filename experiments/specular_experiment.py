@@ -42,7 +42,7 @@ from aaeval.scenes import load_scene
 from aaeval.specular.groundtruth import groundtruth_phong
 from aaeval.specular.render import render_shaded, specular_aliasing_map
 
-SCENE = "configs/scenes/specular_cylinders.toml"
+SCENE = "configs/scenes/shaded/cylinders.toml"
 METHODS = [
     "catmull:specular=none",
     "catmull:specular=amanatides",

@@ -175,10 +175,10 @@ def main(argv=None) -> int:
     out.mkdir(parents=True, exist_ok=True)
     fig_power_cutoff(out)
     fig_clamp_ratio(out)
-    plates("configs/scenes/specular_cylinders.toml", "cylinders", out, args.spp, 0, ((172, 220), (190, 238)))
-    plates("configs/scenes/specular_cones.toml", "cones", out, args.spp, 0, ((20, 68), (62, 110)))
-    fig_detection("configs/scenes/specular_cylinders.toml", out)
-    fig_flicker("configs/scenes/specular_cylinders.toml", out, args.spp, progress)
+    plates("configs/scenes/shaded/cylinders.toml", "cylinders", out, args.spp, 0, ((172, 220), (190, 238)))
+    plates("configs/scenes/shaded/cones.toml", "cones", out, args.spp, 0, ((20, 68), (62, 110)))
+    fig_detection("configs/scenes/shaded/cylinders.toml", out)
+    fig_flicker("configs/scenes/shaded/cylinders.toml", out, args.spp, progress)
     if not args.quiet:
         print(f"figures written to {out}/")
     return 0

@@ -304,8 +304,8 @@ def test_modern_methods_widen_only_where_normals_turn(specular):
 
 
 def test_shaded_scene_files_load_and_render():
-    for name in ("specular_cylinders", "specular_cones"):
-        scene = load_scene(f"configs/scenes/{name}.toml")
+    for name in ("cylinders", "cones"):
+        scene = load_scene(f"configs/scenes/shaded/{name}.toml")
         assert len(scene.extensions["shaded"].objects) >= 2 and scene.frames > 1
 
 
