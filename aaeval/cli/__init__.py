@@ -14,6 +14,7 @@ COMMANDS = [
     "aaeval.cli.invariance",
     "aaeval.cli.methods",
     "aaeval.cli.hidden_lines",
+    "aaeval.cli.compare",
 ]
 
 
