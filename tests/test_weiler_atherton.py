@@ -33,11 +33,11 @@ SCENES = sorted((Path(__file__).parents[1] / "configs" / "scenes").glob("*.toml"
 # overlaps, slivers. Clip polygons are also built from the subject's own vertices.
 
 GRID = 8
+# GEOS overlays run in floating point; snap-rounding them to a grid (grid_size=1e-10 ..
+# 1e-12) was tried and lost up to 6e-5 of area on slivers, so they run unsnapped
+GRID_SIZE = None
+# the smallest polygon the generators make has area >= 1e-3, so any lost piece shows
 AREA_TOL = 1e-9
-# GEOS overlays in floating point can fail on near-degenerate input (seen: A ∩ B empty
-# while B ∩ A is all of A); snap-rounding them to this grid makes them robust, at an area
-# error of ~perimeter * GRID_SIZE, far below AREA_TOL
-GRID_SIZE = 1e-12
 
 
 def _star_from(points, centre):
@@ -66,7 +66,8 @@ def with_hole(draw, outer):
     half = st.tuples(st.integers(0, 2 * GRID), st.integers(0, 2 * GRID)).map(lambda p: (p[0] / 2, p[1] / 2))
     hole = draw(grid_star(points=half, max_size=6))
     h = ShapelyPolygon(hole)
-    assume(h.is_valid and h.area > 0 and poly.contains(h))
+    # a hole may touch its outline in single points, not along edges (GEOS validity)
+    assume(h.is_valid and h.area > 0 and poly.contains(h) and ShapelyPolygon(outer, [hole]).is_valid)
     return [outer, hole]
 
 
@@ -109,7 +110,9 @@ def _signed_region_area(shape, region) -> float:
     """Area of (shape ∩ region): each contour's overlap with region, signed as the contour."""
     total = 0.0
     for ring in shape.rings:
-        poly = shapely.make_valid(ShapelyPolygon(ring))
+        poly = ShapelyPolygon(ring)
+        if not poly.is_valid:  # a contour touching itself in a vertex: GEOS wants it split
+            poly = _polygonal(shapely.make_valid(poly))
         total += math.copysign(shapely.intersection(poly, region, grid_size=GRID_SIZE).area, _shoelace(ring))
     return total
 
@@ -119,12 +122,19 @@ def _shoelace(ring):
     return 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)
 
 
-def _check_region(shape, expected):
+def _polygonal(geometry):
+    """The areal part of a GEOS result (an overlay may add the lines where shapes touch)."""
+    parts = [g for g in shapely.get_parts(geometry) if g.geom_type in ("Polygon", "MultiPolygon")]
+    return shapely.union_all(parts, grid_size=GRID_SIZE) if parts else shapely.Polygon()
+
+
+def _check_region(shape, expected, scale):
     """The shape covers exactly the GEOS region: same area, symmetric difference ~0."""
+    expected = _polygonal(expected)
     area = shape_area(shape)
-    assert area == pytest.approx(expected.area, abs=AREA_TOL)
+    assert area == pytest.approx(expected.area, abs=AREA_TOL * scale)
     common = _signed_region_area(shape, expected)
-    assert area + expected.area - 2 * common == pytest.approx(0.0, abs=AREA_TOL)  # |A Δ B|
+    assert area + expected.area - 2 * common == pytest.approx(0.0, abs=AREA_TOL * scale)  # |A Δ B|
     for ring in shape.rings:
         assert len(ring) >= 3
 
@@ -132,13 +142,14 @@ def _check_region(shape, expected):
 def _check_clip(subject_rings, clip_rings):
     subject, clipper = oriented(subject_rings, label=1), oriented(clip_rings, label=2)
     s_geo, c_geo = _geos(subject_rings), _geos(clip_rings)
+    scale = 1.0 + s_geo.area + c_geo.area
     inside, outside = clip(subject, clipper)
-    _check_region(inside, shapely.intersection(s_geo, c_geo, grid_size=GRID_SIZE))
-    _check_region(outside, shapely.difference(s_geo, c_geo, grid_size=GRID_SIZE))
-    assert shape_area(inside) + shape_area(outside) == pytest.approx(s_geo.area, abs=AREA_TOL)
+    _check_region(inside, shapely.intersection(s_geo, c_geo, grid_size=GRID_SIZE), scale)
+    _check_region(outside, shapely.difference(s_geo, c_geo, grid_size=GRID_SIZE), scale)
+    assert shape_area(inside) + shape_area(outside) == pytest.approx(s_geo.area, abs=AREA_TOL * scale)
     # every output contour belongs to one polygon with its holes; their areas add up
     for part in (inside, outside):
-        assert sum(shape_area(p) for p in polygons(part)) == pytest.approx(shape_area(part), abs=AREA_TOL)
+        assert sum(shape_area(p) for p in polygons(part)) == pytest.approx(shape_area(part), abs=AREA_TOL * scale)
 
 
 CLIP_SETTINGS = settings(max_examples=500, deadline=None, suppress_health_check=[HealthCheck.filter_too_much, HealthCheck.too_slow])
@@ -184,7 +195,9 @@ def test_clipper_matches_geos_on_random_float_stars(seed):
             rings.append(list(zip(c[0] + rad * np.cos(ang), c[1] + rad * np.sin(ang))))
         return rings
 
-    _check_clip(star_with_hole(), star_with_hole())
+    subject, clipper = star_with_hole(), star_with_hole()
+    assume(_geos(subject).is_valid and _geos(clipper).is_valid)  # a hole may poke out of a star
+    _check_clip(subject, clipper)
 
 
 def test_clipper_keeps_subject_edge_labels():
@@ -284,8 +297,9 @@ def test_visible_pieces_tile_the_covered_window(seed, window):
     geoms = [_piece_geometry(p) for p in pieces]
     for piece, g in zip(pieces, geoms):
         assert 0 <= piece.source < len(scene.polygons)
-        # each piece lies in its own source polygon
-        assert shapely.difference(g, ShapelyPolygon(scene.polygons[piece.source].xy), grid_size=GRID_SIZE).area < 1e-9
+        # each piece lies in its own source polygon (a predicate: GEOS decides those exactly;
+        # the overlay A \ B once came out as all of A here, a GEOS robustness failure)
+        assert ShapelyPolygon(scene.polygons[piece.source].xy).buffer(1e-9).covers(g)
         assert piece.area == pytest.approx(g.area, abs=1e-9)
     tree = shapely.STRtree(geoms)
     for i, j in zip(*tree.query(geoms, predicate="intersects")):
