@@ -41,11 +41,18 @@ FRONT, BEHIND = -1, 1
 
 
 class Piece(NamedTuple):
-    """Part of one scene polygon: oriented contours (holes included) and its source index
-    into ``scene.polygons``."""
+    """Part of one scene polygon: oriented contours (holes included), its source index
+    into ``scene.polygons`` and its bounding box ``(x0, y0, x1, y1)``."""
 
     shape: Shape
     source: int
+    bbox: tuple[float, float, float, float]
+
+    @classmethod
+    def of(cls, shape: Shape, source: int) -> "Piece":
+        # the box is kept with the piece: the x-y sort tests every piece against every
+        # clip polygon, and recomputing boxes there was most of the run time
+        return cls(shape, source, _shape_bbox(shape))
 
     @property
     def area(self) -> float:
@@ -85,15 +92,15 @@ class _Solver:
             if p.source == src:  # a piece always lies in its own polygon's outline
                 inside.append(p)
                 continue
-            bb = _shape_bbox(p.shape)
+            bb = p.bbox
             if bb[0] >= cb[2] or bb[2] <= cb[0] or bb[1] >= cb[3] or bb[3] <= cb[1]:
                 outside.append(p)
                 continue
             ins, out = clip(p.shape, clipper, self.eps)
             if ins.rings:
-                inside.append(Piece(ins, p.source))
+                inside.append(Piece.of(ins, p.source))
             if out.rings:
-                outside.append(Piece(out, p.source))
+                outside.append(Piece.of(out, p.source))
         return inside, outside
 
     # -- step c: depth comparison ---------------------------------------------------
@@ -123,12 +130,12 @@ class _Solver:
             return [(piece, rel)]
         a, b, c = self.planes[piece.source]
         a2, b2, c2 = self.planes[src]
-        half = _half_plane(a - a2, b - b2, c - c2, _shape_bbox(piece.shape))
+        half = _half_plane(a - a2, b - b2, c - c2, piece.bbox)
         front, back = clip(piece.shape, half, self.eps)
         parts = []
         for shape, rel in ((front, FRONT), (back, BEHIND)):
             if shape.rings:
-                parts.append((Piece(shape, piece.source), rel))
+                parts.append((Piece.of(shape, piece.source), rel))
         return parts
 
     # -- steps b-d, recursively ----------------------------------------------------
@@ -214,7 +221,7 @@ def _solve_window(scene: Scene, solver: _Solver, window, sources=None) -> list[P
         own = Shape(solver.originals[s].rings, [[EDGE_OWN] * len(r) for r in solver.originals[s].rings])
         ins, _ = clip(own, rect, solver.eps)
         if ins.rings:
-            pieces.append(Piece(ins, s))
+            pieces.append(Piece.of(ins, s))
     return solver.solve(pieces)
 
 
