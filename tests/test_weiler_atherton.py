@@ -230,21 +230,17 @@ def test_shipped_scenes_match_catmull_every_frame(path):
         np.testing.assert_allclose(render(at, "weiler-atherton"), render(at, "catmull"), rtol=0, atol=1e-9)
 
 
-@pytest.mark.parametrize("seed", range(60))
-def test_random_interpenetrating_scenes_match_geos(seed):
-    scene = random_scene(seed)
-    np.testing.assert_allclose(render(scene, "weiler-atherton"), oracle_image(scene), rtol=0, atol=1e-9)
+GEOS_CASES = (
+    [(random_scene, (seed,)) for seed in range(60)]
+    + [(degenerate_scene, (seed,)) for seed in range(30)]
+    # dense tangles: every pixel holds many polygons, several of them interpenetrating
+    + [(random_scene, (100 + seed, 5, 4, 14, 4, 3.0)) for seed in range(4)]
+)
 
 
-@pytest.mark.parametrize("seed", range(30))
-def test_degenerate_scenes_match_geos(seed):
-    scene = degenerate_scene(seed)
-    np.testing.assert_allclose(render(scene, "weiler-atherton"), oracle_image(scene), rtol=0, atol=1e-9)
-
-
-@pytest.mark.parametrize("seed", range(4))
-def test_dense_tangle_matches_geos(seed):
-    scene = random_scene(100 + seed, width=5, height=4, n_tri=14, n_star=4, tilt=3.0)
+@pytest.mark.parametrize("make, args", GEOS_CASES, ids=lambda v: getattr(v, "__name__", None) or repr(v[0]))
+def test_scenes_match_geos(make, args):
+    scene = make(*args)
     np.testing.assert_allclose(render(scene, "weiler-atherton"), oracle_image(scene), rtol=0, atol=1e-9)
 
 

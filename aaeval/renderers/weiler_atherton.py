@@ -8,24 +8,16 @@ image as ``catmull`` by a completely different road.
 from __future__ import annotations
 
 from aaeval.renderers.registry import Option, register_method
-from aaeval.scenes import Scene, parse_scene
+from aaeval.scenes import Scene
+from aaeval.scenes.generate import random_triangles
 from aaeval.weiler_atherton import box_filter, visible_pieces
 
 __all__ = ["render_weiler_atherton"]
 
 
 def _warmup() -> None:
-    tiny = parse_scene(
-        {
-            "image": {"width": 4, "height": 3},
-            "polygons": [
-                {"color": [1, 0, 0], "vertices": [[0.2, 0.3, 1], [3.7, 0.6, 2], [1.5, 2.9, 0]]},
-                {"color": [0, 1, 0], "vertices": [[0.1, 2.5, 0], [3.9, 2.2, 3], [2.5, 0.1, 1]]},
-            ],
-        },
-        source="<warm-up>",
-    )
-    render_weiler_atherton(tiny)
+    # a few interpenetrating triangles run every step once and compile the raster kernel
+    render_weiler_atherton(random_triangles(4, 6, 5, size=6.0, seed=0))
 
 
 @register_method(

@@ -21,6 +21,13 @@ __all__ = ["coverage", "box_filter"]
 
 
 @njit(cache=True)
+def _unit_cells(lo, hi, n):
+    """First and last cell [k, k + 1), 0 <= k < n, that the interval lo < hi overlaps; each
+    overlaps it over a length > 0 (so no cell of the loops below gets an empty stretch)."""
+    return max(int(math.floor(lo)), 0), min(int(math.ceil(hi)) - 1, n - 1)
+
+
+@njit(cache=True)
 def _row_segment(r, xa, xb, dy, w, weight, area, cover):
     """A segment spanning height ``dy`` (signed) of row r, from x = xa to xb."""
     if xa == xb:
@@ -37,13 +44,10 @@ def _row_segment(r, xa, xb, dy, w, weight, area, cover):
     per_x = dy / (hi - lo)  # height per unit of x
     if lo < 0.0:
         cover[r, 0] += weight * per_x * (min(hi, 0.0) - lo)
-    c0 = max(int(math.floor(lo)), 0)
-    c1 = min(int(math.ceil(hi)) - 1, w - 1)
+    c0, c1 = _unit_cells(lo, hi, w)
     for c in range(c0, c1 + 1):
         u = max(lo, float(c))
         v = min(hi, float(c + 1))
-        if v <= u:
-            continue
         h = per_x * (v - u)
         area[r, c] += weight * h * ((c + 1) - 0.5 * (u + v))
         cover[r, c + 1] += weight * h
@@ -69,13 +73,10 @@ def _accumulate(xs, ys, starts, lengths, weights, w, h, area, cover):
                 continue
             dxdy = (x1 - x0) / (y1 - y0)
             sign = 1.0 if y1 > y0 else -1.0
-            r0 = int(math.floor(ylo))
-            r1 = min(int(math.ceil(yhi)) - 1, h - 1)
+            r0, r1 = _unit_cells(ylo, yhi, h)
             for r in range(r0, r1 + 1):
                 ya = max(ylo, float(r))
                 yb = min(yhi, float(r + 1))
-                if yb <= ya:
-                    continue
                 xa = x0 + (ya - y0) * dxdy
                 xb = x0 + (yb - y0) * dxdy
                 _row_segment(r, xa, xb, sign * (yb - ya), w, wt, area, cover)
