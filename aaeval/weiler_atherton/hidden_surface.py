@@ -219,7 +219,7 @@ def _solve_window(scene: Scene, solver: _Solver, window, sources=None) -> list[P
     pieces = []
     for s in _depth_order(scene, sources):
         own = Shape(solver.originals[s].rings, [[EDGE_OWN] * len(r) for r in solver.originals[s].rings])
-        ins, _ = clip(own, rect, solver.eps)
+        ins = own if _within(solver.bboxes[s], window) else clip(own, rect, solver.eps)[0]
         if ins.rings:
             pieces.append(Piece.of(ins, s))
     return solver.solve(pieces)
@@ -259,6 +259,10 @@ def visible_pieces(scene: Scene, *, window: int = 0) -> list[Piece]:
             for c, d in ys:
                 todo.append(((a, c, b, d), here))
     return out
+
+
+def _within(bb, win) -> bool:
+    return bb[0] >= win[0] and bb[2] <= win[2] and bb[1] >= win[1] and bb[3] <= win[3]
 
 
 def _overlaps(bb, win) -> bool:
