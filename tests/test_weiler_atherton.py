@@ -17,6 +17,7 @@ from shapely.geometry import Polygon as ShapelyPolygon
 
 from aaeval.cli import main
 from aaeval.renderers import render
+from aaeval.renderers.registry import MethodError
 from aaeval.scenes import load_scene, parse_scene
 from aaeval.weiler_atherton import clip, oriented, polygons, shape_area, visible_pieces
 from aaeval.weiler_atherton.lines import visible_edges
@@ -271,9 +272,9 @@ def test_screen_subdivision_gives_the_same_image(seed, window):
 
 def test_window_option_is_validated():
     scene = random_scene(0)
-    with pytest.raises(Exception, match="window"):
+    with pytest.raises(MethodError, match="window"):
         render(scene, "weiler-atherton:window=-1")
-    with pytest.raises(Exception, match="nosuch"):
+    with pytest.raises(MethodError, match="nosuch"):
         render(scene, "weiler-atherton:nosuch=1")
 
 
