@@ -5,7 +5,9 @@ Random interpenetrating triangles (``random_triangles``) in a 256x256 image; the
 wall-clock milliseconds per frame over repeated renders after a warm-up render (JIT
 compilation excluded). W-A is object-space Python: its cost grows with the number of
 polygon pairs that overlap, which screen subdivision (``window=N``: at most N polygons per
-window) cuts down; Catmull's cost grows with the pixels each polygon covers.
+window) is meant to cut down, at the price of clipping every polygon to the window
+borders it crosses (measured: the price is the larger one here); Catmull's cost grows
+with the pixels each polygon covers.
 
     PYTHONPATH=. python experiments/bench_weiler_atherton.py [--counts 10 30 100 300 1000]
 """
