@@ -13,6 +13,8 @@ COMMANDS = [
     "aaeval.cli.render",
     "aaeval.cli.invariance",
     "aaeval.cli.methods",
+    "aaeval.cli.sweep",
+    "aaeval.cli.report",
 ]
 
 
@@ -32,6 +34,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from aaeval.experiments.config import ConfigError
     from aaeval.renderers.registry import MethodError
     from aaeval.scenes import SceneError
 
@@ -39,7 +42,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         return int(args.run(args) or 0)
-    except (SceneError, MethodError, ValueError, FileNotFoundError) as exc:
+    except (SceneError, MethodError, ConfigError, ValueError, FileNotFoundError) as exc:
         print(f"aaeval {args.command}: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

@@ -109,12 +109,14 @@ class Experiment:
     temporal: tuple[str, ...]
     primary: str
     noise_estimate: bool = True
+    fail_above: float | None = None  # a cell whose primary error exceeds this counts as failed
 
     def cells(self) -> list[Cell]:
         return [cell for group in self.groups for cell in group.cells()]
 
 
-_EXPERIMENT_KEYS = {"name", "description", "reference", "metrics", "temporal", "primary", "noise_estimate"}
+_EXPERIMENT_KEYS = {"name", "description", "reference", "metrics", "temporal", "primary", "noise_estimate",
+                    "fail_above"}
 _GROUP_KEYS = {"name", "scenes", "methods", "frames", "options", "reference", "metrics"}
 
 
@@ -151,6 +153,11 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
     if not isinstance(noise, bool):
         raise ConfigError(f"{where}: [experiment].noise_estimate must be true or false, got {noise!r}")
 
+    fail_above = head.get("fail_above")
+    if fail_above is not None and (isinstance(fail_above, bool) or not isinstance(fail_above, (int, float))
+                                   or fail_above <= 0):
+        raise ConfigError(f"{where}: [experiment].fail_above must be a positive number, got {fail_above!r}")
+
     raw_groups = document.get("groups")
     if not isinstance(raw_groups, list) or not raw_groups:
         raise ConfigError(f"{where}: needs at least one [[groups]] table")
@@ -163,7 +170,8 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
         raise ConfigError(f"{where}: groups.name must be unique, repeated: {dup}")
     if not any(primary in g.metrics for g in groups):
         raise ConfigError(f"{where}: [experiment].primary {primary!r} is not a metric of any group")
-    return Experiment(name, str(head.get("description", "")), where, text, tuple(groups), temporal, primary, noise)
+    return Experiment(name, str(head.get("description", "")), where, text, tuple(groups), temporal, primary, noise,
+                      None if fail_above is None else float(fail_above))
 
 
 def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str, ...]) -> Group:

@@ -104,7 +104,7 @@ def run_sweep(experiment: Experiment, out: str | Path, *, workers: int | None = 
     planned = plan(experiment)
     store.write_manifest(experiment.text, {
         "experiment": experiment.name, "description": experiment.description, "config": experiment.path,
-        "code_version": code_version(), "primary": experiment.primary, "temporal": list(experiment.temporal),
+        "code_version": code_version(), "primary": experiment.primary, "fail_above": experiment.fail_above, "temporal": list(experiment.temporal),
         "cells": [p.manifest_row() for p in planned]})
 
     unique: dict[str, PlannedCell] = {}
@@ -171,6 +171,8 @@ def _references(experiment, todo, store, cache, executor, progress, summary) -> 
 
 
 def _cells(todo, refs, store, executor, progress, summary) -> None:
+    # timings are only comparable between cells that shared the machine the same way
+    workers = {"executor": executor.description, "workers": executor.workers}
     task = progress.add_task("cells", total=len(todo)) if progress else None
     loaded: dict[str, np.ndarray] = {}
 
@@ -179,7 +181,7 @@ def _cells(todo, refs, store, executor, progress, summary) -> None:
             info = refs.get(p.reference_key, {})
             if p.reference_key not in loaded and "error" not in info:
                 loaded[p.reference_key] = store.load_reference(p.reference_key)
-            yield ({"record": _base_record(p, info), "document": p.cell.scene.document,
+            yield ({"record": {**_base_record(p, info), **workers}, "document": p.cell.scene.document,
                     "source": p.cell.scene.source, "metrics": list(p.cell.metrics),
                     "reference_image": loaded.get(p.reference_key), "reference_error": info.get("error")},)
 

@@ -5,7 +5,7 @@ Layout of a sweep folder ``DIR``::
     DIR/experiment.toml          the config as run
     DIR/manifest.json            every cell of the config (key, group, scene, method, frame)
     DIR/cells/<key>.json         one finished cell: its record (metrics, time, host, error)
-    DIR/images/<key>.npy         the cell's rendered image (float32 linear RGB)
+    DIR/images/<key>.npy         the cell's rendered image (float64 linear RGB)
     DIR/references/<key>.npy     reference images the cells were compared against
     DIR/results.parquet          one tidy table, rebuilt from the cell files
 
@@ -131,7 +131,8 @@ class SweepStore:
     def write_cell(self, record: dict, image: np.ndarray | None) -> None:
         # image first: a record that exists always has its image
         if image is not None:
-            _save_npy(self.image_path(record["key"]), image, np.float32)
+            # float64: a float32 copy would show rounding as error against an exact reference
+            _save_npy(self.image_path(record["key"]), image, np.float64)
         text = json.dumps(record, indent=1, default=_jsonable) + "\n"
         atomic_write(self.cell_path(record["key"]), lambda tmp: Path(tmp).write_text(text))
 
@@ -141,7 +142,7 @@ class SweepStore:
 
     def load_image(self, key: str) -> np.ndarray | None:
         p = self.image_path(key)
-        return np.load(p).astype(np.float64) if p.is_file() else None
+        return np.load(p) if p.is_file() else None
 
     def load_reference(self, key: str) -> np.ndarray | None:
         p = self.reference_path(key)

@@ -24,7 +24,7 @@ __all__ = ["results_frame", "temporal_frame", "write_results", "load_results"]
 _COLUMNS = ["group", "scene", "method", "spec", "options", "frame", "difficulty", "difficulty_label",
             "render_s", "intensity_sum", "reference", "reference_kind", "reference_spp", "reference_seed",
             "reference_noise_rmse", "reference_intensity_sum", "spp", "seed", "host", "error", "key",
-            "scene_source", "code_version", "finished_at", "width", "height"]
+            "scene_source", "code_version", "finished_at", "width", "height", "executor", "workers"]
 
 
 def results_frame(store: SweepStore) -> pd.DataFrame:
