@@ -109,16 +109,18 @@ def sliver(difficulty: float, *, size: int = 16, frames: int = 1, step: float = 
 
 @register_generator("edges", difficulty="edge slope (rise per pixel run)", params=("size", "frames", "step"))
 def edges(difficulty: float, *, size: int = 24, frames: int = 8, step: float = 0.125) -> dict:
-    """Nearly axis-aligned edges (slope ``difficulty``) moving by sub-pixel steps.
+    """Nearly axis-aligned edges (slope ``difficulty``, at most about 0.2 so the scene
+    stays inside the frame) moving by sub-pixel steps.
 
     Small slopes make the long staircases and crawling edges of point sampling; the
     occluding quad in front exercises hidden-surface removal inside pixels.
     """
     s = float(difficulty)
-    c = size / 2
-    back = [[1.3, c - 6 + 0.0, 2.0], [size - 1.7, c - 6 + s * (size - 3), 2.0],
-            [size - 2.2, c + 5 + s * (size - 3), 2.0], [1.1, c + 5, 2.0]]
-    front = [[c - 4.4, 2.6, 1.0], [c + 3.1, 2.6 + 0.37, 1.0], [c + 3.1 - s * 10, size - 3.4, 1.0]]
+    lo, hi = 0.12 * size, 0.8 * size  # room for the drift of the animation inside the frame
+    back = [[lo + 0.3, 0.2 * size, 2.0], [hi, 0.2 * size + s * (hi - lo), 2.0],
+            [hi - 0.2, 0.7 * size + s * (hi - lo), 2.0], [lo + 0.1, 0.7 * size, 2.0]]
+    front = [[0.3 * size + 0.07, 0.1 * size + 0.4, 1.0], [0.62 * size, 0.1 * size + 0.77, 1.0],
+             [0.62 * size - s * 0.6 * size, 0.85 * size, 1.0]]
     return {"image": {"width": size, "height": size, "background": [0.02, 0.02, 0.02]},
             "animation": _animation(frames, step),
             "polygons": [{"color": [0.95, 0.9, 0.3], "vertices": back},
