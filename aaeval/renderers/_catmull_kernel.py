@@ -36,7 +36,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from aaeval.renderers._clip import EPS_LINE, area_centroid, clip_side, signed_area
+from aaeval.renderers._clip import EPS_LINE, area_centroid, clip_side, clip_split, signed_area
 
 # Coverage within this of 1 is a solid piece; below COV_EMPTY a piece is absent.
 COV_SOLID = 1.0 - 1e-12
@@ -44,7 +44,7 @@ COV_EMPTY = 1e-15
 # Pieces of smaller area are dropped inside the integrator (slivers from rounding).
 AREA_EMPTY = 1e-15
 # Safety bound on integrator steps for one pixel; never reached on valid scenes.
-MAX_STEPS = 1_000_000
+MAX_STEPS = 100_000
 BACKGROUND = -1
 
 
@@ -86,6 +86,42 @@ def _in_front_on_square(planes, p, q, x0, y0, eps_z):
     if hi <= eps_z and lo >= -eps_z:
         return p > q
     return hi <= eps_z
+
+
+@njit(cache=True)
+def _relation(planes, q, f, xs, ys, start, n, eps_z):
+    """Where polygon q (the outline at ``start``) lies in depth against polygon f's plane.
+
+    0: behind f everywhere on q; 1: in front everywhere on q; 2: the planes cross inside
+    q. The test is made on the signed distance of q's vertices to the line where the
+    planes meet, with the same tolerance the clipper uses, so after a split along that
+    line every piece classifies cleanly and the split is never repeated.
+    """
+    da = planes[q, 0] - planes[f, 0]
+    db = planes[q, 1] - planes[f, 1]
+    dc = planes[q, 2] - planes[f, 2]
+    g = np.sqrt(da * da + db * db)
+    lo = np.inf
+    hi = -np.inf
+    for v in range(start, start + n):
+        d = da * xs[v] + db * ys[v] + dc
+        lo = min(lo, d)
+        hi = max(hi, d)
+    if g <= eps_z and hi <= eps_z and lo >= -eps_z:
+        # one shared plane: the polygon later in the file is in front
+        return 1 if q > f else 0
+    if g <= eps_z:
+        # parallel planes: a constant depth difference decides
+        return 1 if hi < 0.0 else 0
+    lo /= g
+    hi /= g
+    if lo >= -EPS_LINE and hi <= EPS_LINE:
+        return 1 if lo + hi < 0.0 else 0  # a sliver along the crossing line
+    if lo >= -EPS_LINE:
+        return 0
+    if hi <= EPS_LINE:
+        return 1
+    return 2
 
 
 # --- the pixel integrator ---------------------------------------------------------
@@ -149,32 +185,21 @@ def integrate_pixel(ws_x, ws_y, ws_f, pstart, plen, psrc, n_init, planes, eps_z,
                 sq = psrc[q]
                 if sq == BACKGROUND:
                     continue
-                lo = np.inf
-                hi = -np.inf
-                for v in range(pstart[q], pstart[q] + plen[q]):
-                    d = _depth(planes, sq, ws_x[v], ws_y[v]) - _depth(planes, src_f, ws_x[v], ws_y[v])
-                    lo = min(lo, d)
-                    hi = max(hi, d)
-                if hi <= eps_z and lo >= -eps_z:
-                    if sq > src_f:  # one shared plane: the later polygon is in front
-                        front = i
-                        break
-                elif lo >= -eps_z:
+                rel = _relation(planes, sq, src_f, ws_x, ws_y, pstart[q], plen[q], eps_z)
+                if rel == 0:
                     continue
-                elif hi <= eps_z:
+                if rel == 1:
                     front = i
                     break
-                else:
-                    # q crosses F's depth plane: split along the line z_q = z_F
-                    da = planes[sq, 0] - planes[src_f, 0]
-                    db = planes[sq, 1] - planes[src_f, 1]
-                    norm = np.sqrt(da * da + db * db)
-                    if norm > 0.0:
-                        a = da / norm
-                        b = db / norm
-                        c = (planes[sq, 2] - planes[src_f, 2]) / norm
-                        clip = True
-                        break
+                # q crosses F's depth plane: split along the line z_q = z_F
+                da = planes[sq, 0] - planes[src_f, 0]
+                db = planes[sq, 1] - planes[src_f, 1]
+                norm = np.sqrt(da * da + db * db)
+                a = da / norm
+                b = db / norm
+                c = (planes[sq, 2] - planes[src_f, 2]) / norm
+                clip = True
+                break
             if front > 0:
                 # the nearer polygon moves to the front and the list is looked at again
                 q = litems[s0 + front]
@@ -196,27 +221,39 @@ def integrate_pixel(ws_x, ws_y, ws_f, pstart, plen, psrc, n_init, planes, eps_z,
             n_out += 1
             continue
         # 3. clip every polygon in the list against the line into two lists
-        for side in (-1, 1):
-            if n_lists >= lstart.size or top >= stack.size:
+        if n_lists + 2 > lstart.size or top + 2 > stack.size or n_items + 2 * cnt > litems.size \
+                or n_poly + 2 * cnt > pstart.size:
+            return -1
+        a_start = n_items
+        b_start = n_items + cnt
+        a_cnt = 0
+        b_cnt = 0
+        for i in range(cnt):
+            p = litems[s0 + i]
+            n = plen[p]
+            at_b = n_vert + 2 * n + 2
+            if at_b + 2 * n + 2 > ws_x.size:
                 return -1
-            new_start = n_items
-            new_cnt = 0
-            for i in range(cnt):
-                p = litems[s0 + i]
-                if n_vert + 2 * plen[p] + 2 > ws_x.size or n_poly >= pstart.size or n_items >= litems.size:
-                    return -1
-                m = clip_side(ws_x, ws_y, ws_f, pstart[p], plen[p], a, b, c, side,
-                              ws_x, ws_y, ws_f, n_vert)
-                if m == 0 or signed_area(ws_x, ws_y, n_vert, m) <= AREA_EMPTY:
-                    continue
+            ma, mb = clip_split(ws_x, ws_y, ws_f, pstart[p], n, a, b, c, True, True,
+                                ws_x, ws_y, ws_f, n_vert, ws_x, ws_y, ws_f, at_b)
+            if ma > 0 and signed_area(ws_x, ws_y, n_vert, ma) > AREA_EMPTY:
                 pstart[n_poly] = n_vert
-                plen[n_poly] = m
+                plen[n_poly] = ma
                 psrc[n_poly] = psrc[p]
-                n_vert += m
-                litems[n_items] = n_poly
-                n_items += 1
+                litems[a_start + a_cnt] = n_poly
+                a_cnt += 1
                 n_poly += 1
-                new_cnt += 1
+            if mb > 0 and signed_area(ws_x, ws_y, at_b, mb) > AREA_EMPTY:
+                pstart[n_poly] = at_b
+                plen[n_poly] = mb
+                psrc[n_poly] = psrc[p]
+                litems[b_start + b_cnt] = n_poly
+                b_cnt += 1
+                n_poly += 1
+            n_vert = at_b + mb
+        n_items += 2 * cnt
+        # 4. reenter the algorithm for each of the two lists
+        for new_start, new_cnt in ((a_start, a_cnt), (b_start, b_cnt)):
             if new_cnt > 0:
                 lstart[n_lists] = new_start
                 llen[n_lists] = new_cnt
@@ -258,11 +295,13 @@ def _strip_coverage(xs, ys, start, n, row, c0, c1, cov, cov_off):
 
 
 @njit(cache=True)
-def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, jagged):
+def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, jagged, centroids):
     """Visible fragments of every pixel.
 
     Returns ``(pix, src, area, cx, cy)``: pixel index ``row * width + col``, source
-    polygon (-1 for background), visible area, and its area centroid.
+    polygon (-1 for background), visible area, and its area centroid. With
+    ``centroids`` false the fast paths skip finding centroids (flat colours need none)
+    and report the pixel centre instead.
     """
     n_polys = pstart0.size
     # I. sort polygons on their first scanline
@@ -354,6 +393,12 @@ def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, ja
                 rem_used += m
                 n_act += 1
         if n_act == 0 and next_in >= n_polys:
+            if n_frag + width > f_pix.size:
+                f_pix = _grow(f_pix, n_frag + width)
+                f_src = _grow(f_src, n_frag + width)
+                f_area = _grow(f_area, n_frag + width)
+                f_cx = _grow(f_cx, n_frag + width)
+                f_cy = _grow(f_cy, n_frag + width)
             for col in range(width):
                 f_pix[n_frag] = row * width + col
                 f_src[n_frag] = BACKGROUND
@@ -382,7 +427,8 @@ def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, ja
                 new_y = _grow(new_y, new_used + need)
                 new_f = _grow(new_f, new_used + need)
             # the line y = row + 1: side A (y < row+1) is this scanline's piece
-            m = clip_side(rem_x, rem_y, rem_f, s, n, 0.0, 1.0, -y_bot, -1, sp_x, sp_y, sp_f, sp_used)
+            m, m2 = clip_split(rem_x, rem_y, rem_f, s, n, 0.0, 1.0, -y_bot, True, True,
+                               sp_x, sp_y, sp_f, sp_used, new_x, new_y, new_f, new_used)
             if m > 0 and signed_area(sp_x, sp_y, sp_used, m) > COV_EMPTY:
                 p = act_src[k]
                 lo = sp_x[sp_used:sp_used + m].min()
@@ -402,7 +448,6 @@ def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, ja
                     cov_used += c1 - c0 + 1
                     sp_used += m
                     n_sp += 1
-            m2 = clip_side(rem_x, rem_y, rem_f, s, n, 0.0, 1.0, -y_bot, 1, new_x, new_y, new_f, new_used)
             if m2 > 0 and signed_area(new_x, new_y, new_used, m2) > COV_EMPTY:
                 act_src[keep] = act_src[k]
                 act_start[keep] = new_used
@@ -517,20 +562,21 @@ def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, ja
                 behind = sp_src[solid]
             if behind != -2:
                 cv = cov[sp_cov[first] + col - sp_c0[first]]
-                # the irregular piece's centroid: clip it to the pixel column
-                need = 4 * sp_len[first] + 8
-                if need > ws_x.size:
-                    ws_x = _grow(ws_x, need)
-                    ws_y = _grow(ws_y, need)
-                    ws_f = _grow(ws_f, need)
-                m1 = clip_side(sp_x, sp_y, sp_f, sp_start[first], sp_len[first], 1.0, 0.0, -float(col), 1,
-                               ws_x, ws_y, ws_f, 0)
-                m2 = clip_side(ws_x, ws_y, ws_f, 0, m1, 1.0, 0.0, -float(col + 1), -1,
-                               ws_x, ws_y, ws_f, m1)
-                _, icx, icy = area_centroid(ws_x, ws_y, m1, m2)
-                if m2 == 0:
-                    icx = xc
-                    icy = yc
+                icx = xc
+                icy = yc
+                if centroids:
+                    # the irregular piece's centroid: clip it to the pixel column
+                    need = 6 * sp_len[first] + 16  # two half-plane clips: up to 2n, then 4n
+                    if need > ws_x.size:
+                        ws_x = _grow(ws_x, need)
+                        ws_y = _grow(ws_y, need)
+                        ws_f = _grow(ws_f, need)
+                    m1 = clip_side(sp_x, sp_y, sp_f, sp_start[first], sp_len[first], 1.0, 0.0, -float(col), 1,
+                                   ws_x, ws_y, ws_f, 0)
+                    m2 = clip_side(ws_x, ws_y, ws_f, 0, m1, 1.0, 0.0, -float(col + 1), -1,
+                                   ws_x, ws_y, ws_f, m1)
+                    if m2 > 0:
+                        _, icx, icy = area_centroid(ws_x, ws_y, m1, m2)
                 f_pix[n_frag] = pix
                 f_src[n_frag] = sp_src[first]
                 f_area[n_frag] = cv
@@ -641,10 +687,12 @@ def _pixel_polygons(sp_x, sp_y, sp_f, sp_start, sp_len, sp_src, plist, n_pl, sol
         if t < n_pl and plist[t] != solid:
             k = plist[t]
             n = sp_len[k]
-            if used + 4 * n + 8 > ws_x.size:
+            # a half-plane clip at most doubles the vertex count: the first clip goes
+            # above the space the second one (up to 4n) writes into
+            tmp = used + 4 * n + 8
+            if tmp + 2 * n + 4 > ws_x.size:
                 return -1, 0
             # the pixel column: x >= x0 (side B of x - x0), then x <= x0+1 (side A)
-            tmp = used + 2 * n + 4
             m1 = clip_side(sp_x, sp_y, sp_f, sp_start[k], n, 1.0, 0.0, -x0, 1, ws_x, ws_y, ws_f, tmp)
             m2 = clip_side(ws_x, ws_y, ws_f, tmp, m1, 1.0, 0.0, -(x0 + 1.0), -1, ws_x, ws_y, ws_f, used)
             if m2 == 0:
