@@ -10,7 +10,7 @@ name = "small"
 description = "test sweep"
 reference = "catmull"
 metrics = ["rmse"]
-temporal = ["sum_variation", "flicker"]
+temporal = ["sum_variation"]
 fail_above = 0.1
 
 [[groups]]

@@ -53,7 +53,7 @@ def test_every_link_resolves(report):
     parser = _Links()
     parser.feed(report.read_text())
     imgs = [link for tag, link in parser.links if tag == "img"]
-    assert len(imgs) >= 5  # speed-accuracy, intensity sum, flicker, stability, image grids
+    assert len(imgs) >= 5  # speed-accuracy, intensity sum, temporal (flicker), stability, image grids
     for tag, link in parser.links:
         url = urlparse(link)
         assert not url.scheme and not url.netloc, f"report must be self-contained: {link}"
@@ -74,7 +74,7 @@ def test_every_figure_states_its_reference(report):
 
 def test_report_has_the_expected_charts_and_tables(report):
     figures = {p.name for p in (report.parent / "figures").glob("*.png")}
-    assert {"edges_speed_accuracy.png", "edges_intensity_sum.png", "edges_flicker.png",
+    assert {"edges_speed_accuracy.png", "edges_intensity_sum.png", "edges_temporal.png",
             "stability_stability.png", "edges_images.png"} <= figures
     text = report.read_text()
     assert "<table>" in text and "catmull-jagged" in text and "9 of 9 distinct cells finished" in text

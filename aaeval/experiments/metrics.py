@@ -1,9 +1,10 @@
-"""The sweep's view of the metrics: per-frame metrics through the registry's dispatcher
-``aaeval.metrics.compute_metric``, and the temporal metrics over a cell series.
+"""The sweep's view of the metrics registry (``aaeval.metrics``): which names exist, and
+how to call them with the context they need.
 
-Per-frame metrics need only the two images, except the ones that read the scene (an edge
-mask); :func:`frame_metric` builds that context. Temporal metrics need every frame of a
-(scene, method) series and are computed when the results table is built.
+Per-frame metrics go through ``compute_metric(name, image_true, image_test, **context)``;
+the ones that read the scene (an edge mask) get it built here. Temporal metrics need every
+frame of a (scene, method) series and go through ``compute_temporal_metric`` when the
+results table is built.
 """
 
 from __future__ import annotations
@@ -12,80 +13,69 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["TEMPORAL_METRICS", "check_metric_names", "frame_metric", "temporal_metric", "registered_metrics"]
+__all__ = ["check_metric_names", "frame_metric", "temporal_metric", "image_metric_names", "temporal_metric_names"]
 
-TEMPORAL_METRICS = ("sum_variation", "flicker")
-
-# Metrics that need more than two images, and how to build what they need from the scene.
+# Metrics that need more than two images, and what they need from the scene.
 _SCENE_CONTEXT = {"edge_rmse": "mask"}
 
 
 def _registry():
-    try:
-        from aaeval.metrics import METRICS, compute_metric  # the shared registry, once merged
+    try:  # the shared registry; a checkout without it still runs sweeps with rmse
+        from aaeval.metrics import IMAGE_METRICS, TEMPORAL_METRICS, compute_metric, compute_temporal_metric
     except ImportError:
-        return None, None
-    return METRICS, compute_metric
+        return None
+    return IMAGE_METRICS, TEMPORAL_METRICS, compute_metric, compute_temporal_metric
 
 
-def registered_metrics() -> set[str]:
-    metrics, _ = _registry()
-    if metrics is None:
-        return set(_FALLBACK)
-    return set(metrics)
+def image_metric_names() -> set[str]:
+    reg = _registry()
+    return set(reg[0]) if reg else set(_FALLBACK_IMAGE)
+
+
+def temporal_metric_names() -> set[str]:
+    reg = _registry()
+    return set(reg[1]) if reg else set(_FALLBACK_TEMPORAL)
 
 
 def check_metric_names(names: Sequence[str], *, temporal: bool) -> None:
-    known = set(TEMPORAL_METRICS) if temporal else registered_metrics() - set(TEMPORAL_METRICS)
+    known = temporal_metric_names() if temporal else image_metric_names()
     unknown = [n for n in names if n not in known]
     if unknown:
         raise ValueError(f"unknown metric(s) {unknown}; available: {', '.join(sorted(known))}")
 
 
 def frame_metric(name: str, image_true: np.ndarray, image_test: np.ndarray, scene=None) -> float:
-    """One per-frame metric of ``image_test`` against ``image_true``."""
-    _, compute = _registry()
-    if compute is None:
-        return float(_FALLBACK[name](image_true, image_test))
+    """One per-frame metric of ``image_test`` against ``image_true`` (``scene`` at that frame)."""
+    reg = _registry()
+    if reg is None:
+        return float(_FALLBACK_IMAGE[name](image_true, image_test))
     context = {}
     if _SCENE_CONTEXT.get(name) == "mask":
         from aaeval.metrics import edge_mask
 
         context["mask"] = edge_mask(scene)
-    return float(compute(name, image_true, image_test, **context))
+    return float(reg[2](name, image_true, image_test, **context))
 
 
 def temporal_metric(name: str, frames_true: Sequence[np.ndarray], frames_test: Sequence[np.ndarray]) -> float:
     """A metric over the frames of one animation, in frame order."""
-    if name == "sum_variation":
-        from aaeval.metrics import intensity_sum, sum_variation
-
-        return sum_variation([intensity_sum(f) for f in frames_test])
-    if name == "flicker":
-        return flicker(frames_true, frames_test)
-    raise ValueError(f"unknown temporal metric {name!r}; available: {', '.join(TEMPORAL_METRICS)}")
-
-
-def flicker(frames_true: Sequence[np.ndarray], frames_test: Sequence[np.ndarray]) -> float:
-    """RMS frame-to-frame change of the error ``test - true``.
-
-    A method that is wrong the same way in every frame does not flicker; one whose error
-    jumps as edges cross sample positions does. Zero for a single frame.
-    """
-    if len(frames_true) != len(frames_test):
-        raise ValueError(f"{len(frames_true)} reference frames but {len(frames_test)} test frames")
-    if len(frames_test) < 2:
-        return 0.0
-    err = np.stack([np.asarray(b, float) - np.asarray(a, float) for a, b in zip(frames_true, frames_test)])
-    return float(np.sqrt(np.mean(np.diff(err, axis=0) ** 2)))
+    reg = _registry()
+    true, test = np.stack(frames_true), np.stack(frames_test)
+    if reg is None:
+        return float(_FALLBACK_TEMPORAL[name](true, test))
+    return float(reg[3](name, true, test))
 
 
 def _rmse(a, b):
-    a, b = np.asarray(a, float), np.asarray(b, float)
-    if a.shape != b.shape:
-        raise ValueError(f"images differ in shape: {a.shape} vs {b.shape}")
-    return np.sqrt(np.mean((a - b) ** 2))
+    return np.sqrt(np.mean((np.asarray(a, float) - np.asarray(b, float)) ** 2))
 
 
-# Used only until the shared metrics registry is merged.
-_FALLBACK = {"rmse": _rmse}
+def _sum_variation(true, test):
+    from aaeval.metrics import intensity_sum, sum_variation
+
+    return sum_variation([intensity_sum(f) for f in test])
+
+
+# Used only where the shared metrics registry is missing.
+_FALLBACK_IMAGE = {"rmse": _rmse}
+_FALLBACK_TEMPORAL = {"sum_variation": _sum_variation}

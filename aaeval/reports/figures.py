@@ -18,7 +18,7 @@ import pandas as pd  # noqa: E402
 
 from aaeval.imageio import linear_to_srgb8  # noqa: E402
 
-__all__ = ["ERROR_FLOOR", "speed_accuracy", "pareto_front", "intensity_sums", "flicker_bars", "stability",
+__all__ = ["ERROR_FLOOR", "speed_accuracy", "pareto_front", "intensity_sums", "temporal_bars", "stability",
            "image_grid"]
 
 ERROR_FLOOR = 1e-12
@@ -102,20 +102,22 @@ def intensity_sums(results: pd.DataFrame, path: Path, *, title: str) -> Path:
     return _save(fig, path)
 
 
-def flicker_bars(temporal: pd.DataFrame, path: Path, *, title: str) -> Path:
-    """Mean flicker and intensity-sum variation per spec (log scale)."""
-    agg = temporal.groupby("spec", sort=False)[["flicker", "sum_variation"]].mean()
-    agg = agg.sort_values("flicker")
-    fig, axes = plt.subplots(1, 2, figsize=(11, 0.5 * len(agg) + 2))
-    for ax, col, label in zip(axes, ["flicker", "sum_variation"],
-                              ["flicker: RMS frame-to-frame change of the error",
-                               "intensity-sum variation (max-min)/mean"]):
+_TEMPORAL_LABELS = {"flicker": "flicker (frame-to-frame change of the error)",
+                    "sum_variation": "intensity-sum variation (max-min)/mean"}
+
+
+def temporal_bars(temporal: pd.DataFrame, path: Path, *, metrics: list[str], title: str) -> Path:
+    """One panel per temporal metric (flicker, sum variation): mean per spec, log scale."""
+    agg = temporal.groupby("spec", sort=False)[metrics].mean().sort_values(metrics[0])
+    fig, axes = plt.subplots(1, len(metrics), figsize=(5.5 * len(metrics), 0.45 * len(agg) + 2), squeeze=False)
+    for i, (ax, col) in enumerate(zip(axes[0], metrics)):
         ax.barh(agg.index, np.maximum(agg[col].to_numpy(float), ERROR_FLOOR), color="tab:blue")
         ax.set_xscale("log")
-        ax.set_xlabel(f"{label} (floor {ERROR_FLOOR:g})", fontsize=8)
+        ax.set_xlabel(f"{_TEMPORAL_LABELS.get(col, col)} (floor {ERROR_FLOOR:g})", fontsize=8)
         ax.grid(True, axis="x", alpha=0.25)
         ax.tick_params(axis="y", labelsize=7)
-    axes[1].set_yticklabels([])
+        if i:
+            ax.set_yticklabels([])
     fig.suptitle(title, fontsize=10)
     return _save(fig, path)
 

@@ -129,7 +129,7 @@ def _timing_note(results: pd.DataFrame) -> str:
 
 
 def _group_section(group: str, rows: pd.DataFrame, temporal: pd.DataFrame, store: SweepStore, figdir: Path,
-                   metrics: list[str], primary: str, fail_above) -> str:
+                   metrics: list[str], temporal_names: list[str], primary: str, fail_above) -> str:
     out = [f"<h2 id='{html.escape(group)}'>{html.escape(group)}</h2>"]
     ref = reference_statement(rows)
     out.append(f"<p class='ref'>{ref} Methods' spp and seed are in their specs and in the table.</p>")
@@ -154,13 +154,15 @@ def _group_section(group: str, rows: pd.DataFrame, temporal: pd.DataFrame, store
         out.append(_figure(p, store.root, f"Intensity sum of every frame, divided by the reference's frame 0. "
                    f"{ref} Area sampling keeps the sum constant while the scene moves inside the frame."))
     temp = temporal[temporal["group"] == group] if not temporal.empty else temporal
-    if not temp.empty and {"flicker", "sum_variation"} <= set(temp.columns):
-        p = figures.flicker_bars(temp, figdir / f"{slug}_flicker.png", title=f"{group}: flicker per method")
-        out.append(_figure(p, store.root, f"Flicker and intensity-sum variation per method, mean over "
+    names = [m for m in temporal_names if m in temp.columns]
+    if not temp.empty and names:
+        p = figures.temporal_bars(temp, figdir / f"{slug}_temporal.png", metrics=names,
+                                  title=f"{group}: {' and '.join(names)} per method")
+        out.append(_figure(p, store.root, f"{', '.join(names)} per method, mean over "
                    f"{temp['scene'].nunique()} animated scene(s). {ref} Reference's own sum variation: "
                    f"{temp['reference_sum_variation'].max():.3g} (max over scenes)."))
-        cols = ["scene", "spec", "frames", "failed_frames", "sum_variation", "reference_sum_variation", "flicker",
-                "reference", "reference_noise_rmse"]
+        cols = ["scene", "spec", "frames", "failed_frames", *names, "reference_sum_variation", "reference",
+                "reference_noise_rmse"]
         out.append(_table(temp[[c for c in cols if c in temp.columns]]))
 
     if rows["difficulty"].notna().any() and rows["difficulty"].nunique() > 1:
@@ -239,7 +241,8 @@ def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
             if rows.empty:
                 parts.append(f"<h2 id='{html.escape(group)}'>{html.escape(group)}</h2><p>No finished cells yet.</p>")
             else:
-                parts.append(_group_section(group, rows, temporal, store, figdir, metrics, primary,
+                parts.append(_group_section(group, rows, temporal, store, figdir, metrics,
+                                            manifest.get("temporal", []), primary,
                                             manifest.get("fail_above")))
             if task is not None:
                 progress.advance(task)
