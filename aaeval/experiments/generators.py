@@ -98,9 +98,10 @@ def sliver(difficulty: float, *, size: int = 16, frames: int = 1, step: float = 
     width = 1.0 / difficulty
     polygons = []
     for i in range(count):
-        x0 = (i + 1) * size / (count + 1) + 0.21 * i
+        # inside the frame with room for the animation's drift, so the true sum is constant
+        x0 = size * (0.15 + 0.5 * i / max(count - 1, 1)) + 0.21 * i
         tilt = 0.9  # pixels of horizontal drift from top to bottom
-        top, bottom = -1.0, size + 1.0
+        top, bottom = 1.0, size - 1.5
         quad = [[x0, top, 1.0], [x0 + width, top, 1.0], [x0 + width + tilt, bottom, 1.0], [x0 + tilt, bottom, 1.0]]
         polygons.append({"color": [1.0, 1.0, 1.0], "vertices": quad})
     return {"image": {"width": size, "height": size, "background": [0.05, 0.05, 0.1]},
