@@ -10,7 +10,6 @@ belong to both sides, so no near-duplicate vertices are made.
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
 # Distance (pixels) under which a point counts as lying on a clipping line: far above
@@ -142,10 +141,3 @@ def area_centroid(xs, ys, start, n):
     if s == 0.0:
         return 0.0, x0, y0
     return 0.5 * s, x0 + sx / (3.0 * s), y0 + sy / (3.0 * s)
-
-
-def normalised_orientation(xy: np.ndarray) -> np.ndarray:
-    """The outline with positive shoelace area (reversed if needed)."""
-    x, y = xy[:, 0], xy[:, 1]
-    area = 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)
-    return xy if area >= 0 else xy[::-1]

@@ -13,7 +13,6 @@ from typing import NamedTuple
 import numpy as np
 
 from aaeval.renderers._catmull_kernel import BACKGROUND, catmull_fragments
-from aaeval.renderers._clip import normalised_orientation
 from aaeval.renderers.registry import register_method
 from aaeval.scenes import Scene, parse_scene
 
@@ -36,24 +35,38 @@ class Fragments(NamedTuple):
 
 
 def kernel_inputs(scene: Scene):
-    """Flat arrays of the drawable polygons (outlines normalised to positive area).
+    """Flat arrays of the drawable polygons, outlines normalised to positive area.
 
     Returns ``(start, length, x, y, planes, source, eps_z)`` where ``source[k]`` is the
     index in ``scene.polygons`` of kernel polygon ``k``. Polygons seen edge-on cover no
-    area and are left out.
+    area and are left out. Vectorised: no Python loop over polygons.
     """
-    keep = [p for p in scene.polygons if np.isfinite(p.plane).all()]
-    outlines = [normalised_orientation(p.xy) for p in keep]
-    lengths = np.array([len(o) for o in outlines], dtype=np.int64)
-    starts = np.concatenate([[0], np.cumsum(lengths)[:-1]]).astype(np.int64) if len(keep) else np.zeros(0, np.int64)
-    xy = np.concatenate(outlines) if keep else np.zeros((0, 2))
-    planes = np.array([p.plane for p in keep], dtype=np.float64).reshape(-1, 3)
-    source = np.array([p.index for p in keep], dtype=np.int64)
-    zmax = max((np.abs(p.vertices[:, 2]).max() for p in keep), default=0.0)
+    arr = scene.arrays
+    source = np.flatnonzero(np.isfinite(arr.planes).all(axis=1))
+    length = arr.length[source]
+    start = np.zeros(len(source), dtype=np.int64)
+    start[1:] = np.cumsum(length)[:-1]
+    # gather each kept polygon's vertices; reverse the ones wound the other way
+    owner = np.repeat(np.arange(len(source)), length)
+    local = np.arange(length.sum()) - start[owner]
+    xy = arr.vertices[arr.start[source][owner] + local, :2]
+    area2 = np.add.reduceat(xy[:, 0] * _next_in_polygon(xy[:, 1], start, length, owner, local)
+                            - _next_in_polygon(xy[:, 0], start, length, owner, local) * xy[:, 1],
+                            start) if len(source) else np.zeros(0)
+    flip = area2[owner] < 0 if len(source) else np.zeros(0, bool)
+    local = np.where(flip, length[owner] - 1 - local, local)
+    xy = arr.vertices[arr.start[source][owner] + local, :2]
+    zmax = float(np.abs(arr.vertices[:, 2]).max()) if len(arr.vertices) else 0.0
     # depth differences below this count as one shared plane (float64 rounding of the
     # plane evaluation is ~1e-16 of the depth magnitude)
     eps_z = 1e-11 * (1.0 + zmax)
-    return starts, lengths, np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]), planes, source, eps_z
+    return (start, length, np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]),
+            np.ascontiguousarray(arr.planes[source]), source, eps_z)
+
+
+def _next_in_polygon(values, start, length, owner, local):
+    """``values`` shifted by one vertex within each polygon (cyclically)."""
+    return values[start[owner] + (local + 1) % length[owner]]
 
 
 def visible_fragments(scene: Scene, *, jagged: bool = False, centroids: bool = True) -> Fragments:
@@ -73,7 +86,7 @@ def visible_fragments(scene: Scene, *, jagged: bool = False, centroids: bool = T
 
 def resolve_flat(scene: Scene, fragments: Fragments) -> np.ndarray:
     """Area-weighted flat colours of the fragments: the box-filtered image (H, W, 3)."""
-    colors = np.vstack([np.array([p.color for p in scene.polygons]).reshape(-1, 3), scene.background])
+    colors = np.vstack([scene.arrays.colors, scene.background])
     rgb = colors[fragments.polygon]  # index -1 is the background row
     n = scene.width * scene.height
     image = np.empty((n, 3))

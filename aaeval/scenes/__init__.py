@@ -2,6 +2,7 @@
 
 from aaeval.scenes.format import (
     Polygon,
+    PolygonArrays,
     Scene,
     SceneError,
     load_scene,
@@ -12,6 +13,7 @@ from aaeval.scenes.format import (
 
 __all__ = [
     "Polygon",
+    "PolygonArrays",
     "Scene",
     "SceneError",
     "load_scene",

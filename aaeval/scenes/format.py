@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import tomllib
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
@@ -19,6 +20,7 @@ import numpy as np
 
 __all__ = [
     "Polygon",
+    "PolygonArrays",
     "Scene",
     "SceneError",
     "load_scene",
@@ -63,6 +65,33 @@ class Polygon:
 
 
 @dataclass(frozen=True)
+class PolygonArrays:
+    """Every polygon of a scene in flat arrays, for vectorised code and kernels.
+
+    Polygon ``i`` is ``vertices[start[i] : start[i] + length[i]]``.
+    """
+
+    vertices: np.ndarray  # (N, 3)
+    start: np.ndarray  # (P,) int64
+    length: np.ndarray  # (P,) int64
+    colors: np.ndarray  # (P, 3)
+    planes: np.ndarray  # (P, 3), NaN rows for polygons seen edge-on
+
+    @classmethod
+    def of(cls, polygons) -> "PolygonArrays":
+        length = np.array([len(p.vertices) for p in polygons], dtype=np.int64)
+        start = np.zeros(len(polygons), dtype=np.int64)
+        start[1:] = np.cumsum(length)[:-1]
+        return cls(
+            vertices=np.concatenate([p.vertices for p in polygons]) if polygons else np.zeros((0, 3)),
+            start=start,
+            length=length,
+            colors=np.array([p.color for p in polygons], dtype=np.float64).reshape(-1, 3),
+            planes=np.array([p.plane for p in polygons], dtype=np.float64).reshape(-1, 3),
+        )
+
+
+@dataclass(frozen=True)
 class Scene:
     """A parsed, validated scene at one frame of its animation."""
 
@@ -76,6 +105,11 @@ class Scene:
     source: str = "<scene>"
     extensions: Mapping[str, Any] = field(default_factory=dict)
 
+    @cached_property
+    def arrays(self) -> PolygonArrays:
+        """The polygons as flat arrays (built once per scene object)."""
+        return PolygonArrays.of(self.polygons)
+
     def at_frame(self, k: int) -> "Scene":
         """The scene translated to frame ``k`` (0-based) of its animation."""
         if not (isinstance(k, (int, np.integer)) and 0 <= k < self.frames):
@@ -83,22 +117,31 @@ class Scene:
         shift = (int(k) - self.frame) * self.translate
         if not shift.any():
             return replace(self, frame=int(k))
-        moved = tuple(_translated(p, shift) for p in self.polygons)
+        arrays = _translated(self.arrays, shift)
+        moved = tuple(
+            Polygon(vertices=arrays.vertices[s : s + n], color=p.color, index=p.index, plane=arrays.planes[i])
+            for i, (p, s, n) in enumerate(zip(self.polygons, arrays.start, arrays.length))
+        )
         extensions = {
             name: _SECTIONS[name].translate(value, shift) if _SECTIONS[name].translate else value
             for name, value in self.extensions.items()
         }
-        return replace(self, polygons=moved, frame=int(k), extensions=extensions)
+        scene = replace(self, polygons=moved, frame=int(k), extensions=extensions)
+        scene.__dict__["arrays"] = arrays  # already known: spare rebuilding it
+        return scene
 
     @property
     def shape(self) -> tuple[int, int, int]:
         return (self.height, self.width, 3)
 
 
-def _translated(p: Polygon, shift: np.ndarray) -> Polygon:
-    v = p.vertices.copy()
-    v[:, :2] += shift
-    return replace(p, vertices=v, plane=_plane_of(v))
+def _translated(arrays: PolygonArrays, shift: np.ndarray) -> PolygonArrays:
+    vertices = arrays.vertices.copy()
+    vertices[:, :2] += shift
+    planes = arrays.planes.copy()
+    # z = a x + b y + c moved by (dx, dy): the same a, b with c - a dx - b dy
+    planes[:, 2] -= planes[:, 0] * shift[0] + planes[:, 1] * shift[1]
+    return replace(arrays, vertices=vertices, planes=planes)
 
 
 @dataclass(frozen=True)
