@@ -50,62 +50,56 @@ def generate_scene(name: str, difficulty: float, **params: Any) -> dict:
     return gen.make(difficulty, **params)
 
 
-def _palette(i: int) -> list[float]:
-    # distinct, fully saturated-ish colours so every polygon's share of a pixel shows
-    colours = [[0.9, 0.1, 0.1], [0.1, 0.8, 0.2], [0.15, 0.25, 0.95], [0.95, 0.85, 0.1],
-               [0.8, 0.2, 0.9], [0.1, 0.85, 0.85], [0.95, 0.5, 0.1], [0.5, 0.5, 0.5]]
-    return colours[i % len(colours)]
-
-
 def _animation(frames: int, step: float) -> dict:
     # an irrational-looking direction so edges cross sample positions at many phases
     return {"frames": int(frames), "translate": [step, step * 0.61803398875]}
 
 
+def _animated(scene, frames: int, step: float) -> dict:
+    from aaeval.scenes.generate import scene_to_dict
+
+    document = scene_to_dict(scene)
+    if frames > 1:
+        document["animation"] = _animation(frames, step)
+    return document
+
+
 @register_generator("fan", difficulty="polygons meeting in one pixel", params=("size", "frames", "step"))
 def fan(difficulty: float, *, size: int = 9, frames: int = 1, step: float = 0.125) -> dict:
-    """``N = difficulty`` triangles meeting at one point inside the centre pixel.
+    """``aaeval.scenes.generate.fan``: ``N = difficulty`` wedges meeting inside one pixel."""
+    from aaeval.scenes.generate import fan as make_fan
 
-    The centre pixel holds all N polygons (plus their shared vertex), the case the
-    two-polygons-per-pixel implementation in the seeds could not handle.
-    """
     n = int(round(difficulty))
     if n < 3:
-        raise ValueError(f"fan: difficulty (number of triangles) must be >= 3, got {difficulty}")
-    cx = cy = size / 2 + 0.137  # off the pixel centre, so point samples do not hit the apex
-    radius = size  # reaches past the image on every side
-    polygons = []
-    for i in range(n):
-        a0 = 2 * math.pi * i / n + 0.3
-        a1 = 2 * math.pi * (i + 1) / n + 0.3
-        tri = [[cx, cy, 1.0],
-               [cx + radius * math.cos(a0), cy + radius * math.sin(a0), 1.0],
-               [cx + radius * math.cos(a1), cy + radius * math.sin(a1), 1.0]]
-        polygons.append({"color": _palette(i), "vertices": tri})
-    return {"image": {"width": size, "height": size, "background": [0.0, 0.0, 0.0]},
-            "animation": _animation(frames, step), "polygons": polygons}
+        raise ValueError(f"fan: difficulty (number of wedges) must be >= 3, got {difficulty}")
+    return _animated(make_fan(n, size, size), frames, step)
 
 
 @register_generator("sliver", difficulty="1 / sliver width (1/px)", params=("size", "frames", "step", "count"))
-def sliver(difficulty: float, *, size: int = 16, frames: int = 1, step: float = 0.125, count: int = 3) -> dict:
-    """``count`` long slivers of width ``1 / difficulty`` pixels, slightly tilted.
+def sliver(difficulty: float, *, size: int = 16, frames: int = 1, step: float = 0.125, count: int = 4) -> dict:
+    """``aaeval.scenes.generate.slivers``: ``count`` bars ``1 / difficulty`` pixels wide.
 
     Thinner than a pixel, a sliver falls between point samples on some rows and frames
     and is hit on others; its exact coverage is its width times its length.
     """
+    from aaeval.scenes.generate import slivers
+
     if difficulty <= 0:
         raise ValueError(f"sliver: difficulty (1 / width) must be > 0, got {difficulty}")
-    width = 1.0 / difficulty
-    polygons = []
-    for i in range(count):
-        # inside the frame with room for the animation's drift, so the true sum is constant
-        x0 = size * (0.15 + 0.5 * i / max(count - 1, 1)) + 0.21 * i
-        tilt = 0.9  # pixels of horizontal drift from top to bottom
-        top, bottom = 1.0, size - 1.5
-        quad = [[x0, top, 1.0], [x0 + width, top, 1.0], [x0 + width + tilt, bottom, 1.0], [x0 + tilt, bottom, 1.0]]
-        polygons.append({"color": [1.0, 1.0, 1.0], "vertices": quad})
-    return {"image": {"width": size, "height": size, "background": [0.05, 0.05, 0.1]},
-            "animation": _animation(frames, step), "polygons": polygons}
+    # shorter than the image by the animation's drift, so the true sum stays constant
+    length = 0.9 * size - 2 * frames * step
+    return _animated(slivers(1.0 / difficulty, size, size, n=count, length=length), frames, step)
+
+
+@register_generator("picket", difficulty="bars per pixel", params=("bar_width", "bars", "width", "height", "frames"))
+def picket(difficulty: float, *, bar_width: float = 0.3, bars: int = 12, width: int = 24, height: int = 6,
+           frames: int = 8) -> dict:
+    """``aaeval.scenes.generate.picket_fence`` with period ``1 / difficulty`` pixels."""
+    from aaeval.scenes.generate import picket_fence, scene_to_dict
+
+    period = 1.0 / difficulty
+    return scene_to_dict(picket_fence(bar_width * period, period, bars=bars, width=width, height=height,
+                                      frames=frames))
 
 
 @register_generator("edges", difficulty="edge slope (rise per pixel run)", params=("size", "frames", "step"))
