@@ -16,6 +16,9 @@ A config file looks like::
     frames = "all"                         # or a list of frame numbers
     options = { k = [2, 4], spp = [16, 64] }  # expanded for the methods that declare them
 
+A method with a ``cache`` option (Mitsuba) gets ``cache=false`` unless the spec sets it, so
+its render time is a render, not a cache hit. References keep their cache.
+
 Every key is checked before any work starts; an error names the file and the key.
 Scene paths are relative to the config file.
 """
@@ -205,6 +208,10 @@ def _expand_specs(methods: list[str], options: Mapping[str, Any], where: str) ->
         except MethodError as exc:
             raise ConfigError(f"{where}.methods[{j}]: {exc}") from None
         given = set(parse_spec(spec)[1])
+        if "cache" in method.options and "cache" not in given:
+            # a cache hit would be timed as the render: measured cells render for real
+            spec = f"{spec}{',' if ':' in spec else ':'}cache=false"
+            given.add("cache")
         axes = [k for k in sorted(options) if k in method.options and k not in given]
         used.update(k for k in options if k in method.options)
         values = []
