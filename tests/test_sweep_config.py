@@ -77,3 +77,18 @@ def test_shipped_configs_are_valid():
     assert configs, "no experiment configs shipped"
     for path in configs:
         assert load_experiment(path).cells(), path
+
+
+def test_method_scoped_options(tmp_path):
+    # options.METHOD applies to that method only; naming a method not in the group is an error
+    ok = SMALL.replace('methods = ["catmull-jagged"]', 'methods = ["catmull-jagged", "catmull"]\noptions.catmull-jagged = {}')
+    assert len(load_experiment(write_config(tmp_path, ok)).groups[1].specs) == 2
+    bad = SMALL.replace('methods = ["catmull-jagged"]', 'methods = ["catmull-jagged"]\noptions.supersample = { k = [2] }')
+    path = write_config(tmp_path, bad, "bad.toml")
+    with pytest.raises(ConfigError) as err:
+        load_experiment(path)
+    assert str(path) in str(err.value) and "groups[1].options.supersample" in str(err.value)
+    bad = SMALL.replace('methods = ["catmull-jagged"]', 'methods = ["catmull-jagged"]\noptions.catmull-jagged = { k = [2] }')
+    path = write_config(tmp_path, bad, "bad2.toml")
+    with pytest.raises(ConfigError, match=r"options.catmull-jagged: method 'catmull-jagged' has no option"):
+        load_experiment(path)

@@ -14,7 +14,8 @@ A config file looks like::
     scenes = ["../scenes/edges.toml", {generator = "fan", difficulty = [2, 4, 8]}]
     methods = ["point", "supersample", "mitsuba:sampler=stratified"]
     frames = "all"                         # or a list of frame numbers
-    options = { k = [2, 4], spp = [16, 64] }  # expanded for the methods that declare them
+    options = { spp = [16, 64] }           # expanded for every method that declares it
+    options.supersample = { k = [2, 4] }   # for one method only
 
 A method with a ``cache`` option (Mitsuba) gets ``cache=false`` unless the spec sets it, so
 its render time is a render, not a cache hit. References keep their cache.
@@ -199,24 +200,43 @@ def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str,
 
 
 def _expand_specs(methods: list[str], options: Mapping[str, Any], where: str) -> list[str]:
-    """Each method spec times the option values it declares (values given in the spec win)."""
+    """Each method spec times the option values it takes (values given in the spec win).
+
+    ``options = { k = [2, 4] }`` applies to every method that declares ``k``;
+    ``options.supersample = { k = [2, 4] }`` to ``supersample`` only.
+    """
+    shared = {k: v for k, v in options.items() if not isinstance(v, Mapping)}
+    scoped = {k: v for k, v in options.items() if isinstance(v, Mapping)}
     used: set[str] = set()
     specs: list[str] = []
+    resolved = []
     for j, spec in enumerate(methods):
         try:
-            method, fixed = resolve(spec)
+            resolved.append((spec, resolve(spec)[0]))
         except MethodError as exc:
             raise ConfigError(f"{where}.methods[{j}]: {exc}") from None
+    names = {m.name for _, m in resolved}
+    for name, table in scoped.items():
+        if name not in names:
+            raise ConfigError(f"{where}.options.{name}: {name!r} is not one of this group's methods {sorted(names)}")
+        method = next(m for _, m in resolved if m.name == name)
+        bad = sorted(set(table) - set(method.options))
+        if bad:
+            raise ConfigError(f"{where}.options.{name}: method {name!r} has no option(s) {bad}; "
+                              f"options: {', '.join(sorted(method.options)) or 'none'}")
+    for spec, method in resolved:
         given = set(parse_spec(spec)[1])
         if "cache" in method.options and "cache" not in given:
             # a cache hit would be timed as the render: measured cells render for real
             spec = f"{spec}{',' if ':' in spec else ':'}cache=false"
             given.add("cache")
-        axes = [k for k in sorted(options) if k in method.options and k not in given]
-        used.update(k for k in options if k in method.options)
+        mine = {k: v for k, v in shared.items() if k in method.options}
+        used.update(mine)
+        mine.update(scoped.get(method.name, {}))
+        axes = [k for k in sorted(mine) if k not in given]
         values = []
         for key in axes:
-            vals = options[key] if isinstance(options[key], list) else [options[key]]
+            vals = mine[key] if isinstance(mine[key], list) else [mine[key]]
             if not vals:
                 raise ConfigError(f"{where}.options.{key}: empty list of values")
             values.append(vals)
@@ -228,7 +248,7 @@ def _expand_specs(methods: list[str], options: Mapping[str, Any], where: str) ->
             canonical = format_spec(method.name, opts)
             if canonical not in specs:
                 specs.append(canonical)
-    unused = sorted(set(options) - used)
+    unused = sorted(set(shared) - used)
     if unused:
         raise ConfigError(f"{where}.options: option(s) {unused} are declared by none of the methods {methods}")
     return specs

@@ -19,7 +19,7 @@ from aaeval.experiments.metrics import temporal_metric
 from aaeval.experiments.store import SweepStore
 from aaeval.imageio import atomic_write
 
-__all__ = ["results_frame", "temporal_frame", "write_results", "load_results"]
+__all__ = ["results_frame", "temporal_frame", "write_results", "load_results", "short_label"]
 
 _COLUMNS = ["group", "scene", "method", "spec", "options", "frame", "difficulty", "difficulty_label",
             "render_s", "intensity_sum", "reference", "reference_kind", "reference_spp", "reference_seed",
@@ -39,6 +39,7 @@ def results_frame(store: SweepStore) -> pd.DataFrame:
         flat = {c: rec.get(c) for c in _COLUMNS}
         flat["group"] = row["group"]
         flat["options"] = json.dumps(rec.get("options", {}), sort_keys=True)
+        flat["label"] = short_label(rec["spec"])
         for name, value in rec.get("metrics", {}).items():
             flat[name] = math.nan if value is None else value
         out.append(flat)
@@ -48,6 +49,18 @@ def results_frame(store: SweepStore) -> pd.DataFrame:
         if col in frame:
             frame[col] = pd.to_numeric(frame[col], errors="coerce")
     return frame
+
+
+def short_label(spec: str) -> str:
+    """The spec with only the options that differ from the method's defaults."""
+    from aaeval.renderers import MethodError, format_spec, resolve
+
+    try:
+        method, options = resolve(spec)
+    except MethodError:  # a method this checkout lacks: show the spec as stored
+        return spec
+    changed = {k: v for k, v in options.items() if v != method.options[k].default}
+    return format_spec(method.name, changed)
 
 
 def temporal_frame(store: SweepStore, results: pd.DataFrame) -> pd.DataFrame:
@@ -64,7 +77,8 @@ def temporal_frame(store: SweepStore, results: pd.DataFrame) -> pd.DataFrame:
         if len(frames) < 2 or set(series["frame"]) != frames:
             continue  # not an animation, or not finished
         series = series.sort_values("frame")
-        row = {"group": group, "scene": scene, "spec": spec, "method": series["method"].iloc[0],
+        row = {"group": group, "scene": scene, "spec": spec, "label": series["label"].iloc[0],
+               "method": series["method"].iloc[0],
                "frames": len(series), "reference": series["reference"].iloc[0],
                "reference_noise_rmse": series["reference_noise_rmse"].iloc[0],
                "failed_frames": int(series["error"].notna().sum()),

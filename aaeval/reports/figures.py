@@ -89,10 +89,10 @@ def intensity_sums(results: pd.DataFrame, path: Path, *, title: str) -> Path:
         ref = rows.drop_duplicates("frame")
         ax.plot(ref["frame"], ref["reference_intensity_sum"] / base, "k-", lw=2.5, alpha=0.35,
                 label=f"reference {rows['reference'].iloc[0]}")
-        for spec, series in rows.groupby("spec", sort=False):
+        for _, series in rows.groupby("spec", sort=False):
             colour, marker = style[series["method"].iloc[0]]
             ax.plot(series["frame"], series["intensity_sum"] / base, "-" + marker, color=colour, ms=4, lw=1,
-                    label=spec)
+                    label=series["label"].iloc[0])
         ax.set_title(f"{scene}", fontsize=9)
         ax.set_xlabel("frame")
         ax.set_ylabel("intensity sum / reference frame 0")
@@ -108,7 +108,7 @@ _TEMPORAL_LABELS = {"flicker": "flicker (frame-to-frame change of the error)",
 
 def temporal_bars(temporal: pd.DataFrame, path: Path, *, metrics: list[str], title: str) -> Path:
     """One panel per temporal metric (flicker, sum variation): mean per spec, log scale."""
-    agg = temporal.groupby("spec", sort=False)[metrics].mean().sort_values(metrics[0])
+    agg = temporal.groupby("label", sort=False)[metrics].mean().sort_values(metrics[0])
     fig, axes = plt.subplots(1, len(metrics), figsize=(5.5 * len(metrics), 0.45 * len(agg) + 2), squeeze=False)
     for i, (ax, col) in enumerate(zip(axes[0], metrics)):
         ax.barh(agg.index, np.maximum(agg[col].to_numpy(float), ERROR_FLOOR), color="tab:blue")
@@ -127,7 +127,8 @@ def stability(results: pd.DataFrame, path: Path, *, metric: str, fail_above: flo
     style = _style(results["method"].unique())
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.5))
     label = results["difficulty_label"].dropna().iloc[0] if results["difficulty_label"].notna().any() else "difficulty"
-    for spec, rows in results.groupby("spec", sort=False):
+    for _, rows in results.groupby("spec", sort=False):
+        spec = rows["label"].iloc[0]
         colour, marker = style[rows["method"].iloc[0]]
         by = rows.groupby("difficulty")
         err = by[metric].mean()

@@ -89,7 +89,7 @@ def spec_summary(rows: pd.DataFrame, metrics: list[str], primary: str) -> pd.Dat
     out = []
     for spec, r in rows.groupby("spec", sort=False):
         ok = r[r["error"].isna()]
-        row = {"spec": spec, "method": r["method"].iloc[0], "options": r["options"].iloc[0],
+        row = {"label": r["label"].iloc[0], "method": r["method"].iloc[0], "options": r["options"].iloc[0],
                "cells": len(r), "failed": int(r["error"].notna().sum()),
                "render_s (median)": ok["render_s"].median(),
                "spp": r["spp"].iloc[0], "seed": r["seed"].iloc[0]}
@@ -112,7 +112,7 @@ def _figure(path: Path, root: Path, caption: str) -> str:
 
 
 def _metric_columns(results: pd.DataFrame, manifest: dict) -> list[str]:
-    fixed = {"group", "scene", "method", "spec", "options", "frame", "difficulty", "difficulty_label", "render_s",
+    fixed = {"group", "scene", "method", "spec", "label", "options", "frame", "difficulty", "difficulty_label", "render_s",
              "intensity_sum", "reference", "reference_kind", "reference_spp", "reference_seed",
              "reference_noise_rmse", "reference_intensity_sum", "spp", "seed", "host", "error", "key",
              "scene_source", "code_version", "finished_at", "width", "height", "executor", "workers"}
@@ -161,7 +161,7 @@ def _group_section(group: str, rows: pd.DataFrame, temporal: pd.DataFrame, store
         out.append(_figure(p, store.root, f"{', '.join(names)} per method, mean over "
                    f"{temp['scene'].nunique()} animated scene(s). {ref} Reference's own sum variation: "
                    f"{temp['reference_sum_variation'].max():.3g} (max over scenes)."))
-        cols = ["scene", "spec", "frames", "failed_frames", *names, "reference_sum_variation", "reference",
+        cols = ["scene", "label", "frames", "failed_frames", *names, "reference_sum_variation", "reference",
                 "reference_noise_rmse"]
         out.append(_table(temp[[c for c in cols if c in temp.columns]]))
 
@@ -177,11 +177,12 @@ def _group_section(group: str, rows: pd.DataFrame, temporal: pd.DataFrame, store
         out.append(grid)
 
     out.append("<h3>Numbers per method</h3>")
-    out.append(_table(summary))
+    out.append(_table(summary.drop(columns=["method", "options"]).rename(
+        columns={"label": "method (non-default options)"})))
     failed = rows[rows["error"].notna()]
     if not failed.empty:
         out.append(f"<h3 class='bad'>Failed cells ({len(failed)})</h3>")
-        out.append(_table(failed[["scene", "spec", "frame", "error", "host"]]))
+        out.append(_table(failed[["scene", "label", "frame", "error", "host"]]))
     return "\n".join(out)
 
 
@@ -195,9 +196,9 @@ def _grid(rows, ok, store, path: Path, group: str, ref: str) -> str:
         scene = ok.loc[ok["difficulty"].idxmax(), "scene"]
     frames = sorted(ok[ok["scene"] == scene]["frame"].unique())
     frame = frames[len(frames) // 2]
-    cells = ok[(ok["scene"] == scene) & (ok["frame"] == frame)].drop_duplicates("spec").head(10)
+    cells = ok[(ok["scene"] == scene) & (ok["frame"] == frame)].drop_duplicates("spec").head(12)
     reference = store.load_reference(store.read_cell(cells["key"].iloc[0])["reference_key"])
-    images = [(spec, store.load_image(key)) for spec, key in zip(cells["spec"], cells["key"])]
+    images = [(label, store.load_image(key)) for label, key in zip(cells["label"], cells["key"])]
     images = [(s, im) for s, im in images if im is not None]
     if reference is None or not images:
         return ""
