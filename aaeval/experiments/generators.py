@@ -120,3 +120,40 @@ def edges(difficulty: float, *, size: int = 24, frames: int = 8, step: float = 0
             "animation": _animation(frames, step),
             "polygons": [{"color": [0.95, 0.9, 0.3], "vertices": back},
                          {"color": [0.2, 0.45, 0.95], "vertices": front}]}
+
+
+def _shiny_cylinder(size: int, radius: float, n: float, frames: int, step: float, segments: int) -> dict:
+    # one cylinder of the [shaded] extension (docs/shaded_scenes.md), lit from behind the
+    # viewer, so the highlight runs along the axis where the normal faces the viewer
+    c = size / 2
+    return {
+        "image": {"width": size, "height": size, "background": [0.02, 0.02, 0.03]},
+        "animation": _animation(frames, step),
+        "shaded": {
+            "light": {"type": "directional", "direction": [0.3, -0.2, -1.0]},
+            "cylinders": [{
+                "centre": [c + 0.173, c + 0.291, 200.0], "axis": [0.12, 1.0, 0.0], "radius": float(radius),
+                "length": 0.8 * size, "segments": int(segments),
+                "spin": {"axis": [0.0, 0.0, 1.0], "degrees": 0.2},
+                "material": {"color": [0.75, 0.12, 0.10], "ka": 0.15, "kd": 0.55, "ks": 0.8, "n": float(n)},
+            }],
+        },
+    }
+
+
+@register_generator("shininess", difficulty="Phong exponent n", params=("size", "radius", "frames", "step", "segments"))
+def shininess(difficulty: float, *, size: int = 32, radius: float = 9.0, frames: int = 1, step: float = 0.125,
+              segments: int = 48) -> dict:
+    """A shiny cylinder whose Phong exponent is ``difficulty``: the highlight narrows as it grows."""
+    if difficulty < 1:
+        raise ValueError(f"shininess: difficulty (Phong exponent) must be >= 1, got {difficulty}")
+    return _shiny_cylinder(size, radius, difficulty, frames, step, segments)
+
+
+@register_generator("curvature", difficulty="curvature 1 / radius (1/px)", params=("size", "n", "frames", "step", "segments"))
+def curvature(difficulty: float, *, size: int = 32, n: float = 200.0, frames: int = 1, step: float = 0.125,
+              segments: int = 48) -> dict:
+    """A shiny cylinder of radius ``1 / difficulty``: the normal turns faster across a pixel as it grows."""
+    if not 0 < difficulty <= 2:
+        raise ValueError(f"curvature: difficulty (1 / radius) must be in (0, 2], got {difficulty}")
+    return _shiny_cylinder(size, min(1.0 / difficulty, 0.4 * size), n, frames, step, segments)
