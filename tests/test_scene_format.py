@@ -87,6 +87,22 @@ CASES = [
     ("vertex touching a far edge",
      with_bad_polygon("color = [1, 0, 0]\nvertices = [[0,0,0],[4,0,0],[2,2,0],[4,4,0],[0,4,0],[2,2,0]]"), 2,
      "self-crossing"),
+    ("symmetric bow tie", with_bad_polygon("color = [1, 0, 0]\nvertices = [[0,0,0],[4,4,0],[4,0,0],[0,4,0]]"),
+     2, "self-crossing"),
+    ("edge-on bow tie", with_bad_polygon("color = [1, 0, 0]\nvertices = [[0,0,0],[4,0,4],[4,0,0],[0,0,4]]"),
+     2, "self-crossing"),
+    # repeated vertices and degenerate outlines
+    ("repeated vertex", with_bad_polygon("color = [1, 0, 0]\nvertices = [[0,0,0],[4,0,0],[4,0,0],[0,4,0]]"), 2,
+     "vertex 2 repeats vertex 1"),
+    ("closing vertex", with_bad_polygon("color = [1, 0, 0]\nvertices = [[0,0,0],[4,0,0],[0,4,0],[0,0,0]]"), 2,
+     "leave out the closing vertex"),
+    ("collinear triangle", with_bad_polygon("color = [1, 0, 0]\nvertices = [[0,0,0],[1,1,0],[3,3,0]]"), 2,
+     "degenerate polygon"),
+    ("collinear quad", with_bad_polygon("color = [1, 0, 0]\nvertices = [[0,0,0],[1,1,1],[2,2,2],[3,3,3]]"), 2,
+     "degenerate polygon"),
+    ("huge coordinate", with_bad_polygon("color = [1, 0, 0]\nvertices = [[0,0,0],[1e300,0,0],[0,1,0]]"), 2,
+     "coordinates beyond"),
+    ("huge image", "[image]\nwidth = 1000000\nheight = 1000000\n", None, "over the limit"),
     # non-positive size
     ("zero width", "[image]\nwidth = 0\nheight = 4\n", None, "'width' must be >= 1"),
     ("negative height", "[image]\nwidth = 4\nheight = -3\n", None, "'height' must be >= 1"),
@@ -103,17 +119,7 @@ CASES = [
 ]
 
 
-# Files the format refuses, but not yet for the right reason: each reason is a defect in
-# aaeval/scenes/format.py reported to its owner. strict: the test fails once it is fixed.
-KNOWN_DEFECTS = [
-    (("symmetric bow tie", with_bad_polygon("color = [1, 0, 0]\nvertices = [[0,0,0],[4,4,0],[4,0,0],[0,4,0]]"),
-      2, "self-crossing"),
-     "planarity is checked first; the lobes' areas cancel, Newell's normal is zero and the polygon is "
-     "called 'degenerate (all vertices on one line or point)', which they are not"),
-]
-PARAMS = [pytest.param(c, id=c[0]) for c in CASES] + [
-    pytest.param(c, id=c[0], marks=pytest.mark.xfail(strict=True, reason=reason)) for c, reason in KNOWN_DEFECTS
-]
+PARAMS = [pytest.param(c, id=c[0]) for c in CASES]
 
 
 @pytest.fixture(params=PARAMS)
@@ -199,3 +205,12 @@ def test_render_process_exits_with_code_2_and_keeps_the_output(tmp_path, existin
     assert f"{bad}: polygons[2]: polygon is self-crossing" in done.stderr
     assert "Traceback" not in done.stderr
     assert out.read_bytes() == before
+
+
+def test_polygon_seen_edge_on_is_accepted_and_covers_nothing():
+    from aaeval.renderers import render
+    from aaeval.scenes import parse_scene
+
+    scene = parse_scene({"image": {"width": 4, "height": 4}, "polygons": [
+        {"color": [1, 0, 0], "vertices": [[0, 0, 0], [3, 3, 0], [3, 3, 2], [0, 0, 2]]}]})
+    assert not render(scene, "catmull").any()
