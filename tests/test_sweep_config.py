@@ -92,3 +92,19 @@ def test_method_scoped_options(tmp_path):
     path = write_config(tmp_path, bad, "bad2.toml")
     with pytest.raises(ConfigError, match=r"options.catmull-jagged: method 'catmull-jagged' has no option"):
         load_experiment(path)
+
+
+def test_animate_sets_static_scenes_moving(tmp_path):
+    (tmp_path / "still.toml").write_text(
+        "[image]\nwidth = 6\nheight = 6\n[[polygons]]\ncolor = [1, 1, 1]\nvertices = [[1, 1, 0], [4.5, 1.2, 0], [2, 5, 0]]\n")
+    text = SMALL.replace('scenes = [{generator = "edges", difficulty = [0.1], frames = 3, size = 12}]',
+                         'scenes = ["still.toml"]\nanimate = { frames = 5, translate = [0.1, 0.05] }')
+    exp = load_experiment(write_config(tmp_path, text))
+    edges = [c for c in exp.cells() if c.group == "edges"]
+    assert sorted({c.frame for c in edges}) == [0, 1, 2, 3, 4]
+    assert edges[0].scene.scene().frames == 5
+    bad = text.replace("translate = [0.1, 0.05]", "translate = [0.1]")
+    path = write_config(tmp_path, bad, "bad.toml")
+    with pytest.raises(ConfigError) as err:
+        load_experiment(path)
+    assert str(path) in str(err.value) and "groups[0].animate" in str(err.value)

@@ -121,7 +121,7 @@ class Experiment:
 
 _EXPERIMENT_KEYS = {"name", "description", "reference", "metrics", "temporal", "primary", "noise_estimate",
                     "fail_above"}
-_GROUP_KEYS = {"name", "scenes", "methods", "frames", "options", "reference", "metrics"}
+_GROUP_KEYS = {"name", "scenes", "methods", "frames", "options", "reference", "metrics", "animate"}
 
 
 def load_experiment(path: str | Path) -> Experiment:
@@ -188,6 +188,8 @@ def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str,
     if "metrics" in raw:
         metrics = _metric_list(raw["metrics"], f"{where}.metrics", temporal=False)
     scenes = _scenes(raw.get("scenes"), f"{where}.scenes", base)
+    if "animate" in raw:
+        scenes = _animate(scenes, raw["animate"], f"{where}.animate")
     methods = raw.get("methods")
     if not isinstance(methods, list) or not methods or not all(isinstance(m, str) for m in methods):
         raise ConfigError(f"{where}.methods: expected a non-empty list of method specs, got {methods!r}")
@@ -315,6 +317,22 @@ def _generated(item: Mapping[str, Any], where: str) -> list[SceneSource]:
         out.append(SceneSource(f"{name}@{d:g}", document, f"generator {name}(difficulty={d}{extra})",
                                float(d), GENERATORS[name].difficulty))
     return out
+
+
+def _animate(scenes: tuple[SceneSource, ...], raw: Any, where: str) -> tuple[SceneSource, ...]:
+    """Give every scene of the group this [animation] table (static scenes set moving)."""
+    if not isinstance(raw, Mapping):
+        raise ConfigError(f"{where}: expected a table {{frames = N, translate = [dx, dy]}}, got {raw!r}")
+    _no_unknown(raw, {"frames", "translate"}, where)
+    out = []
+    for src in scenes:
+        document = {**src.document, "animation": dict(raw)}
+        try:
+            parse_scene(document, source=f"{src.source} with {where}")
+        except SceneError as exc:
+            raise ConfigError(f"{where}: {exc}") from None
+        out.append(SceneSource(src.name, document, src.source, src.difficulty, src.difficulty_label))
+    return tuple(out)
 
 
 def _frames(raw: Any, where: str, scenes: tuple[SceneSource, ...]) -> Any:

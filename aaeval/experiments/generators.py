@@ -102,6 +102,15 @@ def picket(difficulty: float, *, bar_width: float = 0.3, bars: int = 12, width: 
                                       frames=frames))
 
 
+@register_generator("random", difficulty="number of random triangles", params=("size", "frames", "step", "seed"))
+def random(difficulty: float, *, size: int = 128, frames: int = 1, step: float = 0.125, seed: int = 0) -> dict:
+    """``aaeval.scenes.generate.random_triangles``: interpenetrating triangles, for timing."""
+    from aaeval.scenes.generate import random_triangles
+
+    n = int(round(difficulty))
+    return _animated(random_triangles(n, size, size, size=max(4.0, size / 8), seed=seed), frames, step)
+
+
 @register_generator("edges", difficulty="edge slope (rise per pixel run)", params=("size", "frames", "step"))
 def edges(difficulty: float, *, size: int = 24, frames: int = 8, step: float = 0.125) -> dict:
     """Nearly axis-aligned edges (slope ``difficulty``, at most about 0.2 so the scene

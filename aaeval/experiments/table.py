@@ -39,11 +39,11 @@ def results_frame(store: SweepStore) -> pd.DataFrame:
         flat = {c: rec.get(c) for c in _COLUMNS}
         flat["group"] = row["group"]
         flat["options"] = json.dumps(rec.get("options", {}), sort_keys=True)
-        flat["label"] = short_label(rec["spec"])
         for name, value in rec.get("metrics", {}).items():
             flat[name] = math.nan if value is None else value
         out.append(flat)
     frame = pd.DataFrame(out, columns=None if out else _COLUMNS)
+    frame["label"] = _labels(frame) if out else pd.Series(dtype=object)
     for col in ("render_s", "intensity_sum", "reference_noise_rmse", "reference_intensity_sum", "difficulty",
                 "spp", "seed", "reference_spp", "reference_seed"):
         if col in frame:
@@ -51,16 +51,32 @@ def results_frame(store: SweepStore) -> pd.DataFrame:
     return frame
 
 
-def short_label(spec: str) -> str:
-    """The spec with only the options that differ from the method's defaults."""
+# Options that only say how a result was obtained, not what was rendered.
+_INCIDENTAL = {"cache"}
+
+
+def short_label(spec: str, keep: set[str] = frozenset()) -> str:
+    """The spec with the options in ``keep`` and those that differ from the defaults."""
     from aaeval.renderers import MethodError, format_spec, resolve
 
     try:
         method, options = resolve(spec)
     except MethodError:  # a method this checkout lacks: show the spec as stored
         return spec
-    changed = {k: v for k, v in options.items() if v != method.options[k].default}
-    return format_spec(method.name, changed)
+    shown = {k: v for k, v in options.items()
+             if k not in _INCIDENTAL and (k in keep or v != method.options[k].default)}
+    return format_spec(method.name, shown)
+
+
+def _labels(frame: pd.DataFrame) -> pd.Series:
+    """Short labels: per group and method, the options that vary or are not the default."""
+    labels = pd.Series(index=frame.index, dtype=object)
+    for _, rows in frame.groupby(["group", "method"], sort=False):
+        opts = [json.loads(o) for o in rows["options"]]
+        varying = {k for k in set().union(*opts) if len({json.dumps(o.get(k)) for o in opts}) > 1}
+        for idx, spec in zip(rows.index, rows["spec"]):
+            labels[idx] = short_label(spec, varying)
+    return labels
 
 
 def temporal_frame(store: SweepStore, results: pd.DataFrame) -> pd.DataFrame:

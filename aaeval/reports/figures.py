@@ -74,7 +74,7 @@ def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str
     ax.set_ylabel(f"{metric} (mean over cells, floor {ERROR_FLOOR:g})")
     ax.set_title(title, fontsize=10)
     ax.grid(True, which="both", alpha=0.25)
-    ax.legend(fontsize=8, loc="best")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return _save(fig, path)
 
 
@@ -97,7 +97,7 @@ def intensity_sums(results: pd.DataFrame, path: Path, *, title: str) -> Path:
         ax.set_xlabel("frame")
         ax.set_ylabel("intensity sum / reference frame 0")
         ax.grid(True, alpha=0.25)
-        ax.legend(fontsize=7, ncol=2)
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.suptitle(title, fontsize=10)
     return _save(fig, path)
 
@@ -146,7 +146,7 @@ def stability(results: pd.DataFrame, path: Path, *, metric: str, fail_above: flo
     bx.set_ylabel(f"fraction of cells failed ({crit})", fontsize=8)
     bx.set_ylim(-0.05, 1.05)
     bx.grid(True, alpha=0.25)
-    ax.legend(fontsize=7)
+    bx.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.suptitle(title, fontsize=10)
     return _save(fig, path)
 
