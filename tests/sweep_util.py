@@ -10,7 +10,7 @@ name = "small"
 description = "test sweep"
 reference = "catmull"
 metrics = ["rmse"]
-temporal = ["sum_variation"]
+temporal = ["sum_variation", "flicker"]
 fail_above = 0.1
 
 [[groups]]

@@ -1,5 +1,6 @@
-"""Experiment sweeps: configs of scenes x methods x options x frames, run locally or on a
-Dask cluster into a folder of crash-proof results, summarised in ``results.parquet``."""
+"""Experiments built on the renderers and metrics: comparisons (``compare``) and sweeps:
+configs of scenes x methods x options x frames, run locally or on a Dask cluster into a
+folder of crash-proof results, summarised in ``results.parquet``."""
 
 from aaeval.experiments.config import ConfigError, Experiment, load_experiment, parse_experiment
 from aaeval.experiments.runner import SweepSummary, plan, run_sweep

@@ -1,10 +1,11 @@
-"""The sweep's view of the metrics registry (``aaeval.metrics``): which names exist, and
-how to call them with the context they need.
+"""The sweep's view of the metrics registry (``aaeval.metrics``): which names a config may
+use, and how to call them with the context they need.
 
-Per-frame metrics go through ``compute_metric(name, image_true, image_test, **context)``;
-the ones that read the scene (an edge mask) get it built here. Temporal metrics need every
-frame of a (scene, method) series and go through ``compute_temporal_metric`` when the
-results table is built.
+Per-frame metrics go through ``compute_metric(name, image_true, image_test, **context)``
+with the scene's edge mask in the context when ``edge_rmse`` asks for it. Temporal
+metrics need every frame of a (scene, method) series and are computed when the results
+table is built: the registry's ``TEMPORAL_METRICS`` through ``compute_temporal_metric``,
+plus ``sum_variation`` of the intensity sums (Catmull's invariance under translation).
 """
 
 from __future__ import annotations
@@ -13,28 +14,28 @@ from typing import Sequence
 
 import numpy as np
 
+from aaeval.metrics import (
+    IMAGE_METRICS,
+    TEMPORAL_METRICS,
+    compute_metric,
+    compute_temporal_metric,
+    edge_mask,
+    intensity_sum,
+    sum_variation,
+)
+
 __all__ = ["check_metric_names", "frame_metric", "temporal_metric", "image_metric_names", "temporal_metric_names"]
 
-# Metrics that need more than two images, and what they need from the scene.
-_SCENE_CONTEXT = {"edge_rmse": "mask"}
-
-
-def _registry():
-    try:  # the shared registry; a checkout without it still runs sweeps with rmse
-        from aaeval.metrics import IMAGE_METRICS, TEMPORAL_METRICS, compute_metric, compute_temporal_metric
-    except ImportError:
-        return None
-    return IMAGE_METRICS, TEMPORAL_METRICS, compute_metric, compute_temporal_metric
+# Metrics that read the scene, and the context entry they need.
+_SCENE_CONTEXT = {"edge_rmse": ("mask", edge_mask)}
 
 
 def image_metric_names() -> set[str]:
-    reg = _registry()
-    return set(reg[0]) if reg else set(_FALLBACK_IMAGE)
+    return set(IMAGE_METRICS)
 
 
 def temporal_metric_names() -> set[str]:
-    reg = _registry()
-    return set(reg[1]) if reg else set(_FALLBACK_TEMPORAL)
+    return {"sum_variation", *TEMPORAL_METRICS}
 
 
 def check_metric_names(names: Sequence[str], *, temporal: bool) -> None:
@@ -46,36 +47,15 @@ def check_metric_names(names: Sequence[str], *, temporal: bool) -> None:
 
 def frame_metric(name: str, image_true: np.ndarray, image_test: np.ndarray, scene=None) -> float:
     """One per-frame metric of ``image_test`` against ``image_true`` (``scene`` at that frame)."""
-    reg = _registry()
-    if reg is None:
-        return float(_FALLBACK_IMAGE[name](image_true, image_test))
     context = {}
-    if _SCENE_CONTEXT.get(name) == "mask":
-        from aaeval.metrics import edge_mask
-
-        context["mask"] = edge_mask(scene)
-    return float(reg[2](name, image_true, image_test, **context))
+    if name in _SCENE_CONTEXT:
+        key, build = _SCENE_CONTEXT[name]
+        context[key] = build(scene)
+    return float(compute_metric(name, image_true, image_test, **context))
 
 
 def temporal_metric(name: str, frames_true: Sequence[np.ndarray], frames_test: Sequence[np.ndarray]) -> float:
     """A metric over the frames of one animation, in frame order."""
-    reg = _registry()
-    true, test = np.stack(frames_true), np.stack(frames_test)
-    if reg is None:
-        return float(_FALLBACK_TEMPORAL[name](true, test))
-    return float(reg[3](name, true, test))
-
-
-def _rmse(a, b):
-    return np.sqrt(np.mean((np.asarray(a, float) - np.asarray(b, float)) ** 2))
-
-
-def _sum_variation(true, test):
-    from aaeval.metrics import intensity_sum, sum_variation
-
-    return sum_variation([intensity_sum(f) for f in test])
-
-
-# Used only where the shared metrics registry is missing.
-_FALLBACK_IMAGE = {"rmse": _rmse}
-_FALLBACK_TEMPORAL = {"sum_variation": _sum_variation}
+    if name == "sum_variation":
+        return sum_variation([intensity_sum(f) for f in frames_test])
+    return float(compute_temporal_metric(name, np.stack(frames_true), np.stack(frames_test)))
