@@ -9,7 +9,7 @@ SMALL = """
 name = "small"
 description = "test sweep"
 reference = "catmull"
-metrics = ["rmse"]
+metrics = ["rmse", "psnr"]
 temporal = ["sum_variation", "flicker"]
 fail_above = 0.1
 

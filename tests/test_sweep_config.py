@@ -32,7 +32,7 @@ def test_options_expand_only_for_methods_that_declare_them(tmp_path):
     [
         ('reference = "catmull"', 'reference = "nosuch"', "[experiment].reference"),
         ('reference = "catmull"', 'reference = "catmull"\nrefrence = 1', "refrence"),
-        ('metrics = ["rmse"]', 'metrics = ["nosuch-metric"]', "[experiment].metrics"),
+        ('metrics = ["rmse", "psnr"]', 'metrics = ["nosuch-metric"]', "[experiment].metrics"),
         ('temporal = ["sum_variation", "flicker"]', 'temporal = ["rmse"]', "[experiment].temporal"),
         ('fail_above = 0.1', 'fail_above = -1', "fail_above"),
         ('methods = ["catmull-jagged"]', 'methods = ["catmull-jagged:zz=1"]', "groups[1].methods[0]"),

@@ -195,7 +195,23 @@ def test_cli_dry_run_lists_cells_and_what_is_done(tmp_path):
 def test_cli_reports_config_errors_in_one_line(tmp_path, capsys):
     from aaeval.cli import main
 
-    path = write_config(tmp_path, SMALL.replace('metrics = ["rmse"]', 'metrics = ["nope"]'))
+    path = write_config(tmp_path, SMALL.replace('metrics = ["rmse", "psnr"]', 'metrics = ["nope"]'))
     assert main(["sweep", str(path), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert str(path) in err and "[experiment].metrics" in err
+
+
+def test_a_metric_that_cannot_judge_a_cell_spoils_no_other_metric(tmp_path):
+    # SSIM needs 3 pixels a side: on a 2x2 scene it raises; rmse of the same cell stands
+    (tmp_path / "tiny.toml").write_text(
+        "[image]\nwidth = 2\nheight = 2\n[[polygons]]\ncolor = [1, 0, 0]\nvertices = [[0.2, 0.3, 0], [1.7, 0.4, 0], [0.9, 1.8, 0]]\n")
+    text = SMALL.replace('metrics = ["rmse", "psnr"]', 'metrics = ["rmse", "ssim"]').replace(
+        'scenes = [{generator = "edges", difficulty = [0.1], frames = 3, size = 12}]', 'scenes = ["tiny.toml"]')
+    _, out, summary = _run(tmp_path, text)
+    assert summary.failed == 0
+    table = pd.read_parquet(out / "results.parquet")
+    tiny = table[table["scene"] == "tiny"]
+    assert len(tiny) == 2 and tiny["error"].isna().all()
+    assert tiny["ssim"].isna().all() and tiny["metric_errors"].str.contains("SSIM needs").all()
+    assert (tiny[tiny["method"] == "catmull-jagged"]["rmse"] > 0).all()
+    assert table[table["scene"] != "tiny"]["ssim"].notna().all()

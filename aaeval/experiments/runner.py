@@ -104,7 +104,8 @@ def run_sweep(experiment: Experiment, out: str | Path, *, workers: int | None = 
     planned = plan(experiment)
     store.write_manifest(experiment.text, {
         "experiment": experiment.name, "description": experiment.description, "config": experiment.path,
-        "code_version": code_version(), "primary": experiment.primary, "fail_above": experiment.fail_above, "temporal": list(experiment.temporal),
+        "code_version": code_version(), "primary": experiment.primary, "fail_above": experiment.fail_above,
+        "metrics": list(dict.fromkeys(m for g in experiment.groups for m in g.metrics)), "temporal": list(experiment.temporal),
         "cells": [p.manifest_row() for p in planned]})
 
     unique: dict[str, PlannedCell] = {}

@@ -39,6 +39,7 @@ def results_frame(store: SweepStore) -> pd.DataFrame:
         flat = {c: rec.get(c) for c in _COLUMNS}
         flat["group"] = row["group"]
         flat["options"] = json.dumps(rec.get("options", {}), sort_keys=True)
+        flat["metric_errors"] = json.dumps(rec["metric_errors"]) if rec.get("metric_errors") else None
         for name, value in rec.get("metrics", {}).items():
             flat[name] = math.nan if value is None else value
         out.append(flat)

@@ -83,7 +83,10 @@ def run_cell(payload: dict[str, Any]) -> tuple[dict, np.ndarray | None]:
         reference = payload["reference_image"]
         at_frame = scene.at_frame(record["frame"])
         for name in payload["metrics"]:
-            record["metrics"][name] = frame_metric(name, reference, image, scene=at_frame)
+            try:
+                record["metrics"][name] = frame_metric(name, reference, image, scene=at_frame)
+            except Exception as exc:  # one metric that cannot judge this image spoils no other
+                record.setdefault("metric_errors", {})[name] = f"{type(exc).__name__}: {exc}"
     except Exception as exc:  # a failing cell is a result, not the end of the sweep
         record["error"] = f"{type(exc).__name__}: {exc}"
         record["traceback"] = traceback.format_exc(limit=6)

@@ -101,11 +101,7 @@ def _figure(path: Path, root: Path, caption: str) -> str:
 
 
 def _metric_columns(results: pd.DataFrame, manifest: dict) -> list[str]:
-    fixed = {"group", "scene", "method", "spec", "label", "options", "frame", "difficulty", "difficulty_label", "render_s",
-             "intensity_sum", "reference", "reference_kind", "reference_spp", "reference_seed",
-             "reference_noise_rmse", "reference_intensity_sum", "spp", "seed", "host", "error", "key",
-             "scene_source", "code_version", "finished_at", "width", "height", "executor", "workers"}
-    return [c for c in results.columns if c not in fixed]
+    return [m for m in manifest.get("metrics", []) if m in results.columns]
 
 
 def _timing_note(results: pd.DataFrame) -> str:
@@ -168,6 +164,10 @@ def _group_section(group: str, rows: pd.DataFrame, temporal: pd.DataFrame, store
     out.append("<h3>Numbers per method</h3>")
     out.append(_table(summary.drop(columns=["method", "options"]).rename(
         columns={"label": "method (non-default options)"})))
+    spoiled = rows[rows["metric_errors"].notna()] if "metric_errors" in rows else rows.iloc[:0]
+    if not spoiled.empty:
+        out.append(f"<h3 class='bad'>Metrics that could not be computed ({len(spoiled)} cells)</h3>")
+        out.append(_table(spoiled[["scene", "label", "frame", "metric_errors"]]))
     failed = rows[rows["error"].notna()]
     if not failed.empty:
         out.append(f"<h3 class='bad'>Failed cells ({len(failed)})</h3>")
