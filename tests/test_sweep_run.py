@@ -215,3 +215,21 @@ def test_a_metric_that_cannot_judge_a_cell_spoils_no_other_metric(tmp_path):
     assert tiny["ssim"].isna().all() and tiny["metric_errors"].str.contains("SSIM needs").all()
     assert (tiny[tiny["method"] == "catmull-jagged"]["rmse"] > 0).all()
     assert table[table["scene"] != "tiny"]["ssim"].notna().all()
+
+
+def test_a_seeded_reference_states_its_measured_noise(tmp_path):
+    import math
+
+    from aaeval.reports.html import reference_statement
+
+    text = SMALL.replace('reference = "catmull"', 'reference = "jitter:k=2,seed=3"')
+    exp, out, _ = _run(tmp_path, text)
+    table = pd.read_parquet(out / "results.parquet")
+    assert (table["reference_kind"] == "stochastic").all() and (table["reference_seed"] == 3).all()
+    row = table[table["scene"] == "fan@6"].iloc[0]
+    scene = next(c.scene for c in exp.cells() if c.scene.name == "fan@6").scene()
+    a, b = render(scene, "jitter:k=2,seed=3"), render(scene, "jitter:k=2,seed=4")
+    assert row["reference_noise_rmse"] == pytest.approx(np.sqrt(np.mean((a - b) ** 2)) / math.sqrt(2), rel=1e-12)
+    assert row["reference_noise_rmse"] > 0
+    statement = reference_statement(table[table["group"] == "stability"])
+    assert "jitter:k=2,seed=3" in statement and "stochastic" in statement and "noise RMS" in statement
