@@ -19,7 +19,7 @@ from aaeval.experiments.metrics import temporal_metric
 from aaeval.experiments.store import SweepStore
 from aaeval.imageio import atomic_write
 
-__all__ = ["results_frame", "temporal_frame", "write_results", "load_results", "short_label"]
+__all__ = ["results_frame", "temporal_frame", "write_results", "load_results", "short_label", "varying_options"]
 
 _COLUMNS = ["group", "scene", "method", "spec", "options", "frame", "difficulty", "difficulty_label",
             "render_s", "intensity_sum", "reference", "reference_kind", "reference_spp", "reference_seed",
@@ -69,12 +69,17 @@ def short_label(spec: str, keep: set[str] = frozenset()) -> str:
     return format_spec(method.name, shown)
 
 
+def varying_options(options_json) -> list[str]:
+    """The option names whose values differ between these JSON option tables."""
+    opts = [json.loads(o) for o in options_json]
+    return sorted(k for k in set().union(*opts) if len({json.dumps(o.get(k)) for o in opts}) > 1)
+
+
 def _labels(frame: pd.DataFrame) -> pd.Series:
     """Short labels: per group and method, the options that vary or are not the default."""
     labels = pd.Series(index=frame.index, dtype=object)
     for _, rows in frame.groupby(["group", "method"], sort=False):
-        opts = [json.loads(o) for o in rows["options"]]
-        varying = {k for k in set().union(*opts) if len({json.dumps(o.get(k)) for o in opts}) > 1}
+        varying = set(varying_options(rows["options"]))
         for idx, spec in zip(rows.index, rows["spec"]):
             labels[idx] = short_label(spec, varying)
     return labels

@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 
 from aaeval.experiments.store import SweepStore
-from aaeval.experiments.table import load_results
+from aaeval.experiments.table import load_results, varying_options
 from aaeval.imageio import atomic_write
 from aaeval.reports import figures
 
@@ -73,6 +73,17 @@ def reference_statement(rows: pd.DataFrame) -> str:
     return "Reference: " + "; ".join(parts) + "."
 
 
+def _ladder_labels(summary: pd.DataFrame) -> pd.Series:
+    """Point labels for a chart whose legend names the method: the options that vary."""
+    labels = pd.Series("", index=summary.index, dtype=object)
+    for _, rows in summary.groupby("method"):
+        keys = varying_options(rows["options"])
+        for idx, options in zip(rows.index, rows["options"]):
+            o = json.loads(options)
+            labels[idx] = ",".join(f"{k}={o[k]}" for k in keys)
+    return labels
+
+
 def spec_summary(rows: pd.DataFrame, metrics: list[str], primary: str) -> pd.DataFrame:
     """One row per spec: cells, failures, median time, mean (and worst) error, noise context."""
     out = []
@@ -125,7 +136,7 @@ def _group_section(group: str, rows: pd.DataFrame, temporal: pd.DataFrame, store
     speed = summary.dropna(subset=["render_s (median)", f"{primary} (mean)"]).reset_index(drop=True)
     if len(speed) >= 2:
         speed = speed.rename(columns={"render_s (median)": "render_s", f"{primary} (mean)": primary})
-        speed["label"] = speed["label"].str.partition(":")[2]  # the method is in the legend
+        speed["label"] = _ladder_labels(speed)
         p = figures.speed_accuracy(speed, figdir / f"{slug}_speed_accuracy.png", metric=primary,
                                    title=f"{group}: speed against accuracy")
         out.append(_figure(p, store.root, f"Speed against accuracy over {len(ok)} cells. {ref} Lines join the "
