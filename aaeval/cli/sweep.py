@@ -32,8 +32,11 @@ def run(args) -> int:
     experiment = load_experiment(args.config)
     if args.dry_run:
         return dry_run(experiment, args.out)
-    summary = run_sweep(experiment, args.out, workers=args.workers, scheduler=args.scheduler, quiet=args.quiet,
-                        retry_failed=args.retry_failed, cache_dir=args.cache)
+    try:
+        summary = run_sweep(experiment, args.out, workers=args.workers, scheduler=args.scheduler, quiet=args.quiet,
+                            retry_failed=args.retry_failed, cache_dir=args.cache)
+    except ConnectionError as exc:
+        raise ValueError(str(exc)) from None
     print(f"{experiment.name}: {summary.total} cells, {summary.skipped} already done, {summary.ran} run "
           f"({summary.failed} failed), references {summary.references_rendered} rendered / "
           f"{summary.references_cached} from cache{', on ' + summary.executor if summary.executor else ''}; "

@@ -73,7 +73,13 @@ class DaskExecutor:
     def __init__(self, address: Any):
         from distributed import Client
 
-        self.client = address if isinstance(address, Client) else Client(address)
+        if isinstance(address, Client):
+            self.client = address
+        else:
+            try:
+                self.client = Client(address, timeout="20s")
+            except (OSError, TimeoutError) as exc:
+                raise ConnectionError(f"cannot reach the Dask scheduler at {address}: {exc}") from None
         self._own = not isinstance(address, Client)
         info = self.client.scheduler_info()
         self.workers = max(1, len(info.get("workers", {})))
