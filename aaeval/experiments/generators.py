@@ -139,7 +139,7 @@ def _shiny_cylinder(size: int, radius: float, n: float, frames: int, step: float
         "image": {"width": size, "height": size, "background": [0.02, 0.02, 0.03]},
         "animation": _animation(frames, step),
         "shaded": {
-            "light": {"type": "directional", "direction": [0.3, -0.2, -1.0]},
+            "light": {"type": "directional", "direction": [0.3, 0.0, -1.0]},
             "cylinders": [{
                 "centre": [c + 0.173, c + 0.291, 200.0], "axis": [0.12, 1.0, 0.0], "radius": float(radius),
                 "length": 0.8 * size, "segments": int(segments),
