@@ -141,7 +141,9 @@ def _sweep_process(config, out, cache):
 
 
 def _cell_files(out):
-    return {p.name: p.read_bytes() for p in (out / "cells").glob("*.json")} if (out / "cells").is_dir() else {}
+    # a kill can leave a temporary ".name" file behind: it is not a cell
+    cells = out / "cells"
+    return {p.name: p.read_bytes() for p in cells.glob("*.json") if not p.name.startswith(".")} if cells.is_dir() else {}
 
 
 def test_sigkill_loses_no_finished_cell_and_duplicates_none(tmp_path, test_methods):
