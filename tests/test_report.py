@@ -69,7 +69,7 @@ def test_every_figure_states_its_reference(report):
     parser.feed(report.read_text())
     assert parser.figcaptions
     for caption in parser.figcaptions:
-        assert "Reference: catmull (exact" in caption and "noise 0" in caption, caption
+        assert "Reference: catmull (exact; noise 0)" in caption, caption
 
 
 def test_report_has_the_expected_charts_and_tables(report):

@@ -62,7 +62,7 @@ def reference_statement(rows: pd.DataFrame) -> str:
         spp, seed = refs["reference_spp"].iloc[0], refs["reference_seed"].iloc[0]
         noise = refs["reference_noise_rmse"].astype(float)
         if kind == "exact":
-            level = "exact: noise 0"
+            level = "noise 0"
         elif noise.notna().any():
             level = (f"noise RMS {noise.mean():.3g} per pixel channel (measured against a second render with "
                      f"the next seed; mean over {noise.notna().sum()} frames)")
@@ -207,6 +207,23 @@ def _grid(rows, ok, store, path: Path, group: str, ref: str) -> str:
                    f"crop (red box, around the largest error) and its |error| map on one colour scale. {ref}")
 
 
+def _overview(results: pd.DataFrame, primary: str, fail_above) -> str:
+    """Where each method fails: failed cells and mean error per method (rows) and group."""
+    frame = results.assign(method_=results["method"])
+    bad = frame["error"].notna()
+    if fail_above:
+        bad |= frame[primary].astype(float) > fail_above
+    failures = frame.assign(bad=bad).pivot_table(index="method_", columns="group", values="bad", aggfunc="sum",
+                                                 sort=False)
+    errors = frame.pivot_table(index="method_", columns="group", values=primary, aggfunc="mean", sort=False)
+    crit = "raised an error" + (f" or {primary} > {fail_above:g}" if fail_above else "")
+    return (f"<h2>Overview</h2><p>Mean {html.escape(primary)} per method (all its options) and group; each "
+            f"group's reference is stated in its section.</p>"
+            + _table(errors.reset_index().rename(columns={"method_": "method"}))
+            + f"<p>Failed cells per method and group (a cell fails when it {html.escape(crit)}).</p>"
+            + _table(failures.fillna(0).astype(int).reset_index().rename(columns={"method_": "method"})))
+
+
 def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
     """Write ``DIR/index.html`` (and ``DIR/figures/*.png``) for the sweep folder ``DIR``."""
     from aaeval.experiments.runner import progress_bar
@@ -235,6 +252,8 @@ def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
     groups = list(dict.fromkeys(c["group"] for c in manifest["cells"]))
     parts.append("<p>Groups: " + ", ".join(f"<a href='#{html.escape(g)}'>{html.escape(g)}</a>" for g in groups)
                  + "</p>")
+    if not results.empty:
+        parts.append(_overview(results, primary, manifest.get("fail_above")))
     with progress_bar(quiet) as progress:
         task = progress.add_task("report", total=len(groups)) if progress else None
         for group in groups:
