@@ -68,7 +68,7 @@ def test_bad_scene_fails_cleanly_and_keeps_existing_output(tmp_path, capsys):
 
 
 def test_bad_method_spec_is_refused(scene_file, tmp_path, capsys):
-    assert main(["render", str(scene_file), "--method", "catmull:k=3", "-o", str(tmp_path / "x.npy")]) == 2
+    assert main(["render", str(scene_file), "--method", "catmull:bogus=3", "-o", str(tmp_path / "x.npy")]) == 2
     assert "unknown option" in capsys.readouterr().err
     assert main(["render", str(scene_file), "--method", "nosuch", "-o", str(tmp_path / "x.npy")]) == 2
     assert not (tmp_path / "x.npy").exists()

@@ -106,7 +106,7 @@ def test_default_is_one_frame_and_quiet_prints_only_the_summary(scene_file, tmp_
     "args, message",
     [
         (["-m", "nope", "-r", "catmull"], "unknown method 'nope'"),
-        (["-m", "catmull", "-r", "catmull:k=2"], "unknown option"),
+        (["-m", "catmull", "-r", "catmull:bogus=2"], "unknown option"),
         (["-m", "catmull", "-m", "catmull:", "-r", "catmull"], "give each method once"),
         (["-m", "catmull", "-r", "catmull", "--frames", "5"], "only 4 frame"),
         (["-m", "catmull", "-r", "catmull", "--frames", "0"], "at least 1"),

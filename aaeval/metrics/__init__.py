@@ -18,6 +18,7 @@ from aaeval.metrics.registry import (
     compute_temporal_metric,
 )
 from aaeval.metrics.temporal import flicker, intensity_sum, sum_variation
+from aaeval.metrics.specular import detection_precision_recall, highlight_energy_bias, highlight_energy_flicker, highlight_flicker, highlight_mask, highlight_profile_flicker, highlight_rmse  # noqa: E501,F401
 
 __all__ = [
     "IMAGE_METRICS",

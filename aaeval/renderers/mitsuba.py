@@ -35,7 +35,7 @@ def _warmup() -> None:
 
 @register_method(
     "mitsuba",
-    summary="Mitsuba 3 ground truth: flat colours, box filter, high spp (cached on disk)",
+    summary="Mitsuba 3 ground truth: flat colours (Phong for [shaded] scenes), box filter, high spp (cached on disk)",
     options={
         "spp": Option(int, DEFAULT_SPP, "samples per pixel (stratified/multijitter round up to a square)", minimum=1),
         "sampler": Option(str, DEFAULT_SAMPLER, "Mitsuba sampler", choices=SAMPLERS),
@@ -48,5 +48,12 @@ def _warmup() -> None:
 def render_mitsuba_method(
     scene: Scene, *, spp: int, sampler: str, seed: int, variant: str, cache: bool
 ) -> np.ndarray:
+    from aaeval.scenes.shaded import has_shaded
+
+    if has_shaded(scene):  # the same Phong formula at every sample (aaeval.specular)
+        from aaeval.specular.groundtruth import groundtruth_phong
+
+        image, _, _ = groundtruth_phong(scene, spp=spp, sampler=sampler, seed=seed, variant=variant, cache=cache)
+        return image
     image, _ = groundtruth_image(scene, spp=spp, sampler=sampler, seed=seed, variant=variant, cache=cache)
     return image

@@ -11,6 +11,9 @@ from aaeval.scenes.format import (
     register_section,
 )
 
+# extensions of the scene format register their tables on import
+from aaeval.scenes import shaded  # noqa: E402,F401
+
 __all__ = [
     "Polygon",
     "PolygonArrays",
