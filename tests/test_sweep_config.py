@@ -5,6 +5,7 @@ from __future__ import annotations
 import pytest
 
 from aaeval.experiments import ConfigError, load_experiment
+from aaeval.experiments.table import short_label
 from sweep_util import SMALL, write_config
 
 
@@ -13,18 +14,21 @@ def test_small_config_expands_scenes_methods_frames(tmp_path):
     cells = exp.cells()
     # edges: 1 scene x 2 methods x 3 frames; stability: 3 scenes x 1 method x 1 frame
     assert len(cells) == 6 + 3
-    assert {c.spec for c in cells} == {"catmull", "catmull-jagged"}
+    assert {short_label(c.spec) for c in cells} == {"catmull", "catmull-jagged"}
     assert sorted(c.scene.difficulty for c in cells if c.group == "stability") == [3, 6, 12]
 
 
 def test_options_expand_only_for_methods_that_declare_them(tmp_path):
-    # catmull declares no options, so an option none of the methods declares is an error
-    text = SMALL.replace('methods = ["catmull", "catmull-jagged"]',
-                         'methods = ["catmull", "catmull-jagged"]\noptions = { k = [2, 4] }')
-    path = write_config(tmp_path, text)
+    text = SMALL.replace('methods = ["catmull-jagged"]', 'methods = ["catmull-jagged", "supersample", "jitter:k=3"]\noptions = { k = [2, 4] }')
+    specs = load_experiment(write_config(tmp_path, text)).groups[1].specs
+    # jitter's k is fixed by its spec; catmull-jagged has no k
+    assert list(specs) == ["catmull-jagged", "supersample:k=2", "supersample:k=4", "jitter:k=3,seed=0"]
+    # an option that none of the methods declares is an error naming file and key
+    text = SMALL.replace('methods = ["catmull-jagged"]', 'methods = ["catmull-jagged"]\noptions = { spp = [2, 4] }')
+    path = write_config(tmp_path, text, "bad.toml")
     with pytest.raises(ConfigError) as err:
         load_experiment(path)
-    assert str(path) in str(err.value) and "groups[0].options" in str(err.value) and "'k'" in str(err.value)
+    assert str(path) in str(err.value) and "groups[1].options" in str(err.value) and "'spp'" in str(err.value)
 
 
 @pytest.mark.parametrize(

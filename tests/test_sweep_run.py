@@ -66,8 +66,8 @@ def test_sweep_writes_one_file_per_cell_and_a_tidy_table(tmp_path):
     scene = next(c.scene for c in exp.cells() if c.scene.name == row["scene"]).scene()
     np.testing.assert_array_equal(store.load_image(row["key"]), render(scene, "catmull", frame=int(row["frame"])))
     temporal = pd.read_parquet(out / "temporal.parquet")
-    assert set(temporal["spec"]) == {"catmull", "catmull-jagged"}
-    assert temporal.set_index("spec").loc["catmull", "sum_variation"] < 1e-12
+    assert set(temporal["label"]) == {"catmull", "catmull-jagged"}
+    assert temporal.set_index("label").loc["catmull", "sum_variation"] < 1e-12
 
 
 def test_rerun_skips_finished_cells_and_runs_new_ones(tmp_path):

@@ -48,15 +48,16 @@ def run(args) -> int:
 
 def dry_run(experiment, out) -> int:
     from aaeval.experiments import SweepStore, plan
+    from aaeval.experiments.table import short_label
 
     planned = plan(experiment)
     done = SweepStore(out).finished()
     rows: dict[tuple, list] = {}
     for p in planned:
-        rows.setdefault((p.cell.group, p.cell.scene.name, p.cell.spec), []).append(p.key in done)
+        rows.setdefault((p.cell.group, p.cell.scene.name, short_label(p.cell.spec)), []).append(p.key in done)
     print(f"{experiment.name}: {len(planned)} cells in {len(experiment.groups)} groups, "
           f"{len({p.key for p in planned})} distinct, {len({p.key for p in planned} & done)} done "
-          f"(reference: {', '.join(sorted({g.reference for g in experiment.groups}))})")
+          f"(reference: {', '.join(sorted({short_label(g.reference) for g in experiment.groups}))})")
     width = max(len(f"{g}  {s}") for g, s, _ in rows) if rows else 0
     for (group, scene, spec), flags in rows.items():
         print(f"  {f'{group}  {scene}':<{width}}  {spec:<40} frames {sum(flags):3d}/{len(flags):<3d} done")

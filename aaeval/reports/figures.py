@@ -30,6 +30,25 @@ def _style(methods) -> dict[str, tuple]:
     return {m: (cmap(i % 10), _MARKERS[i % len(_MARKERS)]) for i, m in enumerate(sorted(methods))}
 
 
+def _line_styles(rows: pd.DataFrame) -> dict[str, tuple]:
+    """Colour per spec label, marker per method: lines of one method's options stay apart."""
+    cmap = plt.get_cmap("tab20" if rows["label"].nunique() > 10 else "tab10")
+    markers = {m: _MARKERS[i % len(_MARKERS)] for i, m in enumerate(sorted(rows["method"].unique()))}
+    labels = list(dict.fromkeys(rows["label"]))
+    method_of = dict(zip(rows["label"], rows["method"]))
+    return {lab: (cmap(i % cmap.N), markers[method_of[lab]]) for i, lab in enumerate(labels)}
+
+
+def _is_ladder(rows: pd.DataFrame) -> bool:
+    """Whether a method's points differ only in numeric options (spp, k): a quality ladder."""
+    import json
+
+    opts = [json.loads(o) for o in rows["options"]]
+    keys = {k for k in set().union(*opts) if len({json.dumps(o.get(k)) for o in opts}) > 1}
+    return bool(keys) and all(isinstance(o.get(k), (int, float)) and not isinstance(o.get(k), bool)
+                              for o in opts for k in keys)
+
+
 def _save(fig, path: Path) -> Path:
     fig.savefig(path, dpi=110, bbox_inches="tight")
     plt.close(fig)
@@ -58,7 +77,7 @@ def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str
         colour, marker = style[method]
         rows = rows.sort_values("render_s")
         y = np.maximum(rows[metric].to_numpy(float), ERROR_FLOOR)
-        if len(rows) > 1:
+        if len(rows) > 1 and _is_ladder(rows):
             ax.plot(rows["render_s"], y, "-", color=colour, alpha=0.5, lw=1)
         for (_, r), yy in zip(rows.iterrows(), y):
             ax.plot(r["render_s"], yy, marker, color=colour, ms=8, mec="black", mew=0.5)
@@ -82,7 +101,7 @@ def intensity_sums(results: pd.DataFrame, path: Path, *, title: str) -> Path:
     """Intensity sum per frame relative to the reference's frame 0, one panel per scene."""
     scenes = list(dict.fromkeys(results["scene"]))
     fig, axes = plt.subplots(len(scenes), 1, figsize=(8.5, 3.2 * len(scenes)), squeeze=False)
-    style = _style(results["method"].unique())
+    style = _line_styles(results)
     for ax, scene in zip(axes[:, 0], scenes):
         rows = results[results["scene"] == scene].sort_values("frame")
         base = rows["reference_intensity_sum"].iloc[0]
@@ -90,7 +109,7 @@ def intensity_sums(results: pd.DataFrame, path: Path, *, title: str) -> Path:
         ax.plot(ref["frame"], ref["reference_intensity_sum"] / base, "k-", lw=2.5, alpha=0.35,
                 label=f"reference {rows['reference'].iloc[0]}")
         for _, series in rows.groupby("spec", sort=False):
-            colour, marker = style[series["method"].iloc[0]]
+            colour, marker = style[series["label"].iloc[0]]
             ax.plot(series["frame"], series["intensity_sum"] / base, "-" + marker, color=colour, ms=4, lw=1,
                     label=series["label"].iloc[0])
         ax.set_title(f"{scene}", fontsize=9)
@@ -124,12 +143,12 @@ def temporal_bars(temporal: pd.DataFrame, path: Path, *, metrics: list[str], tit
 
 def stability(results: pd.DataFrame, path: Path, *, metric: str, fail_above: float | None, title: str) -> Path:
     """Error and failures against difficulty, one line per spec."""
-    style = _style(results["method"].unique())
+    style = _line_styles(results)
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.5))
     label = results["difficulty_label"].dropna().iloc[0] if results["difficulty_label"].notna().any() else "difficulty"
     for _, rows in results.groupby("spec", sort=False):
         spec = rows["label"].iloc[0]
-        colour, marker = style[rows["method"].iloc[0]]
+        colour, marker = style[spec]
         by = rows.groupby("difficulty")
         err = by[metric].mean()
         ax.plot(err.index, np.maximum(err.to_numpy(float), ERROR_FLOOR), "-" + marker, color=colour, label=spec)

@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 
 from aaeval.experiments.store import SweepStore
-from aaeval.experiments.table import load_results, varying_options
+from aaeval.experiments.table import load_results, short_label, varying_options
 from aaeval.imageio import atomic_write
 from aaeval.reports import figures
 
@@ -69,7 +69,7 @@ def reference_statement(rows: pd.DataFrame) -> str:
         else:
             level = "deterministic but not exact: its own error is unknown"
         extra = ", ".join(f"{k} {int(v)}" for k, v in (("spp", spp), ("seed", seed)) if pd.notna(v))
-        parts.append(f"<b>{html.escape(spec)}</b> ({kind}{'; ' + extra if extra else ''}; {level})")
+        parts.append(f"<b>{html.escape(short_label(spec))}</b> ({kind}{'; ' + extra if extra else ''}; {level})")
     return "Reference: " + "; ".join(parts) + "."
 
 
@@ -97,7 +97,7 @@ def spec_summary(rows: pd.DataFrame, metrics: list[str], primary: str) -> pd.Dat
             row[f"{m} (mean)"] = ok[m].mean() if m in ok else math.nan
         row[f"{primary} (worst)"] = ok[primary].max() if primary in ok else math.nan
         noise = r["reference_noise_rmse"].astype(float).mean()
-        row["reference"] = r["reference"].iloc[0]
+        row["reference"] = short_label(r["reference"].iloc[0])
         row["ref noise RMS"] = noise
         if primary == "rmse" and noise > 0:
             # an error this close to the reference's own noise is not a measured difference
@@ -159,7 +159,8 @@ def _group_section(group: str, rows: pd.DataFrame, temporal: pd.DataFrame, store
                    f"{temp['reference_sum_variation'].max():.3g} (max over scenes)."))
         cols = ["scene", "label", "frames", "failed_frames", *names, "reference_sum_variation", "reference",
                 "reference_noise_rmse"]
-        out.append(_table(temp[[c for c in cols if c in temp.columns]]))
+        shown = temp.assign(reference=temp["reference"].map(short_label))
+        out.append(_table(shown[[c for c in cols if c in shown.columns]]))
 
     if rows["difficulty"].nunique() >= 3:  # a trend needs a few levels
         p = figures.stability(rows, figdir / f"{slug}_stability.png", metric=primary, fail_above=fail_above,
