@@ -115,8 +115,8 @@ def plates(scene_path: str, name: str, out: Path, spp: int, frame: int, zoom) ->
     axes[1, 0].set_ylabel(f"zoom rows {y0}-{y1}, cols {x0}-{x1}", fontsize=7)
     axes[2, 0].set_ylabel("signed error (mean of RGB)", fontsize=7)
     fig.colorbar(im, ax=axes[2, :], shrink=0.8, fraction=0.02)
-    fig.suptitle(f"{name}, frame {frame}: Mitsuba Phong truth and the Catmull renderer, one shade per visible piece "
-                 "per pixel, under each specular option")
+    fig.suptitle(f"{name}, frame {frame}: Catmull renderer, one shade per visible piece per pixel, under each "
+                 f"specular option; reference Mitsuba Phong, {spp} spp stratified, seed 0, box filter")
     fig.savefig(out / f"plates_{name}.png", dpi=110)
     plt.close(fig)
 
@@ -148,7 +148,7 @@ def fig_flicker(scene_path: str, out: Path, spp: int, progress, rows=slice(170, 
     frames = list(range(scene.frames))
     truth = [groundtruth_phong(scene.at_frame(k), spp=spp)[1][rows, column].sum() for k in progress(frames, "truth")]
     fig, ax = plt.subplots(figsize=(6.8, 4.2))
-    ax.plot(frames, truth, "k-", lw=2.5, label="Mitsuba Phong (truth)")
+    ax.plot(frames, truth, "k-", lw=2.5, label=f"Mitsuba Phong (truth, {spp} spp stratified, seed 0)")
     for label, extra in PLATE_METHODS:
         energy = []
         for k in progress(frames, label):

@@ -87,3 +87,15 @@ def test_console_entry_point_help():
                             cwd=Path(__file__).parents[1])
     assert result.returncode == 0
     assert "render" in result.stdout and "invariance" in result.stdout
+
+
+def test_canonical_spec_leaves_out_defaults():
+    from aaeval.renderers import format_spec, resolve
+
+    def canonical(spec):
+        method, options = resolve(spec)
+        return format_spec(method.name, options)
+
+    assert canonical("catmull") == canonical("catmull:specular=none") == "catmull"
+    assert canonical("supersample:k=8") == "supersample:k=8"
+    assert canonical("supersample:k=4") == "supersample"
