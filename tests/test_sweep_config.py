@@ -21,8 +21,8 @@ def test_small_config_expands_scenes_methods_frames(tmp_path):
 def test_options_expand_only_for_methods_that_declare_them(tmp_path):
     text = SMALL.replace('methods = ["catmull-jagged"]', 'methods = ["catmull-jagged", "supersample", "jitter:k=3"]\noptions = { k = [2, 4] }')
     specs = load_experiment(write_config(tmp_path, text)).groups[1].specs
-    # jitter's k is fixed by its spec; catmull-jagged has no k
-    assert list(specs) == ["catmull-jagged", "supersample:k=2", "supersample:k=4", "jitter:k=3"]
+    # jitter's k is fixed by its spec; catmull-jagged has no k; k=4 is the default, left out
+    assert list(specs) == ["catmull-jagged", "supersample:k=2", "supersample", "jitter:k=3"]
     # an option that none of the methods declares is an error naming file and key
     text = SMALL.replace('methods = ["catmull-jagged"]', 'methods = ["catmull-jagged"]\noptions = { spp = [2, 4] }')
     path = write_config(tmp_path, text, "bad.toml")
