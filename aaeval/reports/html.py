@@ -26,7 +26,7 @@ __all__ = ["write_report", "reference_statement", "spec_summary"]
 _CSS = """
 body{font-family:system-ui,sans-serif;max-width:1250px;margin:1.5em auto;padding:0 1em;color:#222}
 h1{margin-bottom:.2em} h2{border-bottom:2px solid #ccc;padding-bottom:.2em;margin-top:2em}
-table{border-collapse:collapse;font-size:12px;margin:.6em 0} td,th{border:1px solid #ccc;padding:2px 6px}
+table{border-collapse:collapse;font-size:12px;margin:.6em 0;display:block;overflow-x:auto;max-width:100%} td,th{border:1px solid #ccc;padding:2px 6px}
 th{background:#f0f0f0} td.num{text-align:right;font-family:monospace}
 .note{background:#f6f8fa;border-left:4px solid #888;padding:.4em .8em;font-size:13px}
 .ref{background:#fff8e0;border-left:4px solid #d9a400;padding:.4em .8em;font-size:13px}
