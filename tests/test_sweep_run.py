@@ -235,3 +235,13 @@ def test_a_seeded_reference_states_its_measured_noise(tmp_path):
     assert row["reference_noise_rmse"] > 0
     statement = reference_statement(table[table["group"] == "stability"])
     assert "jitter:k=2,seed=3" in statement and "stochastic" in statement and "noise RMS" in statement
+
+
+def test_a_failing_reference_fails_its_cells_only(tmp_path, test_methods):
+    text = SMALL.replace('name = "stability"', 'name = "stability"\nreference = "test-fails-on-fans"')
+    _, out, summary = _run(tmp_path, text)
+    assert summary.ran == 9 and summary.failed == 2 and not summary.lost
+    table = pd.read_parquet(out / "results.parquet")
+    bad = table[table["error"].notna()]
+    assert sorted(bad["difficulty"]) == [6, 12]
+    assert all("reference test-fails-on-fans failed" in e and "too many polygons" in e for e in bad["error"])

@@ -154,8 +154,10 @@ def _references(experiment, todo, store, cache, executor, progress, summary) -> 
                  experiment.noise_estimate) for p in missing]
     for i, result, exc in executor.run(render_reference, payloads):
         key = missing[i].reference_key
-        if exc is not None:
-            meta[key] = {"error": f"{type(exc).__name__}: {exc}"}
+        if exc is not None:  # the worker died: its cells wait for the next run
+            meta[key] = {"lost": f"{type(exc).__name__}: {exc}"}
+        elif "error" in result:
+            meta[key] = {"error": result["error"]}
         else:
             from aaeval.metrics import intensity_sum
 
@@ -186,6 +188,11 @@ def _cells(todo, refs, store, executor, progress, summary) -> None:
                     "source": p.cell.scene.source, "metrics": list(p.cell.metrics),
                     "reference_image": loaded.get(p.reference_key), "reference_error": info.get("error")},)
 
+    lost = [p for p in todo if "lost" in refs.get(p.reference_key, {})]
+    summary.lost += [f"{p.key}: reference not rendered ({refs[p.reference_key]['lost']})" for p in lost]
+    todo = [p for p in todo if "lost" not in refs.get(p.reference_key, {})]
+    if task is not None:
+        progress.advance(task, len(lost))
     work = list(payloads())
     for i, result, exc in executor.run(run_cell, work):
         if exc is not None:

@@ -43,18 +43,22 @@ def render_reference(document: dict, source: str, frame: int, spec: str, estimat
     """Render a reference frame; for a seeded reference also its noise level.
 
     The noise level is the RMS per-pixel noise of one render, estimated from a second
-    render with the next seed: ``rmse(a, b) / sqrt(2)``.
+    render with the next seed: ``rmse(a, b) / sqrt(2)``. A reference that fails comes
+    back as ``{"error": ...}``.
     """
     from aaeval.renderers import render_timed
     from aaeval.scenes import parse_scene
 
-    scene = parse_scene(document, source=source)
-    image, seconds = render_timed(scene, spec, frame=frame)
-    noise = 0.0 if reference_kind(spec) == "exact" else math.nan
-    twin = noise_spec(spec) if estimate_noise else None
-    if twin is not None:
-        other, _ = render_timed(scene, twin, frame=frame)
-        noise = float(np.sqrt(np.mean((image - other) ** 2)) / math.sqrt(2.0))
+    try:
+        scene = parse_scene(document, source=source)
+        image, seconds = render_timed(scene, spec, frame=frame)
+        noise = 0.0 if reference_kind(spec) == "exact" else math.nan
+        twin = noise_spec(spec) if estimate_noise else None
+        if twin is not None:
+            other, _ = render_timed(scene, twin, frame=frame)
+            noise = float(np.sqrt(np.mean((image - other) ** 2)) / math.sqrt(2.0))
+    except Exception as exc:  # the cells that need it record this as their error
+        return {"error": f"{type(exc).__name__}: {exc}", "host": socket.gethostname()}
     return {"image": image, "render_s": seconds, "noise_rmse": noise, "noise_spec": twin,
             "host": socket.gethostname()}
 
