@@ -102,3 +102,11 @@ def test_pareto_front_matches_brute_force():
 def test_report_of_a_folder_that_is_not_a_sweep(tmp_path):
     with pytest.raises(FileNotFoundError, match="not a sweep folder|manifest"):
         write_report(tmp_path)
+
+
+def test_labels_show_options_that_vary_even_at_their_default():
+    from aaeval.experiments.table import short_label
+
+    assert short_label("supersample") == "supersample"
+    assert short_label("supersample", {"k"}) == "supersample:k=4"
+    assert short_label("mitsuba:spp=64,cache=false,seed=1") == "mitsuba:seed=1,spp=64"

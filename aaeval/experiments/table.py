@@ -58,7 +58,7 @@ _INCIDENTAL = {"cache"}
 
 def short_label(spec: str, keep: set[str] = frozenset()) -> str:
     """The spec with the options in ``keep`` and those that differ from the defaults."""
-    from aaeval.renderers import MethodError, format_spec, resolve
+    from aaeval.renderers import MethodError, resolve
 
     try:
         method, options = resolve(spec)
@@ -66,7 +66,8 @@ def short_label(spec: str, keep: set[str] = frozenset()) -> str:
         return spec
     shown = {k: v for k, v in options.items()
              if k not in _INCIDENTAL and (k in keep or v != method.options[k].default)}
-    return format_spec(method.name, shown)
+    # written out here: format_spec leaves defaults out, and a varying option must show
+    return method.name + "".join(f"{':' if i == 0 else ','}{k}={shown[k]}" for i, k in enumerate(sorted(shown)))
 
 
 def varying_options(options_json) -> list[str]:
