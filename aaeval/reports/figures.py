@@ -198,13 +198,16 @@ def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path
     r0, r1, c0, c1 = _crop_box(worst, max(4, min(reference.shape[:2]) // 3))
     vmax = max(float(worst.max()), 1e-12)
     rows = [("reference", reference, None)] + [(n, img, err) for (n, img), err in zip(images, errors)]
-    fig, axes = plt.subplots(len(rows), 3, figsize=(9, 2.6 * len(rows)), squeeze=False)
+    h, w = reference.shape[:2]
+    row_height = 9 / 3 * min(1.0, h / w) + 0.35  # image rows as tall as their aspect needs
+    fig, axes = plt.subplots(len(rows), 3, figsize=(9, row_height * len(rows)), squeeze=False,
+                             layout="constrained")
     im = None
     for (name, img, err), ax in zip(rows, axes):
         srgb = linear_to_srgb8(img)
         ax[0].imshow(srgb, interpolation="nearest")
         ax[0].add_patch(plt.Rectangle((c0 - 0.5, r0 - 0.5), c1 - c0, r1 - r0, fill=False, ec="red", lw=1))
-        ax[0].set_ylabel(name, fontsize=8)
+        ax[0].set_ylabel(name.replace(":", ":\n").replace(",", ",\n"), fontsize=7)  # long specs wrap
         ax[1].imshow(srgb[r0:r1, c0:c1], interpolation="nearest")
         if err is not None:
             im = ax[2].imshow(err, cmap="magma", vmin=0, vmax=vmax, interpolation="nearest")
