@@ -63,6 +63,24 @@ def render_reference(document: dict, source: str, frame: int, spec: str, estimat
             "host": socket.gethostname()}
 
 
+_WARMED: set[tuple] = set()
+
+
+def _warm_up(scene, spec: str, frame: int) -> None:
+    """Render once untimed the first time this process meets a (spec, image size).
+
+    ``render_timed`` warms a method up once, but a JIT such as Dr.Jit compiles a new
+    kernel for each sample count and image size: without this the first cell of each
+    option would be timed with its compilation.
+    """
+    from aaeval.renderers import render
+
+    key = (spec, scene.width, scene.height)
+    if key not in _WARMED:
+        render(scene, spec, frame=frame)
+        _WARMED.add(key)
+
+
 def run_cell(payload: dict[str, Any]) -> tuple[dict, np.ndarray | None]:
     """Render one cell, compare it with its reference image; never raises for the cell's
     own failures: they come back as the record's ``error``."""
@@ -79,6 +97,7 @@ def run_cell(payload: dict[str, Any]) -> tuple[dict, np.ndarray | None]:
         if payload.get("reference_error"):
             raise RuntimeError(f"reference {payload['record']['reference']} failed: {payload['reference_error']}")
         scene = parse_scene(payload["document"], source=payload["source"])
+        _warm_up(scene, record["spec"], record["frame"])
         image, seconds = render_timed(scene, record["spec"], frame=record["frame"])
         record["render_s"] = seconds
         if not np.all(np.isfinite(image)):
