@@ -58,11 +58,16 @@ def save_image(path: str | Path, image: np.ndarray) -> Path:
     return atomic_write(path, lambda tmp: _write_exr(tmp, image))
 
 
-def _write_exr(path: str, image: np.ndarray) -> None:
-    import mitsuba as mi
+def _mitsuba():
+    # Mitsuba's variant is process-global and Dr.Jit reads its libLLVM path once: import
+    # it the one way aaeval does, keeping any variant already set (Bitmap works in all).
+    from aaeval.groundtruth.variant import import_mitsuba
 
-    if mi.variant() is None:
-        mi.set_variant("scalar_rgb")
+    return import_mitsuba(variant=None)
+
+
+def _write_exr(path: str, image: np.ndarray) -> None:
+    mi = _mitsuba()
     bitmap = mi.Bitmap(np.ascontiguousarray(image, dtype=np.float32), mi.Bitmap.PixelFormat.RGB)
     bitmap.write(str(path), mi.Bitmap.FileFormat.OpenEXR)
 
@@ -79,9 +84,6 @@ def load_image(path: str | Path) -> np.ndarray:
         s = np.asarray(Image.open(path).convert("RGB"), dtype=np.float64) / 255.0
         return np.where(s <= 0.04045, s / 12.92, ((s + 0.055) / 1.055) ** 2.4)
     if suffix == ".exr":
-        import mitsuba as mi
-
-        if mi.variant() is None:
-            mi.set_variant("scalar_rgb")
+        mi = _mitsuba()
         return np.array(mi.Bitmap(str(path)), dtype=np.float64)[..., :3]
     raise ValueError(f"{path}: unknown image suffix {path.suffix!r}")

@@ -5,8 +5,14 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=${PYTHON:-python3}
 
-have_llvm() { ls /usr/lib/x86_64-linux-gnu/libLLVM.so.1[6-9]* /usr/lib/x86_64-linux-gnu/libLLVM-1[6-9]*.so* \
-  /usr/lib/aarch64-linux-gnu/libLLVM.so.1[6-9]* /usr/lib/aarch64-linux-gnu/libLLVM-1[6-9]*.so* >/dev/null 2>&1; }
+have_llvm() {  # a libLLVM >= 16 where aaeval.groundtruth.variant looks first
+  local f
+  for f in /usr/lib/*-linux-gnu/libLLVM.so.1[6-9]* /usr/lib/*-linux-gnu/libLLVM-1[6-9]*.so* \
+           /usr/lib/*-linux-gnu/libLLVM.so.[2-9][0-9]* /usr/lib/llvm-1[6-9]/lib/libLLVM*.so*; do
+    [ -e "$f" ] && return 0
+  done
+  return 1
+}
 
 if ! have_llvm && [ -z "${DRJIT_LIBLLVM_PATH:-}" ]; then
   if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then

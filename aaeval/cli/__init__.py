@@ -13,6 +13,7 @@ COMMANDS = [
     "aaeval.cli.render",
     "aaeval.cli.invariance",
     "aaeval.cli.methods",
+    "aaeval.cli.compare",
     "aaeval.cli.hidden_lines",
 ]
 

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["intensity_sum", "sum_variation"]
+from aaeval.metrics._checks import check_frames_pair
+
+__all__ = ["intensity_sum", "sum_variation", "flicker"]
 
 
 def intensity_sum(image: np.ndarray) -> float:
@@ -28,3 +30,29 @@ def sum_variation(sums) -> float:
     if mean == 0.0:
         return 0.0 if np.ptp(sums) == 0.0 else float("inf")
     return float(np.ptp(sums) / abs(mean))
+
+
+def flicker(frames_true, frames_test) -> float:
+    """Temporal flicker of a method's error: how much it changes from frame to frame.
+
+    The error ``frames_test - frames_true`` is taken per pixel and channel; its standard
+    deviation across frames (population, ``ddof=0``) is computed for every pixel and
+    channel, and the root mean square of those over pixels and channels is returned. An
+    error that stays put (however large) gives 0; an error alternating between ``+d``
+    and ``-d`` on every pixel gives ``d``.
+
+    Parameters
+    ----------
+    frames_true : array_like, shape (F, H, W, 3)
+        Reference frames of the animation (linear RGB).
+    frames_test : array_like, shape (F, H, W, 3)
+        The test method's frames, same shape.
+
+    Returns
+    -------
+    flicker : float
+        ``sqrt(mean over pixels and channels of var over frames of the error)``.
+    """
+    frames_true, frames_test = check_frames_pair(frames_true, frames_test)
+    error = frames_test - frames_true
+    return float(np.sqrt(np.mean(np.var(error, axis=0))))

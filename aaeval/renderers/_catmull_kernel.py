@@ -36,7 +36,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from aaeval.renderers._clip import EPS_LINE, area_centroid, clip_side, signed_area
+from aaeval.renderers._clip import EPS_LINE, area_centroid, clip_side, clip_split, signed_area
 
 # Coverage within this of 1 is a solid piece; below COV_EMPTY a piece is absent.
 COV_SOLID = 1.0 - 1e-12
@@ -44,17 +44,51 @@ COV_EMPTY = 1e-15
 # Pieces of smaller area are dropped inside the integrator (slivers from rounding).
 AREA_EMPTY = 1e-15
 # Safety bound on integrator steps for one pixel; never reached on valid scenes.
-MAX_STEPS = 1_000_000
+MAX_STEPS = 100_000
 BACKGROUND = -1
+
+
+# --- growable buffers -------------------------------------------------------------
+# Polygons live in vertex buffers (x, y, clip flag) with records (start, length, source).
 
 
 @njit(cache=True)
 def _grow(a, n):
-    if n <= a.size:
+    """``a`` with room for at least ``n`` entries along its first axis (contents kept)."""
+    if n <= a.shape[0]:
         return a
-    b = np.empty(max(n, 2 * a.size), a.dtype)
-    b[: a.size] = a
+    b = np.empty((max(n, 2 * a.shape[0]),) + a.shape[1:], a.dtype)
+    b[: a.shape[0]] = a
     return b
+
+
+@njit(cache=True)
+def _grow_verts(x, y, f, n):
+    return _grow(x, n), _grow(y, n), _grow(f, n)
+
+
+@njit(cache=True)
+def _new_verts(n):
+    return np.empty(n), np.empty(n), np.zeros(n, np.uint8)
+
+
+@njit(cache=True, inline="always")
+def _record(recs, k, start, length, src):
+    recs[k, 0] = start
+    recs[k, 1] = length
+    recs[k, 2] = src
+    return k + 1
+
+
+@njit(cache=True, inline="always")
+def _emit(fi, ff, n, pix, src, area, cx, cy):
+    """Append one fragment (pixel, source; area, centroid) and return the new count."""
+    fi[n, 0] = pix
+    fi[n, 1] = src
+    ff[n, 0] = area
+    ff[n, 1] = cx
+    ff[n, 2] = cy
+    return n + 1
 
 
 # --- depth relations --------------------------------------------------------------
@@ -88,40 +122,75 @@ def _in_front_on_square(planes, p, q, x0, y0, eps_z):
     return hi <= eps_z
 
 
+@njit(cache=True)
+def _relation(planes, q, f, xs, ys, start, n, eps_z):
+    """Where polygon q (the outline at ``start``) lies in depth against polygon f's plane.
+
+    0: behind f everywhere on q; 1: in front everywhere on q; 2: the planes cross inside
+    q. The test is made on the signed distance of q's vertices to the line where the
+    planes meet, with the same tolerance the clipper uses, so after a split along that
+    line every piece classifies cleanly and the split is never repeated.
+    """
+    da = planes[q, 0] - planes[f, 0]
+    db = planes[q, 1] - planes[f, 1]
+    dc = planes[q, 2] - planes[f, 2]
+    g = np.sqrt(da * da + db * db)
+    lo = np.inf
+    hi = -np.inf
+    for v in range(start, start + n):
+        d = da * xs[v] + db * ys[v] + dc
+        lo = min(lo, d)
+        hi = max(hi, d)
+    if g <= eps_z and hi <= eps_z and lo >= -eps_z:
+        # one shared plane: the polygon later in the file is in front
+        return 1 if q > f else 0
+    if g <= eps_z:
+        # parallel planes: a constant depth difference decides
+        return 1 if hi < 0.0 else 0
+    lo /= g
+    hi /= g
+    if lo >= -EPS_LINE and hi <= EPS_LINE:
+        return 1 if lo + hi < 0.0 else 0  # a sliver along the crossing line
+    if lo >= -EPS_LINE:
+        return 0
+    if hi <= EPS_LINE:
+        return 1
+    return 2
+
+
 # --- the pixel integrator ---------------------------------------------------------
 
 
 @njit(cache=True)
-def integrate_pixel(ws_x, ws_y, ws_f, pstart, plen, psrc, n_init, planes, eps_z,
-                    litems, lstart, llen, stack, out_src, out_area, out_cx, out_cy, n_vert):
-    """Resolve the polygon list ``0..n_init-1`` (front to back, background last).
+def integrate_pixel(wx, wy, wf, recs, n_init, n_vert, planes, eps_z, litems, lists, stack, oi, of):
+    """Resolve the polygon list ``recs[0:n_init]`` (front to back, background last).
 
-    Polygon records ``j`` are ``ws_*[pstart[j]:pstart[j]+plen[j]]`` with source
-    ``psrc[j]``. Writes visible pieces to ``out_*`` and returns their count, or -1 if a
-    work array was too small (the caller grows them and calls again).
+    Polygon record ``j`` is ``w*[recs[j,0] : recs[j,0] + recs[j,1]]`` with source
+    ``recs[j,2]``; vertices from ``n_vert`` on are free. Writes the visible pieces'
+    (source; area, centroid) to ``oi, of`` and returns their count, or -1 if a work array
+    was too small (the caller grows them and calls again).
     """
     n_poly = n_init
-    n_items = n_init
     for j in range(n_init):
         litems[j] = j
-    lstart[0] = 0
-    llen[0] = n_init
+    n_items = n_init
+    lists[0, 0] = 0
+    lists[0, 1] = n_init
     n_lists = 1
     stack[0] = 0
     top = 1
     n_out = 0
     steps = 0
-    while top > 0:
+    while top > 0 and steps < MAX_STEPS:
         steps += 1
-        if steps > MAX_STEPS:
-            break
         top -= 1
         L = stack[top]
-        s0 = lstart[L]
-        cnt = llen[L]
+        s0 = lists[L, 0]
+        cnt = lists[L, 1]
         f = litems[s0]
-        fs = pstart[f]
-        fn = plen[f]
+        fs = recs[f, 0]
+        fn = recs[f, 1]
+        src_f = recs[f, 2]
         # 2. the first unclipped (and not degenerate) edge of the front polygon
         clip = False
         a = 0.0
@@ -129,52 +198,49 @@ def integrate_pixel(ws_x, ws_y, ws_f, pstart, plen, psrc, n_init, planes, eps_z,
         c = 0.0
         if cnt > 1:
             for k in range(fn):
-                if ws_f[fs + k] == 0:
+                if wf[fs + k] == 0:
                     k2 = fs + (k + 1) % fn
-                    ex = ws_x[k2] - ws_x[fs + k]
-                    ey = ws_y[k2] - ws_y[fs + k]
+                    ex = wx[k2] - wx[fs + k]
+                    ey = wy[k2] - wy[fs + k]
                     norm = np.sqrt(ex * ex + ey * ey)
                     if norm > EPS_LINE:
                         a = ey / norm
                         b = -ex / norm
-                        c = -(a * ws_x[fs + k] + b * ws_y[fs + k])
+                        c = -(a * wx[fs + k] + b * wy[fs + k])
                         clip = True
                         break
+        if cnt > 1 and not clip and _is_sliver(wx, wy, recs, litems, s0, cnt):
+            # F has no edge left to clip along, so it should be the whole region; when it
+            # is smaller it is a rounding remnant (a spike along two clip lines, or edges
+            # too short to clip along): it is dropped and the list looked at again
+            for i in range(cnt - 1):
+                litems[s0 + i] = litems[s0 + i + 1]
+            lists[L, 1] = cnt - 1
+            stack[top] = L
+            top += 1
+            continue
         if cnt > 1 and not clip:
             # F is clipped on all sides, so it covers its list's region: check depth
             front = -1
-            src_f = psrc[f]
             for i in range(1, cnt):
                 q = litems[s0 + i]
-                sq = psrc[q]
+                sq = recs[q, 2]
                 if sq == BACKGROUND:
                     continue
-                lo = np.inf
-                hi = -np.inf
-                for v in range(pstart[q], pstart[q] + plen[q]):
-                    d = _depth(planes, sq, ws_x[v], ws_y[v]) - _depth(planes, src_f, ws_x[v], ws_y[v])
-                    lo = min(lo, d)
-                    hi = max(hi, d)
-                if hi <= eps_z and lo >= -eps_z:
-                    if sq > src_f:  # one shared plane: the later polygon is in front
-                        front = i
-                        break
-                elif lo >= -eps_z:
-                    continue
-                elif hi <= eps_z:
+                rel = _relation(planes, sq, src_f, wx, wy, recs[q, 0], recs[q, 1], eps_z)
+                if rel == 1:
                     front = i
                     break
-                else:
+                if rel == 2:
                     # q crosses F's depth plane: split along the line z_q = z_F
                     da = planes[sq, 0] - planes[src_f, 0]
                     db = planes[sq, 1] - planes[src_f, 1]
                     norm = np.sqrt(da * da + db * db)
-                    if norm > 0.0:
-                        a = da / norm
-                        b = db / norm
-                        c = (planes[sq, 2] - planes[src_f, 2]) / norm
-                        clip = True
-                        break
+                    a = da / norm
+                    b = db / norm
+                    c = (planes[sq, 2] - planes[src_f, 2]) / norm
+                    clip = True
+                    break
             if front > 0:
                 # the nearer polygon moves to the front and the list is looked at again
                 q = litems[s0 + front]
@@ -186,44 +252,129 @@ def integrate_pixel(ws_x, ws_y, ws_f, pstart, plen, psrc, n_init, planes, eps_z,
                 continue
         if not clip:
             # 2. the front polygon's colour, weighted by its area, for this region
-            if n_out >= out_src.size:
+            if n_out >= oi.shape[0]:
                 return -1
-            area, cx, cy = area_centroid(ws_x, ws_y, fs, fn)
-            out_src[n_out] = psrc[f]
-            out_area[n_out] = area
-            out_cx[n_out] = cx
-            out_cy[n_out] = cy
+            area, cx, cy = area_centroid(wx, wy, fs, fn)
+            oi[n_out] = src_f
+            of[n_out, 0] = area
+            of[n_out, 1] = cx
+            of[n_out, 2] = cy
             n_out += 1
             continue
         # 3. clip every polygon in the list against the line into two lists
-        for side in (-1, 1):
-            if n_lists >= lstart.size or top >= stack.size:
+        if n_lists + 2 > lists.shape[0] or top + 2 > stack.shape[0] \
+                or n_items + 2 * cnt > litems.shape[0] or n_poly + 2 * cnt > recs.shape[0]:
+            return -1
+        a_start = n_items
+        b_start = n_items + cnt
+        a_cnt = 0
+        b_cnt = 0
+        for i in range(cnt):
+            p = litems[s0 + i]
+            n = recs[p, 1]
+            at_b = n_vert + 2 * n + 2  # a half-plane clip at most doubles the vertices
+            if at_b + 2 * n + 2 > wx.shape[0]:
                 return -1
-            new_start = n_items
-            new_cnt = 0
-            for i in range(cnt):
-                p = litems[s0 + i]
-                if n_vert + 2 * plen[p] + 2 > ws_x.size or n_poly >= pstart.size or n_items >= litems.size:
-                    return -1
-                m = clip_side(ws_x, ws_y, ws_f, pstart[p], plen[p], a, b, c, side,
-                              ws_x, ws_y, ws_f, n_vert)
-                if m == 0 or signed_area(ws_x, ws_y, n_vert, m) <= AREA_EMPTY:
-                    continue
-                pstart[n_poly] = n_vert
-                plen[n_poly] = m
-                psrc[n_poly] = psrc[p]
-                n_vert += m
-                litems[n_items] = n_poly
-                n_items += 1
-                n_poly += 1
-                new_cnt += 1
+            ma, mb = clip_split(wx, wy, wf, recs[p, 0], n, a, b, c, True, True,
+                                wx, wy, wf, n_vert, wx, wy, wf, at_b)
+            if ma > 0 and signed_area(wx, wy, n_vert, ma) > AREA_EMPTY:
+                litems[a_start + a_cnt] = n_poly
+                a_cnt += 1
+                n_poly = _record(recs, n_poly, n_vert, ma, recs[p, 2])
+            if mb > 0 and signed_area(wx, wy, at_b, mb) > AREA_EMPTY:
+                litems[b_start + b_cnt] = n_poly
+                b_cnt += 1
+                n_poly = _record(recs, n_poly, at_b, mb, recs[p, 2])
+            n_vert = at_b + mb
+        n_items += 2 * cnt
+        # 4. reenter the algorithm for each of the two lists
+        for new_start, new_cnt in ((a_start, a_cnt), (b_start, b_cnt)):
             if new_cnt > 0:
-                lstart[n_lists] = new_start
-                llen[n_lists] = new_cnt
+                lists[n_lists, 0] = new_start
+                lists[n_lists, 1] = new_cnt
                 stack[top] = n_lists
                 top += 1
                 n_lists += 1
     return n_out
+
+
+@njit(cache=True)
+def _is_sliver(wx, wy, recs, litems, s0, cnt):
+    """Whether the front polygon of a list is much smaller than the list's region.
+
+    Every list holds a polygon spanning its whole region (the background or a solid
+    piece, only ever clipped by the region's own lines), so the region's area is the
+    largest area in the list.
+    """
+    f = litems[s0]
+    area_f = signed_area(wx, wy, recs[f, 0], recs[f, 1])
+    region = area_f
+    for i in range(1, cnt):
+        q = litems[s0 + i]
+        region = max(region, signed_area(wx, wy, recs[q, 0], recs[q, 1]))
+    return area_f < region * (1.0 - 1e-9)
+
+
+@njit(cache=True)
+def _pixel_polygons(sx, sy, sf, pieces, plist, n_pl, solid, x0, y0, wx, wy, wf, recs):
+    """The pixel's polygon list as integrator records, background square last if needed.
+
+    Each listed strip piece is clipped to the pixel column; a solid piece becomes the
+    pixel square with every edge flagged. Returns ``(vertices used, records)``, or
+    ``(-1, 0)`` if the workspace is too small.
+    """
+    used = 0
+    n_rec = 0
+    total = n_pl + (1 if solid < 0 else 0)
+    if total > recs.shape[0]:
+        return -1, 0
+    for t in range(total):
+        if t < n_pl and plist[t] != solid:
+            k = plist[t]
+            n = pieces[k, 1]
+            # the first clip goes above the space the second one (up to 4n) writes into
+            tmp = used + 4 * n + 8
+            if tmp + 2 * n + 4 > wx.shape[0]:
+                return -1, 0
+            # the pixel column: x >= x0 (side B of x - x0), then x <= x0+1 (side A)
+            m1 = clip_side(sx, sy, sf, pieces[k, 0], n, 1.0, 0.0, -x0, 1, wx, wy, wf, tmp)
+            m2 = clip_side(wx, wy, wf, tmp, m1, 1.0, 0.0, -(x0 + 1.0), -1, wx, wy, wf, used)
+            if m2 > 0:
+                n_rec = _record(recs, n_rec, used, m2, pieces[k, 2])
+                used += m2
+        else:
+            if used + 4 > wx.shape[0]:
+                return -1, 0
+            for i, (px, py) in enumerate(((x0, y0), (x0 + 1.0, y0), (x0 + 1.0, y0 + 1.0), (x0, y0 + 1.0))):
+                wx[used + i] = px
+                wy[used + i] = py
+                wf[used + i] = 1
+            n_rec = _record(recs, n_rec, used, 4, pieces[plist[t], 2] if t < n_pl else BACKGROUND)
+            used += 4
+    return used, n_rec
+
+
+@njit(cache=True)
+def _integrate(sx, sy, sf, pieces, plist, n_pl, solid, x0, y0, planes, eps_z, ws):
+    """Run the pixel integrator, growing the workspace until it fits.
+
+    Returns the workspace (possibly grown) and the number of visible pieces in it.
+    """
+    wx, wy, wf, recs, litems, lists, stack, oi, of = ws
+    while True:
+        nv, n_init = _pixel_polygons(sx, sy, sf, pieces, plist, n_pl, solid, x0, y0, wx, wy, wf, recs)
+        n_out = -1
+        if nv >= 0:
+            n_out = integrate_pixel(wx, wy, wf, recs, n_init, nv, planes, eps_z, litems, lists, stack, oi, of)
+        if n_out >= 0:
+            return (wx, wy, wf, recs, litems, lists, stack, oi, of), n_out
+        wx, wy, wf = _grow_verts(wx, wy, wf, 2 * wx.shape[0])
+        recs = _grow(recs, 2 * recs.shape[0])
+        litems = _grow(litems, 2 * litems.shape[0])
+        lists = _grow(lists, 2 * lists.shape[0])
+        stack = _grow(stack, 2 * stack.shape[0])
+        oi = _grow(oi, 2 * oi.shape[0])
+        of = _grow(of, 2 * of.shape[0])
 
 
 # --- the scanline algorithm -------------------------------------------------------
@@ -258,355 +409,6 @@ def _strip_coverage(xs, ys, start, n, row, c0, c1, cov, cov_off):
 
 
 @njit(cache=True)
-def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, jagged):
-    """Visible fragments of every pixel.
-
-    Returns ``(pix, src, area, cx, cy)``: pixel index ``row * width + col``, source
-    polygon (-1 for background), visible area, and its area centroid.
-    """
-    n_polys = pstart0.size
-    # I. sort polygons on their first scanline
-    ymin = np.empty(n_polys)
-    ymax = np.empty(n_polys)
-    for p in range(n_polys):
-        ymin[p] = vy0[pstart0[p]:pstart0[p] + plen0[p]].min()
-        ymax[p] = vy0[pstart0[p]:pstart0[p] + plen0[p]].max()
-    y_order = np.argsort(ymin, kind="mergesort")
-    next_in = 0
-
-    # the active list: each polygon's remaining part (below the current scanline)
-    cap = 1024
-    rem_x = np.empty(cap)
-    rem_y = np.empty(cap)
-    rem_f = np.zeros(cap, np.uint8)
-    new_x = np.empty(cap)
-    new_y = np.empty(cap)
-    new_f = np.zeros(cap, np.uint8)
-    act_src = np.empty(n_polys, np.int64)
-    act_start = np.empty(n_polys, np.int64)
-    act_len = np.empty(n_polys, np.int64)
-    n_act = 0
-    rem_used = 0
-
-    # strip pieces of the current scanline
-    sp_x = np.empty(cap)
-    sp_y = np.empty(cap)
-    sp_f = np.zeros(cap, np.uint8)
-    sp_src = np.empty(n_polys, np.int64)
-    sp_start = np.empty(n_polys, np.int64)
-    sp_len = np.empty(n_polys, np.int64)
-    sp_c0 = np.empty(n_polys, np.int64)
-    sp_c1 = np.empty(n_polys, np.int64)
-    sp_cov = np.empty(n_polys + 1, np.int64)
-    cov = np.empty(cap)
-    bucket_head = np.empty(width + 1, np.int64)
-    bucket_items = np.empty(n_polys, np.int64)
-
-    # the z-list and a pixel's polygon list
-    zl = np.empty(n_polys, np.int64)
-    zdepth = np.empty(n_polys)
-    plist = np.empty(n_polys + 1, np.int64)
-
-    # integrator workspace
-    ws_x = np.empty(4096)
-    ws_y = np.empty(4096)
-    ws_f = np.zeros(4096, np.uint8)
-    w_pstart = np.empty(1024, np.int64)
-    w_plen = np.empty(1024, np.int64)
-    w_psrc = np.empty(1024, np.int64)
-    litems = np.empty(4096, np.int64)
-    lstart = np.empty(1024, np.int64)
-    llen = np.empty(1024, np.int64)
-    stack = np.empty(1024, np.int64)
-    o_src = np.empty(256, np.int64)
-    o_area = np.empty(256)
-    o_cx = np.empty(256)
-    o_cy = np.empty(256)
-
-    # output fragments
-    n_frag = 0
-    f_pix = np.empty(width * height + 16, np.int64)
-    f_src = np.empty(width * height + 16, np.int64)
-    f_area = np.empty(width * height + 16)
-    f_cx = np.empty(width * height + 16)
-    f_cy = np.empty(width * height + 16)
-
-    for row in range(height):
-        y_top = float(row)
-        y_bot = y_top + 1.0
-        # A. polygons entering on this scanline join the active list
-        while next_in < n_polys and ymin[y_order[next_in]] < y_bot:
-            p = y_order[next_in]
-            next_in += 1
-            if ymax[p] <= y_top:
-                continue
-            need = rem_used + 2 * plen0[p] + 4
-            if need > rem_x.size:
-                rem_x = _grow(rem_x, need)
-                rem_y = _grow(rem_y, need)
-                rem_f = _grow(rem_f, need)
-            # the part above the image is cut away first (keep y >= row)
-            m = _enter(vx0, vy0, pstart0[p], plen0[p], y_top, rem_x, rem_y, rem_f, rem_used)
-            if m > 0:
-                act_src[n_act] = p
-                act_start[n_act] = rem_used
-                act_len[n_act] = m
-                rem_used += m
-                n_act += 1
-        if n_act == 0 and next_in >= n_polys:
-            for col in range(width):
-                f_pix[n_frag] = row * width + col
-                f_src[n_frag] = BACKGROUND
-                f_area[n_frag] = 1.0
-                f_cx[n_frag] = col + 0.5
-                f_cy[n_frag] = row + 0.5
-                n_frag += 1
-            continue
-
-        # C. clip the strip piece off every active polygon; keep what remains below
-        new_used = 0
-        n_sp = 0
-        sp_used = 0
-        cov_used = 0
-        keep = 0
-        for k in range(n_act):
-            s = act_start[k]
-            n = act_len[k]
-            need = 2 * n + 4
-            if sp_used + need > sp_x.size:
-                sp_x = _grow(sp_x, sp_used + need)
-                sp_y = _grow(sp_y, sp_used + need)
-                sp_f = _grow(sp_f, sp_used + need)
-            if new_used + need > new_x.size:
-                new_x = _grow(new_x, new_used + need)
-                new_y = _grow(new_y, new_used + need)
-                new_f = _grow(new_f, new_used + need)
-            # the line y = row + 1: side A (y < row+1) is this scanline's piece
-            m = clip_side(rem_x, rem_y, rem_f, s, n, 0.0, 1.0, -y_bot, -1, sp_x, sp_y, sp_f, sp_used)
-            if m > 0 and signed_area(sp_x, sp_y, sp_used, m) > COV_EMPTY:
-                p = act_src[k]
-                lo = sp_x[sp_used:sp_used + m].min()
-                hi = sp_x[sp_used:sp_used + m].max()
-                c0 = max(int(np.floor(lo)), 0)
-                c1 = min(int(np.ceil(hi)) - 1, width - 1)
-                if c1 >= c0:
-                    sp_src[n_sp] = p
-                    sp_start[n_sp] = sp_used
-                    sp_len[n_sp] = m
-                    sp_c0[n_sp] = c0
-                    sp_c1[n_sp] = c1
-                    if cov_used + c1 - c0 + 1 > cov.size:
-                        cov = _grow(cov, cov_used + c1 - c0 + 1)
-                    sp_cov[n_sp] = cov_used
-                    _strip_coverage(sp_x, sp_y, sp_used, m, y_top, c0, c1, cov, cov_used)
-                    cov_used += c1 - c0 + 1
-                    sp_used += m
-                    n_sp += 1
-            m2 = clip_side(rem_x, rem_y, rem_f, s, n, 0.0, 1.0, -y_bot, 1, new_x, new_y, new_f, new_used)
-            if m2 > 0 and signed_area(new_x, new_y, new_used, m2) > COV_EMPTY:
-                act_src[keep] = act_src[k]
-                act_start[keep] = new_used
-                act_len[keep] = m2
-                new_used += m2
-                keep += 1
-        n_act = keep
-        rem_x, new_x = new_x, rem_x
-        rem_y, new_y = new_y, rem_y
-        rem_f, new_f = new_f, rem_f
-        rem_used = new_used
-
-        # C.4 the x-bucket: pieces listed under their leftmost pixel
-        bucket_head[:] = 0
-        for k in range(n_sp):
-            bucket_head[sp_c0[k] + 1] += 1
-        for col in range(width):
-            bucket_head[col + 1] += bucket_head[col]
-        fill = bucket_head[:width].copy()
-        for k in range(n_sp):
-            bucket_items[fill[sp_c0[k]]] = k
-            fill[sp_c0[k]] += 1
-
-        # D./E. sweep the pixels with a z-list
-        n_zl = 0
-        for col in range(width):
-            # E.1 entries of the x-bucket at this pixel enter the z-list
-            for t in range(bucket_head[col], bucket_head[col + 1]):
-                zl[n_zl] = bucket_items[t]
-                n_zl += 1
-            # pieces that ended to the left leave it
-            w = 0
-            for t in range(n_zl):
-                if sp_c1[zl[t]] >= col:
-                    zl[w] = zl[t]
-                    w += 1
-            n_zl = w
-            xc = col + 0.5
-            yc = row + 0.5
-            # keep the z-list sorted front to back (depth at the pixel centre);
-            # insertion sort is linear while the order holds from pixel to pixel
-            for t in range(n_zl):
-                zdepth[t] = _depth(planes, sp_src[zl[t]], xc, yc)
-            for t in range(1, n_zl):
-                kz = zl[t]
-                dz = zdepth[t]
-                u = t - 1
-                while u >= 0 and (zdepth[u] > dz or (zdepth[u] == dz and sp_src[zl[u]] < sp_src[kz])):
-                    zl[u + 1] = zl[u]
-                    zdepth[u + 1] = zdepth[u]
-                    u -= 1
-                zl[u + 1] = kz
-                zdepth[u + 1] = dz
-
-            if n_frag + 64 > f_pix.size:
-                f_pix = _grow(f_pix, n_frag + 64)
-                f_src = _grow(f_src, n_frag + 64)
-                f_area = _grow(f_area, n_frag + 64)
-                f_cx = _grow(f_cx, n_frag + 64)
-                f_cy = _grow(f_cy, n_frag + 64)
-            pix = row * width + col
-
-            # E.2 the pixel's polygon list: front to back up to a solid piece, and
-            # anything behind it that is not hidden everywhere in the pixel
-            n_pl = 0
-            solid = -1
-            for t in range(n_zl):
-                k = zl[t]
-                cv = cov[sp_cov[k] + col - sp_c0[k]]
-                if cv <= COV_EMPTY:
-                    continue
-                if solid >= 0 and _in_front_on_square(planes, sp_src[solid], sp_src[k], float(col), y_top, eps_z):
-                    continue
-                plist[n_pl] = k
-                n_pl += 1
-                if solid < 0 and cv >= COV_SOLID:
-                    solid = k
-
-            if n_pl == 0:
-                f_pix[n_frag] = pix
-                f_src[n_frag] = BACKGROUND
-                f_area[n_frag] = 1.0
-                f_cx[n_frag] = xc
-                f_cy[n_frag] = yc
-                n_frag += 1
-                continue
-            first = plist[0]
-            if jagged:
-                # integrator switched off: the nearest piece colours the whole pixel
-                f_pix[n_frag] = pix
-                f_src[n_frag] = sp_src[first]
-                f_area[n_frag] = 1.0
-                f_cx[n_frag] = xc
-                f_cy[n_frag] = yc
-                n_frag += 1
-                continue
-            # a. a solid piece in front
-            if n_pl == 1 and first == solid:
-                f_pix[n_frag] = pix
-                f_src[n_frag] = sp_src[first]
-                f_area[n_frag] = 1.0
-                f_cx[n_frag] = xc
-                f_cy[n_frag] = yc
-                n_frag += 1
-                continue
-            # a. one irregular piece in front of a solid one (or of the background)
-            behind = -2
-            if n_pl == 1:
-                behind = BACKGROUND
-            elif n_pl == 2 and plist[1] == solid and _in_front_on_square(
-                    planes, sp_src[first], sp_src[solid], float(col), y_top, eps_z):
-                behind = sp_src[solid]
-            if behind != -2:
-                cv = cov[sp_cov[first] + col - sp_c0[first]]
-                # the irregular piece's centroid: clip it to the pixel column
-                need = 4 * sp_len[first] + 8
-                if need > ws_x.size:
-                    ws_x = _grow(ws_x, need)
-                    ws_y = _grow(ws_y, need)
-                    ws_f = _grow(ws_f, need)
-                m1 = clip_side(sp_x, sp_y, sp_f, sp_start[first], sp_len[first], 1.0, 0.0, -float(col), 1,
-                               ws_x, ws_y, ws_f, 0)
-                m2 = clip_side(ws_x, ws_y, ws_f, 0, m1, 1.0, 0.0, -float(col + 1), -1,
-                               ws_x, ws_y, ws_f, m1)
-                _, icx, icy = area_centroid(ws_x, ws_y, m1, m2)
-                if m2 == 0:
-                    icx = xc
-                    icy = yc
-                f_pix[n_frag] = pix
-                f_src[n_frag] = sp_src[first]
-                f_area[n_frag] = cv
-                f_cx[n_frag] = icx
-                f_cy[n_frag] = icy
-                n_frag += 1
-                rest = 1.0 - cv
-                if rest > 0.0:
-                    f_pix[n_frag] = pix
-                    f_src[n_frag] = behind
-                    f_area[n_frag] = rest
-                    f_cx[n_frag] = (xc - cv * icx) / rest
-                    f_cy[n_frag] = (yc - cv * icy) / rest
-                    n_frag += 1
-                continue
-
-            # b. the pixel integrator
-            while True:
-                nv, n_init = _pixel_polygons(sp_x, sp_y, sp_f, sp_start, sp_len, sp_src, plist, n_pl, solid,
-                                     float(col), y_top, ws_x, ws_y, ws_f, w_pstart, w_plen, w_psrc)
-                if nv < 0:
-                    ws_x = _grow(ws_x, 2 * ws_x.size)
-                    ws_y = _grow(ws_y, 2 * ws_y.size)
-                    ws_f = _grow(ws_f, 2 * ws_f.size)
-                    w_pstart = _grow(w_pstart, 2 * w_pstart.size)
-                    w_plen = _grow(w_plen, 2 * w_plen.size)
-                    w_psrc = _grow(w_psrc, 2 * w_psrc.size)
-                    continue
-                n_out = integrate_pixel(ws_x, ws_y, ws_f, w_pstart, w_plen, w_psrc, n_init, planes, eps_z,
-                                        litems, lstart, llen, stack, o_src, o_area, o_cx, o_cy, nv)
-                if n_out >= 0:
-                    break
-                ws_x = _grow(ws_x, 2 * ws_x.size)
-                ws_y = _grow(ws_y, 2 * ws_y.size)
-                ws_f = _grow(ws_f, 2 * ws_f.size)
-                w_pstart = _grow(w_pstart, 2 * w_pstart.size)
-                w_plen = _grow(w_plen, 2 * w_plen.size)
-                w_psrc = _grow(w_psrc, 2 * w_psrc.size)
-                litems = _grow(litems, 2 * litems.size)
-                lstart = _grow(lstart, 2 * lstart.size)
-                llen = _grow(llen, 2 * llen.size)
-                stack = _grow(stack, 2 * stack.size)
-                o_src = _grow(o_src, 2 * o_src.size)
-                o_area = _grow(o_area, 2 * o_area.size)
-                o_cx = _grow(o_cx, 2 * o_cx.size)
-                o_cy = _grow(o_cy, 2 * o_cy.size)
-            # merge the pieces of each polygon: one shade per polygon per pixel
-            if n_frag + n_out > f_pix.size:
-                f_pix = _grow(f_pix, n_frag + n_out)
-                f_src = _grow(f_src, n_frag + n_out)
-                f_area = _grow(f_area, n_frag + n_out)
-                f_cx = _grow(f_cx, n_frag + n_out)
-                f_cy = _grow(f_cy, n_frag + n_out)
-            first_frag = n_frag
-            for o in range(n_out):
-                merged = False
-                for g in range(first_frag, n_frag):
-                    if f_src[g] == o_src[o]:
-                        tot = f_area[g] + o_area[o]
-                        if tot > 0.0:
-                            f_cx[g] = (f_cx[g] * f_area[g] + o_cx[o] * o_area[o]) / tot
-                            f_cy[g] = (f_cy[g] * f_area[g] + o_cy[o] * o_area[o]) / tot
-                        f_area[g] = tot
-                        merged = True
-                        break
-                if not merged:
-                    f_pix[n_frag] = pix
-                    f_src[n_frag] = o_src[o]
-                    f_area[n_frag] = o_area[o]
-                    f_cx[n_frag] = o_cx[o]
-                    f_cy[n_frag] = o_cy[o]
-                    n_frag += 1
-    return f_pix[:n_frag], f_src[:n_frag], f_area[:n_frag], f_cx[:n_frag], f_cy[:n_frag]
-
-
-@njit(cache=True)
 def _enter(vx0, vy0, start, n, y_top, out_x, out_y, out_f, at):
     """A polygon's part below ``y_top`` (all of it unless it starts above the image)."""
     lo = vy0[start:start + n].min()
@@ -625,52 +427,231 @@ def _enter(vx0, vy0, start, n, y_top, out_x, out_y, out_f, at):
 
 
 @njit(cache=True)
-def _pixel_polygons(sp_x, sp_y, sp_f, sp_start, sp_len, sp_src, plist, n_pl, solid, x0, y0,
-                    ws_x, ws_y, ws_f, w_pstart, w_plen, w_psrc):
-    """Clip each listed strip piece to the pixel; a solid piece becomes the pixel square.
+def _irregular_centroid(sx, sy, sf, start, n, col, wx, wy, wf):
+    """Area centroid of a strip piece within pixel column ``col`` (y is NaN if none is left)."""
+    m1 = clip_side(sx, sy, sf, start, n, 1.0, 0.0, -float(col), 1, wx, wy, wf, 0)
+    m2 = clip_side(wx, wy, wf, 0, m1, 1.0, 0.0, -float(col + 1), -1, wx, wy, wf, m1)
+    if m2 == 0:
+        return col + 0.5, np.nan
+    _, cx, cy = area_centroid(wx, wy, m1, m2)
+    return cx, cy
 
-    Writes polygon records 0..n-1 (background square last when no piece is solid) and
-    returns ``(vertices used, records)``, or ``(-1, 0)`` if the workspace is too small.
+
+@njit(cache=True)
+def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, jagged, centroids):
+    """Visible fragments of every pixel.
+
+    Returns ``(pix, src, area, cx, cy)``: pixel index ``row * width + col``, source
+    polygon (-1 for background), visible area, and its area centroid. With
+    ``centroids`` false the fast paths skip finding centroids (flat colours need none)
+    and report the pixel centre instead.
     """
-    used = 0
-    n_out = 0
-    n_rec = n_pl + (1 if solid < 0 else 0)
-    if n_rec > w_pstart.size:
-        return -1, 0
-    for t in range(n_rec):
-        if t < n_pl and plist[t] != solid:
-            k = plist[t]
-            n = sp_len[k]
-            if used + 4 * n + 8 > ws_x.size:
-                return -1, 0
-            # the pixel column: x >= x0 (side B of x - x0), then x <= x0+1 (side A)
-            tmp = used + 2 * n + 4
-            m1 = clip_side(sp_x, sp_y, sp_f, sp_start[k], n, 1.0, 0.0, -x0, 1, ws_x, ws_y, ws_f, tmp)
-            m2 = clip_side(ws_x, ws_y, ws_f, tmp, m1, 1.0, 0.0, -(x0 + 1.0), -1, ws_x, ws_y, ws_f, used)
-            if m2 == 0:
+    n_polys = pstart0.size
+    # I. sort polygons on their first scanline
+    ymin = np.empty(n_polys)
+    ymax = np.empty(n_polys)
+    for p in range(n_polys):
+        ymin[p] = vy0[pstart0[p]:pstart0[p] + plen0[p]].min()
+        ymax[p] = vy0[pstart0[p]:pstart0[p] + plen0[p]].max()
+    y_order = np.argsort(ymin, kind="mergesort")
+    next_in = 0
+
+    # II. the active list: each polygon's remaining part (below the current scanline),
+    # double-buffered as the strip is clipped off
+    rx, ry, rf = _new_verts(1024)
+    nx, ny, nf = _new_verts(1024)
+    active = np.empty((n_polys, 3), np.int64)  # start, length, source
+    n_act = 0
+    rem_used = 0
+    # this scanline's strip pieces, their columns (first, last, coverage offset), coverage
+    sx, sy, sf = _new_verts(1024)
+    pieces = np.empty((n_polys, 3), np.int64)
+    span = np.empty((n_polys, 3), np.int64)
+    cov = np.empty(1024)
+    bucket_head = np.empty(width + 1, np.int64)
+    bucket_items = np.empty(n_polys, np.int64)
+    # the z-list, and a pixel's polygon list
+    zl = np.empty(n_polys, np.int64)
+    zdepth = np.empty(n_polys)
+    plist = np.empty(n_polys + 1, np.int64)
+    # the integrator's workspace: vertices, records, lists, stack, visible pieces
+    wx, wy, wf = _new_verts(4096)
+    ws = (wx, wy, wf, np.empty((1024, 3), np.int64), np.empty(4096, np.int64), np.empty((1024, 2), np.int64),
+          np.empty(1024, np.int64), np.empty(256, np.int64), np.empty((256, 3)))
+    # fragments out: (pixel, source) and (area, cx, cy)
+    n_frag = 0
+    fi = np.empty((width * height + 16, 2), np.int64)
+    ff = np.empty((width * height + 16, 3))
+
+    for row in range(height):
+        y_top = float(row)
+        y_bot = y_top + 1.0
+        # A. polygons entering on this scanline join the active list
+        while next_in < n_polys and ymin[y_order[next_in]] < y_bot:
+            p = y_order[next_in]
+            next_in += 1
+            if ymax[p] <= y_top:
                 continue
-            w_pstart[n_out] = used
-            w_plen[n_out] = m2
-            w_psrc[n_out] = sp_src[k]
-            n_out += 1
-            used += m2
-        else:
-            # the pixel square, every edge on the pixel boundary
-            if used + 4 > ws_x.size:
-                return -1, 0
-            ws_x[used] = x0
-            ws_y[used] = y0
-            ws_x[used + 1] = x0 + 1.0
-            ws_y[used + 1] = y0
-            ws_x[used + 2] = x0 + 1.0
-            ws_y[used + 2] = y0 + 1.0
-            ws_x[used + 3] = x0
-            ws_y[used + 3] = y0 + 1.0
-            for i in range(4):
-                ws_f[used + i] = 1
-            w_pstart[n_out] = used
-            w_plen[n_out] = 4
-            w_psrc[n_out] = sp_src[plist[t]] if t < n_pl else BACKGROUND
-            n_out += 1
-            used += 4
-    return used, n_out
+            rx, ry, rf = _grow_verts(rx, ry, rf, rem_used + 2 * plen0[p] + 4)
+            # the part above the image is cut away first (keep y >= row)
+            m = _enter(vx0, vy0, pstart0[p], plen0[p], y_top, rx, ry, rf, rem_used)
+            if m > 0:
+                n_act = _record(active, n_act, rem_used, m, p)
+                rem_used += m
+        fi = _grow(fi, n_frag + width)
+        ff = _grow(ff, n_frag + width)
+        if n_act == 0 and next_in >= n_polys:
+            for col in range(width):
+                n_frag = _emit(fi, ff, n_frag, row * width + col, BACKGROUND, 1.0, col + 0.5, row + 0.5)
+            continue
+
+        # C. clip the strip piece off every active polygon; keep what remains below
+        new_used = 0
+        n_sp = 0
+        sp_used = 0
+        cov_used = 0
+        keep = 0
+        for k in range(n_act):
+            s = active[k, 0]
+            n = active[k, 1]
+            sx, sy, sf = _grow_verts(sx, sy, sf, sp_used + 2 * n + 4)
+            nx, ny, nf = _grow_verts(nx, ny, nf, new_used + 2 * n + 4)
+            # the line y = row + 1: side A (y < row+1) is this scanline's piece
+            m, m2 = clip_split(rx, ry, rf, s, n, 0.0, 1.0, -y_bot, True, True,
+                               sx, sy, sf, sp_used, nx, ny, nf, new_used)
+            if m > 0 and signed_area(sx, sy, sp_used, m) > COV_EMPTY:
+                c0 = max(int(np.floor(sx[sp_used:sp_used + m].min())), 0)
+                c1 = min(int(np.ceil(sx[sp_used:sp_used + m].max())) - 1, width - 1)
+                if c1 >= c0:
+                    # C.3 exact coverage of every column: solid runs and irregular ends
+                    cov = _grow(cov, cov_used + c1 - c0 + 1)
+                    _strip_coverage(sx, sy, sp_used, m, y_top, c0, c1, cov, cov_used)
+                    span[n_sp, 0] = c0
+                    span[n_sp, 1] = c1
+                    span[n_sp, 2] = cov_used
+                    n_sp = _record(pieces, n_sp, sp_used, m, active[k, 2])
+                    cov_used += c1 - c0 + 1
+                    sp_used += m
+            if m2 > 0 and signed_area(nx, ny, new_used, m2) > COV_EMPTY:
+                keep = _record(active, keep, new_used, m2, active[k, 2])
+                new_used += m2
+        n_act = keep
+        rx, nx = nx, rx
+        ry, ny = ny, ry
+        rf, nf = nf, rf
+        rem_used = new_used
+
+        # C.4 the x-bucket: pieces listed under their leftmost pixel
+        bucket_head[:] = 0
+        for k in range(n_sp):
+            bucket_head[span[k, 0] + 1] += 1
+        for col in range(width):
+            bucket_head[col + 1] += bucket_head[col]
+        fill = bucket_head[:width].copy()
+        for k in range(n_sp):
+            bucket_items[fill[span[k, 0]]] = k
+            fill[span[k, 0]] += 1
+
+        # D./E. sweep the pixels with a z-list
+        n_zl = 0
+        for col in range(width):
+            # E.1 entries of the x-bucket at this pixel enter the z-list; pieces that
+            # ended to the left leave it
+            for t in range(bucket_head[col], bucket_head[col + 1]):
+                zl[n_zl] = bucket_items[t]
+                n_zl += 1
+            w = 0
+            for t in range(n_zl):
+                if span[zl[t], 1] >= col:
+                    zl[w] = zl[t]
+                    w += 1
+            n_zl = w
+            xc = col + 0.5
+            yc = row + 0.5
+            # keep the z-list sorted front to back (depth at the pixel centre);
+            # insertion sort is linear while the order holds from pixel to pixel
+            for t in range(n_zl):
+                zdepth[t] = _depth(planes, pieces[zl[t], 2], xc, yc)
+            for t in range(1, n_zl):
+                kz = zl[t]
+                dz = zdepth[t]
+                u = t - 1
+                while u >= 0 and (zdepth[u] > dz or (zdepth[u] == dz and pieces[zl[u], 2] < pieces[kz, 2])):
+                    zl[u + 1] = zl[u]
+                    zdepth[u + 1] = zdepth[u]
+                    u -= 1
+                zl[u + 1] = kz
+                zdepth[u + 1] = dz
+            pix = row * width + col
+
+            # E.2 the pixel's polygon list: front to back up to a solid piece, and
+            # anything behind it that is not hidden everywhere in the pixel
+            n_pl = 0
+            solid = -1
+            for t in range(n_zl):
+                k = zl[t]
+                cv = cov[span[k, 2] + col - span[k, 0]]
+                if cv <= COV_EMPTY:
+                    continue
+                if solid >= 0 and _in_front_on_square(planes, pieces[solid, 2], pieces[k, 2], float(col), y_top, eps_z):
+                    continue
+                plist[n_pl] = k
+                n_pl += 1
+                if solid < 0 and cv >= COV_SOLID:
+                    solid = k
+
+            fi = _grow(fi, n_frag + 2)
+            ff = _grow(ff, n_frag + 2)
+            if n_pl == 0:
+                n_frag = _emit(fi, ff, n_frag, pix, BACKGROUND, 1.0, xc, yc)
+                continue
+            first = plist[0]
+            if jagged or (n_pl == 1 and first == solid):
+                # a. a solid piece in front (or, with the integrator switched off, the
+                # nearest piece colours the whole pixel)
+                n_frag = _emit(fi, ff, n_frag, pix, pieces[first, 2], 1.0, xc, yc)
+                continue
+            # a. one irregular piece in front of a solid one (or of the background)
+            behind = -2
+            if n_pl == 1:
+                behind = BACKGROUND
+            elif n_pl == 2 and plist[1] == solid and _in_front_on_square(
+                    planes, pieces[first, 2], pieces[solid, 2], float(col), y_top, eps_z):
+                behind = pieces[solid, 2]
+            if behind != -2:
+                cv = cov[span[first, 2] + col - span[first, 0]]
+                icx = xc
+                icy = yc
+                if centroids:
+                    wx, wy, wf = _grow_verts(ws[0], ws[1], ws[2], 6 * pieces[first, 1] + 16)
+                    ws = (wx, wy, wf) + ws[3:]
+                    icx, icy = _irregular_centroid(sx, sy, sf, pieces[first, 0], pieces[first, 1], col, wx, wy, wf)
+                    if np.isnan(icy):
+                        icy = yc
+                n_frag = _emit(fi, ff, n_frag, pix, pieces[first, 2], cv, icx, icy)
+                rest = 1.0 - cv
+                if rest > 0.0:
+                    n_frag = _emit(fi, ff, n_frag, pix, behind, rest, (xc - cv * icx) / rest, (yc - cv * icy) / rest)
+                continue
+
+            # b. the pixel integrator; then one fragment per polygon (its pieces merged:
+            # one shade per polygon per pixel)
+            ws, n_out = _integrate(sx, sy, sf, pieces, plist, n_pl, solid, float(col), y_top, planes, eps_z, ws)
+            oi = ws[7]
+            of = ws[8]
+            fi = _grow(fi, n_frag + n_out)
+            ff = _grow(ff, n_frag + n_out)
+            first_frag = n_frag
+            for o in range(n_out):
+                g = first_frag
+                while g < n_frag and fi[g, 1] != oi[o]:
+                    g += 1
+                if g == n_frag:
+                    n_frag = _emit(fi, ff, n_frag, pix, oi[o], of[o, 0], of[o, 1], of[o, 2])
+                else:
+                    total = ff[g, 0] + of[o, 0]
+                    if total > 0.0:
+                        ff[g, 1] = (ff[g, 1] * ff[g, 0] + of[o, 1] * of[o, 0]) / total
+                        ff[g, 2] = (ff[g, 2] * ff[g, 0] + of[o, 2] * of[o, 0]) / total
+                    ff[g, 0] = total
+    return fi[:n_frag, 0], fi[:n_frag, 1], ff[:n_frag, 0], ff[:n_frag, 1], ff[:n_frag, 2]

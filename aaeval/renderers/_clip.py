@@ -10,7 +10,6 @@ belong to both sides, so no near-duplicate vertices are made.
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
 # Distance (pixels) under which a point counts as lying on a clipping line: far above
@@ -28,17 +27,19 @@ def _side(d):
 
 
 @njit(cache=True)
-def clip_side(xs, ys, fs, start, n, a, b, c, keep, oxs, oys, ofs, ostart):
-    """Write the part of a polygon on side ``keep`` (-1: A, +1: B) of a line.
+def clip_split(xs, ys, fs, start, n, a, b, c, want_a, want_b,
+               axs, ays, afs, astart, bxs, bys, bfs, bstart):
+    """Split a polygon by a line into its side-A and side-B parts in one pass.
 
-    Returns the number of vertices written at ``ostart`` (0 if nothing is left; the
-    caller checks the area, since a part may also degenerate to a line). Edges lying on
-    the line get flag 1; the others keep the flag of the edge they are part of.
+    Writes the wanted parts at ``astart`` / ``bstart`` and returns their vertex counts
+    ``(ma, mb)`` (0 for a part not wanted or with fewer than 3 vertices; the caller checks
+    the area, since a part may also degenerate to a line). Edges lying on the line get
+    flag 1; the others keep the flag of the edge they are part of.
     """
-    m = 0
+    ma = 0
+    mb = 0
     if n == 0:
-        return 0
-    # on_line[k] and from_flag[k] of each written vertex, kept in ofs until the end
+        return 0, 0
     prev = start + n - 1
     dp = a * xs[prev] + b * ys[prev] + c
     sp = _side(dp)
@@ -46,7 +47,8 @@ def clip_side(xs, ys, fs, start, n, a, b, c, keep, oxs, oys, ofs, ostart):
         d = a * xs[i] + b * ys[i] + c
         s = _side(d)
         if sp * s < 0:
-            # strict crossing: the intersection lies on both sides
+            # strict crossing: the intersection belongs to both parts; the edge leaving
+            # it continues the original edge prev->i (2 marks "on the line" until the end)
             t = dp / (dp - d)
             x = xs[prev] + t * (xs[i] - xs[prev])
             y = ys[prev] + t * (ys[i] - ys[prev])
@@ -54,22 +56,38 @@ def clip_side(xs, ys, fs, start, n, a, b, c, keep, oxs, oys, ofs, ostart):
                 x = -c / a
             elif a == 0.0:
                 y = -c / b
-            oxs[ostart + m] = x
-            oys[ostart + m] = y
-            # edge from the intersection continues the original edge prev->i
-            ofs[ostart + m] = 2 + fs[prev]  # 2 marks "on the line"
-            m += 1
-        if s == 0 or s == keep:
-            oxs[ostart + m] = xs[i]
-            oys[ostart + m] = ys[i]
-            ofs[ostart + m] = (2 if s == 0 else 0) + fs[i]
-            m += 1
+            if want_a:
+                axs[astart + ma] = x
+                ays[astart + ma] = y
+                afs[astart + ma] = 2 + fs[prev]
+                ma += 1
+            if want_b:
+                bxs[bstart + mb] = x
+                bys[bstart + mb] = y
+                bfs[bstart + mb] = 2 + fs[prev]
+                mb += 1
+        on = 2 if s == 0 else 0
+        if want_a and s <= 0:
+            axs[astart + ma] = xs[i]
+            ays[astart + ma] = ys[i]
+            afs[astart + ma] = on + fs[i]
+            ma += 1
+        if want_b and s >= 0:
+            bxs[bstart + mb] = xs[i]
+            bys[bstart + mb] = ys[i]
+            bfs[bstart + mb] = on + fs[i]
+            mb += 1
         prev = i
         dp = d
         sp = s
+    return _settle_flags(afs, astart, ma), _settle_flags(bfs, bstart, mb)
+
+
+@njit(cache=True, inline="always")
+def _settle_flags(ofs, ostart, m):
+    """An output edge lies on the line when both its ends do; else it keeps its flag."""
     if m < 3:
         return 0
-    # an output edge lies on the line when both its ends do; else it keeps its flag
     first_on = ofs[ostart] >= 2
     for k in range(m):
         cur = ofs[ostart + k]
@@ -79,6 +97,17 @@ def clip_side(xs, ys, fs, start, n, a, b, c, keep, oxs, oys, ofs, ostart):
         else:
             ofs[ostart + k] = cur & 1
     return m
+
+
+@njit(cache=True)
+def clip_side(xs, ys, fs, start, n, a, b, c, keep, oxs, oys, ofs, ostart):
+    """Write the part of a polygon on side ``keep`` (-1: A, +1: B) of a line.
+
+    Returns its vertex count (0 if nothing is left); see :func:`clip_split`.
+    """
+    ma, mb = clip_split(xs, ys, fs, start, n, a, b, c, keep < 0, keep > 0,
+                        oxs, oys, ofs, ostart, oxs, oys, ofs, ostart)
+    return ma if keep < 0 else mb
 
 
 @njit(cache=True)
@@ -112,10 +141,3 @@ def area_centroid(xs, ys, start, n):
     if s == 0.0:
         return 0.0, x0, y0
     return 0.5 * s, x0 + sx / (3.0 * s), y0 + sy / (3.0 * s)
-
-
-def normalised_orientation(xy: np.ndarray) -> np.ndarray:
-    """The outline with positive shoelace area (reversed if needed)."""
-    x, y = xy[:, 0], xy[:, 1]
-    area = 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)
-    return xy if area >= 0 else xy[::-1]

@@ -13,8 +13,7 @@ from typing import NamedTuple
 import numpy as np
 
 from aaeval.renderers._catmull_kernel import BACKGROUND, catmull_fragments
-from aaeval.renderers._clip import normalised_orientation
-from aaeval.renderers.registry import register_method
+from aaeval.renderers.registry import Option, register_method
 from aaeval.scenes import Scene, parse_scene
 
 __all__ = ["Fragments", "visible_fragments", "resolve_flat", "render_catmull", "render_catmull_jagged"]
@@ -36,31 +35,50 @@ class Fragments(NamedTuple):
 
 
 def kernel_inputs(scene: Scene):
-    """Flat arrays of the drawable polygons (outlines normalised to positive area).
+    """Flat arrays of the drawable polygons, outlines normalised to positive area.
 
     Returns ``(start, length, x, y, planes, source, eps_z)`` where ``source[k]`` is the
     index in ``scene.polygons`` of kernel polygon ``k``. Polygons seen edge-on cover no
-    area and are left out.
+    area and are left out. Vectorised: no Python loop over polygons.
     """
-    keep = [p for p in scene.polygons if np.isfinite(p.plane).all()]
-    outlines = [normalised_orientation(p.xy) for p in keep]
-    lengths = np.array([len(o) for o in outlines], dtype=np.int64)
-    starts = np.concatenate([[0], np.cumsum(lengths)[:-1]]).astype(np.int64) if len(keep) else np.zeros(0, np.int64)
-    xy = np.concatenate(outlines) if keep else np.zeros((0, 2))
-    planes = np.array([p.plane for p in keep], dtype=np.float64).reshape(-1, 3)
-    source = np.array([p.index for p in keep], dtype=np.int64)
-    zmax = max((np.abs(p.vertices[:, 2]).max() for p in keep), default=0.0)
+    arr = scene.arrays
+    source = np.flatnonzero(np.isfinite(arr.planes).all(axis=1))
+    length = arr.length[source]
+    start = np.zeros(len(source), dtype=np.int64)
+    start[1:] = np.cumsum(length)[:-1]
+    # gather each kept polygon's vertices; reverse the ones wound the other way
+    owner = np.repeat(np.arange(len(source)), length)
+    local = np.arange(length.sum()) - start[owner]
+    xy = arr.vertices[arr.start[source][owner] + local, :2]
+    area2 = np.add.reduceat(xy[:, 0] * _next_in_polygon(xy[:, 1], start, length, owner, local)
+                            - _next_in_polygon(xy[:, 0], start, length, owner, local) * xy[:, 1],
+                            start) if len(source) else np.zeros(0)
+    flip = area2[owner] < 0 if len(source) else np.zeros(0, bool)
+    local = np.where(flip, length[owner] - 1 - local, local)
+    xy = arr.vertices[arr.start[source][owner] + local, :2]
+    zmax = float(np.abs(arr.vertices[:, 2]).max()) if len(arr.vertices) else 0.0
     # depth differences below this count as one shared plane (float64 rounding of the
     # plane evaluation is ~1e-16 of the depth magnitude)
     eps_z = 1e-11 * (1.0 + zmax)
-    return starts, lengths, np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]), planes, source, eps_z
+    return (start, length, np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]),
+            np.ascontiguousarray(arr.planes[source]), source, eps_z)
 
 
-def visible_fragments(scene: Scene, *, jagged: bool = False) -> Fragments:
-    """Run the Catmull scanline algorithm and return every pixel's visible fragments."""
+def _next_in_polygon(values, start, length, owner, local):
+    """``values`` shifted by one vertex within each polygon (cyclically)."""
+    return values[start[owner] + (local + 1) % length[owner]]
+
+
+def visible_fragments(scene: Scene, *, jagged: bool = False, centroids: bool = True) -> Fragments:
+    """Run the Catmull scanline algorithm and return every pixel's visible fragments.
+
+    With ``centroids=False`` the cheap paths (a solid piece; one irregular piece over a
+    solid one) skip locating the visible pieces' centroids and report pixel centres;
+    areas are exact either way.
+    """
     starts, lengths, x, y, planes, source, eps_z = kernel_inputs(scene)
     pix, src, area, cx, cy = catmull_fragments(
-        scene.width, scene.height, starts, lengths, x, y, planes, eps_z, jagged
+        scene.width, scene.height, starts, lengths, x, y, planes, eps_z, jagged, centroids
     )
     polygon = np.where(src == BACKGROUND, BACKGROUND, source[np.maximum(src, 0)] if len(source) else src)
     return Fragments(pix, polygon, area, cx, cy)
@@ -68,7 +86,7 @@ def visible_fragments(scene: Scene, *, jagged: bool = False) -> Fragments:
 
 def resolve_flat(scene: Scene, fragments: Fragments) -> np.ndarray:
     """Area-weighted flat colours of the fragments: the box-filtered image (H, W, 3)."""
-    colors = np.vstack([np.array([p.color for p in scene.polygons]).reshape(-1, 3), scene.background])
+    colors = np.vstack([scene.arrays.colors, scene.background])
     rgb = colors[fragments.polygon]  # index -1 is the background row
     n = scene.width * scene.height
     image = np.empty((n, 3))
@@ -93,14 +111,50 @@ def _warmup() -> None:
     render_catmull_jagged(tiny)
 
 
+# Options for scenes with [shaded] objects (aaeval.specular); flat scenes ignore them.
+# Kept here as literals so this module does not import aaeval.specular at load time.
+SPECULAR_OPTIONS = {
+    "specular": Option(
+        str,
+        "none",
+        "shading of [shaded] objects: none (plain Phong, one shade per visible piece), "
+        "amanatides (Amanatides 1992 clamp), crow (K x K shading samples in flagged "
+        "pieces), toksvig, vlachos, tokuyoshi (geometric specular AA)",
+        choices=("none", "amanatides", "crow", "toksvig", "vlachos", "tokuyoshi"),
+    ),
+    "power": Option(
+        float,
+        1.0,
+        "amanatides/crow: fraction of the power of cos^n kept by the tables; 1 = the "
+        "conservative form, 0.999 = the paper's aggressive plate",
+        minimum=1e-6,
+    ),
+    "k": Option(int, 4, "crow: K x K shading samples per supersampled piece", minimum=1),
+    "region": Option(str, "flagged", "crow: supersample flagged pieces or all", choices=("flagged", "all")),
+    "energy": Option(
+        str,
+        "amanatides",
+        "toksvig/vlachos/tokuyoshi: rescale ks by Maximum[n]/Maximum[n'] or keep it",
+        choices=("amanatides", "none"),
+    ),
+}
+
+
 @register_method(
     "catmull",
     summary="Catmull 1978: exact box filter, hidden surfaces solved inside each pixel",
+    options=SPECULAR_OPTIONS,
     exact=True,
     warmup=_warmup,
 )
-def render_catmull(scene: Scene) -> np.ndarray:
-    return resolve_flat(scene, visible_fragments(scene))
+def render_catmull(scene: Scene, **specular_options) -> np.ndarray:
+    from aaeval.scenes.shaded import has_shaded
+
+    if has_shaded(scene):
+        from aaeval.specular.render import render_shaded
+
+        return render_shaded(scene, **specular_options)
+    return resolve_flat(scene, visible_fragments(scene, centroids=False))
 
 
 @register_method(
@@ -109,4 +163,4 @@ def render_catmull(scene: Scene) -> np.ndarray:
     warmup=_warmup,
 )
 def render_catmull_jagged(scene: Scene) -> np.ndarray:
-    return resolve_flat(scene, visible_fragments(scene, jagged=True))
+    return resolve_flat(scene, visible_fragments(scene, jagged=True, centroids=False))

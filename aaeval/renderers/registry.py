@@ -141,10 +141,17 @@ def resolve(spec: str, **overrides: Any) -> tuple[Method, dict[str, Any]]:
 
 
 def format_spec(name: str, options: Mapping[str, Any]) -> str:
-    """Canonical spec string: options sorted, every one written out."""
-    if not options:
+    """Canonical spec string: the options that differ from the defaults, sorted.
+
+    Two specs naming the same rendering give the same string (``"catmull"`` and
+    ``"catmull:specular=none"`` both give ``"catmull"``), and labels stay short.
+    """
+    _load_builtin_methods()
+    declared = METHODS[name].options if name in METHODS else {}
+    changed = {k: v for k, v in options.items() if k not in declared or declared[k].default != v}
+    if not changed:
         return name
-    return name + ":" + ",".join(f"{k}={options[k]}" for k in sorted(options))
+    return name + ":" + ",".join(f"{k}={changed[k]}" for k in sorted(changed))
 
 
 def render(scene: Scene, spec: str, *, frame: int | None = None) -> np.ndarray:

@@ -2,6 +2,7 @@
 
 from aaeval.scenes.format import (
     Polygon,
+    PolygonArrays,
     Scene,
     SceneError,
     load_scene,
@@ -10,8 +11,12 @@ from aaeval.scenes.format import (
     register_section,
 )
 
+# extensions of the scene format register their tables on import
+from aaeval.scenes import shaded  # noqa: E402,F401
+
 __all__ = [
     "Polygon",
+    "PolygonArrays",
     "Scene",
     "SceneError",
     "load_scene",

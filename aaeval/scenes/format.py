@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import tomllib
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
@@ -19,6 +20,7 @@ import numpy as np
 
 __all__ = [
     "Polygon",
+    "PolygonArrays",
     "Scene",
     "SceneError",
     "load_scene",
@@ -29,6 +31,9 @@ __all__ = [
 # Relative tolerance for "planar": distance of a vertex from the best-fit plane,
 # against the polygon's size. Well above float64 noise, far below any visible tilt.
 PLANARITY_RTOL = 1e-9
+# Beyond these, float64 pixel coordinates lose the precision exact area sampling needs.
+MAX_COORDINATE = 1e9
+MAX_PIXELS = 1 << 28
 
 
 class SceneError(ValueError):
@@ -63,6 +68,33 @@ class Polygon:
 
 
 @dataclass(frozen=True)
+class PolygonArrays:
+    """Every polygon of a scene in flat arrays, for vectorised code and kernels.
+
+    Polygon ``i`` is ``vertices[start[i] : start[i] + length[i]]``.
+    """
+
+    vertices: np.ndarray  # (N, 3)
+    start: np.ndarray  # (P,) int64
+    length: np.ndarray  # (P,) int64
+    colors: np.ndarray  # (P, 3)
+    planes: np.ndarray  # (P, 3), NaN rows for polygons seen edge-on
+
+    @classmethod
+    def of(cls, polygons) -> "PolygonArrays":
+        length = np.array([len(p.vertices) for p in polygons], dtype=np.int64)
+        start = np.zeros(len(polygons), dtype=np.int64)
+        start[1:] = np.cumsum(length)[:-1]
+        return cls(
+            vertices=np.concatenate([p.vertices for p in polygons]) if polygons else np.zeros((0, 3)),
+            start=start,
+            length=length,
+            colors=np.array([p.color for p in polygons], dtype=np.float64).reshape(-1, 3),
+            planes=np.array([p.plane for p in polygons], dtype=np.float64).reshape(-1, 3),
+        )
+
+
+@dataclass(frozen=True)
 class Scene:
     """A parsed, validated scene at one frame of its animation."""
 
@@ -76,6 +108,11 @@ class Scene:
     source: str = "<scene>"
     extensions: Mapping[str, Any] = field(default_factory=dict)
 
+    @cached_property
+    def arrays(self) -> PolygonArrays:
+        """The polygons as flat arrays (built once per scene object)."""
+        return PolygonArrays.of(self.polygons)
+
     def at_frame(self, k: int) -> "Scene":
         """The scene translated to frame ``k`` (0-based) of its animation."""
         if not (isinstance(k, (int, np.integer)) and 0 <= k < self.frames):
@@ -83,22 +120,31 @@ class Scene:
         shift = (int(k) - self.frame) * self.translate
         if not shift.any():
             return replace(self, frame=int(k))
-        moved = tuple(_translated(p, shift) for p in self.polygons)
+        arrays = _translated(self.arrays, shift)
+        moved = tuple(
+            Polygon(vertices=arrays.vertices[s : s + n], color=p.color, index=p.index, plane=arrays.planes[i])
+            for i, (p, s, n) in enumerate(zip(self.polygons, arrays.start, arrays.length))
+        )
         extensions = {
             name: _SECTIONS[name].translate(value, shift) if _SECTIONS[name].translate else value
             for name, value in self.extensions.items()
         }
-        return replace(self, polygons=moved, frame=int(k), extensions=extensions)
+        scene = replace(self, polygons=moved, frame=int(k), extensions=extensions)
+        scene.__dict__["arrays"] = arrays  # already known: spare rebuilding it
+        return scene
 
     @property
     def shape(self) -> tuple[int, int, int]:
         return (self.height, self.width, 3)
 
 
-def _translated(p: Polygon, shift: np.ndarray) -> Polygon:
-    v = p.vertices.copy()
-    v[:, :2] += shift
-    return replace(p, vertices=v, plane=_plane_of(v))
+def _translated(arrays: PolygonArrays, shift: np.ndarray) -> PolygonArrays:
+    vertices = arrays.vertices.copy()
+    vertices[:, :2] += shift
+    planes = arrays.planes.copy()
+    # z = a x + b y + c moved by (dx, dy): the same a, b with c - a dx - b dy
+    planes[:, 2] -= planes[:, 0] * shift[0] + planes[:, 1] * shift[1]
+    return replace(arrays, vertices=vertices, planes=planes)
 
 
 @dataclass(frozen=True)
@@ -161,6 +207,8 @@ def parse_scene(document: Mapping[str, Any], *, source: str = "<scene>") -> Scen
     _no_unknown(image, {"width", "height", "background"}, f"{source}: [image]")
     width = _positive_int(image, "width", f"{source}: [image]")
     height = _positive_int(image, "height", f"{source}: [image]")
+    if width * height > MAX_PIXELS:
+        raise SceneError(f"{source}: [image] {width}x{height} is over the limit of {MAX_PIXELS} pixels")
     background = _rgb(image.get("background", [0.0, 0.0, 0.0]), f"{source}: [image].background")
 
     animation = _table(document, "animation", source, required=False)
@@ -256,8 +304,11 @@ def _polygon(raw: Any, i: int, source: str) -> Polygon:
     vertices = np.array(
         [_vector(v, 3, f"{where}.vertices[{j}]") for j, v in enumerate(vertices_raw)]
     )
-    _check_planar(vertices, where)
-    _check_simple(vertices[:, :2], where)
+    if np.abs(vertices).max() > MAX_COORDINATE:
+        raise SceneError(f"{where}: coordinates beyond +-{MAX_COORDINATE:g} are not supported")
+    _check_no_repeats(vertices, where)
+    in_plane = _check_planar(vertices, where)
+    _check_simple(in_plane, where)
     return Polygon(vertices=vertices, color=color, index=i, plane=_plane_of(vertices))
 
 
@@ -285,25 +336,39 @@ def _plane_of(vertices: np.ndarray) -> np.ndarray:
     return np.array([a, b, centre[2] - a * centre[0] - b * centre[1]])
 
 
-def _check_planar(vertices: np.ndarray, where: str) -> None:
-    if len(vertices) == 3:
-        return
-    n = newell_normal(vertices)
-    norm = np.linalg.norm(n)
+def _check_no_repeats(vertices: np.ndarray, where: str) -> None:
+    same = np.all(vertices == np.roll(vertices, -1, axis=0), axis=1)
+    if same.any():
+        j = int(np.flatnonzero(same)[0])
+        k = (j + 1) % len(vertices)
+        hint = " (the outline closes by itself: leave out the closing vertex)" if k == 0 else ""
+        raise SceneError(f"{where}: vertex {k} repeats vertex {j} (zero-length edge){hint}")
+
+
+def _check_planar(vertices: np.ndarray, where: str) -> np.ndarray:
+    """Refuse a degenerate or non-planar outline; return it in its own plane's 2-D coordinates.
+
+    The plane is the best fit by singular value decomposition, which (unlike Newell's
+    normal) stays defined for an outline whose signed areas cancel, such as a bow tie.
+    """
+    centred = vertices - vertices.mean(axis=0)
+    _, sing, axes = np.linalg.svd(centred, full_matrices=False)
     size = np.ptp(vertices, axis=0).max()
-    if norm <= 1e-300 or size == 0.0:
+    if size == 0.0 or sing[1] <= 1e-12 * sing[0]:
         raise SceneError(f"{where}: degenerate polygon (all vertices on one line or point)")
-    distance = np.abs((vertices - vertices.mean(axis=0)) @ (n / norm))
-    if distance.max() > PLANARITY_RTOL * size:
-        j = int(distance.argmax())
-        raise SceneError(
-            f"{where}: polygon is not planar (vertex {j} lies {distance.max():.3g} "
-            "from the plane of the others)"
-        )
+    if len(vertices) > 3:
+        distance = np.abs(centred @ axes[2])
+        if distance.max() > PLANARITY_RTOL * size:
+            j = int(distance.argmax())
+            raise SceneError(
+                f"{where}: polygon is not planar (vertex {j} lies {distance.max():.3g} "
+                "from the plane of the others)"
+            )
+    return centred @ axes[:2].T
 
 
 def _check_simple(xy: np.ndarray, where: str) -> None:
-    """Refuse an outline whose non-adjacent edges cross or touch (seen from the camera)."""
+    """Refuse an outline whose non-adjacent edges cross or touch (in its own plane)."""
     n = len(xy)
     if n < 4:
         return
@@ -311,8 +376,6 @@ def _check_simple(xy: np.ndarray, where: str) -> None:
     i, j = np.triu_indices(n, k=2)
     keep = ~((i == 0) & (j == n - 1))  # the first and last edges share a vertex
     i, j = i[keep], j[keep]
-    if len(i) == 0:
-        return
     hit = _segments_meet(p[i], q[i], p[j], q[j])
     if hit.any():
         k = int(np.flatnonzero(hit)[0])

@@ -1,0 +1,1 @@
+"""Experiments built on the renderers and metrics: comparisons, sweeps."""

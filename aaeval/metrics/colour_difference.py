@@ -1,0 +1,68 @@
+"""Colour difference CIEDE2000 between a test image and a reference (colour-science).
+
+Conversion path, per pixel: the renderers' linear RGB is linear sRGB (ITU-R BT.709
+primaries, D65 white), so it goes to CIE XYZ through colour-science's ``"sRGB"``
+colourspace matrix (``colour.RGB_to_XYZ(..., "sRGB")`` with ``apply_cctf_decoding=False``:
+encoding to sRGB and decoding again is the identity, so no transfer function is applied),
+then to CIE L*a*b* with the D65 white point of the CIE 1931 2 degree observer
+(``colour.XYZ_to_Lab``), then ``colour.delta_E(..., method="CIE 2000")`` (Sharma, Wu &
+Dalal 2005). Values are not clipped: out-of-gamut colours are converted as they are.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from aaeval.metrics._checks import check_image_pair
+
+__all__ = ["linear_rgb_to_lab", "ciede2000_map", "ciede2000_mean", "ciede2000_p95"]
+
+
+def linear_rgb_to_lab(image) -> np.ndarray:
+    """Linear sRGB (D65) to CIE L*a*b* (D65, 2 degree observer); L* of white is 100."""
+    import colour
+
+    srgb = colour.RGB_COLOURSPACES["sRGB"]
+    xyz = colour.RGB_to_XYZ(np.asarray(image, dtype=np.float64), srgb, apply_cctf_decoding=False)
+    return colour.XYZ_to_Lab(xyz, srgb.whitepoint)
+
+
+def ciede2000_map(image_true, image_test) -> np.ndarray:
+    """Per-pixel CIEDE2000 colour difference, shape (H, W).
+
+    Parameters
+    ----------
+    image_true : ndarray, shape (H, W, 3)
+        Reference image (linear sRGB).
+    image_test : ndarray, shape (H, W, 3)
+        Test image, same shape.
+
+    Returns
+    -------
+    delta_e : ndarray, shape (H, W)
+        Delta E 2000 of every pixel (conversion path in the module docstring).
+    """
+    image_true, image_test = check_image_pair(image_true, image_test)
+    import colour
+
+    return colour.delta_E(linear_rgb_to_lab(image_true), linear_rgb_to_lab(image_test), method="CIE 2000")
+
+
+def ciede2000_mean(image_true, image_test) -> float:
+    """Mean over pixels of the CIEDE2000 colour difference (see :func:`ciede2000_map`).
+
+    Returns
+    -------
+    delta_e : float
+        0 for identical images; about 1 is a just-noticeable difference.
+    """
+    return float(np.mean(ciede2000_map(image_true, image_test)))
+
+
+def ciede2000_p95(image_true, image_test) -> float:
+    """95th percentile over pixels of the CIEDE2000 colour difference (see :func:`ciede2000_map`).
+
+    The percentile is numpy's default (linear interpolation between order statistics).
+    It reports the error of the worst pixels, which a mean over a mostly flat image hides.
+    """
+    return float(np.percentile(ciede2000_map(image_true, image_test), 95.0))

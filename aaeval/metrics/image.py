@@ -1,0 +1,92 @@
+"""Pixel-wise fidelity metrics: RMSE, PSNR and SSIM of a test image against a reference.
+
+Images are (H, W, 3) linear RGB, the renderers' output. PSNR and SSIM are scikit-image's
+(:mod:`skimage.metrics`) with every channel treated alike.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from skimage.metrics import peak_signal_noise_ratio, structural_similarity
+
+from aaeval.metrics._checks import check_image_pair, check_positive
+
+__all__ = ["rmse", "psnr", "ssim"]
+
+
+def rmse(image_true, image_test) -> float:
+    """Root-mean-square error over every pixel and channel.
+
+    Parameters
+    ----------
+    image_true : ndarray, shape (H, W, 3)
+        Reference image (linear RGB).
+    image_test : ndarray, shape (H, W, 3)
+        Test image, same shape.
+
+    Returns
+    -------
+    rmse : float
+        ``sqrt(mean((image_test - image_true) ** 2))``; 0 for identical images.
+    """
+    image_true, image_test = check_image_pair(image_true, image_test)
+    return float(np.sqrt(np.mean((image_test - image_true) ** 2)))
+
+
+def psnr(image_true, image_test, *, data_range: float = 1.0) -> float:
+    """Peak signal-to-noise ratio in decibels (scikit-image).
+
+    Parameters
+    ----------
+    image_true : ndarray, shape (H, W, 3)
+        Reference image (linear RGB).
+    image_test : ndarray, shape (H, W, 3)
+        Test image, same shape.
+    data_range : float, optional
+        Peak-to-peak range of the signal; 1.0 (the default) for colours in [0, 1].
+
+    Returns
+    -------
+    psnr : float
+        ``10 log10(data_range**2 / MSE)``; ``inf`` for identical images.
+    """
+    image_true, image_test = check_image_pair(image_true, image_test)
+    check_positive("data_range", data_range)
+    with np.errstate(divide="ignore"):  # identical images: MSE 0, PSNR inf, not a warning
+        return float(peak_signal_noise_ratio(image_true, image_test, data_range=data_range))
+
+
+def ssim(image_true, image_test, *, data_range: float = 1.0, win_size: int = 7) -> float:
+    """Mean structural similarity (Wang et al. 2004) over pixels and channels (scikit-image).
+
+    scikit-image's defaults: a uniform ``win_size`` x ``win_size`` window, sample
+    covariance, K1 = 0.01, K2 = 0.03, each RGB channel computed alone and averaged.
+
+    Parameters
+    ----------
+    image_true : ndarray, shape (H, W, 3)
+        Reference image (linear RGB).
+    image_test : ndarray, shape (H, W, 3)
+        Test image, same shape.
+    data_range : float, optional
+        Peak-to-peak range of the signal; 1.0 (the default) for colours in [0, 1].
+    win_size : int, optional
+        Odd side of the window, 7 by default. On images with a side shorter than that it
+        shrinks to the largest odd number that fits (at least 3).
+
+    Returns
+    -------
+    ssim : float
+        In [-1, 1]; 1 for identical images.
+    """
+    image_true, image_test = check_image_pair(image_true, image_test)
+    check_positive("data_range", data_range)
+    if win_size < 3 or win_size % 2 == 0:
+        raise ValueError(f"win_size must be an odd number >= 3, got {win_size!r}")
+    side = min(image_true.shape[:2])
+    fitted = min(win_size, side if side % 2 else side - 1)
+    if fitted < 3:
+        raise ValueError(f"SSIM needs images at least 3 pixels on each side, got {image_true.shape[:2]}")
+    return float(
+        structural_similarity(image_true, image_test, data_range=data_range, channel_axis=-1, win_size=fitted)
+    )

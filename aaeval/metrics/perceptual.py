@@ -1,0 +1,49 @@
+"""Perceptual difference: NVIDIA FLIP (Andersson et al. 2020) through ``flip-evaluator``."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from aaeval.metrics._checks import check_image_pair, check_positive
+
+__all__ = ["flip"]
+
+
+def flip(image_true, image_test, *, ppd: float | None = None) -> float:
+    """Mean LDR-FLIP error of a test image against a reference.
+
+    The images are linear sRGB; they are clipped to [0, 1] and handed to
+    ``flip_evaluator.evaluate(..., "LDR", inputsRGB=False)``, which encodes them with the
+    sRGB transfer function itself before LDR-FLIP (checked: the same error as giving it
+    sRGB-encoded images with ``inputsRGB=True``).
+
+    Parameters
+    ----------
+    image_true : ndarray, shape (H, W, 3)
+        Reference image (linear sRGB).
+    image_test : ndarray, shape (H, W, 3)
+        Test image, same shape.
+    ppd : float, optional
+        Pixels per degree of visual angle. By default FLIP's own (about 67: a 0.7 m wide
+        3840-pixel monitor seen from 0.7 m).
+
+    Returns
+    -------
+    flip : float
+        Mean of the per-pixel FLIP error, in [0, 1]; 0 for identical images.
+    """
+    image_true, image_test = check_image_pair(image_true, image_test)
+    if ppd is not None:
+        check_positive("ppd", ppd)
+    import flip_evaluator
+
+    _, mean, _ = flip_evaluator.evaluate(
+        np.clip(image_true, 0.0, 1.0),
+        np.clip(image_test, 0.0, 1.0),
+        "LDR",
+        inputsRGB=False,
+        applyMagma=False,
+        computeMeanError=True,
+        parameters={} if ppd is None else {"ppd": float(ppd)},
+    )
+    return float(mean)

@@ -1,0 +1,81 @@
+"""A test-only exact reference for box-filtered polygon scenes, built on GEOS (shapely).
+
+It shares nothing with the renderers: each polygon's visible region is the polygon minus
+every other polygon restricted to the half-plane where that one is nearer (for
+interpenetrating polygons the boundary is the line where the depth planes cross; on one
+shared plane the later polygon is in front), and a pixel's colour is the sum of the
+visible regions' areas over the pixel square times their colours.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+from shapely.geometry import Polygon as ShapelyPolygon
+from shapely.geometry import box
+
+from aaeval.scenes import Scene
+
+# depth-plane differences below this are one shared plane (same as the renderer's scale)
+COPLANAR = 1e-9
+
+
+def _nearer_region(p, q, bounds) -> shapely.Geometry:
+    """Where polygon q is in front of polygon p, as a region of the plane."""
+    da, db, dc = q.plane - p.plane  # z_q - z_p = da x + db y + dc
+    if abs(da) < COPLANAR and abs(db) < COPLANAR and abs(dc) < COPLANAR:
+        return box(*bounds) if q.index > p.index else shapely.Polygon()
+    if abs(da) < 1e-15 and abs(db) < 1e-15:
+        return box(*bounds) if dc < 0 else shapely.Polygon()
+    # half-plane da x + db y + dc < 0, as a polygon covering the bounds
+    x0, y0, x1, y1 = bounds
+    corners = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+    big = ShapelyPolygon(corners)
+    line_pt = -dc * np.array([da, db]) / (da * da + db * db)
+    direction = np.array([-db, da]) / np.hypot(da, db)
+    normal = -np.array([da, db]) / np.hypot(da, db)  # towards decreasing z_q - z_p
+    span = 4 * max(x1 - x0, y1 - y0) + np.linalg.norm(line_pt) + 10
+    half = ShapelyPolygon(
+        [
+            line_pt - span * direction,
+            line_pt + span * direction,
+            line_pt + span * direction + span * normal,
+            line_pt - span * direction + span * normal,
+        ]
+    )
+    return big.intersection(half)
+
+
+def visible_regions(scene: Scene) -> list[shapely.Geometry]:
+    """The exactly visible region of every polygon of the scene (GEOS)."""
+    shapes = [ShapelyPolygon(p.xy) for p in scene.polygons]
+    allpts = np.vstack([p.xy for p in scene.polygons] + [np.array([[0, 0], [scene.width, scene.height]])])
+    bounds = (*(allpts.min(axis=0) - 10), *(allpts.max(axis=0) + 10))
+    regions = []
+    for i, p in enumerate(scene.polygons):
+        if not np.isfinite(p.plane).all():
+            regions.append(shapely.Polygon())
+            continue
+        region = shapes[i]
+        for j, q in enumerate(scene.polygons):
+            if j == i or not np.isfinite(q.plane).all() or not region.intersects(shapes[j]):
+                continue
+            region = region.difference(shapes[j].intersection(_nearer_region(p, q, bounds)))
+        regions.append(region)
+    return regions
+
+
+def oracle_image(scene: Scene) -> np.ndarray:
+    """Exact box-filtered image of a flat-coloured scene, by GEOS polygon overlay."""
+    rows, cols = np.mgrid[0 : scene.height, 0 : scene.width]
+    pixels = shapely.box(cols.ravel(), rows.ravel(), cols.ravel() + 1.0, rows.ravel() + 1.0)
+    image = np.zeros((scene.height * scene.width, 3))
+    covered = np.zeros(scene.height * scene.width)
+    for p, region in zip(scene.polygons, visible_regions(scene)):
+        if region.is_empty:
+            continue
+        area = shapely.area(shapely.intersection(pixels, region))
+        image += area[:, None] * p.color
+        covered += area
+    image += (1.0 - covered)[:, None] * scene.background
+    return image.reshape(scene.height, scene.width, 3)

@@ -1,0 +1,147 @@
+"""``aaeval compare`` end to end, and the comparison library under it."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from aaeval.cli import main
+from aaeval.experiments.compare import parse_frames, plan_comparison, run_comparison
+from aaeval.metrics import IMAGE_METRICS, edge_mask, rmse
+from aaeval.renderers import MethodError, render
+from aaeval.scenes import SceneError
+
+# two interpenetrating triangles inside the frame, moving a fraction of a pixel per frame
+TINY = """
+[image]
+width = 16
+height = 12
+
+[animation]
+frames = 4
+translate = [0.25, 0.125]
+
+[[polygons]]
+color = [0.9, 0.2, 0.1]
+vertices = [[2.3, 1.7, 1.0], [12.6, 3.1, 1.0], [6.2, 10.4, 1.0]]
+
+[[polygons]]
+color = [0.1, 0.3, 0.8]
+vertices = [[8.1, 0.5, 2.0], [14.7, 6.3, 2.0], [9.3, 11.2, 0.5]]
+"""
+
+
+@pytest.fixture
+def scene_file(tmp_path):
+    path = tmp_path / "tiny.toml"
+    path.write_text(TINY)
+    return path
+
+
+def compare(*args) -> int:
+    return main(["compare", *map(str, args)])
+
+
+def test_compare_writes_rows_and_temporal_summaries(scene_file, tmp_path, capsys):
+    out = tmp_path / "out" / "compare.json"
+    assert compare(scene_file, "-m", "catmull", "-m", "catmull-jagged", "-r", "catmull",
+                   "--frames", "all", "--json", out) == 0
+    printed = capsys.readouterr().out
+    assert "catmull-jagged" in printed and "sum variation" in printed
+    doc = json.loads(out.read_text())
+    assert doc["frames"] == [0, 1, 2, 3] and doc["reference"] == "catmull"
+    assert doc["metrics"] == list(IMAGE_METRICS)
+    assert [(r["method"], r["frame"]) for r in doc["rows"]] == [
+        (m, k) for k in range(4) for m in ("catmull", "catmull-jagged")
+    ]
+    for row in doc["rows"]:
+        assert set(row) == {"method", "frame", *IMAGE_METRICS, "intensity_sum", "render_s"}
+        assert row["render_s"] > 0
+        if row["method"] == "catmull":  # the exact method against itself
+            assert row["rmse"] == 0 and row["psnr"] == math.inf and row["ssim"] == 1
+            assert row["ciede2000_mean"] == row["ciede2000_p95"] == row["flip"] == row["edge_rmse"] == 0
+        else:
+            assert row["rmse"] > 0.01 and row["edge_rmse"] > row["rmse"] and row["psnr"] < 40
+
+    summary = {s["method"]: s for s in doc["summary"]}
+    reference_variation = doc["reference_summary"]["sum_variation"]
+    # area sampling keeps the sum under sub-pixel motion; the jagged mode does not
+    assert reference_variation < 1e-12
+    assert summary["catmull"]["sum_variation"] == reference_variation
+    assert summary["catmull"]["flicker"] == 0
+    assert summary["catmull-jagged"]["sum_variation"] > 1e-3
+    assert summary["catmull-jagged"]["flicker"] > 1e-3
+    for entry in summary.values():
+        assert entry["reference_sum_variation"] == reference_variation and entry["frames"] == 4
+        assert set(entry["mean"]) == set(IMAGE_METRICS)
+    jagged_rmse = [r["rmse"] for r in doc["rows"] if r["method"] == "catmull-jagged"]
+    assert summary["catmull-jagged"]["mean"]["rmse"] == pytest.approx(sum(jagged_rmse) / 4, rel=1e-12)
+
+
+def test_rows_hold_the_metrics_of_the_rendered_frames(scene_file):
+    plan = plan_comparison(str(scene_file), ["catmull-jagged"], "catmull", frames=2, metrics=["rmse", "edge_rmse"])
+    doc = run_comparison(plan)
+    scene = plan.scene
+    truth, test = render(scene, "catmull", frame=1), render(scene, "catmull-jagged", frame=1)
+    row = doc["rows"][1]
+    assert row["frame"] == 1 and set(row) == {"method", "frame", "rmse", "edge_rmse", "intensity_sum", "render_s"}
+    assert row["rmse"] == pytest.approx(rmse(truth, test), rel=1e-12)
+    mask = edge_mask(scene.at_frame(1))
+    assert row["edge_rmse"] == pytest.approx(rmse(truth[mask][None], test[mask][None]), rel=1e-12)
+    assert row["intensity_sum"] == pytest.approx(test.sum(), rel=1e-12)
+
+
+def test_default_is_one_frame_and_quiet_prints_only_the_summary(scene_file, tmp_path, capsys):
+    out = tmp_path / "one.json"
+    assert compare(scene_file, "-m", "catmull-jagged", "-r", "catmull", "--json", out, "--quiet") == 0
+    printed = capsys.readouterr().out
+    assert "sum variation" in printed and "against catmull" not in printed and "wrote" not in printed
+    doc = json.loads(out.read_text())
+    assert doc["frames"] == [0] and len(doc["rows"]) == 1
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["-m", "nope", "-r", "catmull"], "unknown method 'nope'"),
+        (["-m", "catmull", "-r", "catmull:bogus=2"], "unknown option"),
+        (["-m", "catmull", "-m", "catmull:", "-r", "catmull"], "give each method once"),
+        (["-m", "catmull", "-r", "catmull", "--frames", "5"], "only 4 frame"),
+        (["-m", "catmull", "-r", "catmull", "--frames", "0"], "at least 1"),
+        (["-m", "catmull", "-r", "catmull", "--frames", "some"], "positive number or 'all'"),
+    ],
+)
+def test_bad_input_fails_in_one_line_and_keeps_the_old_output(scene_file, tmp_path, capsys, args, message):
+    out = tmp_path / "kept.json"
+    out.write_text("earlier results\n")
+    assert compare(scene_file, *args, "--json", out) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
+    assert out.read_text() == "earlier results\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["kept.json", "tiny.toml"]
+
+
+def test_bad_scene_fails_before_rendering(tmp_path, capsys):
+    broken = tmp_path / "broken.toml"
+    broken.write_text("[image]\nwidth = 0\nheight = 4\n")
+    out = tmp_path / "never.json"
+    assert compare(broken, "-m", "catmull", "-r", "catmull", "--json", out) == 2
+    assert "broken.toml" in capsys.readouterr().err
+    assert not out.exists()
+    with pytest.raises(SceneError):
+        plan_comparison(str(tmp_path / "missing.toml"), ["catmull"], "catmull")
+
+
+def test_planning_checks_specs_before_the_scene():
+    with pytest.raises(MethodError):
+        plan_comparison("/nonexistent.toml", ["catmull"], "nope")
+    with pytest.raises(ValueError, match="at least one"):
+        plan_comparison("/nonexistent.toml", [], "catmull")
+
+
+def test_parse_frames():
+    assert parse_frames("all", 3) == (0, 1, 2)
+    assert parse_frames("2", 3) == (0, 1)
+    assert parse_frames(1, 1) == (0,)

@@ -1,0 +1,283 @@
+"""Image and temporal metrics: perfect scores, published values, independent oracles."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from aaeval.metrics import (
+    IMAGE_METRICS,
+    TEMPORAL_METRICS,
+    MetricError,
+    ciede2000_map,
+    ciede2000_mean,
+    ciede2000_p95,
+    compute_metric,
+    compute_temporal_metric,
+    edge_mask,
+    edge_rmse,
+    flicker,
+    flip,
+    linear_rgb_to_lab,
+    psnr,
+    rmse,
+    ssim,
+)
+from aaeval.scenes import parse_scene
+
+RNG = np.random.default_rng(20241122)
+IMAGE = RNG.random((12, 16, 3))
+MASK = RNG.random((12, 16)) < 0.3
+
+# the score of a perfect match, for every registered image metric
+PERFECT = {
+    "rmse": 0.0,
+    "psnr": math.inf,
+    "ssim": 1.0,
+    "ciede2000_mean": 0.0,
+    "ciede2000_p95": 0.0,
+    "flip": 0.0,
+    "edge_rmse": 0.0,
+}
+
+# Sharma, Wu & Dalal (2005), "The CIEDE2000 color-difference formula: implementation
+# notes, supplementary test data, and mathematical observations", Table 1 (pair number,
+# Lab 1, Lab 2, Delta E 2000), a selection covering the hue-angle edge cases.
+SHARMA_2005 = [
+    (1, (50.0000, 2.6772, -79.7751), (50.0000, 0.0000, -82.7485), 2.0425),
+    (4, (50.0000, -1.3802, -84.2814), (50.0000, 0.0000, -82.7485), 1.0000),
+    (7, (50.0000, 0.0000, 0.0000), (50.0000, -1.0000, 2.0000), 2.3669),
+    (9, (50.0000, 2.4900, -0.0010), (50.0000, -2.4900, 0.0009), 7.1792),
+    (11, (50.0000, 2.4900, -0.0010), (50.0000, -2.4900, 0.0011), 7.2195),
+    (13, (50.0000, -0.0010, 2.4900), (50.0000, 0.0009, -2.4900), 4.8045),
+    (17, (50.0000, 2.5000, 0.0000), (73.0000, 25.0000, -18.0000), 27.1492),
+    (19, (50.0000, 2.5000, 0.0000), (56.0000, -27.0000, -3.0000), 31.9030),
+    (25, (60.2574, -34.0099, 36.2677), (60.4626, -34.1751, 39.4387), 1.2644),
+    (28, (35.0831, -44.1164, 3.7933), (35.0232, -40.0716, 1.5901), 1.8645),
+    (30, (36.4612, 47.8580, 18.3852), (36.2715, 50.5065, 21.2231), 1.4146),
+    (33, (6.7747, -0.2908, -2.4247), (5.8714, -0.0985, -2.2286), 0.6377),
+    (34, (2.0776, 0.0795, -1.1350), (0.9033, -0.0636, -0.5514), 0.9082),
+]
+
+
+def lab_to_linear_rgb(lab) -> np.ndarray:
+    """Inverse of the metric's conversion path, to build test images from Lab colours.
+
+    colour's published sRGB matrices (RGB to XYZ and back) are rounded and not exact
+    inverses (Lab error ~4e-3 round trip), so the forward matrix is inverted here.
+    """
+    import colour
+
+    srgb = colour.RGB_COLOURSPACES["sRGB"]
+    xyz = colour.Lab_to_XYZ(np.asarray(lab, dtype=np.float64), srgb.whitepoint)
+    return xyz @ np.linalg.inv(srgb.matrix_RGB_to_XYZ).T
+
+
+def srgb_encode(linear):
+    x = np.clip(linear, 0.0, 1.0)
+    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)
+
+
+def test_every_registered_metric_has_a_perfect_score_listed():
+    assert set(PERFECT) == set(IMAGE_METRICS)
+
+
+@pytest.mark.parametrize("name", sorted(IMAGE_METRICS))
+def test_identical_images_score_perfectly(name):
+    value = compute_metric(name, IMAGE, IMAGE.copy(), mask=MASK)
+    assert value == pytest.approx(PERFECT[name], abs=1e-12)
+
+
+@pytest.mark.parametrize("name", sorted(IMAGE_METRICS))
+def test_different_images_do_not_score_perfectly(name):
+    other = np.clip(IMAGE + RNG.normal(0, 0.05, IMAGE.shape), 0, 1)
+    value = compute_metric(name, IMAGE, other, mask=MASK)
+    assert np.isfinite(value) and value != pytest.approx(PERFECT[name], abs=1e-6)
+
+
+@pytest.mark.parametrize("name", sorted(IMAGE_METRICS))
+@pytest.mark.parametrize(
+    "true, test, message",
+    [
+        (IMAGE, IMAGE[:-1], "differ in shape"),
+        (IMAGE[..., :2], IMAGE[..., :2], r"\(H, W, 3\)"),
+        (IMAGE[..., 0], IMAGE[..., 0], r"\(H, W, 3\)"),
+        (IMAGE, np.where(MASK[..., None], np.nan, IMAGE), "non-finite"),
+        (np.full_like(IMAGE, np.inf), IMAGE, "non-finite"),
+    ],
+)
+def test_bad_inputs_are_refused_before_any_work(name, true, test, message):
+    with pytest.raises(ValueError, match=message):
+        compute_metric(name, true, test, mask=MASK)
+
+
+def test_constant_offset_gives_the_exact_psnr():
+    # MSE = 0.01 on data range 1: PSNR = 10 log10(1 / 0.01) = 20 dB
+    base = np.full((8, 8, 3), 0.4)
+    assert rmse(base, base + 0.1) == pytest.approx(0.1, rel=1e-12)
+    assert psnr(base, base + 0.1) == pytest.approx(20.0, abs=1e-9)
+    assert psnr(base, base + 0.1, data_range=2.0) == pytest.approx(20.0 + 20 * math.log10(2), abs=1e-9)
+
+
+def test_ssim_is_symmetric_and_works_on_images_smaller_than_its_window():
+    other = np.clip(IMAGE + 0.1 * RNG.random(IMAGE.shape), 0, 1)
+    assert ssim(IMAGE, other) == pytest.approx(ssim(other, IMAGE), abs=1e-12)
+    small = IMAGE[:5, :4]
+    assert ssim(small, small) == pytest.approx(1.0)
+    with pytest.raises(ValueError, match="at least 3 pixels"):
+        ssim(IMAGE[:2], IMAGE[:2])
+
+
+@pytest.mark.parametrize("pair, lab1, lab2, expected", SHARMA_2005, ids=[f"pair{p[0]}" for p in SHARMA_2005])
+def test_ciede2000_reproduces_sharma_2005_through_the_rgb_path(pair, lab1, lab2, expected):
+    image_true = lab_to_linear_rgb([[lab1]])
+    image_test = lab_to_linear_rgb([[lab2]])
+    assert ciede2000_map(image_true, image_test)[0, 0] == pytest.approx(expected, abs=5e-5)
+
+
+def test_lab_conversion_matches_published_srgb_values():
+    # linear grey 0.18: Y = 0.18, L* = 116 * 0.18^(1/3) - 16 (CIE 1976)
+    grey = linear_rgb_to_lab([[[0.18, 0.18, 0.18]]])[0, 0]
+    assert grey[0] == pytest.approx(116 * 0.18 ** (1 / 3) - 16, abs=1e-3)
+    assert np.abs(grey[1:]).max() < 0.01
+    # sRGB red primary in CIELAB (D65): L* 53.24, a* 80.09, b* 67.20 (Lindbloom's calculator)
+    red = linear_rgb_to_lab([[[1.0, 0.0, 0.0]]])[0, 0]
+    np.testing.assert_allclose(red, [53.24, 80.09, 67.20], atol=0.05)
+
+
+def test_ciede2000_mean_and_p95_summarise_the_pixel_map():
+    # 10% of the pixels carry Sharma pair 25's difference, the rest none
+    _, lab1, lab2, expected = SHARMA_2005[8]
+    image_true = np.broadcast_to(lab_to_linear_rgb(lab1), (20, 20, 3)).copy()
+    image_test = image_true.copy()
+    image_test[:2] = lab_to_linear_rgb(lab2)
+    assert ciede2000_mean(image_true, image_test) == pytest.approx(0.1 * expected, abs=1e-4)
+    assert ciede2000_p95(image_true, image_test) == pytest.approx(expected, abs=1e-4)
+
+
+def test_flip_encodes_linear_input_to_srgb_itself():
+    import flip_evaluator
+
+    other = np.clip(IMAGE + RNG.normal(0, 0.1, IMAGE.shape), 0, 1)
+    _, expected, _ = flip_evaluator.evaluate(
+        srgb_encode(IMAGE), srgb_encode(other), "LDR", inputsRGB=True, applyMagma=False
+    )
+    assert flip(IMAGE, other) == pytest.approx(expected, rel=1e-5)
+    assert flip(np.zeros_like(IMAGE), np.ones_like(IMAGE)) > 0.9
+
+
+def test_edge_rmse_measures_only_the_masked_pixels():
+    other = IMAGE.copy()
+    other[MASK] += 0.2
+    other[~MASK] += 1.0  # ignored
+    assert edge_rmse(IMAGE, other, mask=MASK) == pytest.approx(0.2, rel=1e-12)
+    assert math.isnan(edge_rmse(IMAGE, other, mask=np.zeros_like(MASK)))
+    with pytest.raises(ValueError, match="mask has shape"):
+        edge_rmse(IMAGE, other, mask=MASK[:-1])
+    with pytest.raises(ValueError, match="boolean"):
+        edge_rmse(IMAGE, other, mask=MASK.astype(int))
+
+
+def crossed_pixels(outline, width, height) -> np.ndarray:
+    """Pixels whose open interior the polygon's outline passes through (GEOS via shapely)."""
+    from shapely.geometry import Polygon as ShapelyPolygon, box
+
+    boundary = ShapelyPolygon(outline).boundary
+    crossed = np.zeros((height, width), dtype=bool)
+    for r in range(height):
+        for c in range(width):
+            pixel = box(c, r, c + 1, r + 1)
+            inside = boundary.intersection(pixel).length - boundary.intersection(pixel.boundary).length
+            crossed[r, c] = inside > 1e-9
+    return crossed
+
+
+@pytest.mark.parametrize(
+    "outline",
+    [
+        # concave, reaching beyond the image, one edge on the pixel border x = 3
+        [(3.0, 1.25), (3.0, 9.5), (7.4, 6.1), (11.7, 10.3), (13.9, -2.2), (8.2, 3.3)],
+        # a thin sliver and a vertex inside a pixel
+        [(1.1, 1.1), (14.6, 2.05), (1.3, 1.9)],
+    ],
+)
+def test_edge_mask_is_the_pixels_the_outline_crosses(outline):
+    width, height = 16, 12
+    scene = parse_scene(
+        {
+            "image": {"width": width, "height": height},
+            "polygons": [{"color": [1, 1, 1], "vertices": [[x, y, 1.0] for x, y in outline]}],
+        }
+    )
+    expected = crossed_pixels(outline, width, height)
+    assert expected.any() and not expected.all()
+    np.testing.assert_array_equal(edge_mask(scene), expected)
+
+
+def test_edge_mask_leaves_hidden_edges_out():
+    # a small square entirely behind a big one: its outline is hidden
+    scene = parse_scene(
+        {
+            "image": {"width": 8, "height": 8},
+            "polygons": [
+                {"color": [1, 0, 0], "vertices": [[2.5, 2.5, 5], [5.5, 2.5, 5], [5.5, 5.5, 5], [2.5, 5.5, 5]]},
+                {"color": [0, 1, 0], "vertices": [[-1, -1, 1], [9, -1, 1], [9, 9, 1], [-1, 9, 1]]},
+            ],
+        }
+    )
+    assert not edge_mask(scene).any()
+
+
+def test_flicker_of_a_static_error_is_zero():
+    frames = RNG.random((5, 6, 7, 3))
+    offset = RNG.normal(0, 0.3, (6, 7, 3))
+    assert flicker(frames, frames + offset) == pytest.approx(0.0, abs=1e-12)
+
+
+def test_flicker_of_an_alternating_error_is_its_amplitude():
+    frames = RNG.random((6, 4, 5, 3))
+    d = 0.07
+    sign = np.array([1, -1, 1, -1, 1, -1], dtype=float)[:, None, None, None]
+    assert flicker(frames, frames + d * sign) == pytest.approx(d, rel=1e-12)
+    # half the pixels alternate with amplitude d, the rest keep still: RMS = d / sqrt(2)
+    half = np.zeros((4, 5, 3))
+    half[:2] = d
+    assert flicker(frames, frames + sign * half) == pytest.approx(d / math.sqrt(2), rel=1e-12)
+
+
+def test_flicker_checks_its_frames():
+    frames = RNG.random((3, 4, 5, 3))
+    with pytest.raises(ValueError, match="differ in shape"):
+        flicker(frames, frames[:2])
+    with pytest.raises(ValueError, match=r"\(F, H, W, 3\)"):
+        flicker(frames[0], frames[0])
+
+
+def test_dispatcher_routes_options_to_the_metrics_that_take_them():
+    other = IMAGE + 0.1
+    assert compute_metric("psnr", IMAGE, other, data_range=2.0, mask=MASK) == pytest.approx(
+        psnr(IMAGE, other, data_range=2.0)
+    )
+    assert compute_metric("rmse", IMAGE, other, mask=MASK, data_range=2.0) == pytest.approx(0.1)
+    assert compute_temporal_metric("flicker", IMAGE[None], other[None]) == 0.0
+    assert set(TEMPORAL_METRICS) == {"flicker"}
+
+
+def test_dispatcher_refuses_unknown_names_and_options():
+    with pytest.raises(MetricError, match="unknown image metric 'psnrr'; available: rmse, psnr"):
+        compute_metric("psnrr", IMAGE, IMAGE)
+    with pytest.raises(MetricError, match=r"unknown image metric option\(s\) \['maks'\]"):
+        compute_metric("rmse", IMAGE, IMAGE, maks=MASK)
+    with pytest.raises(MetricError, match=r"'edge_rmse' needs option\(s\) \['mask'\]"):
+        compute_metric("edge_rmse", IMAGE, IMAGE)
+    with pytest.raises(MetricError, match="unknown temporal metric"):
+        compute_temporal_metric("rmse", IMAGE[None], IMAGE[None])
+
+
+@pytest.mark.parametrize("metric, option", [(psnr, "data_range"), (ssim, "data_range"), (flip, "ppd")])
+@pytest.mark.parametrize("value", [0.0, -1.0, float("nan")])
+def test_non_positive_options_are_refused(metric, option, value):
+    with pytest.raises(ValueError, match=f"{option} must be positive"):
+        metric(IMAGE, IMAGE, **{option: value})
