@@ -8,24 +8,15 @@ image as ``catmull`` by a completely different road.
 from __future__ import annotations
 
 from aaeval.renderers.registry import Option, register_method
-from aaeval.scenes import Scene, parse_scene
-from aaeval.weiler_atherton import box_filter, visible_pieces
+from aaeval.scenes import Scene
+from aaeval.weiler_atherton import box_filter, coverage, visible_pieces
 
 __all__ = ["render_weiler_atherton"]
 
 
 def _warmup() -> None:
-    tiny = parse_scene(
-        {
-            "image": {"width": 4, "height": 3},
-            "polygons": [
-                {"color": [1, 0, 0], "vertices": [[0.2, 0.3, 1], [3.7, 0.6, 2], [1.5, 2.9, 0]]},
-                {"color": [0, 1, 0], "vertices": [[0.1, 2.5, 0], [3.9, 2.2, 3], [2.5, 0.1, 1]]},
-            ],
-        },
-        source="<warm-up>",
-    )
-    render_weiler_atherton(tiny)
+    # compiles the coverage kernel; the clipper is plain Python
+    coverage([[(0.2, 0.3), (3.7, 0.6), (1.5, 2.9)]], [1.0], 4, 3)
 
 
 @register_method(
