@@ -16,6 +16,7 @@ COMMANDS = [
     "aaeval.cli.compare",
     "aaeval.cli.sweep",
     "aaeval.cli.report",
+    "aaeval.cli.hidden_lines",
 ]
 
 

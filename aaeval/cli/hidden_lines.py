@@ -1,0 +1,41 @@
+"""``aaeval hidden-lines``: the visible edges of one frame as an SVG drawing."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser(
+        "hidden-lines",
+        help="draw the visible edges of a scene (Weiler-Atherton hidden-line removal) as SVG",
+        description="Solve the hidden surfaces of SCENE with Weiler & Atherton's polygon clipper and "
+        "write the visible parts of the polygon edges, and the lines where interpenetrating "
+        "polygons cross, to an SVG file.",
+    )
+    p.add_argument("scene", help="scene file (TOML)")
+    p.add_argument("--frame", type=int, default=0, metavar="K", help="animation frame, 0-based (default 0)")
+    p.add_argument("--window", type=int, default=0, metavar="N",
+                   help="screen subdivision: most polygons per window (default 0: none)")
+    p.add_argument("--stroke", type=float, default=0.05, metavar="W", help="line width in pixels (default 0.05)")
+    p.add_argument("-o", "--output", required=True, metavar="OUT.svg", help="output SVG file")
+    p.add_argument("--quiet", action="store_true", help="print nothing on success")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from aaeval.imageio import atomic_write
+    from aaeval.scenes import load_scene
+    from aaeval.weiler_atherton.lines import hidden_line_svg
+
+    out = Path(args.output)
+    if out.suffix.lower() != ".svg":
+        raise ValueError(f"{out}: hidden-line drawings are written as .svg")
+    if args.window < 0:
+        raise ValueError(f"--window must be >= 0, got {args.window}")
+    scene = load_scene(args.scene).at_frame(args.frame)
+    svg = hidden_line_svg(scene, window=args.window, stroke=args.stroke)
+    atomic_write(out, lambda tmp: Path(tmp).write_text(svg))
+    if not args.quiet:
+        print(f"wrote {out} ({svg.count('<line ')} visible edge segments, frame {args.frame})")
+    return 0

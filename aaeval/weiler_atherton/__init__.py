@@ -1,0 +1,26 @@
+"""Weiler & Atherton (1977): hidden surfaces solved in object space with a general
+polygon clipper; the output is the visible polygons themselves.
+
+- :mod:`.clipper`: concave polygons with holes clipped against each other.
+- :mod:`.hidden_surface`: polygon area sorting, recursive subdivision, cyclic overlap,
+  interpenetration, screen subdivision.
+- :mod:`.raster`: exact box filter of the visible polygons.
+- :mod:`.lines`: visible edges (hidden-line drawings).
+"""
+
+from aaeval.weiler_atherton.clipper import Shape, clip, oriented, polygons, ring_area, shape_area
+from aaeval.weiler_atherton.hidden_surface import Piece, visible_pieces
+from aaeval.weiler_atherton.raster import box_filter, coverage
+
+__all__ = [
+    "Shape",
+    "clip",
+    "oriented",
+    "polygons",
+    "ring_area",
+    "shape_area",
+    "Piece",
+    "visible_pieces",
+    "box_filter",
+    "coverage",
+]
