@@ -20,6 +20,7 @@ from aaeval.renderers import render
 from aaeval.scenes import load_scene, parse_scene
 from aaeval.weiler_atherton import clip, coverage, oriented, polygons, ring_area, shape_area, visible_pieces
 from aaeval.weiler_atherton.lines import visible_edges
+from randomscenes import degenerate_scene, random_scene
 
 DATA = Path(__file__).parent / "data"
 SCENES = sorted(glob.glob(str(Path(__file__).parent.parent / "configs" / "scenes" / "*.toml")))
@@ -211,3 +212,9 @@ def test_hidden_lines_cyclic_scene(tmp_path):
     assert cli_main(["hidden-lines", str(DATA / "wa_cyclic.toml"), "-o", str(out), "--quiet"]) == 0
     assert out.read_text().count("<line ") == len(edges)
     assert cli_main(["hidden-lines", str(DATA / "wa_cyclic.toml"), "-o", str(tmp_path / "x.png")]) == 2
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_agrees_with_catmull_on_shared_random_and_degenerate_scenes(seed):
+    for scene in (random_scene(seed), degenerate_scene(seed)):
+        np.testing.assert_allclose(render(scene, "weiler-atherton"), render(scene, "catmull"), rtol=0, atol=1e-9)
