@@ -13,7 +13,8 @@ from oracle import oracle_image
 from randomscenes import degenerate_scene, random_scene, star, with_plane
 
 
-@pytest.mark.parametrize("seed", range(12))
+# seed 55 once left a rounding spike standing in for a whole region
+@pytest.mark.parametrize("seed", range(60))
 def test_random_interpenetrating_scenes_match_geos(seed):
     scene = random_scene(seed)
     np.testing.assert_allclose(render(scene, "catmull"), oracle_image(scene), rtol=0, atol=1e-9)

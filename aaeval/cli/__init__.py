@@ -13,8 +13,10 @@ COMMANDS = [
     "aaeval.cli.render",
     "aaeval.cli.invariance",
     "aaeval.cli.methods",
-    "aaeval.cli.hidden_lines",
     "aaeval.cli.compare",
+    "aaeval.cli.sweep",
+    "aaeval.cli.report",
+    "aaeval.cli.hidden_lines",
 ]
 
 
@@ -34,6 +36,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from aaeval.experiments.config import ConfigError
     from aaeval.renderers.registry import MethodError
     from aaeval.scenes import SceneError
 
@@ -41,7 +44,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         return int(args.run(args) or 0)
-    except (SceneError, MethodError, ValueError, FileNotFoundError) as exc:
+    except (SceneError, MethodError, ConfigError, ValueError, FileNotFoundError) as exc:
         print(f"aaeval {args.command}: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

@@ -1,1 +1,22 @@
-"""Experiments built on the renderers and metrics: comparisons, sweeps."""
+"""Experiments built on the renderers and metrics: comparisons (``compare``) and sweeps:
+configs of scenes x methods x options x frames, run locally or on a Dask cluster into a
+folder of crash-proof results, summarised in ``results.parquet``."""
+
+from aaeval.experiments.config import ConfigError, Experiment, load_experiment, parse_experiment
+from aaeval.experiments.runner import SweepSummary, plan, run_sweep
+from aaeval.experiments.store import SweepStore, code_version
+from aaeval.experiments.table import load_results, write_results
+
+__all__ = [
+    "ConfigError",
+    "Experiment",
+    "SweepStore",
+    "SweepSummary",
+    "code_version",
+    "load_experiment",
+    "load_results",
+    "parse_experiment",
+    "plan",
+    "run_sweep",
+    "write_results",
+]

@@ -19,13 +19,13 @@ from aaeval.renderers.registry import (
 
 # one import per method module; each registers its methods
 from aaeval.renderers import catmull  # noqa: E402,F401
-from aaeval.renderers import weiler_atherton  # noqa: E402,F401
 from aaeval.renderers import point  # noqa: E402,F401
 from aaeval.renderers import supersample  # noqa: E402,F401
 from aaeval.renderers import jitter  # noqa: E402,F401
 from aaeval.renderers import abuffer  # noqa: E402,F401
 from aaeval.renderers import skia_painter  # noqa: E402,F401
 from aaeval.renderers import mitsuba  # noqa: E402,F401
+from aaeval.renderers import weiler_atherton  # noqa: E402,F401
 
 __all__ = [
     "METHODS",

@@ -209,6 +209,16 @@ def integrate_pixel(wx, wy, wf, recs, n_init, n_vert, planes, eps_z, litems, lis
                         c = -(a * wx[fs + k] + b * wy[fs + k])
                         clip = True
                         break
+        if cnt > 1 and not clip and _is_sliver(wx, wy, recs, litems, s0, cnt):
+            # F has no edge left to clip along, so it should be the whole region; when it
+            # is smaller it is a rounding remnant (a spike along two clip lines, or edges
+            # too short to clip along): it is dropped and the list looked at again
+            for i in range(cnt - 1):
+                litems[s0 + i] = litems[s0 + i + 1]
+            lists[L, 1] = cnt - 1
+            stack[top] = L
+            top += 1
+            continue
         if cnt > 1 and not clip:
             # F is clipped on all sides, so it covers its list's region: check depth
             front = -1
@@ -286,6 +296,23 @@ def integrate_pixel(wx, wy, wf, recs, n_init, n_vert, planes, eps_z, litems, lis
                 top += 1
                 n_lists += 1
     return n_out
+
+
+@njit(cache=True)
+def _is_sliver(wx, wy, recs, litems, s0, cnt):
+    """Whether the front polygon of a list is much smaller than the list's region.
+
+    Every list holds a polygon spanning its whole region (the background or a solid
+    piece, only ever clipped by the region's own lines), so the region's area is the
+    largest area in the list.
+    """
+    f = litems[s0]
+    area_f = signed_area(wx, wy, recs[f, 0], recs[f, 1])
+    region = area_f
+    for i in range(1, cnt):
+        q = litems[s0 + i]
+        region = max(region, signed_area(wx, wy, recs[q, 0], recs[q, 1]))
+    return area_f < region * (1.0 - 1e-9)
 
 
 @njit(cache=True)

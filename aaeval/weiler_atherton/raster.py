@@ -93,7 +93,7 @@ def coverage(rings, weights, width: int, height: int) -> np.ndarray:
         Weight of each ring (e.g. its colour channels).
     """
     weights = np.asarray(weights, dtype=np.float64)
-    wk = weights.reshape(len(rings), weights.shape[1] if weights.ndim == 2 else 1)  # no rings: (0, k)
+    wk = weights.reshape(len(rings), weights.shape[1] if weights.ndim > 1 else 1)
     lengths = np.array([len(r) for r in rings], dtype=np.int64)
     starts = (np.concatenate([[0], np.cumsum(lengths)[:-1]]) if len(rings) else np.zeros(0)).astype(np.int64)
     xy = np.concatenate([np.asarray(r, dtype=np.float64).reshape(-1, 2) for r in rings]) if rings else np.zeros((0, 2))

@@ -1,0 +1,24 @@
+"""``aaeval report``: the HTML report of a sweep folder."""
+
+from __future__ import annotations
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser(
+        "report",
+        help="write DIR/index.html: charts and tables of a sweep's results",
+        description="Rebuild DIR/results.parquet from the cell files and write DIR/index.html with its "
+        "figures (PNG files beside it): speed against accuracy, intensity sum per frame, flicker, "
+        "stability as difficulty grows, an image grid with crops and error maps, and the tables.",
+    )
+    p.add_argument("dir", metavar="DIR", help="sweep folder written by 'aaeval sweep'")
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from aaeval.reports import write_report
+
+    index = write_report(args.dir, quiet=args.quiet)
+    print(f"report: {index}")
+    return 0

@@ -1,0 +1,64 @@
+"""``aaeval sweep``: run an experiment config into a results folder, resumably."""
+
+from __future__ import annotations
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser(
+        "sweep",
+        help="run an experiment sweep (scenes x methods x options x frames) into a folder",
+        description="Run every cell of the experiment CONFIG (TOML, see configs/experiments/) and write "
+        "one result file per cell into DIR, then DIR/results.parquet. Finished cells are kept: a rerun "
+        "(after a crash, or with more cells in the config) runs only what is missing.",
+    )
+    p.add_argument("config", help="experiment config (TOML)")
+    p.add_argument("--out", "-o", required=True, metavar="DIR", help="results folder (created if missing)")
+    p.add_argument("--dry-run", action="store_true", help="list the cells and which are already done; run nothing")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run the cells on a Dask distributed cluster, e.g. tcp://HOST:8786")
+    p.add_argument("--workers", "-j", type=int, metavar="N",
+                   help="local worker processes (default: every core; 1 runs in this process)")
+    p.add_argument("--retry-failed", action="store_true", help="run cells that finished with an error again")
+    p.add_argument("--cache", metavar="DIR", help="reference cache folder (default $AAEVAL_CACHE_DIR or ~/.cache/aaeval)")
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress bars; print only the summary line")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from aaeval.experiments import load_experiment, run_sweep
+
+    if args.workers is not None and args.workers < 1:
+        raise ValueError(f"--workers must be >= 1, got {args.workers}")
+    experiment = load_experiment(args.config)
+    if args.dry_run:
+        return dry_run(experiment, args.out)
+    try:
+        summary = run_sweep(experiment, args.out, workers=args.workers, scheduler=args.scheduler, quiet=args.quiet,
+                            retry_failed=args.retry_failed, cache_dir=args.cache)
+    except ConnectionError as exc:
+        raise ValueError(str(exc)) from None
+    print(f"{experiment.name}: {summary.total} cells, {summary.skipped} already done, {summary.ran} run "
+          f"({summary.failed} failed), references {summary.references_rendered} rendered / "
+          f"{summary.references_cached} from cache{', on ' + summary.executor if summary.executor else ''}; "
+          f"results in {args.out}/results.parquet")
+    for line in summary.lost:
+        print(f"  not run (will be retried): {line}")
+    return 1 if summary.lost else 0
+
+
+def dry_run(experiment, out) -> int:
+    from aaeval.experiments import SweepStore, plan
+    from aaeval.experiments.table import short_label
+
+    planned = plan(experiment)
+    done = SweepStore(out).finished()
+    rows: dict[tuple, list] = {}
+    for p in planned:
+        rows.setdefault((p.cell.group, p.cell.scene.name, short_label(p.cell.spec)), []).append(p.key in done)
+    print(f"{experiment.name}: {len(planned)} cells in {len(experiment.groups)} groups, "
+          f"{len({p.key for p in planned})} distinct, {len({p.key for p in planned} & done)} done "
+          f"(reference: {', '.join(sorted({short_label(g.reference) for g in experiment.groups}))})")
+    width = max(len(f"{g}  {s}") for g, s, _ in rows) if rows else 0
+    for (group, scene, spec), flags in rows.items():
+        print(f"  {f'{group}  {scene}':<{width}}  {spec:<40} frames {sum(flags):3d}/{len(flags):<3d} done")
+    return 0

@@ -1,0 +1,384 @@
+"""Experiment configs (TOML): groups of scenes x method specs x options x frames.
+
+A config file looks like::
+
+    [experiment]
+    name = "edges"
+    reference = "catmull"                  # method spec every cell is compared against
+    metrics = ["rmse", "psnr"]             # per-frame metrics
+    temporal = ["sum_variation", "flicker"]  # metrics over the frames of an animation
+    primary = "rmse"                       # the error axis of the report's charts
+
+    [[groups]]
+    name = "edge-aliasing"
+    scenes = ["../scenes/edges.toml", {generator = "fan", difficulty = [2, 4, 8]}]
+    methods = ["point", "supersample", "mitsuba:sampler=stratified"]
+    frames = "all"                         # or a list of frame numbers
+    options = { spp = [16, 64] }           # expanded for every method that declares it
+    options.supersample = { k = [2, 4] }   # for one method only
+
+A method with a ``cache`` option (Mitsuba) gets ``cache=false`` unless the spec sets it, so
+its render time is a render, not a cache hit. References keep their cache.
+
+Every key is checked before any work starts; an error names the file and the key.
+Scene paths are relative to the config file.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping
+
+from aaeval.experiments.generators import GENERATORS, generate_scene
+from aaeval.experiments.metrics import check_metric_names
+from aaeval.renderers import MethodError, format_spec, parse_spec, resolve
+from aaeval.scenes import Scene, SceneError, parse_scene
+
+__all__ = ["ConfigError", "Experiment", "Group", "SceneSource", "Cell", "load_experiment", "parse_experiment"]
+
+
+class ConfigError(ValueError):
+    """An experiment config breaks a rule; the message names the file and the key."""
+
+
+@dataclass(frozen=True)
+class SceneSource:
+    """One scene of a group: a file, or a generator at one difficulty."""
+
+    name: str  # shown in tables: file stem, or "fan@8"
+    document: Mapping[str, Any]  # parsed TOML, what the scene is made of
+    source: str  # file path or generator spec, for messages
+    difficulty: float | None = None
+    difficulty_label: str | None = None
+
+    @property
+    def digest(self) -> str:
+        """Hash of the scene's content (not its path): the cache and cell key use it."""
+        blob = json.dumps(self.document, sort_keys=True, separators=(",", ":")).encode()
+        return hashlib.sha256(blob).hexdigest()
+
+    def scene(self) -> Scene:
+        return parse_scene(self.document, source=self.source)
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One unit of work: one scene frame rendered by one method, compared with the reference."""
+
+    group: str
+    scene: SceneSource
+    spec: str  # canonical method spec
+    frame: int
+    reference: str  # canonical reference spec
+    metrics: tuple[str, ...]
+
+    def identity(self) -> dict:
+        """Everything the result depends on, apart from the code version."""
+        return {"scene": self.scene.digest, "frame": self.frame, "method": self.spec,
+                "reference": self.reference, "metrics": sorted(self.metrics)}
+
+
+@dataclass(frozen=True)
+class Group:
+    name: str
+    scenes: tuple[SceneSource, ...]
+    specs: tuple[str, ...]
+    frames: Any  # "all" or tuple of ints
+    reference: str
+    metrics: tuple[str, ...]
+
+    def cells(self) -> list[Cell]:
+        out = []
+        for src in self.scenes:
+            n = int(src.document.get("animation", {}).get("frames", 1))
+            frames = range(n) if self.frames == "all" else self.frames
+            for spec in self.specs:
+                for k in frames:
+                    out.append(Cell(self.name, src, spec, int(k), self.reference, self.metrics))
+        return out
+
+
+@dataclass(frozen=True)
+class Experiment:
+    name: str
+    description: str
+    path: str
+    text: str  # the config file as written, kept with the results
+    groups: tuple[Group, ...]
+    temporal: tuple[str, ...]
+    primary: str
+    noise_estimate: bool = True
+    fail_above: float | None = None  # a cell whose primary error exceeds this counts as failed
+
+    def cells(self) -> list[Cell]:
+        return [cell for group in self.groups for cell in group.cells()]
+
+
+_EXPERIMENT_KEYS = {"name", "description", "reference", "metrics", "temporal", "primary", "noise_estimate",
+                    "fail_above"}
+_GROUP_KEYS = {"name", "scenes", "methods", "frames", "options", "reference", "metrics", "animate"}
+
+
+def load_experiment(path: str | Path) -> Experiment:
+    """Read and validate an experiment config; :class:`ConfigError` names file and key."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise ConfigError(f"{path}: cannot read experiment config ({exc.strerror})") from None
+    try:
+        document = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{path}: not valid TOML ({exc})") from None
+    return parse_experiment(document, path=path, text=text)
+
+
+def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config>", text: str = "") -> Experiment:
+    where = str(path)
+    base = Path(path).parent if str(path) != "<config>" else Path.cwd()
+    unknown = sorted(set(document) - {"experiment", "groups"})
+    if unknown:
+        raise ConfigError(f"{where}: unknown top-level key(s) {unknown}; allowed: ['experiment', 'groups']")
+    head = document.get("experiment")
+    if not isinstance(head, Mapping):
+        raise ConfigError(f"{where}: missing table [experiment]")
+    _no_unknown(head, _EXPERIMENT_KEYS, f"{where}: [experiment]")
+    name = _string(head, "name", f"{where}: [experiment]", default=Path(where).stem)
+    reference = _spec(_string(head, "reference", f"{where}: [experiment]"), f"{where}: [experiment].reference")
+    metrics = _metric_list(head.get("metrics", ["rmse"]), f"{where}: [experiment].metrics", temporal=False)
+    temporal = _metric_list(head.get("temporal", []), f"{where}: [experiment].temporal", temporal=True)
+    primary = _string(head, "primary", f"{where}: [experiment]", default=metrics[0])
+    noise = head.get("noise_estimate", True)
+    if not isinstance(noise, bool):
+        raise ConfigError(f"{where}: [experiment].noise_estimate must be true or false, got {noise!r}")
+
+    fail_above = head.get("fail_above")
+    if fail_above is not None and (isinstance(fail_above, bool) or not isinstance(fail_above, (int, float))
+                                   or fail_above <= 0):
+        raise ConfigError(f"{where}: [experiment].fail_above must be a positive number, got {fail_above!r}")
+
+    raw_groups = document.get("groups")
+    if not isinstance(raw_groups, list) or not raw_groups:
+        raise ConfigError(f"{where}: needs at least one [[groups]] table")
+    groups = []
+    for i, raw in enumerate(raw_groups):
+        groups.append(_group(raw, f"{where}: groups[{i}]", base, reference, metrics))
+    names = [g.name for g in groups]
+    dup = sorted({n for n in names if names.count(n) > 1})
+    if dup:
+        raise ConfigError(f"{where}: groups.name must be unique, repeated: {dup}")
+    if not any(primary in g.metrics for g in groups):
+        raise ConfigError(f"{where}: [experiment].primary {primary!r} is not a metric of any group")
+    return Experiment(name, str(head.get("description", "")), where, text, tuple(groups), temporal, primary, noise,
+                      None if fail_above is None else float(fail_above))
+
+
+def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str, ...]) -> Group:
+    if not isinstance(raw, Mapping):
+        raise ConfigError(f"{where}: must be a table")
+    _no_unknown(raw, _GROUP_KEYS, where)
+    name = _string(raw, "name", where)
+    if "reference" in raw:
+        reference = _spec(_string(raw, "reference", where), f"{where}.reference")
+    if "metrics" in raw:
+        metrics = _metric_list(raw["metrics"], f"{where}.metrics", temporal=False)
+    scenes = _scenes(raw.get("scenes"), f"{where}.scenes", base)
+    if "animate" in raw:
+        scenes = _animate(scenes, raw["animate"], f"{where}.animate")
+    methods = raw.get("methods")
+    if not isinstance(methods, list) or not methods or not all(isinstance(m, str) for m in methods):
+        raise ConfigError(f"{where}.methods: expected a non-empty list of method specs, got {methods!r}")
+    options = raw.get("options", {})
+    if not isinstance(options, Mapping):
+        raise ConfigError(f"{where}.options: expected a table of option = [values], got {options!r}")
+    specs = _expand_specs(methods, options, f"{where}")
+    frames = _frames(raw.get("frames", "all"), f"{where}.frames", scenes)
+    return Group(name, scenes, tuple(specs), frames, reference, metrics)
+
+
+def _expand_specs(methods: list[str], options: Mapping[str, Any], where: str) -> list[str]:
+    """Each method spec times the option values it takes (values given in the spec win).
+
+    ``options = { k = [2, 4] }`` applies to every method that declares ``k``;
+    ``options.supersample = { k = [2, 4] }`` to ``supersample`` only.
+    """
+    shared = {k: v for k, v in options.items() if not isinstance(v, Mapping)}
+    scoped = {k: v for k, v in options.items() if isinstance(v, Mapping)}
+    used: set[str] = set()
+    specs: list[str] = []
+    resolved = []
+    for j, spec in enumerate(methods):
+        try:
+            resolved.append((spec, resolve(spec)[0]))
+        except MethodError as exc:
+            raise ConfigError(f"{where}.methods[{j}]: {exc}") from None
+    names = {m.name for _, m in resolved}
+    for name, table in scoped.items():
+        if name not in names:
+            raise ConfigError(f"{where}.options.{name}: {name!r} is not one of this group's methods {sorted(names)}")
+        method = next(m for _, m in resolved if m.name == name)
+        bad = sorted(set(table) - set(method.options))
+        if bad:
+            raise ConfigError(f"{where}.options.{name}: method {name!r} has no option(s) {bad}; "
+                              f"options: {', '.join(sorted(method.options)) or 'none'}")
+    for spec, method in resolved:
+        given = set(parse_spec(spec)[1])
+        if "cache" in method.options and "cache" not in given:
+            # a cache hit would be timed as the render: measured cells render for real
+            spec = f"{spec}{',' if ':' in spec else ':'}cache=false"
+            given.add("cache")
+        mine = {k: v for k, v in shared.items() if k in method.options}
+        used.update(mine)
+        mine.update(scoped.get(method.name, {}))
+        axes = [k for k in sorted(mine) if k not in given]
+        values = []
+        for key in axes:
+            vals = mine[key] if isinstance(mine[key], list) else [mine[key]]
+            if not vals:
+                raise ConfigError(f"{where}.options.{key}: empty list of values")
+            values.append(vals)
+        for combo in itertools.product(*values):
+            try:
+                _, opts = resolve(spec, **dict(zip(axes, combo)))
+            except MethodError as exc:
+                raise ConfigError(f"{where}.options: {exc}") from None
+            canonical = format_spec(method.name, opts)
+            if canonical not in specs:
+                specs.append(canonical)
+    unused = sorted(set(shared) - used)
+    if unused:
+        raise ConfigError(f"{where}.options: option(s) {unused} are declared by none of the methods {methods}")
+    return specs
+
+
+def _scenes(raw: Any, where: str, base: Path) -> tuple[SceneSource, ...]:
+    if not isinstance(raw, list) or not raw:
+        raise ConfigError(f"{where}: expected a non-empty list of scene files or generator tables, got {raw!r}")
+    out: list[SceneSource] = []
+    for i, item in enumerate(raw):
+        here = f"{where}[{i}]"
+        if isinstance(item, str):
+            out.append(_scene_file(item, here, base))
+        elif isinstance(item, Mapping) and "generator" in item:
+            out.extend(_generated(item, here))
+        elif isinstance(item, Mapping) and "path" in item:
+            _no_unknown(item, {"path", "difficulty", "difficulty_label"}, here)
+            src = _scene_file(item["path"], here, base)
+            d = item.get("difficulty")
+            if d is not None and (isinstance(d, bool) or not isinstance(d, (int, float))):
+                raise ConfigError(f"{here}.difficulty: expected a number, got {d!r}")
+            out.append(SceneSource(src.name, src.document, src.source, None if d is None else float(d),
+                                   item.get("difficulty_label", "difficulty")))
+        else:
+            raise ConfigError(f"{here}: expected a scene path, {{path = ...}} or {{generator = ...}}, got {item!r}")
+    return tuple(out)
+
+
+def _scene_file(rel: Any, where: str, base: Path) -> SceneSource:
+    if not isinstance(rel, str):
+        raise ConfigError(f"{where}: expected a scene file path, got {rel!r}")
+    candidates = [base / rel, Path(rel)]
+    path = next((p for p in candidates if p.is_file()), None)
+    if path is None:
+        raise ConfigError(f"{where}: scene file {rel!r} not found (looked at {', '.join(map(str, candidates))})")
+    try:
+        document = tomllib.loads(path.read_text())
+        parse_scene(document, source=str(path))
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{where}: scene {path}: not valid TOML ({exc})") from None
+    except SceneError as exc:
+        raise ConfigError(f"{where}: {exc}") from None
+    return SceneSource(path.stem, document, str(path))
+
+
+def _generated(item: Mapping[str, Any], where: str) -> list[SceneSource]:
+    name = item["generator"]
+    if name not in GENERATORS:
+        raise ConfigError(f"{where}.generator: unknown generator {name!r}; available: {', '.join(sorted(GENERATORS))}")
+    levels = item.get("difficulty")
+    if not isinstance(levels, list) or not levels:
+        raise ConfigError(f"{where}.difficulty: expected a non-empty list of difficulty values, got {levels!r}")
+    params = {k: v for k, v in item.items() if k not in ("generator", "difficulty")}
+    out = []
+    for d in levels:
+        if isinstance(d, bool) or not isinstance(d, (int, float)):
+            raise ConfigError(f"{where}.difficulty: expected numbers, got {d!r}")
+        try:
+            document = generate_scene(name, d, **params)
+            parse_scene(document, source=f"{name}@{d}")
+        except (ValueError, TypeError) as exc:
+            raise ConfigError(f"{where}: {exc}") from None
+        extra = "".join(f",{k}={params[k]}" for k in sorted(params))
+        out.append(SceneSource(f"{name}@{d:g}", document, f"generator {name}(difficulty={d}{extra})",
+                               float(d), GENERATORS[name].difficulty))
+    return out
+
+
+def _animate(scenes: tuple[SceneSource, ...], raw: Any, where: str) -> tuple[SceneSource, ...]:
+    """Give every scene of the group this [animation] table (static scenes set moving)."""
+    if not isinstance(raw, Mapping):
+        raise ConfigError(f"{where}: expected a table {{frames = N, translate = [dx, dy]}}, got {raw!r}")
+    _no_unknown(raw, {"frames", "translate"}, where)
+    out = []
+    for src in scenes:
+        document = {**src.document, "animation": dict(raw)}
+        try:
+            parse_scene(document, source=f"{src.source} with {where}")
+        except SceneError as exc:
+            raise ConfigError(f"{where}: {exc}") from None
+        out.append(SceneSource(src.name, document, src.source, src.difficulty, src.difficulty_label))
+    return tuple(out)
+
+
+def _frames(raw: Any, where: str, scenes: tuple[SceneSource, ...]) -> Any:
+    if raw == "all":
+        return "all"
+    if not isinstance(raw, list) or not raw or not all(isinstance(k, int) and not isinstance(k, bool) for k in raw):
+        raise ConfigError(f"{where}: expected \"all\" or a non-empty list of frame numbers, got {raw!r}")
+    for src in scenes:
+        n = int(src.document.get("animation", {}).get("frames", 1))
+        bad = [k for k in raw if not 0 <= k < n]
+        if bad:
+            raise ConfigError(f"{where}: frame(s) {bad} outside 0..{n - 1} of scene {src.source}")
+    return tuple(raw)
+
+
+def _spec(spec: str, where: str) -> str:
+    try:
+        method, options = resolve(spec)
+    except MethodError as exc:
+        raise ConfigError(f"{where}: {exc}") from None
+    return format_spec(method.name, options)
+
+
+def _metric_list(raw: Any, where: str, *, temporal: bool) -> tuple[str, ...]:
+    if not isinstance(raw, list) or not all(isinstance(m, str) for m in raw) or (not temporal and not raw):
+        raise ConfigError(f"{where}: expected a {'' if temporal else 'non-empty '}list of metric names, got {raw!r}")
+    try:
+        check_metric_names(raw, temporal=temporal)
+    except ValueError as exc:
+        raise ConfigError(f"{where}: {exc}") from None
+    return tuple(raw)
+
+
+def _string(table: Mapping, key: str, where: str, default: str | None = None) -> str:
+    if key not in table:
+        if default is not None:
+            return default
+        raise ConfigError(f"{where}: missing required key '{key}'")
+    value = table[key]
+    if not isinstance(value, str) or not value.strip():
+        raise ConfigError(f"{where}.{key}: expected a non-empty string, got {value!r}")
+    return value
+
+
+def _no_unknown(table: Mapping, allowed: set[str], where: str) -> None:
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise ConfigError(f"{where}: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
+

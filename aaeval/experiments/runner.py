@@ -1,0 +1,206 @@
+"""Running a sweep: plan the cells, render the missing references, run the missing cells,
+write each result as it arrives, rebuild the results table.
+
+A rerun of the same config into the same folder skips every finished cell (failed ones
+too: their error is their result; ``retry_failed`` runs them again).
+"""
+
+from __future__ import annotations
+
+import math
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Iterator
+
+import numpy as np
+
+from aaeval.experiments.config import Cell, Experiment
+from aaeval.experiments.executors import make_executor
+from aaeval.experiments.store import ReferenceCache, SweepStore, cell_key, code_version, reference_key
+from aaeval.experiments.tasks import reference_kind, render_reference, run_cell
+
+__all__ = ["PlannedCell", "plan", "run_sweep", "SweepSummary", "progress_bar"]
+
+
+@dataclass
+class PlannedCell:
+    cell: Cell
+    key: str
+    reference_key: str
+
+    def manifest_row(self) -> dict:
+        c = self.cell
+        return {"key": self.key, "group": c.group, "scene": c.scene.name, "spec": c.spec, "frame": c.frame,
+                "reference": c.reference, "reference_key": self.reference_key,
+                "frames": int(c.scene.document.get("animation", {}).get("frames", 1))}
+
+
+def plan(experiment: Experiment) -> list[PlannedCell]:
+    """Every cell of the config with its key; a cell in two groups appears twice, same key."""
+    version = code_version()
+    return [PlannedCell(c, cell_key(c.identity(), version),
+                        reference_key(c.scene.digest, c.frame, c.reference, version))
+            for c in experiment.cells()]
+
+
+@dataclass
+class SweepSummary:
+    total: int  # distinct cells
+    skipped: int  # finished before this run
+    ran: int = 0
+    failed: int = 0  # ran and recorded an error
+    lost: list[str] = field(default_factory=list)  # could not run (worker died): not recorded
+    references_rendered: int = 0
+    references_cached: int = 0
+    executor: str = ""
+
+
+@contextmanager
+def progress_bar(quiet: bool):
+    """A rich progress bar with counts and ETA, or nothing under ``--quiet``."""
+    if quiet:
+        yield None
+        return
+    from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn,
+                               TimeRemainingColumn)
+
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TextColumn("elapsed"),
+                  TimeElapsedColumn(), TextColumn("eta"), TimeRemainingColumn()) as progress:
+        yield progress
+
+
+def _option(spec: str, name: str) -> Any:
+    from aaeval.renderers import resolve
+
+    return resolve(spec)[1].get(name)
+
+
+def _base_record(p: PlannedCell, ref_meta: dict) -> dict:
+    from aaeval.renderers import resolve
+
+    c = p.cell
+    method, options = resolve(c.spec)
+    return {
+        "key": p.key, "code_version": code_version(), "scene": c.scene.name, "scene_source": c.scene.source,
+        "scene_digest": c.scene.digest, "difficulty": c.scene.difficulty, "difficulty_label": c.scene.difficulty_label,
+        "method": method.name, "spec": c.spec, "options": options, "frame": c.frame,
+        "spp": options.get("spp"), "seed": options.get("seed"),
+        "reference": c.reference, "reference_key": p.reference_key, "reference_kind": reference_kind(c.reference),
+        "reference_spp": _option(c.reference, "spp"), "reference_seed": _option(c.reference, "seed"),
+        "reference_noise_rmse": ref_meta.get("noise_rmse", math.nan),
+        "reference_intensity_sum": ref_meta.get("intensity_sum", math.nan),
+        "width": int(c.scene.document["image"]["width"]), "height": int(c.scene.document["image"]["height"]),
+    }
+
+
+def run_sweep(experiment: Experiment, out: str | Path, *, workers: int | None = None, scheduler: Any = None,
+              quiet: bool = False, retry_failed: bool = False, cache_dir: str | Path | None = None,
+              log=print) -> SweepSummary:
+    """Run every unfinished cell of ``experiment`` into the folder ``out``."""
+    from aaeval.experiments.table import write_results
+
+    store = SweepStore(out)
+    planned = plan(experiment)
+    store.write_manifest(experiment.text, {
+        "experiment": experiment.name, "description": experiment.description, "config": experiment.path,
+        "code_version": code_version(), "primary": experiment.primary, "fail_above": experiment.fail_above,
+        "metrics": list(dict.fromkeys(m for g in experiment.groups for m in g.metrics)), "temporal": list(experiment.temporal),
+        "cells": [p.manifest_row() for p in planned]})
+
+    unique: dict[str, PlannedCell] = {}
+    for p in planned:
+        unique.setdefault(p.key, p)
+    finished = store.finished()
+    if retry_failed:
+        finished = {k for k in finished if not store.read_cell(k).get("error")}
+    todo = [p for k, p in unique.items() if k not in finished]
+    summary = SweepSummary(total=len(unique), skipped=len(unique) - len(todo))
+    if not todo:
+        write_results(store)
+        return summary
+
+    executor = make_executor(workers, scheduler)
+    summary.executor = executor.description
+    try:
+        with progress_bar(quiet) as progress:
+            refs = _references(experiment, todo, store, ReferenceCache(cache_dir and Path(cache_dir) / "references"),
+                               executor, progress, summary)
+            _cells(todo, refs, store, executor, progress, summary)
+    finally:
+        executor.close()
+    write_results(store)
+    return summary
+
+
+def _references(experiment, todo, store, cache, executor, progress, summary) -> dict[str, dict]:
+    """Reference image metadata per reference key; images land in the sweep folder."""
+    wanted: dict[str, PlannedCell] = {}
+    for p in todo:
+        wanted.setdefault(p.reference_key, p)
+    meta: dict[str, dict] = {}
+    missing = []
+    for key, p in wanted.items():
+        hit = cache.get(key)
+        if hit is not None:
+            image, info = hit
+            store.write_reference(key, image)
+            meta[key] = info
+            summary.references_cached += 1
+        else:
+            missing.append(p)
+    task = progress.add_task("references", total=len(missing)) if progress and missing else None
+    payloads = [(p.cell.scene.document, p.cell.scene.source, p.cell.frame, p.cell.reference,
+                 experiment.noise_estimate) for p in missing]
+    for i, result, exc in executor.run(render_reference, payloads):
+        key = missing[i].reference_key
+        if exc is not None:  # the worker died: its cells wait for the next run
+            meta[key] = {"lost": f"{type(exc).__name__}: {exc}"}
+        elif "error" in result:
+            meta[key] = {"error": result["error"]}
+        else:
+            from aaeval.metrics import intensity_sum
+
+            info = {"spec": missing[i].cell.reference, "render_s": result["render_s"],
+                    "noise_rmse": result["noise_rmse"], "noise_spec": result["noise_spec"],
+                    "intensity_sum": intensity_sum(result["image"]), "host": result["host"]}
+            cache.put(key, result["image"], info)
+            store.write_reference(key, result["image"])
+            meta[key] = info
+            summary.references_rendered += 1
+        if task is not None:
+            progress.advance(task)
+    return meta
+
+
+def _cells(todo, refs, store, executor, progress, summary) -> None:
+    # timings are only comparable between cells that shared the machine the same way
+    workers = {"executor": executor.description, "workers": executor.workers}
+    task = progress.add_task("cells", total=len(todo)) if progress else None
+    loaded: dict[str, np.ndarray] = {}
+
+    def payloads() -> Iterator[tuple]:
+        for p in todo:
+            info = refs.get(p.reference_key, {})
+            if p.reference_key not in loaded and "error" not in info:
+                loaded[p.reference_key] = store.load_reference(p.reference_key)
+            yield ({"record": {**_base_record(p, info), **workers}, "document": p.cell.scene.document,
+                    "source": p.cell.scene.source, "metrics": list(p.cell.metrics),
+                    "reference_image": loaded.get(p.reference_key), "reference_error": info.get("error")},)
+
+    lost = [p for p in todo if "lost" in refs.get(p.reference_key, {})]
+    summary.lost += [f"{p.key}: reference not rendered ({refs[p.reference_key]['lost']})" for p in lost]
+    todo = [p for p in todo if "lost" not in refs.get(p.reference_key, {})]
+    if task is not None:
+        progress.advance(task, len(lost))
+    work = list(payloads())
+    for i, result, exc in executor.run(run_cell, work):
+        if exc is not None:
+            summary.lost.append(f"{todo[i].key}: {type(exc).__name__}: {exc}")
+        else:
+            record, image = result
+            store.write_cell(record, image)
+            summary.ran += 1
+            summary.failed += bool(record.get("error"))
+        if task is not None:
+            progress.advance(task)
