@@ -29,11 +29,11 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
+from aaeval._toml import read_toml
 from aaeval.experiments.generators import GENERATORS, generate_scene
 from aaeval.experiments.metrics import check_metric_names
 from aaeval.renderers import MethodError, format_spec, parse_spec, resolve
@@ -127,14 +127,7 @@ _GROUP_KEYS = {"name", "scenes", "methods", "frames", "options", "reference", "m
 def load_experiment(path: str | Path) -> Experiment:
     """Read and validate an experiment config; :class:`ConfigError` names file and key."""
     path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as exc:
-        raise ConfigError(f"{path}: cannot read experiment config ({exc.strerror})") from None
-    try:
-        document = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{path}: not valid TOML ({exc})") from None
+    document, text = read_toml(path, ConfigError, "experiment config")
     return parse_experiment(document, path=path, text=text)
 
 
@@ -287,10 +280,8 @@ def _scene_file(rel: Any, where: str, base: Path) -> SceneSource:
     if path is None:
         raise ConfigError(f"{where}: scene file {rel!r} not found (looked at {', '.join(map(str, candidates))})")
     try:
-        document = tomllib.loads(path.read_text())
+        document, _ = read_toml(path, SceneError, "scene file")
         parse_scene(document, source=str(path))
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{where}: scene {path}: not valid TOML ({exc})") from None
     except SceneError as exc:
         raise ConfigError(f"{where}: {exc}") from None
     return SceneSource(path.stem, document, str(path))

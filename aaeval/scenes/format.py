@@ -10,13 +10,14 @@ and the rule.
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
 import numpy as np
+
+from aaeval._toml import read_toml
 
 __all__ = [
     "Polygon",
@@ -182,15 +183,7 @@ def load_scene(path: str | Path) -> Scene:
     SceneError
         The file is missing, is not TOML, or breaks a rule of the format.
     """
-    path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as exc:
-        raise SceneError(f"{path}: cannot read scene file ({exc.strerror})") from None
-    try:
-        document = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{path}: not valid TOML ({exc})") from None
+    document, _ = read_toml(path, SceneError, "scene file")
     return parse_scene(document, source=str(path))
 
 

@@ -1,0 +1,23 @@
+"""Reading a TOML file with one clear error for the two ways it can fail."""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+from typing import Any
+
+
+def read_toml(path: str | Path, error: type[Exception], what: str) -> tuple[dict[str, Any], str]:
+    """Parse ``path``; an unreadable file or bad TOML raises ``error`` naming the file.
+
+    Returns the document and its text.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise error(f"{path}: cannot read {what} ({exc.strerror})") from None
+    try:
+        return tomllib.loads(text), text
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"{path}: not valid TOML ({exc})") from None
