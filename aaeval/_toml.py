@@ -21,3 +21,10 @@ def read_toml(path: str | Path, error: type[Exception], what: str) -> tuple[dict
         return tomllib.loads(text), text
     except tomllib.TOMLDecodeError as exc:
         raise error(f"{path}: not valid TOML ({exc})") from None
+
+
+def refuse_unknown_keys(table, allowed: set[str], where: str, error: type[Exception]) -> None:
+    """Raise ``error`` naming every key of ``table`` that is not in ``allowed``."""
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise error(f"{where}: unknown key(s) {unknown}; allowed: {sorted(allowed)}")

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
-from aaeval._toml import read_toml
+from aaeval._toml import read_toml, refuse_unknown_keys
 from aaeval.experiments.generators import GENERATORS, generate_scene
 from aaeval.experiments.metrics import check_metric_names
 from aaeval.renderers import MethodError, format_spec, parse_spec, resolve
@@ -369,7 +369,5 @@ def _string(table: Mapping, key: str, where: str, default: str | None = None) ->
 
 
 def _no_unknown(table: Mapping, allowed: set[str], where: str) -> None:
-    unknown = sorted(set(table) - allowed)
-    if unknown:
-        raise ConfigError(f"{where}: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
+    refuse_unknown_keys(table, allowed, where, ConfigError)
 

@@ -17,7 +17,7 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
-from aaeval._toml import read_toml
+from aaeval._toml import read_toml, refuse_unknown_keys
 
 __all__ = [
     "Polygon",
@@ -246,9 +246,7 @@ def _table(document: Mapping, key: str, source: str, *, required: bool) -> Mappi
 
 
 def _no_unknown(table: Mapping, allowed: set[str], where: str) -> None:
-    unknown = sorted(set(table) - allowed)
-    if unknown:
-        raise SceneError(f"{where}: unknown key(s) {unknown}; allowed: {sorted(allowed)}")
+    refuse_unknown_keys(table, allowed, where, SceneError)
 
 
 def _positive_int(table: Mapping, key: str, where: str) -> int:
