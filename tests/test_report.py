@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from aaeval.experiments import load_experiment, run_sweep
-from aaeval.reports import write_report
-from aaeval.reports.figures import pareto_front
+from aaeval.report import write_report
+from aaeval.report.figures import pareto_front
 from sweep_util import write_config
 
 

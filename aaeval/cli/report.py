@@ -17,7 +17,7 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    from aaeval.reports import write_report
+    from aaeval.report import write_report
 
     index = write_report(args.dir, quiet=args.quiet)
     print(f"report: {index}")

@@ -55,7 +55,7 @@ __all__ = [
 # Mitsuba samplers that keep each sample inside its pixel with the box filter and make
 # sense for a converging ground truth (stratified and multijitter round spp up to a square).
 SAMPLERS = ("stratified", "independent", "multijitter", "ldsampler")
-# Measured on the shipped scenes (experiments/mitsuba_convergence.py, 3 seeds): stratified
+# Measured on the shipped scenes (benchmarks/mitsuba_convergence.py, 3 seeds): stratified
 # at 4096 spp leaves 5 of 16 above RMSE 2e-4 against the exact image (slivers 5.4e-4,
 # picket fence 7.5e-4), multijitter at 4096 leaves 3; multijitter at 16384 keeps every
 # one below 1.3e-4 at under 0.5 s for 32x32.

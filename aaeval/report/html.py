@@ -19,7 +19,7 @@ import pandas as pd
 from aaeval.experiments.store import SweepStore
 from aaeval.experiments.table import load_results, short_label, varying_options
 from aaeval.imageio import atomic_write
-from aaeval.reports import figures
+from aaeval.report import figures
 
 __all__ = ["write_report", "reference_statement", "spec_summary"]
 

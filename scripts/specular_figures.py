@@ -10,7 +10,7 @@
 - ``highlight_flicker.png``: energy of one cross-section of a highlight per frame, against
   the truth's (the flicker a viewer sees as the highlight breaks up).
 
-Usage: ``PYTHONPATH=. python experiments/specular_figures.py [--spp S] [--quiet]``
+Usage: ``PYTHONPATH=.:scripts python scripts/specular_figures.py [--spp S] [--quiet]``
 (the ground truth comes from the on-disk cache when the experiment has run).
 """
 
@@ -31,7 +31,7 @@ from aaeval.scenes import load_scene  # noqa: E402
 from aaeval.specular.groundtruth import groundtruth_phong  # noqa: E402
 from aaeval.specular.render import render_shaded, specular_aliasing_map  # noqa: E402
 from aaeval.specular.tables import cutoff_table, maximum  # noqa: E402
-from experiments.specular_experiment import progress_bars  # noqa: E402
+from specular_experiment import progress_bars  # noqa: E402
 
 PLATE_METHODS = [
     ("none", {}),

@@ -4,7 +4,7 @@ Prints the median milliseconds per frame (wall clock and process CPU time) over
 repeated renders after a warm-up render (JIT compilation excluded), and pixels per
 second. The kernel is single-threaded: one core. Goal from issue 2: <= 250 ms a frame.
 
-    PYTHONPATH=. python experiments/bench_catmull.py [--repeats 7] [--size 60]
+    PYTHONPATH=. python3 benchmarks/bench_catmull.py [--repeats 7] [--size 60]
 """
 
 from __future__ import annotations

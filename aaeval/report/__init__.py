@@ -1,5 +1,5 @@
 """HTML reports of sweep folders: ``write_report(DIR)`` writes ``DIR/index.html``."""
 
-from aaeval.reports.html import write_report
+from aaeval.report.html import write_report
 
 __all__ = ["write_report"]

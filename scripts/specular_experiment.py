@@ -14,7 +14,7 @@ with the Catmull renderer under every specular option. Printed (and written to
   pixels where the unclamped image's error exceeds a tolerance,
 - crow everywhere (region=all) against the truth for growing K: the convergence check.
 
-Usage: ``PYTHONPATH=. python experiments/specular_experiment.py [--frames N] [--spp S] [--quiet]``
+Usage: ``PYTHONPATH=. python scripts/specular_experiment.py [--frames N] [--spp S] [--quiet]``
 """
 
 from __future__ import annotations

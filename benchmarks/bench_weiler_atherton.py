@@ -9,7 +9,7 @@ window) is meant to cut down, at the price of clipping every polygon to the wind
 borders it crosses (measured: the price is the larger one here); Catmull's cost grows
 with the pixels each polygon covers.
 
-    PYTHONPATH=. python experiments/bench_weiler_atherton.py [--counts 10 30 100 300 1000]
+    PYTHONPATH=. python3 benchmarks/bench_weiler_atherton.py [--counts 10 30 100 300 1000]
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Median milliseconds per frame of every anti-aliasing method on random triangle scenes.
 
-Usage: ``PYTHONPATH=. python experiments/bench_baselines.py [--repeats N] [--methods SPEC ...]``
+Usage: ``PYTHONPATH=. python3 benchmarks/bench_baselines.py [--repeats N] [--methods SPEC ...]``
 
 Each method is warmed up first (numba JIT), then timed ``--repeats`` times per scene with
 :func:`aaeval.renderers.render_timed`; the median is printed. A second table gives each

@@ -6,8 +6,8 @@ compiled first, no cache; CPU time counts all of Dr.Jit's threads, so it stays h
 shared machine where wall time does not). Issue target: stratified 4096 spp within RMSE 2e-4 of ``catmull`` on the shipped
 scenes.
 
-    PYTHONPATH=. python experiments/mitsuba_convergence.py                 # generated 256x256 + configs/scenes/*.toml
-    PYTHONPATH=. python experiments/mitsuba_convergence.py a.toml --spp 64,4096 --repeats 5
+    PYTHONPATH=. python benchmarks/mitsuba_convergence.py                 # generated 256x256 + configs/scenes/*.toml
+    PYTHONPATH=. python benchmarks/mitsuba_convergence.py a.toml --spp 64,4096 --repeats 5
 """
 
 from __future__ import annotations
