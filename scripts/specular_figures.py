@@ -28,7 +28,7 @@ from scipy.special import gammaln  # noqa: E402
 
 from aaeval.imageio import linear_to_srgb8  # noqa: E402
 from aaeval.scenes import load_scene  # noqa: E402
-from aaeval.specular.groundtruth import groundtruth_phong  # noqa: E402
+from aaeval.groundtruth import groundtruth_phong  # noqa: E402
 from aaeval.specular.render import render_shaded, specular_aliasing_map  # noqa: E402
 from aaeval.specular.tables import cutoff_table, maximum  # noqa: E402
 from specular_experiment import progress_bars  # noqa: E402

@@ -131,13 +131,16 @@ def test_modern_clamp_keeps_ks_with_energy_none(cylinder, method):
     np.testing.assert_array_equal(ks_new, KS)
 
 
-def test_highlight_sits_where_the_normal_is_the_half_vector(cylinder):
+def half_vector_column() -> float:
     """Directional light: the peak column is where N = normalize(L + E), E = (0, 0, -1)."""
     light = np.array([0.5, 0.0, -1.0]) / math.hypot(0.5, 1.0)
     half = light + np.array([0.0, 0.0, -1.0])
     half /= np.linalg.norm(half)
-    expected_x = CX + RADIUS * half[0]  # the circle's normal (u, 0, -sqrt(1-u^2)) equals H at u = H_x
-    assert peak_column(cylinder) == pytest.approx(expected_x, abs=0.25)
+    return CX + RADIUS * half[0]  # the circle's normal (u, 0, -sqrt(1-u^2)) equals H at u = H_x
+
+
+def test_highlight_sits_where_the_normal_is_the_half_vector(cylinder):
+    assert peak_column(cylinder) == pytest.approx(half_vector_column(), abs=0.25)
 
 
 def test_highlight_of_a_point_light_sits_where_the_reflection_meets_the_eye():
