@@ -195,3 +195,34 @@ def test_unknown_specular_methods_and_names_registered_twice_are_refused():
         register_specular("toksvig", summary="again")
     with pytest.raises(ValueError, match="unknown specular option"):
         render_shaded(scene, specular="none", sharpness=2)
+
+
+SMALL_SHADED_TOML = """
+[image]
+width = 12
+height = 10
+
+[shaded.light]
+type = "directional"
+direction = [0.5, 0.0, -1.0]
+
+[[shaded.cylinders]]
+centre = [6.3, 5.2, 40.0]
+axis = [0.0, 1.0, 0.0]
+radius = 4.0
+length = 8.0
+segments = 24
+material = { color = [0.6, 0.3, 0.2], ka = 0.1, kd = 0.5, ks = 0.8, n = 120 }
+"""
+
+
+def test_a_registered_clamp_shows_in_aaeval_compare(toy_clamp, tmp_path, capsys):
+    from aaeval.cli import main
+
+    scene = tmp_path / "shaded.toml"
+    scene.write_text(SMALL_SHADED_TOML)
+    out = tmp_path / "compare.json"
+    code = main(["compare", str(scene), "-m", f"catmull:specular={toy_clamp}", "-m", "catmull:specular=toksvig",
+                 "-r", "catmull", "--json", str(out), "--quiet"])
+    assert code == 0, capsys.readouterr().err
+    assert toy_clamp in out.read_text()
