@@ -353,7 +353,8 @@ def _fig_plate(stem: Path, name: str, truth: np.ndarray, truth_specular: np.ndar
         ax.set_yticks([])
     axes[1, 0].set_ylabel(f"zoom rows {rows.start}-{rows.stop}, cols {cols.start}-{cols.stop}", fontsize=7)
     axes[2, 0].set_ylabel("signed error, mean of RGB\n(log beyond the truth noise)", fontsize=7)
-    fig.colorbar(im, ax=axes[2, :], shrink=0.8, fraction=0.02)
+    ticks = [-limit, -norm.linthresh, 0.0, norm.linthresh, limit]
+    fig.colorbar(im, ax=axes[2, :], shrink=0.8, fraction=0.02, ticks=ticks, format="%.0e")
     fig.suptitle(f"{name}, frame 0, against Mitsuba Phong at {spp} spp {DEFAULT_SAMPLER}, seed 0 "
                  f"(its noise: image RMSE {noise.image:.1e})", fontsize=9)
     return _save(fig, stem)
@@ -381,7 +382,8 @@ def _fig_detection(stem: Path, scene: Scene) -> Path:
 def _fig_highlight_error(stem: Path, series: _Series, colours, noise: _Noise) -> Path:
     fig, ax = plt.subplots(figsize=(7.2, 4.0))
     values = np.concatenate([v for v in series.highlight_rmse.values()] + [[noise.highlight]])
-    floor = max(float(values[values > 0].min(initial=1e-6)) / 2, 1e-9)
+    positive = values[values > 0]
+    floor = float(positive.min()) / 2 if positive.size else 1e-9
     ax.axhspan(floor, max(noise.highlight, floor), color="0.85", label="truth noise (seed 1 vs 0)")
     for label, values in series.highlight_rmse.items():
         ax.plot(series.frames, values, marker="o", ms=3, color=colours[label], label=label.replace("catmull:", ""))
