@@ -81,6 +81,9 @@ class Metric:
     fmt : str
         Python format spec for one value (``".3e"``).
     higher_is_better : bool
+    target : float or None
+        For a signed metric (a bias), the ideal value: closer to it is better, whatever the
+        sign; ``higher_is_better`` is then False and means nothing.
     needs : tuple of str
         Subset of :data:`NEEDS`; temporal metrics always need ``frames``.
     mask : str or None
@@ -98,9 +101,12 @@ class Metric:
     needs: tuple[str, ...]
     mask: str | None
     summary: str
+    target: float | None = None
 
     @property
     def direction(self) -> str:
+        if self.target is not None:
+            return f"closer to {self.target:g} is better"
         return "higher is better" if self.higher_is_better else "lower is better"
 
     def format(self, value) -> str:
@@ -119,7 +125,7 @@ _BY_KIND = {"image": IMAGE_METRICS, "temporal": TEMPORAL_METRICS}
 
 def register_metric(name: str, func: Callable[..., float], *, kind: str, title: str, fmt: str,
                     higher_is_better: bool = False, needs: tuple[str, ...] = ("reference",),
-                    mask: str | None = None, summary: str | None = None) -> Metric:
+                    mask: str | None = None, summary: str | None = None, target: float | None = None) -> Metric:
     """Register a metric; the only step needed for compare, sweeps, tables and reports to know it.
 
     Raises
@@ -151,7 +157,8 @@ def register_metric(name: str, func: Callable[..., float], *, kind: str, title: 
     except ValueError:
         raise MetricError(f"metric {name!r}: bad number format {fmt!r}") from None
     doc = (inspect.getdoc(func) or "").split("\n", 1)[0]
-    metric = Metric(name, func, kind, title, fmt, bool(higher_is_better), tuple(needs), mask, summary or doc)
+    metric = Metric(name, func, kind, title, fmt, bool(higher_is_better), tuple(needs), mask, summary or doc,
+                    None if target is None else float(target))
     METRICS[name] = metric
     _BY_KIND[kind][name] = func
     return metric
@@ -267,7 +274,7 @@ register_metric("edge_rmse", edge_rmse, kind="image", title="edge RMSE", fmt=".3
 register_metric("highlight_rmse", highlight_rmse, kind="image", title="hl RMSE", fmt=".3e", mask="highlight",
                 summary="RMSE over the highlight pixels (ground-truth specular term > 0.02)")
 register_metric("highlight_energy_bias", highlight_energy_bias, kind="image", title="hl bias", fmt="+.3f",
-                mask="highlight",
+                mask="highlight", target=0.0,
                 summary="sum(test) / sum(reference) - 1 over the highlight pixels, RGB (negative: dimmer)")
 register_metric("sum_variation", intensity_sum_variation, kind="temporal", title="sum var", fmt=".3e",
                 needs=("frames",),
