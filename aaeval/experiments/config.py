@@ -5,8 +5,9 @@ A config file looks like::
     [experiment]
     name = "edges"
     reference = "catmull"                  # method spec every cell is compared against
-    metrics = ["rmse", "psnr"]             # per-frame metrics
+    metrics = ["rmse", "psnr"]             # per-frame metrics (see `aaeval metrics`)
     temporal = ["sum_variation", "flicker"]  # metrics over the frames of an animation
+    repeats = 1                            # timed renders per cell (groups may override)
     primary = "rmse"                       # the error axis of the report's charts
 
     [[groups]]
@@ -16,6 +17,7 @@ A config file looks like::
     frames = "all"                         # or a list of frame numbers
     options = { spp = [16, 64] }           # expanded for every method that declares it
     options.supersample = { k = [2, 4] }   # for one method only
+    metrics = ["rmse", "highlight_rmse"]   # a group may override metrics, temporal, reference
     repeats = 5                            # timed renders per cell, after one untimed warm-up (default 1)
 
 A method with a ``cache`` option (Mitsuba) gets ``cache=false`` unless the spec sets it, so
@@ -112,6 +114,7 @@ class Group:
     reference: str
     metrics: tuple[str, ...]
     repeats: int = 1
+    temporal: tuple[str, ...] = ()  # temporal metrics of this group's animations
 
     def cells(self) -> list[Cell]:
         out = []
@@ -141,7 +144,8 @@ class Experiment:
 
 _EXPERIMENT_KEYS = {"name", "description", "reference", "metrics", "temporal", "primary", "noise_estimate",
                     "fail_above", "repeats"}
-_GROUP_KEYS = {"name", "scenes", "methods", "frames", "options", "reference", "metrics", "animate", "repeats"}
+_GROUP_KEYS = {"name", "scenes", "methods", "frames", "options", "reference", "metrics", "temporal", "animate",
+               "repeats"}
 
 
 def load_experiment(path: str | Path) -> Experiment:
@@ -181,7 +185,7 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
         raise ConfigError(f"{where}: needs at least one [[groups]] table")
     groups = []
     for i, raw in enumerate(raw_groups):
-        groups.append(_group(raw, f"{where}: groups[{i}]", base, reference, metrics, repeats))
+        groups.append(_group(raw, f"{where}: groups[{i}]", base, reference, metrics, repeats, temporal))
     names = [g.name for g in groups]
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:
@@ -192,7 +196,8 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
                       None if fail_above is None else float(fail_above))
 
 
-def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str, ...], repeats: int) -> Group:
+def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str, ...], repeats: int,
+           temporal: tuple[str, ...]) -> Group:
     if not isinstance(raw, Mapping):
         raise ConfigError(f"{where}: must be a table")
     _no_unknown(raw, _GROUP_KEYS, where)
@@ -201,6 +206,8 @@ def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str,
         reference = _spec(_string(raw, "reference", where), f"{where}.reference")
     if "metrics" in raw:
         metrics = _metric_list(raw["metrics"], f"{where}.metrics", temporal=False)
+    if "temporal" in raw:
+        temporal = _metric_list(raw["temporal"], f"{where}.temporal", temporal=True)
     scenes = _scenes(raw.get("scenes"), f"{where}.scenes", base)
     if "animate" in raw:
         scenes = _animate(scenes, raw["animate"], f"{where}.animate")
@@ -214,7 +221,7 @@ def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str,
     frames = _frames(raw.get("frames", "all"), f"{where}.frames", scenes)
     if "repeats" in raw:
         repeats = _repeats(raw["repeats"], f"{where}.repeats")
-    return Group(name, scenes, tuple(specs), frames, reference, metrics, repeats)
+    return Group(name, scenes, tuple(specs), frames, reference, metrics, repeats, temporal)
 
 
 def _repeats(raw: Any, where: str) -> int:

@@ -75,7 +75,8 @@ def manifest(experiment: Experiment, planned: list[PlannedCell]) -> dict:
             "schema_version": SCHEMA_VERSION, "code_version": code_version(), "primary": experiment.primary,
             "fail_above": experiment.fail_above,
             "metrics": list(dict.fromkeys(m for g in experiment.groups for m in g.metrics)),
-            "temporal": list(experiment.temporal),
+            "temporal": list(dict.fromkeys(m for g in experiment.groups for m in g.temporal)),
+            "group_temporal": {g.name: list(g.temporal) for g in experiment.groups},
             "cells": [p.manifest_row() for p in planned], "scenes": scenes}
 
 

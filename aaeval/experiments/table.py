@@ -115,8 +115,10 @@ def temporal_frame(store: SweepStore, results: pd.DataFrame) -> pd.DataFrame:
         expected.setdefault((row["group"], row["scene"], row["spec"]), set()).add(row["frame"])
     scenes = SceneCache()
     documents = manifest.get("scenes", {})
+    own = manifest.get("group_temporal", {})
     for (group, scene, spec), series in results.groupby(["group", "scene", "spec"], sort=False):
         frames = expected.get((group, scene, spec), set())
+        wanted = own.get(group, names)
         if len(frames) < 2 or set(series["frame"]) != frames:
             continue  # not an animation, or not finished
         series = series.sort_values("frame")
@@ -128,9 +130,8 @@ def temporal_frame(store: SweepStore, results: pd.DataFrame) -> pd.DataFrame:
                "failed_frames": int(series["error"].notna().sum()),
                "reference_sum_variation": reference_sum_variation(series["reference_intensity_sum"].to_numpy(float)),
                "metric_errors": None}
-        if row["failed_frames"]:
-            row.update({name: math.nan for name in names})
-        else:
+        row.update({name: math.nan for name in names})  # a metric another group asked for
+        if not row["failed_frames"]:
             digest = first["scene_digest"]
             entry = documents.get(digest)
             tests = [store.load_image(k) for k in series["key"]]
@@ -143,7 +144,7 @@ def temporal_frame(store: SweepStore, results: pd.DataFrame) -> pd.DataFrame:
                 scene = scenes.scene(digest, entry["document"], entry["source"])
                 return scenes.series_mask(digest, scene, frame_list, name)
 
-            values, errors = series_metrics(names, refs, tests, mask_of)
+            values, errors = series_metrics(wanted, refs, tests, mask_of)
             row.update(values)
             row["metric_errors"] = json.dumps(errors, sort_keys=True) if errors else None
         out.append(row)
