@@ -279,3 +279,45 @@ def test_registry_refuses_a_bad_registration():
     with pytest.raises(MetricError, match="bad number format"):
         register_metric("toy_fmt", _toy, kind="image", title="x", fmt="%d")
     assert "toy_masked" not in METRICS and "toy_fmt" not in METRICS
+
+
+# --- highlight metrics are sweep metrics ------------------------------------------------
+
+SHINY = """
+[experiment]
+name = "shiny"
+reference = "catmull:specular=crow,k=8,region=all"
+metrics = ["rmse", "highlight_rmse", "highlight_energy_bias"]
+temporal = ["highlight_flicker", "highlight_energy_flicker"]
+
+[[groups]]
+name = "shiny"
+scenes = [{generator = "shininess", difficulty = [200], size = 16, frames = 3}]
+methods = ["catmull:specular=none", "catmull:specular=amanatides"]
+"""
+
+
+def test_highlight_metrics_run_in_a_sweep_over_the_ground_truth_highlight(tmp_path):
+    from aaeval.metrics.masks import HIGHLIGHT_SPP, HIGHLIGHT_THRESHOLD
+    from aaeval.specular.groundtruth import groundtruth_phong
+
+    exp = load_experiment(write_config(tmp_path, SHINY))
+    run_sweep(exp, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache")
+    store = SweepStore(tmp_path / "out")
+    results = pd.read_parquet(tmp_path / "out" / "results.parquet")
+    temporal = pd.read_parquet(tmp_path / "out" / "temporal.parquet")
+    assert results["error"].isna().all() and len(results) == 6 and len(temporal) == 2
+    scene = exp.groups[0].scenes[0].parsed
+    masks, tests, refs = [], [], []
+    for _, cell in results[results["spec"] == "catmull"].sort_values("frame").iterrows():
+        _, specular, _ = groundtruth_phong(scene.at_frame(int(cell["frame"])), spp=HIGHLIGHT_SPP)
+        mask = specular > HIGHLIGHT_THRESHOLD
+        assert mask.any()
+        test, ref = np.load(store.image_path(cell["key"])), np.load(store.reference_path(cell["reference_key"]))
+        expected = math.sqrt(float(np.mean((test[mask] - ref[mask]) ** 2)))
+        assert cell["highlight_rmse"] == pytest.approx(expected, rel=1e-12)
+        masks.append(mask), tests.append(test), refs.append(ref)
+    still = np.any(masks, axis=0)
+    change = np.diff(np.stack(tests) - np.stack(refs), axis=0)[:, still]
+    row = temporal.set_index("spec").loc["catmull"]
+    assert row["highlight_flicker"] == pytest.approx(math.sqrt(float(np.mean(change**2))), rel=1e-12)
