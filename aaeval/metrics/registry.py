@@ -241,8 +241,7 @@ def _keyword_options(func: Callable) -> dict[str, inspect.Parameter]:
 
 
 def _dispatch(registry: Mapping[str, Callable], kind: str, name: str, true, test, context) -> float:
-    if name not in registry:
-        raise MetricError(f"unknown {kind} metric {name!r}; available: {', '.join(registry)}")
+    get_metric(name, kind)  # the one unknown-name check
     known = set().union(*(_keyword_options(f) for f in registry.values()))
     unknown = sorted(set(context) - known)
     if unknown:

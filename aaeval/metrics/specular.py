@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from aaeval.metrics.image import masked_rmse
+
 __all__ = [
     "highlight_mask",
     "highlight_rmse",
@@ -56,9 +58,7 @@ def highlight_rmse(image_true, image_test, *, mask) -> float:
         NaN when the mask is empty.
     """
     image_true, image_test, mask = _checked(image_true, image_test, mask)
-    if not mask.any():
-        return float("nan")
-    return float(np.sqrt(np.mean((image_test[mask] - image_true[mask]) ** 2)))
+    return masked_rmse(image_true, image_test, mask)
 
 
 def highlight_energy_bias(image_true, image_test, *, mask) -> float:
