@@ -155,3 +155,38 @@ def test_parse_frames():
     assert parse_frames("all", 3) == (0, 1, 2)
     assert parse_frames("2", 3) == (0, 1)
     assert parse_frames(1, 1) == (0,)
+
+
+def _strict(text):
+    def refuse(constant):
+        raise ValueError(f"not JSON: {constant}")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+LONG = ["catmull", "catmull-jagged", "mitsuba:sampler=stratified,seed=1,spp=4", "supersample:k=3"]
+
+
+def test_every_format_holds_every_metric_and_the_table_fits_100_columns(scene_file, tmp_path, capsys):
+    args = [scene_file, *(a for m in LONG for a in ("-m", m)), "-r", "catmull", "--frames", "2", "-q"]
+    assert compare(*args, "--format", "table") == 0
+    table = capsys.readouterr().out
+    assert max(len(line) for line in table.splitlines()) <= 100
+    for name in FLAT_METRICS:
+        assert METRICS[name].title in table
+    assert compare(*args, "--format", "json", "--json", tmp_path / "c.json") == 0
+    doc = _strict(capsys.readouterr().out)
+    assert doc == _strict((tmp_path / "c.json").read_text())
+    exact = next(r for r in doc["rows"] if r["method"] == "catmull")
+    assert exact["psnr"] is None  # inf is not JSON
+    assert compare(*args, "--format", "csv") == 0
+    import csv
+    import io
+
+    rows = list(csv.DictReader(io.StringIO(capsys.readouterr().out)))
+    assert len(rows) == len(doc["rows"]) == 2 * len(LONG)
+    for row, ref in zip(rows, doc["rows"]):
+        assert row["method"] == ref["method"] and float(row["rmse"]) == ref["rmse"]
+    assert compare(*args, "--format", "markdown") == 0
+    md = capsys.readouterr().out
+    assert md.count("| catmull-jagged |") == 3  # two frames and the summary
