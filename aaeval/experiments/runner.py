@@ -19,7 +19,7 @@ from aaeval.experiments.config import Cell, ConfigError, Experiment
 from aaeval.experiments.executors import make_executor
 from aaeval.experiments.measure import reference_kind
 from aaeval.experiments.provenance import write_provenance
-from aaeval.experiments.record import SCHEMA_VERSION
+from aaeval.experiments.record import SCHEMA_VERSION, json_safe
 from aaeval.experiments.store import ReferenceCache, SweepStore, cell_key, code_version, reference_key
 from aaeval.experiments.tasks import render_reference, run_cell
 
@@ -197,7 +197,7 @@ def _references(experiment, todo, store, cache, executor, progress, summary) -> 
             info = {"spec": missing[i].cell.reference, "render_s": result["render_s"],
                     "noise_rmse": result["noise_rmse"], "noise_spec": result["noise_spec"],
                     "intensity_sum": result["intensity_sum"], "host": result["host"]}
-            cache.put(key, result["image"], info)
+            cache.put(key, result["image"], json_safe(info))  # strict JSON: an unmeasured noise is null
             store.write_reference(key, result["image"])
             meta[key] = info
             summary.references_rendered += 1
