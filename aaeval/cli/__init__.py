@@ -13,6 +13,7 @@ COMMANDS = [
     "aaeval.cli.render",
     "aaeval.cli.invariance",
     "aaeval.cli.methods",
+    "aaeval.cli.metrics",
     "aaeval.cli.compare",
     "aaeval.cli.sweep",
     "aaeval.cli.report",
