@@ -35,7 +35,7 @@ from aaeval.metrics.masks import HIGHLIGHT_THRESHOLD
 from aaeval.metrics.specular import detection_precision_recall, highlight_mask, highlight_profile_flicker
 from aaeval.renderers import resolve
 from aaeval.scenes import load_scene
-from aaeval.specular.groundtruth import groundtruth_phong
+from aaeval.groundtruth import groundtruth_phong
 from aaeval.specular.render import render_shaded, specular_aliasing_map
 
 SCENE = "configs/scenes/shaded/cylinders.toml"
