@@ -134,13 +134,25 @@ def _identity(p: PlannedCell, ref_meta: dict) -> dict:
 
 def run_sweep(experiment: Experiment, out: str | Path, *, workers: int | None = None, scheduler: Any = None,
               quiet: bool = False, retry_failed: bool = False, cache_dir: str | Path | None = None,
-              log=print) -> SweepSummary:
-    """Run every unfinished cell of ``experiment`` into the folder ``out``."""
-    from aaeval.experiments.table import write_results
+              force: bool = False, log=print) -> SweepSummary:
+    """Run every unfinished cell of ``experiment`` into the folder ``out``.
 
+    The folder is locked for the run (a second sweep into it is refused), and a folder of
+    another experiment is refused unless ``force``: nothing in it is replaced before then.
+    """
     store = SweepStore(out)
     planned = plan(experiment)
-    store.write_manifest(experiment.text, manifest(experiment, planned))
+    with store.lock():
+        store.check_experiment(experiment.name, {p.key for p in planned}, force=force)
+        return _run_locked(experiment, store, planned, workers=workers, scheduler=scheduler, quiet=quiet,
+                           retry_failed=retry_failed, cache_dir=cache_dir)
+
+
+def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_failed, cache_dir) -> SweepSummary:
+    from aaeval.experiments.table import write_results
+
+    def write_manifest():  # only once the run can start: a failed start leaves the folder as it was
+        store.write_manifest(experiment.text, manifest(experiment, planned))
 
     unique: dict[str, PlannedCell] = {}
     for p in planned:
@@ -151,10 +163,12 @@ def run_sweep(experiment: Experiment, out: str | Path, *, workers: int | None = 
     todo = [p for k, p in unique.items() if k not in finished]
     summary = SweepSummary(total=len(unique), skipped=len(unique) - len(todo))
     if not todo:
+        write_manifest()
         write_results(store)
         return summary
 
     executor = make_executor(workers, scheduler)
+    write_manifest()
     summary.executor = executor.description
     write_provenance(store.root, executor.description, executor.workers)
     try:

@@ -11,7 +11,10 @@ from pathlib import Path
 
 import matplotlib
 
+from aaeval.report.names import MATHTEXT_OFF
+
 matplotlib.use("Agg")
+matplotlib.rcParams.update(MATHTEXT_OFF)  # group names and labels are text: "$5" is no mathtext
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402

@@ -18,6 +18,7 @@ import pandas as pd
 
 from aaeval.experiments.store import SweepStore
 from aaeval.experiments.table import load_results, short_label, varying_options
+from aaeval.report.names import figure_stem
 from aaeval.imageio import atomic_write
 from aaeval.report import figures
 
@@ -129,7 +130,7 @@ def _group_section(group: str, rows: pd.DataFrame, temporal: pd.DataFrame, store
     out = [f"<h2 id='{html.escape(group)}'>{html.escape(group)}</h2>"]
     ref = reference_statement(rows)
     out.append(f"<p class='ref'>{ref} Methods' spp and seed are in their specs and in the table.</p>")
-    slug = "".join(ch if ch.isalnum() else "_" for ch in group)
+    slug = figure_stem(group)  # unique per name: "fence a" and "fence-a" must not share files
     ok = rows[rows["error"].isna()]
     summary = spec_summary(rows, metrics, primary)
 
