@@ -17,6 +17,7 @@ COMMANDS = [
     "aaeval.cli.sweep",
     "aaeval.cli.report",
     "aaeval.cli.hidden_lines",
+    "aaeval.cli.import_content",
 ]
 
 

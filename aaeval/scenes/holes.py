@@ -30,7 +30,7 @@ from aaeval.scenes.format import (
     _vector,
 )
 
-__all__ = ["HoledPolygon", "polygons_with_holes", "ring_area"]
+__all__ = ["HoledPolygon", "polygons_with_holes", "ring_area", "points_inside"]
 
 # Triangles smaller than this (relative to the polygon's size squared) are rounding
 # leftovers of collinear vertices: they cover nothing and only burden the clippers.
@@ -184,12 +184,18 @@ def _rings_meet(p: np.ndarray, q: np.ndarray) -> tuple[int, int] | None:
 
 def _inside(point: np.ndarray, ring: np.ndarray) -> bool:
     """Even-odd test of a point not on the ring's boundary."""
-    x, y = point
-    a, b = ring, np.roll(ring, -1, axis=0)
-    straddle = (a[:, 1] > y) != (b[:, 1] > y)
+    return bool(points_inside(np.asarray(point)[None, :2], ring)[0])
+
+
+def points_inside(points: np.ndarray, ring: np.ndarray) -> np.ndarray:
+    """Even-odd test of many points (m, 2) against a ring (n, 2); a point on the
+    boundary may come out either way."""
+    x, y = points[:, 0, None], points[:, 1, None]
+    a, b = ring[None, :, :2], np.roll(ring, -1, axis=0)[None, :, :2]
+    straddle = (a[..., 1] > y) != (b[..., 1] > y)
     with np.errstate(divide="ignore", invalid="ignore"):
-        cross_x = a[:, 0] + (y - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
-    return bool(np.count_nonzero(straddle & (cross_x > x)) % 2)
+        cross_x = a[..., 0] + (y - a[..., 1]) * (b[..., 0] - a[..., 0]) / (b[..., 1] - a[..., 1])
+    return (np.count_nonzero(straddle & (cross_x > x), axis=1) % 2).astype(bool)
 
 
 # --- pieces -------------------------------------------------------------------------
