@@ -202,3 +202,29 @@ def test_cli_writes_a_scene_every_method_reads(tmp_path):
     np.testing.assert_allclose(render(scene.at_frame(1), "weiler-atherton"), exact, atol=1e-9)
     strict = _cli("import", "svg", str(DATA / "shapes.svg"), "-o", "t.toml", "--strict", cwd=tmp_path)
     assert strict.returncode == 0, strict.stderr
+
+
+def test_resvg_draws_the_source_in_place_at_every_frame(tmp_path):
+    """resvg blends in sRGB: its sRGB-encoded darkness is the coverage of black on white,
+    which the exact image gives in linear light; so compare coverage, frame by frame."""
+    from aaeval.imageio import linear_to_srgb8
+
+    svg = tmp_path / "r.svg"
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="12" height="9">'
+                   '<rect x="2.25" y="1.5" width="4.5" height="3.75"/>'
+                   '<circle cx="8.3" cy="5.1" r="2.6"/></svg>')
+    result = import_svg(svg, frames=3, translate=(0.375, 0.25), file_ref="r.svg")
+    scene = parse_scene(result.document, source=str(tmp_path / "r.toml"))
+    for k in range(3):
+        coverage_resvg = 1 - linear_to_srgb8(render(scene, "resvg", frame=k))[..., 0] / 255.0
+        coverage_exact = 1 - render(scene, "catmull", frame=k)[..., 0]
+        # 8-bit output; resvg's own curve flattening and AA on the circle
+        assert np.abs(coverage_resvg - coverage_exact).max() < 0.03
+
+
+def test_resvg_refuses_scenes_that_ignored_something(tmp_path):
+    svg = tmp_path / "o.svg"
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="4" height="4"><rect id="half" width="2" height="2" opacity="0.5"/></svg>')
+    scene = parse_scene(import_svg(svg, file_ref="o.svg").document, source=str(tmp_path / "o.toml"))
+    with pytest.raises(ValueError, match="#half: opacity"):
+        render(scene, "resvg")

@@ -98,7 +98,7 @@ def run_text(args) -> int:
 
     _check_common(args)
     output = Path(args.output)
-    font_ref = None if args.font is None else _relative(Path(args.font), output)
+    font_ref = None if args.font is None or args.font.startswith("matplotlib:") else _relative(Path(args.font), output)
     result = import_text(args.string, font=args.font, sizes=args.size, color=args.color,
                          background=args.background, origin=args.origin, margin=args.margin,
                          tolerance=args.tolerance, frames=args.frames, translate=args.translate,
