@@ -212,14 +212,20 @@ def test_resvg_draws_the_source_in_place_at_every_frame(tmp_path):
     svg = tmp_path / "r.svg"
     svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="12" height="9">'
                    '<rect x="2.25" y="1.5" width="4.5" height="3.75"/>'
-                   '<circle cx="8.3" cy="5.1" r="2.6"/></svg>')
+                   '<circle cx="9.2" cy="5.1" r="2.0"/></svg>')
     result = import_svg(svg, frames=3, translate=(0.375, 0.25), file_ref="r.svg")
     scene = parse_scene(result.document, source=str(tmp_path / "r.toml"))
     for k in range(3):
         coverage_resvg = 1 - linear_to_srgb8(render(scene, "resvg", frame=k))[..., 0] / 255.0
         coverage_exact = 1 - render(scene, "catmull", frame=k)[..., 0]
-        # 8-bit output; resvg's own curve flattening and AA on the circle
-        assert np.abs(coverage_resvg - coverage_exact).max() < 0.03
+        # resvg (tiny-skia) supersamples 4x per axis: an edge snaps by up to 1/8 px, so a
+        # pixel on it is off by up to 1/8; 8-bit output; its own flattening of the circle
+        assert np.abs(coverage_resvg - coverage_exact).max() < 0.14
+        # in place: the ink's centre is where the exact one is, up to the snapping
+        rows, cols = np.mgrid[: scene.height, : scene.width]
+        for grid in (rows, cols):
+            centre = [(c * grid).sum() / c.sum() for c in (coverage_resvg, coverage_exact)]
+            assert abs(centre[0] - centre[1]) <= 0.13  # 1/8 px snapping at most
 
 
 def test_resvg_refuses_scenes_that_ignored_something(tmp_path):

@@ -5,9 +5,10 @@ anti-aliasing and blends shape by shape, in sRGB-encoded 8-bit values, as browse
 The method renders the scene's source file (``[svg].file``, :mod:`aaeval.scenes.sources`)
 on the scene's background, at the import's scale and the frame's translation (the SVG is
 nested in an outer one that places it), and decodes the 8-bit sRGB result to linear RGB.
-So its differences from the exact image are resvg's own: coverage per shape, conflation
-where shapes abut, blending in sRGB rather than linear light, 8-bit output, and its own
-curve flattening. Scenes without an ``[svg]`` table, or whose import ignored something
+So its differences from the exact image are resvg's own: coverage per shape from 4 x 4
+supersampled scanlines (tiny-skia, after Skia's SkScan_AntiPath: edges snap to 1/4 px),
+conflation where shapes abut, blending in sRGB rather than linear light, 8-bit output,
+and its own curve flattening. Scenes without an ``[svg]`` table, or whose import ignored something
 (resvg would draw it), are refused.
 """
 
