@@ -26,6 +26,7 @@ COMMANDS = [
     "aaeval.cli.sweep",
     "aaeval.cli.report",
     "aaeval.cli.hidden_lines",
+    "aaeval.cli.import_content",
 ]
 
 

@@ -136,8 +136,12 @@ def coplanar_ranks(scene: Scene, *, rtol: float = 1e-11) -> np.ndarray:
         return ranks
     xy = arrays.vertices[:, :2]
     lo, hi = np.minimum.reduceat(xy, arrays.start), np.maximum.reduceat(xy, arrays.start)
+    group = np.arange(len(depth))
+    for h in scene.holed:  # a polygon with holes ranks as one: its pieces share plane, box, rank
+        group[h.pieces] = h.first
+        lo[h.pieces], hi[h.pieces] = lo[h.pieces].min(axis=0), hi[h.pieces].max(axis=0)
     for j in range(1, len(depth)):
-        below = np.all(np.abs(depth[:j] - depth[j]) <= eps, axis=1)
+        below = np.all(np.abs(depth[:j] - depth[j]) <= eps, axis=1) & (group[:j] != group[j])
         below &= np.all((lo[:j] <= hi[j]) & (hi[:j] >= lo[j]), axis=1)
         if below.any():
             ranks[j] = 1 + ranks[:j][below].max()
