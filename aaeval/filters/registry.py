@@ -151,6 +151,7 @@ def _pieces_from_abs(inner: Polynomial, outer: Polynomial | None, radius: int) -
 
     ``inner`` holds on ``|t| < 1``, ``outer`` on ``1 <= |t| < 2`` (radius 2 only).
     """
+    degree = max(inner.degree(), outer.degree() if outer is not None else 0)
     rows = []
     for p in range(-radius, radius):
         centre = p + 0.5
@@ -158,7 +159,7 @@ def _pieces_from_abs(inner: Polynomial, outer: Polynomial | None, radius: int) -
         lo = p if p >= 0 else -p - 1  # |t| runs over [lo, lo + 1] on this piece
         poly = inner if lo == 0 else outer
         local = poly(Polynomial([sign * centre, sign]))  # |t| = sign * (s + centre)
-        coef = np.zeros(4)
+        coef = np.zeros(degree + 1)
         coef[: len(local.coef)] = local.coef
         rows.append(coef)
     return np.array(rows)
