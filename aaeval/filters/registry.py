@@ -88,22 +88,11 @@ class PixelFilter:
         return alpha, math.exp(alpha * self.radius * self.radius)
 
     def profile(self, t) -> np.ndarray:
-        """The 1D profile ``k(t)`` (vectorised)."""
+        """The 1D profile ``k(t)`` (vectorised; :func:`aaeval.filters.evaluate.profile_at`)."""
+        from aaeval.filters.evaluate import profile_args, profile_array
+
         t = np.asarray(t, dtype=np.float64)
-        if self.kind == KIND_BOX:
-            return np.where(np.abs(t) <= 0.5, 1.0, 0.0)
-        if self.kind == KIND_GAUSSIAN:
-            alpha, bias = self.gaussian_alpha_bias
-            return np.where(np.abs(t) < self.radius, np.maximum(0.0, np.exp(alpha * t * t) - bias), 0.0)
-        r = self.knot_radius
-        p = np.floor(t).astype(np.int64)
-        inside = (p >= -r) & (p < r)
-        coeffs = self.pieces[np.clip(p + r, 0, 2 * r - 1)]
-        s = t - (p + 0.5)
-        value = np.zeros_like(t)
-        for a in range(coeffs.shape[-1] - 1, -1, -1):  # Horner
-            value = value * s + coeffs[..., a]
-        return np.where(inside, value, 0.0)
+        return profile_array(*profile_args(self), np.ascontiguousarray(t.ravel())).reshape(t.shape)
 
     def integral(self, a, b) -> np.ndarray:
         """``∫_a^b k(t) dt`` exactly (vectorised over ``a``, ``b``)."""

@@ -235,14 +235,16 @@ def orthographic_sensor(
     sampler: str = DEFAULT_SAMPLER,
     spp: int = DEFAULT_SPP,
     rows: tuple[int, int] | None = None,
+    rfilter: dict | None = None,
 ) -> dict:
     """The ``load_dict`` dictionary of a camera showing pixel (col i, row j) as world [i, i+1] x [j, j+1].
 
     Orthographic, looking along +z from depth 0 with y down (``up = -y``); Mitsuba's
     orthographic camera spans 2 world units across the film's width and keeps the pixel
     aspect, so x and y are both scaled by ``width / 2`` (also when width != height).
-    Box pixel filter, float32 RGB ``hdrfilm``. ``rows = (r0, r1)`` renders only rows
-    r0..r1-1 (a crop of the same film).
+    Box pixel filter unless ``rfilter`` (an ``rfilter`` dictionary, see
+    :data:`aaeval.filters.FILTERS`) says otherwise; float32 RGB ``hdrfilm``.
+    ``rows = (r0, r1)`` renders only rows r0..r1-1 (a crop of the same film).
     """
     import mitsuba as mi
 
@@ -254,7 +256,7 @@ def orthographic_sensor(
         "type": "hdrfilm",
         "width": width,
         "height": height,
-        "rfilter": {"type": "box"},
+        "rfilter": dict(rfilter or {"type": "box"}),
         "pixel_format": "rgb",
         "component_format": "float32",
     }
@@ -278,6 +280,7 @@ def mitsuba_scene_dict(
     integrator: dict | None = None,
     mesh=None,
     rows: tuple[int, int] | None = None,
+    rfilter: dict | None = None,
 ) -> dict:
     """The whole scene as a ``mi.load_dict`` dictionary (variant must be set).
 
@@ -287,7 +290,7 @@ def mitsuba_scene_dict(
     return {
         "type": "scene",
         "integrator": integrator or {"type": "aov", "aovs": "albedo:albedo"},
-        "sensor": orthographic_sensor(scene.width, scene.height, sampler=sampler, spp=spp, rows=rows),
+        "sensor": orthographic_sensor(scene.width, scene.height, sampler=sampler, spp=spp, rows=rows, rfilter=rfilter),
         "polygons": scene_mesh(scene) if mesh is None else mesh,
     }
 
@@ -313,13 +316,17 @@ def render_mitsuba(
     sampler: str = DEFAULT_SAMPLER,
     seed: int = 0,
     variant: str = "auto",
+    rfilter: dict | None = None,
 ) -> np.ndarray:
     """Render ``scene`` with Mitsuba: (H, W, 3) float64 linear RGB, row 0 at the top.
 
     Each pixel is the mean of ``spp`` samples of the flat colour visible at a point of
     the pixel square (box filter), so the image converges to the exact area average that
-    ``catmull`` computes. Core polygon scenes only: a scene with extension tables raises
-    ``ValueError``, since this renderer would silently ignore them.
+    ``catmull`` computes. With ``rfilter`` (a wider filter) the film weights each sample
+    by the filter of every pixel it reaches and divides by the weight collected, and the
+    image is rendered in one pass (row bands would cut the filter at their edges).
+    Core polygon scenes only: a scene with extension tables raises ``ValueError``, since
+    this renderer would silently ignore them.
     """
     if scene.extensions:
         raise ValueError(
@@ -331,9 +338,10 @@ def render_mitsuba(
     mi = import_mitsuba(variant)
     mesh = scene_mesh(scene)
     image = np.empty(scene.shape, dtype=np.float64)
-    for band, (r0, r1) in enumerate(row_bands(scene.width, scene.height, spp)):
+    bands = row_bands(scene.width, scene.height, spp) if rfilter is None else [(0, scene.height)]
+    for band, (r0, r1) in enumerate(bands):
         rows = None if (r0, r1) == (0, scene.height) else (r0, r1)
-        loaded = mi.load_dict(mitsuba_scene_dict(scene, spp=spp, sampler=sampler, mesh=mesh, rows=rows))
+        loaded = mi.load_dict(mitsuba_scene_dict(scene, spp=spp, sampler=sampler, mesh=mesh, rows=rows, rfilter=rfilter))
         out = np.array(mi.render(loaded, spp=spp, seed=band_seed(seed, band)), dtype=np.float64)
         image[r0:r1] = out[..., :3]
     return image

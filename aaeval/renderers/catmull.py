@@ -145,11 +145,16 @@ FILTER_OPTION = {
     "filter": Option(
         str,
         DEFAULT_FILTER,
-        "pixel filter, integrated exactly over the visible pieces (aaeval.filters; "
-        "Mitsuba's definitions and film normalisation): " + ", ".join(FILTERS),
+        "pixel filter, as Mitsuba 3 defines it and normalises its film (aaeval.filters): "
+        + ", ".join(FILTERS),
         choices=tuple(FILTERS),
     ),
 }
+
+# methods whose coverage is per pixel by construction (masks, analytic coverage) accept
+# only the box, and say so when asked for another
+BOX_ONLY = {"filter": Option(str, DEFAULT_FILTER, "pixel filter: box only (coverage is computed per pixel)",
+                             choices=(DEFAULT_FILTER,))}
 
 
 @register_method(
