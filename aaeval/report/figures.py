@@ -2,7 +2,7 @@
 
 Every figure is written three times beside each other: PNG (for the page), SVG and PDF
 (for a paper). Every method is drawn in the style :mod:`aaeval.report.style` gives it, and
-every artist of a method carries ``gid="method=NAME"`` (kept in the SVG) so that tests can
+every artist of a spec carries ``gid="method=NAME;options=JSON"`` (kept in the SVG) so that tests can
 check that a method looks the same in every figure.
 
 Errors are drawn on log axes without an invented floor: the ground truth's measured noise
@@ -86,30 +86,48 @@ def _noise_band(ax, noise, *, axis: str = "y", label: str = "ground-truth noise 
 
 
 def _log_limits(values, noise=()) -> tuple[float, float, bool]:
-    """Log-axis limits from the data (no floor) and whether an "exact" strip is needed."""
+    """Log-axis limits from the data (no floor; at least two decades) and whether an
+    "exact" strip is needed."""
     v = np.asarray(list(values), dtype=float)
     n = np.asarray(list(noise), dtype=float)
     pos = np.concatenate([v[np.isfinite(v) & (v >= EXACT_BELOW)], n[np.isfinite(n) & (n > 0)]])
     exact = bool(np.any(np.isfinite(v) & (v < EXACT_BELOW)))
     if pos.size == 0:
         return 1e-3, 1.0, exact
-    lo, hi = float(pos.min()) / 2.5, float(pos.max()) * 2.5
-    return (lo / 4 if exact else lo), hi, exact
+    lo, hi = float(pos.min()) / 2.0, float(pos.max()) * 2.0
+    lo = min(lo, hi / 100.0)
+    if exact:  # room under the data for the strip: a tenth of the axis
+        lo = lo / (hi / lo) ** (1 / 9)
+    return lo, hi, exact
 
 
-def _exact_strip(ax, lo: float, orientation: str = "y") -> float:
-    """Mark the bottom of a log axis as the "exact" strip; returns where exact points go."""
-    top = lo * 3.0
-    at = lo * math.sqrt(3.0)
+def _exact_strip(ax, lo: float, hi: float, orientation: str = "y") -> float:
+    """Mark the bottom tenth of a log axis as the "exact" strip; returns where exact points go."""
+    top = lo * (hi / lo) ** 0.1
+    at = math.sqrt(lo * top)
     if orientation == "y":
         ax.axhspan(lo, top, color="#cfe3f3", lw=0, zorder=0)
         ax.text(0.995, at, f"exact (error < {EXACT_BELOW:g})", transform=ax.get_yaxis_transform(), ha="right",
                 va="center", fontsize=7, color="#23527c")
     else:
         ax.axvspan(lo, top, color="#cfe3f3", lw=0, zorder=0)
-        ax.text(at, 0.995, f"exact (< {EXACT_BELOW:g})", transform=ax.get_xaxis_transform(), ha="center",
-                va="top", rotation=90, fontsize=7, color="#23527c")
+        ax.text(at, 1.0, "exact", transform=ax.get_xaxis_transform(), ha="center", va="bottom", fontsize=7,
+                color="#23527c")
     return at
+
+
+def _log_ticks(axis) -> None:
+    """Label only the decades (minor labels collide on short log axes)."""
+    from matplotlib.ticker import LogLocator, NullFormatter
+
+    axis.set_major_locator(LogLocator(base=10))
+    axis.set_minor_formatter(NullFormatter())
+
+
+def _frame_ticks(ax) -> None:
+    from matplotlib.ticker import MaxNLocator
+
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))
 
 
 def _on_axis(values, at: float) -> np.ndarray:
@@ -138,7 +156,7 @@ def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str
     """
     fig, ax = plt.subplots(figsize=(8.0, 4.8))
     lo, hi, exact = _log_limits(summary[metric], noise)
-    at = _exact_strip(ax, lo) if exact else None
+    at = _exact_strip(ax, lo, hi) if exact else None
     _noise_band(ax, noise)
     for method, rows in summary.groupby("method", sort=False):
         rows = rows.sort_values("ms_per_mpix")
@@ -165,6 +183,7 @@ def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_ylim(lo, hi)
+    _log_ticks(ax.yaxis)
     ax.set_xlabel("render time per megapixel (ms; median of the repeats, bar: fastest to slowest)")
     ax.set_ylabel(f"{metric} against the ground truth (mean over cells)")
     ax.set_title(title)
@@ -182,26 +201,25 @@ def accuracy_dots(summary: pd.DataFrame, path: Path, *, metric: str, title: str,
     lo, hi, exact = _log_limits(pd.concat([summary[metric], summary[f"{metric}_min"],
                                            summary[f"{metric}_max"]]), noise)
     if exact:
-        at = _exact_strip(ax, lo, "x")
+        at = _exact_strip(ax, lo, hi, "x")
     _noise_band(ax, noise, axis="x")
     for i, (label, r) in enumerate(specs):
         st = _spec_style(r, styles)
         vals = [r[c].iloc[0] for c in (metric, f"{metric}_min", f"{metric}_max")]
         if exact:
             vals = list(_on_axis(vals, at))
-        ax.plot([vals[1], vals[2]], [i, i], color=st.colour, lw=1.2, gid=f"method={st.method}")
+        ax.plot([vals[1], vals[2]], [i, i], color=st.colour, lw=1.2, gid=st.gid)
         ax.plot([vals[0]], [i], **st.point())
     ax.set_yticks(range(len(specs)), [label for label, _ in specs], fontsize=7.5)
     ax.invert_yaxis()
     ax.set_xscale("log")
     ax.set_xlim(lo, hi)
+    _log_ticks(ax.xaxis)
     ax.set_xlabel(f"{metric} against the ground truth (dot: mean over cells; bar: best to worst cell)")
     ax.set_title(title)
     ax.grid(True, axis="x", which="major", alpha=0.3)
-    if noise is not None and len(noise):
-        ax.legend(*[[h for h, lab in zip(*ax.get_legend_handles_labels()) if "noise" in lab],
-                    [lab for lab in ax.get_legend_handles_labels()[1] if "noise" in lab]],
-                  loc="lower right", fontsize=7)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(loc="lower right", fontsize=7)
     return _save(fig, path)
 
 
@@ -220,7 +238,7 @@ def error_per_frame(results: pd.DataFrame, path: Path, *, metric: str, title: st
         rows = results[results["scene"] == scene]
         ref = rows.drop_duplicates("frame").sort_values("frame")
         lo, hi, exact = _log_limits(rows[metric], ref["reference_noise_rmse"])
-        at = _exact_strip(ax, lo) if exact else None
+        at = _exact_strip(ax, lo, hi) if exact else None
         if ref["reference_noise_rmse"].fillna(0).gt(0).any():
             ax.plot(ref["frame"], ref["reference_noise_rmse"], label="ground-truth noise", **ground_truth_style())
         for label, series in _sorted_specs(rows, styles):
@@ -229,6 +247,8 @@ def error_per_frame(results: pd.DataFrame, path: Path, *, metric: str, title: st
             ax.plot(series["frame"], y, label=label, **_spec_style(series, styles).line())
         ax.set_yscale("log")
         ax.set_ylim(lo, hi)
+        _log_ticks(ax.yaxis)
+        _frame_ticks(ax)
         ax.set_title(scene)
         ax.set_xlabel("frame")
         ax.set_ylabel(metric)
@@ -254,6 +274,7 @@ def intensity_sums(results: pd.DataFrame, path: Path, *, title: str, styles: Sty
             ax.plot(series["frame"], series["intensity_sum"] / series["reference_intensity_sum"], label=label,
                     **_spec_style(series, styles).line())
         ax.axhline(1.0, color="0.3", lw=0.6)
+        _frame_ticks(ax)
         ax.set_title(scene)
         ax.set_xlabel("frame")
         ax.set_ylabel("intensity sum / ground truth's")
@@ -275,7 +296,7 @@ def flicker_bars(temporal: pd.DataFrame, path: Path, *, title: str, styles: Styl
     for i, r in enumerate(rows):
         st = styles.spec(r.method, r.options)
         ax.barh(i, r.flicker, color=st.colour, edgecolor="black", lw=0.5,
-                hatch=None if st.fillstyle == "full" else "///", gid=f"method={st.method}")
+                hatch=None if st.fillstyle == "full" else "///", gid=st.gid)
     noise = agg["noise"].dropna()
     if len(noise) and noise.max() > 0:
         ax.axvline(float(noise.mean()), color="0.35", ls="--", lw=1,
@@ -318,7 +339,7 @@ def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: 
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
     label = results["difficulty_label"].dropna().iloc[0] if results["difficulty_label"].notna().any() else "difficulty"
     lo, hi, exact = _log_limits(results[metric], results["reference_noise_rmse"])
-    at = _exact_strip(ax, lo) if exact else None
+    at = _exact_strip(ax, lo, hi) if exact else None
     noise = results.drop_duplicates(["scene", "frame"]).groupby("difficulty")["reference_noise_rmse"].mean()
     if noise.fillna(0).gt(0).any():
         ax.plot(noise.index, noise.to_numpy(float), label="ground-truth noise", **ground_truth_style())
@@ -332,6 +353,7 @@ def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: 
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_ylim(lo, hi)
+    _log_ticks(ax.yaxis)
     ax.set_xlabel(label)
     ax.set_ylabel(f"{metric} (mean over cells)")
     ax.grid(True, alpha=0.3)

@@ -236,7 +236,8 @@ def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp
                                page.figdir / f"{slug}_space_time", row=row, title=f"{group}: {scene}")
         out.append(_figure(p, page.root, f"Space-time slices of {html.escape(scene)}: row {row} (the row that "
                    "changes most) of every frame stacked downwards, per method. Crawling edges show as "
-                   "staircases, flicker as horizontal streaks; the viewer below shows any row (space-time box)."))
+                   "staircases, flicker as horizontal streaks; the viewer below shows any row (its space-time "
+                   f"checkbox). The first panel is the ground truth. {ref}"))
     return out
 
 

@@ -74,6 +74,7 @@ def ground_truth_style() -> dict:
 @dataclass(frozen=True)
 class SpecStyle:
     method: str
+    options: str  # canonical JSON of the options: with the method, names the spec
     colour: tuple
     marker: str
     fillstyle: str
@@ -84,7 +85,12 @@ class SpecStyle:
         """Keywords for ``ax.plot`` (line and markers), tagged with the method for checks."""
         return {"color": self.colour, "marker": self.marker, "fillstyle": self.fillstyle, "ms": self.size,
                 "mec": _edge(self.colour), "mew": 0.6, "ls": (0, self.dashes) if self.dashes else "-",
-                "lw": 1.2, "gid": f"method={self.method}"}
+                "lw": 1.2, "gid": self.gid}
+
+    @property
+    def gid(self) -> str:
+        """Tag of this spec's artists (kept in SVG ids): ``method=NAME;options=JSON``."""
+        return f"method={self.method};options={self.options}"
 
     def point(self) -> dict:
         """Keywords for a marker-only ``ax.plot``."""
@@ -102,7 +108,7 @@ def _edge(colour) -> str:
 def _shade(colour: str, t: float) -> tuple:
     """``colour`` lightened (t = 0) or darkened (t = 1) without changing its hue."""
     h, l, s = colorsys.rgb_to_hls(*to_rgb(colour))
-    lo, hi = min(l, 0.25), max(l, 0.78)
+    lo, hi = min(l, 0.25), min(0.68, max(l, 0.6))
     light = hi + (lo - hi) * t
     return colorsys.hls_to_rgb(h, light, s)
 
@@ -148,7 +154,7 @@ class Styles:
         ladder = any(_numeric(opts.get(k)) for k in self._varying.get(method, []))
         colour = _shade(base.colour, t) if ladder else to_rgb(base.colour)
         size = 5.0 + 4.0 * t if ladder else 7.0
-        return SpecStyle(method, colour, base.marker, fill, size, base.dashes)
+        return SpecStyle(method, json.dumps(opts, sort_keys=True), colour, base.marker, fill, size, base.dashes)
 
     def order(self, method: str, options) -> tuple:
         """Sort key of legends: method (table order), then option values (numbers by value)."""

@@ -96,6 +96,7 @@
     }
 
     build() {
+      this.root.textContent = "";
       const r = this.root, bar = el("div", { class: "aav-bar" }, r);
       const sel = el("select", { "aria-label": "scene", class: "aav-scene" }, bar);
       this.payload.scenes.forEach((s, i) => el("option", { value: i, text: s.name }, sel));
@@ -157,6 +158,7 @@
       for (const idx of list) {
         const box = el("div", { class: "aav-panel" }, this.stage);
         const cap = el("div", { class: "aav-cap" }, box);
+        cap.style.width = side + "px";
         const c = el("canvas", { width: side, height: side }, box);
         const info = el("div", { class: "aav-info" }, box);
         c.dataset.panel = idx;
