@@ -46,7 +46,7 @@ td,th{border:1px solid #ccc;padding:2px 6px} th{background:#f0f0f0} td.num{text-
 .ref{background:#fff8e0;border-left:4px solid #d9a400;padding:.4em .8em;font-size:13px}
 .warn{background:#fdecea;border-left:4px solid #b00;padding:.4em .8em;font-size:13px}
 figure{margin:1em 0} figcaption{font-size:12px;color:#444;max-width:1000px} img{max-width:100%}
-.bad{color:#b00} .dl{font-size:11px;color:#555;margin-top:0} dl.prov{font-size:12px} dl.prov dt{font-weight:bold}
+.bad{color:#b00} .dl{font-size:11px;color:#555;margin-top:0} dl.prov{font-size:12px} dl.prov dt{font-weight:bold;float:left;clear:left;width:14em} dl.prov dd{margin-left:15em}
 """ + VIEWER_CSS
 
 
@@ -446,13 +446,18 @@ def _grid(page: _Page, ok: pd.DataFrame, slug: str, group: str, ref: str) -> str
                    f"per row; red: too bright, blue: too dark). {ref}")
 
 
-def _provenance(manifest: dict, results: pd.DataFrame) -> str:
-    """Machine, threads and library versions of the run, as the sweep recorded them."""
-    found = {k: manifest[k] for k in ("provenance", "environment", "machine") if k in manifest}
-    if not found:
+def _provenance(root: Path, results: pd.DataFrame) -> str:
+    """Machine, cores, threads and library versions of the run (``DIR/provenance.json``,
+    written once per sweep run; older folders lack it)."""
+    path = root / "provenance.json"
+    try:
+        found = json.loads(path.read_text()) if path.is_file() else None
+    except (OSError, ValueError):
+        found = None
+    if not isinstance(found, dict):
         hosts = ", ".join(sorted(map(str, results["host"].dropna().unique()))) if "host" in results else ""
         return (f"<p class='note'>Machine: {html.escape(hosts or 'unknown')}. This sweep folder records no "
-                "threads or library versions (it predates provenance records).</p>")
+                "cores, threads or library versions (no provenance.json: it predates them).</p>")
     items = []
 
     def walk(prefix, value):
@@ -462,9 +467,9 @@ def _provenance(manifest: dict, results: pd.DataFrame) -> str:
         else:
             items.append(f"<dt>{html.escape(prefix)}</dt><dd>{html.escape(str(value))}</dd>")
 
-    for value in found.values():
-        walk("", value)
-    return "<h3>Where this ran</h3><dl class='prov'>" + "".join(items) + "</dl>"
+    walk("", found)
+    return ("<h3>Where this ran (<a href='provenance.json'>provenance.json</a>)</h3><dl class='prov'>"
+            + "".join(items) + "</dl>")
 
 
 def _metric_columns(results: pd.DataFrame, manifest: dict) -> list[str]:
@@ -500,7 +505,7 @@ def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
              f"{len(distinct) - done} pending). Code version {html.escape(manifest.get('code_version', '?'))}. "
              f"Generated {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. "
              + (_timing_note(results) if not results.empty else "") + "</p>",
-             _provenance(manifest, results),
+             _provenance(store.root, results),
              "<p>Data: <a href='results.parquet'>results.parquet</a> (one row per cell), "
              "<a href='temporal.parquet'>temporal.parquet</a> (one row per animation), "
              "<a href='experiment.toml'>experiment.toml</a> (the config as run), "
