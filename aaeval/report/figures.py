@@ -90,7 +90,7 @@ def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("render time per frame (s, median)")
-    ax.set_ylabel(f"{metric} (mean over cells, floor {ERROR_FLOOR:g})")
+    ax.set_ylabel(f"{_metric_title(metric)} (mean over cells, floor {ERROR_FLOOR:g})")
     ax.set_title(title, fontsize=10)
     ax.grid(True, which="both", alpha=0.25)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
@@ -121,8 +121,18 @@ def intensity_sums(results: pd.DataFrame, path: Path, *, title: str) -> Path:
     return _save(fig, path)
 
 
-_TEMPORAL_LABELS = {"flicker": "flicker (frame-to-frame change of the error)",
-                    "sum_variation": "intensity-sum variation (max-min)/mean"}
+def _metric_title(name: str) -> str:
+    from aaeval.metrics import METRICS
+
+    return METRICS[name].title if name in METRICS else name
+
+
+def _metric_label(name: str) -> str:
+    """Axis label of a metric from the registry: its title and which way is better."""
+    from aaeval.metrics import METRICS
+
+    m = METRICS.get(name)
+    return name if m is None else f"{m.title} ({m.direction})"
 
 
 def temporal_bars(temporal: pd.DataFrame, path: Path, *, metrics: list[str], title: str) -> Path:
@@ -132,7 +142,7 @@ def temporal_bars(temporal: pd.DataFrame, path: Path, *, metrics: list[str], tit
     for i, (ax, col) in enumerate(zip(axes[0], metrics)):
         ax.barh(agg.index, np.maximum(agg[col].to_numpy(float), ERROR_FLOOR), color="tab:blue")
         ax.set_xscale("log")
-        ax.set_xlabel(f"{_TEMPORAL_LABELS.get(col, col)} (floor {ERROR_FLOOR:g})", fontsize=8)
+        ax.set_xlabel(f"{_metric_label(col)} (floor {ERROR_FLOOR:g})", fontsize=8)
         ax.grid(True, axis="x", alpha=0.25)
         ax.tick_params(axis="y", labelsize=7)
         if i:
@@ -157,7 +167,7 @@ def stability(results: pd.DataFrame, path: Path, *, metric: str, fail_above: flo
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel(label)
-    ax.set_ylabel(f"{metric} (mean, floor {ERROR_FLOOR:g})")
+    ax.set_ylabel(f"{_metric_title(metric)} (mean, floor {ERROR_FLOOR:g})")
     ax.grid(True, which="both", alpha=0.25)
     bx.set_xscale("log")
     bx.set_xlabel(label)
