@@ -204,7 +204,7 @@ def test_extension_tables_are_refused():
 
 def test_method_is_registered_with_its_options():
     method, options = resolve("mitsuba")
-    assert options == {"spp": 16384, "sampler": "multijitter", "seed": 0, "variant": "auto", "cache": True}
+    assert options == {"spp": 16384, "sampler": "multijitter", "seed": 0, "variant": "auto", "cache": True, "filter": "box"}
     with pytest.raises(ValueError):
         resolve("mitsuba:sampler=halton")
     with pytest.raises(ValueError):

@@ -136,8 +136,12 @@ def coplanar_ranks(scene: Scene, *, rtol: float = 1e-11) -> np.ndarray:
         return ranks
     xy = arrays.vertices[:, :2]
     lo, hi = np.minimum.reduceat(xy, arrays.start), np.maximum.reduceat(xy, arrays.start)
+    group = np.arange(len(depth))
+    for h in scene.holed:  # a polygon with holes ranks as one: its pieces share plane, box, rank
+        group[h.pieces] = h.first
+        lo[h.pieces], hi[h.pieces] = lo[h.pieces].min(axis=0), hi[h.pieces].max(axis=0)
     for j in range(1, len(depth)):
-        below = np.all(np.abs(depth[:j] - depth[j]) <= eps, axis=1)
+        below = np.all(np.abs(depth[:j] - depth[j]) <= eps, axis=1) & (group[:j] != group[j])
         below &= np.all((lo[:j] <= hi[j]) & (hi[:j] >= lo[j]), axis=1)
         if below.any():
             ranks[j] = 1 + ranks[:j][below].max()
@@ -238,14 +242,16 @@ def orthographic_sensor(
     sampler: str = DEFAULT_SAMPLER,
     spp: int = DEFAULT_SPP,
     rows: tuple[int, int] | None = None,
+    rfilter: dict | None = None,
 ) -> dict:
     """The ``load_dict`` dictionary of a camera showing pixel (col i, row j) as world [i, i+1] x [j, j+1].
 
     Orthographic, looking along +z from depth 0 with y down (``up = -y``); Mitsuba's
     orthographic camera spans 2 world units across the film's width and keeps the pixel
     aspect, so x and y are both scaled by ``width / 2`` (also when width != height).
-    Box pixel filter, float32 RGB ``hdrfilm``. ``rows = (r0, r1)`` renders only rows
-    r0..r1-1 (a crop of the same film).
+    Box pixel filter unless ``rfilter`` (an ``rfilter`` dictionary, see
+    :data:`aaeval.filters.FILTERS`) says otherwise; float32 RGB ``hdrfilm``.
+    ``rows = (r0, r1)`` renders only rows r0..r1-1 (a crop of the same film).
     """
     import mitsuba as mi
 
@@ -257,7 +263,7 @@ def orthographic_sensor(
         "type": "hdrfilm",
         "width": width,
         "height": height,
-        "rfilter": {"type": "box"},
+        "rfilter": dict(rfilter or {"type": "box"}),
         "pixel_format": "rgb",
         "component_format": "float32",
     }
@@ -281,6 +287,7 @@ def mitsuba_scene_dict(
     integrator: dict | None = None,
     mesh=None,
     rows: tuple[int, int] | None = None,
+    rfilter: dict | None = None,
 ) -> dict:
     """The whole scene as a ``mi.load_dict`` dictionary (variant must be set).
 
@@ -290,7 +297,7 @@ def mitsuba_scene_dict(
     return {
         "type": "scene",
         "integrator": integrator or {"type": "aov", "aovs": "albedo:albedo"},
-        "sensor": orthographic_sensor(scene.width, scene.height, sampler=sampler, spp=spp, rows=rows),
+        "sensor": orthographic_sensor(scene.width, scene.height, sampler=sampler, spp=spp, rows=rows, rfilter=rfilter),
         "polygons": scene_mesh(scene) if mesh is None else mesh,
     }
 
@@ -316,13 +323,17 @@ def render_mitsuba(
     sampler: str = DEFAULT_SAMPLER,
     seed: int = 0,
     variant: str = "auto",
+    rfilter: dict | None = None,
 ) -> np.ndarray:
     """Render ``scene`` with Mitsuba: (H, W, 3) float64 linear RGB, row 0 at the top.
 
     Each pixel is the mean of ``spp`` samples of the flat colour visible at a point of
     the pixel square (box filter), so the image converges to the exact area average that
-    ``catmull`` computes. Core polygon scenes only: a scene with extension tables raises
-    ``ValueError``, since this renderer would silently ignore them.
+    ``catmull`` computes. With ``rfilter`` (a wider filter) the film weights each sample
+    by the filter of every pixel it reaches and divides by the weight collected, and the
+    image is rendered in one pass (row bands would cut the filter at their edges).
+    Core polygon scenes only: a scene with extension tables raises ``ValueError``, since
+    this renderer would silently ignore them.
     """
     if scene.extensions:
         raise ValueError(
@@ -334,20 +345,24 @@ def render_mitsuba(
     mi = import_mitsuba(variant)
     mesh = scene_mesh(scene)
     out = render_in_bands(
-        mi, scene, spp=spp, seed=seed,
-        scene_dict=lambda rows: mitsuba_scene_dict(scene, spp=spp, sampler=sampler, mesh=mesh, rows=rows),
+        mi, scene, spp=spp, seed=seed, whole=rfilter is not None,
+        scene_dict=lambda rows: mitsuba_scene_dict(scene, spp=spp, sampler=sampler, mesh=mesh, rows=rows,
+                                                   rfilter=rfilter),
     )
     return out[..., :3]
 
 
-def render_in_bands(mi, scene: Scene, *, spp: int, seed: int, scene_dict) -> np.ndarray:
+def render_in_bands(mi, scene: Scene, *, spp: int, seed: int, scene_dict, whole: bool = False) -> np.ndarray:
     """Render the whole film in row bands (:func:`row_bands`), each with its own seed.
+
+    ``whole=True`` renders one pass: a filter wider than a pixel would be cut at band edges.
 
     ``scene_dict(rows)`` gives the ``load_dict`` dictionary of rows ``(r0, r1)`` (None for
     the whole film). Returns every film channel, (H, W, C) float64.
     """
     image = None
-    for band, (r0, r1) in enumerate(row_bands(scene.width, scene.height, spp)):
+    bands = [(0, scene.height)] if whole else row_bands(scene.width, scene.height, spp)
+    for band, (r0, r1) in enumerate(bands):
         rows = None if (r0, r1) == (0, scene.height) else (r0, r1)
         out = np.array(mi.render(mi.load_dict(scene_dict(rows)), spp=spp, seed=band_seed(seed, band)), dtype=np.float64)
         if image is None:

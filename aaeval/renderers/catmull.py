@@ -12,6 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from aaeval.filters.registry import DEFAULT_FILTER, FILTERS
 from aaeval.renderers._catmull_kernel import BACKGROUND, catmull_fragments
 from aaeval.renderers.registry import Option, register_method
 from aaeval.scenes import Scene, parse_scene
@@ -121,16 +122,38 @@ SPECULAR_OPTIONS = {
 }
 
 
+FILTER_OPTION = {
+    "filter": Option(
+        str,
+        DEFAULT_FILTER,
+        "pixel filter, as Mitsuba 3 defines it and normalises its film (aaeval.filters): "
+        + ", ".join(FILTERS),
+        choices=tuple(FILTERS),
+    ),
+}
+
+# methods whose coverage is per pixel by construction (masks, analytic coverage) accept
+# only the box, and say so when asked for another
+BOX_ONLY = {"filter": Option(str, DEFAULT_FILTER, "pixel filter: box only (coverage is computed per pixel)",
+                             choices=(DEFAULT_FILTER,))}
+
+
 @register_method(
     "catmull",
-    summary="Catmull 1978: exact box filter, hidden surfaces solved inside each pixel",
-    options=SPECULAR_OPTIONS,
+    summary="Catmull 1978: exact box filter (or another filter=), hidden surfaces solved inside each pixel",
+    options={**SPECULAR_OPTIONS, **FILTER_OPTION},
     exact=True,
     warmup=_warmup,
 )
-def render_catmull(scene: Scene, **specular_options) -> np.ndarray:
+def render_catmull(scene: Scene, filter: str = DEFAULT_FILTER, **specular_options) -> np.ndarray:
     from aaeval.scenes.shaded import has_shaded
 
+    if filter != DEFAULT_FILTER:
+        from aaeval.filters.exact import filtered_image
+
+        if has_shaded(scene):
+            raise ValueError(f"catmull: filter={filter} supports flat-coloured scenes only, not [shaded] objects")
+        return filtered_image(scene, FILTERS[filter])
     if has_shaded(scene):
         # at call time: the specular renderer uses this module's visible_fragments
         from aaeval.specular.render import render_shaded
