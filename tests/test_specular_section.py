@@ -63,5 +63,17 @@ def test_section_draws_every_method_against_the_stated_truth(tmp_path, monkeypat
     assert len(sources) == 6  # two tables, one plate, detection, highlight error, energy
     for src in sources:
         png = out / src
-        assert png.stat().st_size > 1000 and png.with_suffix(".svg").stat().st_size > 1000
+        for fmt in (".png", ".svg", ".pdf"):
+            assert png.with_suffix(fmt).stat().st_size > 1000, (src, fmt)
     assert text.count("<tr>") == 1 + len(SPECULAR_METHODS) + 1  # header, each method, amanatides P=0.999
+
+
+def test_section_curves_carry_the_reports_method_tags(tmp_path, monkeypatch):
+    """Every curve of a method is tagged like the report's own figures (same style table)."""
+    monkeypatch.setenv("AAEVAL_CACHE_DIR", str(tmp_path / "cache"))
+    scene = tmp_path / "tiny_cylinder.toml"
+    scene.write_text(SCENE)
+    out = tmp_path / "report"
+    specular_section(out, out / "figures", force=True, scenes=[scene], spp=16, frames=2)
+    svg = next((out / "figures").glob("specular_energy_*.svg")).read_text()
+    assert svg.count("id='method=catmull;options=") == len(SPECULAR_METHODS) + 1  # and amanatides P=0.999

@@ -33,13 +33,16 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.colors import SymLogNorm  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.colors import SymLogNorm  # noqa: E402
 from scipy.special import gammaln  # noqa: E402
 
 import aaeval  # noqa: E402
 from aaeval.groundtruth import DEFAULT_SAMPLER, groundtruth  # noqa: E402
 from aaeval.imageio import linear_to_srgb8  # noqa: E402
+from aaeval.renderers import resolve  # noqa: E402
+from aaeval.report.figures import _save  # noqa: E402  (PNG + SVG + PDF, as every report figure)
+from aaeval.report.style import SpecStyle, Styles, ground_truth_style  # noqa: E402
 from aaeval.scenes import Scene, load_scene  # noqa: E402
 from aaeval.specular.methods import SPECULAR_METHODS  # noqa: E402
 from aaeval.specular.render import render_shaded, specular_aliasing_map  # noqa: E402
@@ -54,12 +57,19 @@ SECTION_SPP = 256
 SECTION_FRAMES = 8
 # A pixel belongs to the highlight where the truth's specular term exceeds this.
 HIGHLIGHT_THRESHOLD = 0.02
-_DPI = 110
 
 
 class _Method(NamedTuple):
     label: str
-    options: dict
+    options: dict  # render_shaded's keywords
+
+    def style(self, styles: Styles) -> SpecStyle:
+        return styles.spec("catmull", _full_options(self.label))
+
+
+def _full_options(label: str) -> dict:
+    # the options the results table records for this spec: every declared one, defaults filled in
+    return resolve(label)[1]
 
 
 def _methods() -> list[_Method]:
@@ -72,9 +82,10 @@ def _methods() -> list[_Method]:
     return out
 
 
-def _colours(methods: list[_Method]) -> dict[str, tuple]:
-    palette = plt.get_cmap("tab10").colors
-    return {m.label: palette[i % len(palette)] for i, m in enumerate(methods)}
+def _styles(methods: list[_Method]) -> dict[str, SpecStyle]:
+    """Each method's look from the report's one style table (same as in the group figures)."""
+    styles = Styles(("catmull", _full_options(m.label)) for m in methods)
+    return {m.label: m.style(styles) for m in methods}
 
 
 def plate_scenes() -> list[Path]:
@@ -96,7 +107,7 @@ def specular_section(
 ) -> str:
     """HTML fragment of the specular study for the report of the sweep in ``out_dir``.
 
-    Figures are written into ``figures_dir`` as PNG and SVG; the fragment refers to them
+    Figures are written into ``figures_dir`` as PNG, SVG and PDF (as every report figure); the fragment refers to them
     relative to ``out_dir`` (where the report's ``index.html`` lives). Empty when the
     sweep has no ``[shaded]`` scenes, unless ``force``. ``scenes`` replaces the shipped
     plates (the first one is also the animated scene of the flicker measurement).
@@ -110,7 +121,7 @@ def specular_section(
                 "in this installation; nothing to show.</p>")
     figures_dir.mkdir(parents=True, exist_ok=True)
     methods = _methods()
-    colours = _colours(methods)
+    colours = _styles(methods)
     truth_of = _TruthCache(spp)
     first = load_scene(paths[0]).at_frame(0)
     section = _cross_section(truth_of(first).specular)
@@ -272,15 +283,6 @@ def flicker(energy: np.ndarray, truth_energy: np.ndarray) -> float:
 # --- figures --------------------------------------------------------------------------
 
 
-def _save(fig, stem: Path) -> Path:
-    """Write ``stem``.png and ``stem``.svg (no dates: same data, same files); return the PNG."""
-    png = Path(stem).with_suffix(".png")
-    fig.savefig(png, dpi=_DPI, bbox_inches="tight", metadata={"Software": None})
-    fig.savefig(png.with_suffix(".svg"), bbox_inches="tight", metadata={"Date": None})
-    plt.close(fig)
-    return png
-
-
 def _fig_power_cutoff(figures_dir: Path) -> Path:
     n_max = 1000
     n = np.arange(n_max + 1)
@@ -386,7 +388,7 @@ def _fig_highlight_error(stem: Path, series: _Series, colours, noise: _Noise) ->
     floor = float(positive.min()) / 2 if positive.size else 1e-9
     ax.axhspan(floor, max(noise.highlight, floor), color="0.85", label="truth noise (seed 1 vs 0)")
     for label, values in series.highlight_rmse.items():
-        ax.plot(series.frames, values, marker="o", ms=3, color=colours[label], label=label.replace("catmull:", ""))
+        ax.plot(series.frames, values, label=label.replace("catmull:", ""), **colours[label].line())
     ax.set_yscale("log")
     ax.set(xlabel="frame", ylabel="highlight RMSE (linear RGB, log scale)", ylim=(floor, None),
            title="Highlight error per frame against Mitsuba Phong")
@@ -399,9 +401,9 @@ def _fig_energy(stem: Path, series: _Series, colours, spp: int, noise: _Noise, s
     fig, ax = plt.subplots(figsize=(7.2, 4.0))
     ax.fill_between(series.frames, series.truth_energy - noise.energy, series.truth_energy + noise.energy,
                     color="0.8", lw=0)
-    ax.plot(series.frames, series.truth_energy, "k-", lw=2.5, label=f"Mitsuba Phong (truth, {spp} spp)")
+    ax.plot(series.frames, series.truth_energy, label=f"Mitsuba Phong (truth, {spp} spp)", **ground_truth_style())
     for label, values in series.energy.items():
-        ax.plot(series.frames, values, marker="o", ms=3, color=colours[label], label=label.replace("catmull:", ""))
+        ax.plot(series.frames, values, label=label.replace("catmull:", ""), **colours[label].line())
     ax.set(xlabel="frame", ylabel="specular energy of the cross-section",
            title=f"Highlight cross-section ({section.describe()}) per frame")
     ax.set_xticks(series.frames)
