@@ -50,6 +50,16 @@ def test_no_section_for_a_sweep_without_shaded_scenes(tmp_path):
     assert not (tmp_path / "figures").exists()
 
 
+def test_a_sweep_with_shaded_scenes_gets_the_section(tmp_path):
+    from aaeval.report.specular_section import _sweep_has_shaded_scenes
+    from aaeval.scenes.generate import generate_scene
+
+    documents = {"a": {"source": "fan", "document": generate_scene("fan", 6)},
+                 "b": {"source": "shininess", "document": generate_scene("shininess", 50)}}
+    (tmp_path / "manifest.json").write_text(json.dumps({"scenes": documents}))
+    assert _sweep_has_shaded_scenes(tmp_path)
+
+
 def test_section_draws_every_method_against_the_stated_truth(tmp_path, monkeypatch):
     monkeypatch.setenv("AAEVAL_CACHE_DIR", str(tmp_path / "cache"))
     scene = tmp_path / "tiny_cylinder.toml"
