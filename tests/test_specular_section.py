@@ -60,12 +60,21 @@ def test_a_sweep_with_shaded_scenes_gets_the_section(tmp_path):
     assert _sweep_has_shaded_scenes(tmp_path)
 
 
-def test_section_draws_every_method_against_the_stated_truth(tmp_path, monkeypatch):
-    monkeypatch.setenv("AAEVAL_CACHE_DIR", str(tmp_path / "cache"))
-    scene = tmp_path / "tiny_cylinder.toml"
+@pytest.fixture(scope="module")
+def section(tmp_path_factory):
+    """The section of a tiny animated cylinder, built once (figures cost seconds each)."""
+    tmp = tmp_path_factory.mktemp("specular_section")
+    scene = tmp / "tiny_cylinder.toml"
     scene.write_text(SCENE)
-    out = tmp_path / "report"
-    text = specular_section(out, out / "figures", force=True, scenes=[scene], spp=16, frames=3)
+    out = tmp / "report"
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("AAEVAL_CACHE_DIR", str(tmp / "cache"))
+        text = specular_section(out, out / "figures", force=True, scenes=[scene], spp=16, frames=3)
+    return out, text
+
+
+def test_section_draws_every_method_against_the_stated_truth(section):
+    out, text = section
     assert "16 spp" in text and "seed 0" in text and "seed 1" in text and str(HIGHLIGHT_THRESHOLD) in text
     for name in SPECULAR_METHODS:
         assert f"catmull:specular={name}" in text
@@ -78,12 +87,8 @@ def test_section_draws_every_method_against_the_stated_truth(tmp_path, monkeypat
     assert text.count("<tr>") == 1 + len(SPECULAR_METHODS) + 1  # header, each method, amanatides P=0.999
 
 
-def test_section_curves_carry_the_reports_method_tags(tmp_path, monkeypatch):
+def test_section_curves_carry_the_reports_method_tags(section):
     """Every curve of a method is tagged like the report's own figures (same style table)."""
-    monkeypatch.setenv("AAEVAL_CACHE_DIR", str(tmp_path / "cache"))
-    scene = tmp_path / "tiny_cylinder.toml"
-    scene.write_text(SCENE)
-    out = tmp_path / "report"
-    specular_section(out, out / "figures", force=True, scenes=[scene], spp=16, frames=2)
+    out, _ = section
     svg = next((out / "figures").glob("specular_energy_*.svg")).read_text()
     assert svg.count("id='method=catmull;options=") == len(SPECULAR_METHODS) + 1  # and amanatides P=0.999
