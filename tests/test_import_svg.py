@@ -89,7 +89,7 @@ def reference_layers(path):
     for e in svg.elements():
         if not isinstance(e, se.Shape):
             continue
-        subpaths = fine_subpaths(se.Path(e))
+        subpaths = fine_subpaths(abs(se.Path(e)))
         if e.fill is not None and e.fill.value is not None:
             layers.append((e.id + " fill", fill_reference(subpaths, e.values.get("fill-rule", "nonzero"))))
         if e.stroke is not None and e.stroke.value is not None and e.implicit_stroke_width > 0:
@@ -234,3 +234,15 @@ def test_resvg_refuses_scenes_that_ignored_something(tmp_path):
     scene = parse_scene(import_svg(svg, file_ref="o.svg").document, source=str(tmp_path / "o.toml"))
     with pytest.raises(ValueError, match="#half: opacity"):
         render(scene, "resvg")
+
+
+@pytest.mark.parametrize("name", ["transforms", "fill_rules", "arcs"])
+def test_layers_stand_where_svgelements_puts_the_shapes(name):
+    """Bounds of each imported fill against svgelements' own transformed bounding box
+    (computed from the element and its transform, not from the reified points)."""
+    svg = se.SVG.parse(str(DATA / f"{name}.svg"))
+    boxes = [e.bbox() for e in svg.elements() if isinstance(e, se.Shape) and e.fill is not None and e.fill.value is not None]
+    fills = imported_layers(import_svg(DATA / f"{name}.svg").document)  # these files have fills only
+    assert len(fills) == len(boxes)
+    for box, g in zip(boxes, fills):
+        np.testing.assert_allclose(g.bounds, box, atol=1 / 16 + 1e-5)
