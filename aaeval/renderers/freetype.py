@@ -66,6 +66,7 @@ def _warmup() -> None:
     "freetype",
     summary="FreeType's smooth rasterizer on text scenes: exact coverage per glyph, 8-bit, blended glyph by glyph",
     warmup=_warmup,
+    requires="text",
 )
 def render_freetype(scene: Scene) -> np.ndarray:
     from aaeval.importers.text import layout

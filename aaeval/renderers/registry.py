@@ -82,6 +82,8 @@ class Method:
     summary: str = ""
     exact: bool = False
     warmup: Callable[[], None] | None = None
+    # the scene extension table the method draws from (e.g. "text"); it refuses scenes without it
+    requires: str | None = None
 
 
 METHODS: dict[str, Method] = {}
@@ -94,13 +96,14 @@ def register_method(
     options: Mapping[str, Option] | None = None,
     exact: bool = False,
     warmup: Callable[[], None] | None = None,
+    requires: str | None = None,
 ):
     """Decorator registering ``render(scene, **options)`` under ``name``."""
 
     def decorate(func):
         if name in METHODS:
             raise ValueError(f"method {name!r} is registered twice")
-        METHODS[name] = Method(name, func, dict(options or {}), summary, exact, warmup)
+        METHODS[name] = Method(name, func, dict(options or {}), summary, exact, warmup, requires)
         return func
 
     return decorate

@@ -57,6 +57,7 @@ def _warmup() -> None:
     "resvg",
     summary="resvg SVG renderer on scenes imported from SVG: per-shape analytic AA, sRGB 8-bit blending",
     warmup=_warmup,
+    requires="svg",
 )
 def render_resvg(scene: Scene) -> np.ndarray:
     import resvg_py
