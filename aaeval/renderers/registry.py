@@ -27,6 +27,7 @@ __all__ = [
     "resolve",
     "render",
     "render_timed",
+    "required_table",
 ]
 
 
@@ -107,6 +108,22 @@ def register_method(
         return func
 
     return decorate
+
+
+def required_table(scene: Scene, name: str) -> Any:
+    """The scene's extension table that method ``name`` draws from (``Method.requires``).
+
+    A scene without it is refused in one line: such a method draws the scene's source
+    (the text, the SVG), not its polygons.
+    """
+    table = METHODS[name].requires
+    value = scene.extensions.get(table)
+    if value is None:
+        raise MethodError(
+            f"{scene.source}: method {name!r} draws a scene's [{table}] table (written by "
+            f"'aaeval import {table}'); this scene has none"
+        )
+    return value
 
 
 def parse_spec(spec: str) -> tuple[str, dict[str, str]]:
