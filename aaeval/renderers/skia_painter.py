@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 import skia
 
+from aaeval.renderers.catmull import BOX_ONLY
 from aaeval.renderers.registry import register_method
 from aaeval.renderers.sampling import warmup_scene
 from aaeval.scenes import Scene
@@ -40,9 +41,10 @@ def painter_order(scene: Scene) -> list[int]:
 @register_method(
     "skia",
     summary="Skia 2D rasterizer: anti-aliased polygons painted back to front (conflation at seams)",
+    options=BOX_ONLY,
     warmup=lambda: render_skia(warmup_scene()),
 )
-def render_skia(scene: Scene) -> np.ndarray:
+def render_skia(scene: Scene, filter: str = "box") -> np.ndarray:
     pixels = np.empty((scene.height, scene.width, 4), dtype=np.float32)
     pixels[..., :3] = scene.background
     pixels[..., 3] = 1.0
