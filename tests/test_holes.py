@@ -200,3 +200,25 @@ def test_exact_methods_match_geos_on_shipped_content(name):
         np.testing.assert_allclose(catmull[off], expected[off], atol=2e-7, rtol=0)
         catmull[off] = expected[off]
     np.testing.assert_allclose(catmull, expected, atol=1e-9, rtol=0)
+
+
+def test_pieces_are_convex_and_fewer_than_the_triangles():
+    """Hertel-Mehlhorn merging: every piece convex, far fewer than earcut's triangles,
+    the same area; a square frame needs at most 4 pieces (its 8 triangles pair up)."""
+    frame = parse_scene({"image": {"width": 10, "height": 10},
+                         "polygons": [{"color": [1, 1, 1], "vertices": _square(1, 1, 9, 9), "holes": [_square(3, 3, 7, 7)]}]})
+    assert 2 <= len(frame.polygons) <= 4
+    rng = np.random.default_rng(3)
+    doc = {"image": {"width": 16, "height": 14}, "polygons": [holed_polygon(rng, np.array([8.0, 7.0]), 3)]}
+    scene = parse_scene(doc)
+    n_vertices = len(doc["polygons"][0]["vertices"]) + sum(len(h) for h in doc["polygons"][0]["holes"])
+    triangles = n_vertices + 2 * 3 - 2  # earcut: n + 2h - 2
+    assert len(scene.polygons) < triangles / 1.5
+    for p in scene.polygons:
+        xy = p.xy
+        before, after = np.roll(xy, 1, axis=0), np.roll(xy, -1, axis=0)
+        turn = (xy[:, 0] - before[:, 0]) * (after[:, 1] - xy[:, 1]) - (xy[:, 1] - before[:, 1]) * (after[:, 0] - xy[:, 0])
+        assert (turn >= 0).all() or (turn <= 0).all()
+    outer = doc["polygons"][0]["vertices"]
+    expected = abs(ring_area(np.array(outer)[:, :2])) - sum(abs(ring_area(np.array(h)[:, :2])) for h in doc["polygons"][0]["holes"])
+    assert sum(abs(ring_area(p.xy)) for p in scene.polygons) == pytest.approx(expected, rel=1e-12)
