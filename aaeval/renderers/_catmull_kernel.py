@@ -253,17 +253,22 @@ def new_fragment_sink(capacity):
 def _append(out, pix, src, area, cx, cy):
     n = out.n
     if n >= out.pix.shape[0]:
-        out.pix = _grow(out.pix, n + 1)
-        out.src = _grow(out.src, n + 1)
-        out.area = _grow(out.area, n + 1)
-        out.cx = _grow(out.cx, n + 1)
-        out.cy = _grow(out.cy, n + 1)
+        _grow_sink(out, n + 1)
     out.pix[n] = pix
     out.src[n] = src
     out.area[n] = area
     out.cx[n] = cx
     out.cy[n] = cy
     out.n = n + 1
+
+
+@njit(cache=True)
+def _grow_sink(out, n):
+    out.pix = _grow(out.pix, n)
+    out.src = _grow(out.src, n)
+    out.area = _grow(out.area, n)
+    out.cx = _grow(out.cx, n)
+    out.cy = _grow(out.cy, n)
 
 
 @overload_method(FragmentSinkType, "emit_pixel", jit_options={"cache": True})
@@ -559,7 +564,7 @@ def bucket_by_x(strip, width):
 # --- III.D/E: sweeping the row ----------------------------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def update_zlist(zl, zdepth, n_zl, bucket_head, bucket_items, span, pieces, planes, col, row):
     """Move the z-list to column ``col``; returns its new length.
 
@@ -593,7 +598,7 @@ def update_zlist(zl, zdepth, n_zl, bucket_head, bucket_items, span, pieces, plan
     return n_zl
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def pixel_list(zl, n_zl, plist, pieces, span, cov, planes, col, row, eps_z):
     """The pixel's polygon list ``plist``: front to back up to the first solid piece, and
     anything behind that piece not hidden by it everywhere in the pixel.
@@ -634,7 +639,7 @@ def emit_front_piece(strip, k, pix, col, row, work, out, centroids):
     out.emit_area(pix, src, cv, float(col), float(row))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def resolve_pixel(strip, plist, n_pl, solid, planes, eps_z, pix, col, row, work, out, jagged, centroids):
     """Emit the visible pieces of one pixel, by the cheapest case that applies."""
     x0 = float(col)
