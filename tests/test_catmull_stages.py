@@ -189,6 +189,23 @@ def _emit_then_rest(out, xs, ys, n, rest_src):
     out.emit_rest(0, rest_src, 0.0, 0.0)
 
 
+@njit
+def _emit_strip_piece(out, area, xs, ys, n):
+    out.emit_strip_piece(5, 2, area, xs, ys, 0, n)
+
+
+def test_emit_strip_piece_keeps_the_coverage_area_and_finds_the_centroid():
+    # the strip coverage's area is kept as given (it may differ from the clipped
+    # polygon's by rounding); the centroid comes from the vertices
+    xs = np.array([0.0, 1.0, 0.0])
+    ys = np.array([0.0, 0.0, 1.0])
+    out = K.new_fragment_sink(1)
+    _emit_strip_piece(out, 0.5 + 1e-16, xs, ys, 3)
+    pix, src, area, cx, cy = _sink_arrays(out)
+    assert (pix[0], src[0], area[0]) == (5, 2, 0.5 + 1e-16)
+    np.testing.assert_allclose([cx[0], cy[0]], [1 / 3, 1 / 3])
+
+
 def _sink_arrays(out):
     n = out.n
     return out.pix[:n], out.src[:n], out.area[:n], out.cx[:n], out.cy[:n]

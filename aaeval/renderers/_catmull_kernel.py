@@ -21,7 +21,7 @@ strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm
                        piece, and what behind it is not hidden everywhere in the pixel
     ``resolve_pixel``  a solid piece in front: the whole pixel (``emit_pixel``); one
                        irregular piece in front of a solid one or of the background: that
-                       piece (``emit_piece``, or ``emit_area`` without centroids) and the
+                       piece (``emit_strip_piece``, or ``emit_area`` without centroids) and the
                        rest of the pixel (``emit_rest``); otherwise ``integrate``
 ``integrate``       the pixel integrator: ``pixel_polygons`` clips the listed pieces to
     the pixel (a solid piece becomes the pixel square, the background square goes last),
@@ -29,10 +29,12 @@ strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm
     unclipped edges and along the lines where depth planes cross), then every visible
     piece goes to ``emit_piece`` with its vertices -> :class:`PixelWork`
 
-Every result leaves through a *sink*: a structref with four methods, ``emit_pixel``
+Every result leaves through a *sink*: a structref with five methods, ``emit_pixel``
 (the whole pixel square), ``emit_piece`` (a visible piece inside a pixel, as its polygon
-vertices), ``emit_area`` (an area without its shape, only with ``centroids=False``) and
-``emit_rest`` (the pixel square minus what was already emitted for that pixel).
+vertices), ``emit_strip_piece`` (the same for a strip piece alone in front, with the exact
+area the strip coverage already gave), ``emit_area`` (an area without its shape, only with
+``centroids=False``) and ``emit_rest`` (the pixel square minus what was already emitted for
+that pixel).
 :class:`FragmentSink` turns them into fragments: per pixel, each visible polygon's area and
 area centroid (its pieces merged), so flat colours and per-piece shading are resolved
 outside. Another sink type (for instance one accumulating polynomial moments of each
@@ -306,6 +308,19 @@ def _emit_piece(out, pix, src, xs, ys, start, n):
             out.cx[g] = (out.cx[g] * out.area[g] + cx * area) / total
             out.cy[g] = (out.cy[g] * out.area[g] + cy * area) / total
         out.area[g] = total
+    return impl
+
+
+@overload_method(FragmentSinkType, "emit_strip_piece", jit_options={"cache": True})
+def _emit_strip_piece(out, pix, src, area, xs, ys, start, n):
+    """Strip piece of polygon ``src`` clipped to the pixel, ``xs, ys[start:start+n]``, whose
+    exact area ``area`` is known from the strip coverage (the first fragment of its pixel).
+
+    The coverage's area is kept, so fragments with and without centroids agree exactly.
+    """
+    def impl(out, pix, src, area, xs, ys, start, n):
+        _, cx, cy = area_centroid(xs, ys, start, n)
+        _append(out, pix, src, area, cx, cy)
     return impl
 
 
@@ -634,7 +649,7 @@ def emit_front_piece(strip, k, pix, col, row, work, out, centroids):
         m = clip_to_column(strip.x, strip.y, strip.f, strip.pieces[k, 0], n, float(col),
                            work.x, work.y, work.f, 0, 4 * n + 8)
         if m > 0:
-            out.emit_piece(pix, src, work.x, work.y, 0, m)
+            out.emit_strip_piece(pix, src, cv, work.x, work.y, 0, m)
             return
     out.emit_area(pix, src, cv, float(col), float(row))
 
