@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from aaeval.renderers.registry import Option, register_method
-from aaeval.renderers.sampling import point_sampled, warmup_scene
+from aaeval.renderers.sampling import SAMPLE_BYTES, point_sampled, warmup_scene
 from aaeval.scenes import Scene
 
 __all__ = ["render_jitter"]
@@ -26,6 +26,8 @@ __all__ = ["render_jitter"]
         "seed": Option(int, 0, "seed of the sample pattern (fixed in screen space)", minimum=0),
     },
     warmup=lambda: render_jitter(warmup_scene(), k=2, seed=0),
+    samples=lambda o: o["k"] ** 2,
+    memory=lambda scene, o: SAMPLE_BYTES * scene.width * o["k"] ** 2,
 )
 def render_jitter(scene: Scene, k: int = 4, seed: int = 0) -> np.ndarray:
     return point_sampled(scene, k, seed=seed)

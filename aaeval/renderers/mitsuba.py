@@ -43,6 +43,7 @@ def _warmup() -> None:
         "variant": Option(str, "auto", "Mitsuba variant: auto (CUDA, else LLVM, else scalar) or an RGB variant name"),
         "cache": Option(bool, True, "reuse images cached in $AAEVAL_CACHE_DIR/groundtruth"),
     },
+    samples=lambda o: o["spp"],
     warmup=_warmup,
 )
 def render_mitsuba_method(

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from aaeval.renderers.registry import Option, register_method
-from aaeval.renderers.sampling import point_sampled, warmup_scene
+from aaeval.renderers.sampling import SAMPLE_BYTES, point_sampled, warmup_scene
 from aaeval.scenes import Scene
 
 __all__ = ["render_supersample"]
@@ -20,6 +20,8 @@ __all__ = ["render_supersample"]
     summary="Crow 1981: regular k x k grid of point samples per pixel, box-averaged",
     options={"k": Option(int, 4, "samples per pixel side", minimum=1)},
     warmup=lambda: render_supersample(warmup_scene(), k=2),
+    samples=lambda o: o["k"] ** 2,
+    memory=lambda scene, o: SAMPLE_BYTES * scene.width * o["k"] ** 2,
 )
 def render_supersample(scene: Scene, k: int = 4) -> np.ndarray:
     return point_sampled(scene, k)
