@@ -14,7 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["save_image", "load_image", "linear_to_srgb8", "atomic_write", "check_outputs", "OutputError", "SUFFIXES"]
+__all__ = ["save_image", "load_image", "linear_to_srgb8", "srgb_to_linear", "atomic_write", "check_outputs",
+           "OutputError", "SUFFIXES"]
 
 SUFFIXES = (".npy", ".exr", ".png")
 
@@ -108,6 +109,12 @@ def _disk_full(exc: OSError, folder: Path) -> bool:
     return fs.f_bavail * fs.f_frsize < (1 << 20)
 
 
+def srgb_to_linear(srgb) -> np.ndarray:
+    """sRGB-encoded values in [0, 1] to linear RGB (IEC 61966-2-1 transfer function)."""
+    s = np.asarray(srgb, dtype=np.float64)
+    return np.where(s <= 0.04045, s / 12.92, ((s + 0.055) / 1.055) ** 2.4)
+
+
 def atomic_write(path: str | Path, write) -> Path:
     """Call ``write(tmp_path)`` then move the temporary file onto ``path``.
 
@@ -180,8 +187,7 @@ def load_image(path: str | Path) -> np.ndarray:
     if suffix == ".png":
         from PIL import Image
 
-        s = np.asarray(Image.open(path).convert("RGB"), dtype=np.float64) / 255.0
-        return np.where(s <= 0.04045, s / 12.92, ((s + 0.055) / 1.055) ** 2.4)
+        return srgb_to_linear(np.asarray(Image.open(path).convert("RGB"), dtype=np.float64) / 255.0)
     if suffix == ".exr":
         mi = _mitsuba()
         return np.array(mi.Bitmap(str(path)), dtype=np.float64)[..., :3]

@@ -21,10 +21,12 @@ COMMANDS = [
     "aaeval.cli.render",
     "aaeval.cli.invariance",
     "aaeval.cli.methods",
+    "aaeval.cli.metrics",
     "aaeval.cli.compare",
     "aaeval.cli.sweep",
     "aaeval.cli.report",
     "aaeval.cli.hidden_lines",
+    "aaeval.cli.import_content",
 ]
 
 

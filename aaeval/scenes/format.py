@@ -53,7 +53,9 @@ class Polygon:
     color : ndarray, shape (3,)
         Linear RGB.
     index : int
-        Position in the file; on an exactly shared depth plane the later one is in front.
+        Position in ``Scene.polygons``: the file's order, where a polygon with holes
+        stands as its abutting pieces in a row (:mod:`aaeval.scenes.holes`); on an exactly
+        shared depth plane the later one is in front.
     plane : ndarray, shape (3,)
         ``(a, b, c)`` with depth ``z = a x + b y + c``; NaN for a polygon seen edge-on
         (zero projected area), which covers nothing.
@@ -109,6 +111,8 @@ class Scene:
     frame: int = 0
     source: str = "<scene>"
     extensions: Mapping[str, Any] = field(default_factory=dict)
+    # the file's polygons with holes; each is already in ``polygons`` as abutting pieces
+    holed: tuple = ()  # of aaeval.scenes.holes.HoledPolygon
 
     @cached_property
     def arrays(self) -> PolygonArrays:
@@ -131,7 +135,8 @@ class Scene:
             name: _SECTIONS[name].translate(value, shift) if _SECTIONS[name].translate else value
             for name, value in self.extensions.items()
         }
-        scene = replace(self, polygons=moved, frame=int(k), extensions=extensions)
+        holed = tuple(h.translated(shift) for h in self.holed)
+        scene = replace(self, polygons=moved, frame=int(k), extensions=extensions, holed=holed)
         scene.__dict__["arrays"] = arrays  # already known: spare rebuilding it
         return scene
 
@@ -213,7 +218,9 @@ def parse_scene(document: Mapping[str, Any], *, source: str = "<scene>") -> Scen
     raw_polygons = document.get("polygons", [])
     if not isinstance(raw_polygons, list):
         raise SceneError(f"{source}: 'polygons' must be an array of tables ([[polygons]])")
-    polygons = tuple(_polygon(raw, i, source) for i, raw in enumerate(raw_polygons))
+    from aaeval.scenes.holes import polygons_with_holes  # builds on this module's checks
+
+    polygons, holed = polygons_with_holes(raw_polygons, source)
     _check_animation_range(polygons, frames, translate, f"{source}: [animation]")
 
     extensions = {
@@ -230,6 +237,7 @@ def parse_scene(document: Mapping[str, Any], *, source: str = "<scene>") -> Scen
         translate=translate,
         source=source,
         extensions=extensions,
+        holed=holed,
     )
 
 
@@ -300,7 +308,7 @@ def _polygon(raw: Any, i: int, source: str) -> Polygon:
     where = f"{source}: polygons[{i}]"
     if not isinstance(raw, Mapping):
         raise SceneError(f"{where}: must be a table with 'color' and 'vertices'")
-    _no_unknown(raw, {"color", "vertices"}, where)
+    _no_unknown(raw, {"color", "vertices", "holes"}, where)
     for key in ("color", "vertices"):
         if key not in raw:
             raise SceneError(f"{where}: missing required key '{key}'")
