@@ -24,13 +24,14 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    from aaeval.imageio import SUFFIXES, atomic_write, save_image
+    from aaeval.imageio import SUFFIXES, atomic_write, check_outputs, save_image
     from aaeval.renderers import render_timed, resolve
     from aaeval.scenes import load_scene
 
     out = Path(args.output)
     if out.suffix.lower() not in SUFFIXES:
         raise ValueError(f"{out}: unknown image suffix {out.suffix!r}; use one of {', '.join(SUFFIXES)}")
+    check_outputs({"-o": out, "--stats": args.stats})  # before any work: a refusal costs nothing
     method, options = resolve(args.method)  # fail on a bad spec before any work
     scene = load_scene(args.scene)
     image, seconds = render_timed(scene, args.method, frame=args.frame)
