@@ -13,6 +13,7 @@ import pytest
 
 from aaeval.experiments import load_experiment, run_sweep
 from aaeval.report import write_report
+from aaeval.report.names import figure_stem
 from aaeval.report.figures import pareto_front
 from report_util import small_report
 from sweep_util import write_config
@@ -91,13 +92,14 @@ def test_catmull_is_judged_against_mitsuba_at_its_noise_level(report):
 def test_figures_and_tables_come_in_paper_formats(report):
     root = report.parent
     pngs = {p.stem for p in (root / "figures").glob("*.png")}
-    assert {"edges_accuracy", "edges_error_per_frame", "edges_intensity_sum", "edges_flicker", "edges_space_time",
-            "edges_images", "stability_stability", "ground_truth_validation"} <= pngs
+    edges, stability = figure_stem("edges"), figure_stem("stability")  # group files: slug + hash of the name
+    assert {f"{edges}_accuracy", f"{edges}_error_per_frame", f"{edges}_intensity_sum", f"{edges}_flicker",
+            f"{edges}_space_time", f"{edges}_images", f"{stability}_stability", "ground_truth_validation"} <= pngs
     for stem in pngs:
         for fmt in ("svg", "pdf"):
             assert (root / "figures" / f"{stem}.{fmt}").stat().st_size > 0, (stem, fmt)
     tables = {p.stem for p in (root / "tables").glob("*.csv")}
-    assert {"overview_error", "overview_failed", "edges_numbers", "ground_truth_validation"} <= tables
+    assert {"overview_error", "overview_failed", f"{figure_stem('edges')}_numbers", "ground_truth_validation"} <= tables
     for stem in tables:
         tex = (root / "tables" / f"{stem}.tex").read_text()
         assert tex.startswith("\\begin{table}") and "\\bottomrule" in tex
@@ -128,7 +130,7 @@ def test_tiny_groups_show_accuracy_not_speed(report):
 def test_viewer_data_is_self_contained_and_small(report):
     root = report.parent
     text = report.read_text()
-    assert "<script src='viewer/edges.js'></script>" in text and "AAV.init()" in text
+    assert f"<script src='viewer/{figure_stem('edges')}.js'></script>" in text and "AAV.init()" in text
     page_bytes = report.stat().st_size + sum(p.stat().st_size for d in ("figures", "viewer", "tables")
                                               for p in (root / d).iterdir())
     assert page_bytes < 20e6

@@ -25,6 +25,8 @@ from aaeval.experiments.store import SweepStore
 from aaeval.experiments.table import load_results, short_label
 from aaeval.imageio import atomic_write
 from aaeval.report import figures
+from aaeval.report.names import figure_stem
+from aaeval.report.filters_section import filters_section
 from aaeval.report.specular_section import specular_section
 from aaeval.report.style import Styles
 from aaeval.report.tables import write_table
@@ -362,7 +364,7 @@ def _overview(page: _Page, results: pd.DataFrame, failed: pd.Series) -> str:
 
 def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.DataFrame, metrics: list[str],
                    failed: pd.Series) -> str:
-    slug = _slug(group)
+    slug = figure_stem(group)  # unique per name: "fence a" and "fence-a" must not share files
     out = [f"<h2 id='{html.escape(slug)}'>{html.escape(group)}</h2>"]
     ref = reference_statement(rows)
     out.append(f"<p class='ref'>{ref} Methods' spp and seed are in their specs and in the table.</p>")
@@ -513,7 +515,7 @@ def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
     groups = list(dict.fromkeys(c["group"] for c in manifest["cells"]))
     parts.append("<p>Sections: <a href='#how-to-read'>how to read this report</a>, <a href='#ground-truth'>ground "
                  "truth</a>, <a href='#overview'>overview</a>; groups: "
-                 + ", ".join(f"<a href='#{html.escape(_slug(g))}'>{html.escape(g)}</a>" for g in groups) + "</p>")
+                 + ", ".join(f"<a href='#{html.escape(figure_stem(g))}'>{html.escape(g)}</a>" for g in groups) + "</p>")
     parts.append(_how_to_read(page))
     if not results.empty:
         parts.append(_policy_section(page, results))
@@ -523,13 +525,14 @@ def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
         for group in groups:
             rows = results[results["group"] == group] if not results.empty else results
             if rows.empty:
-                parts.append(f"<h2 id='{html.escape(_slug(group))}'>{html.escape(group)}</h2>"
+                parts.append(f"<h2 id='{html.escape(figure_stem(group))}'>{html.escape(group)}</h2>"
                              "<p>No finished cells yet.</p>")
             else:
                 parts.append(_group_section(page, group, rows, temporal, metrics, failed))
             if task is not None:
                 progress.advance(task)
     parts.append(specular_section(store.root, page.figdir))
+    parts.append(filters_section(store.root, page.figdir))
     scripts = "".join(f"<script src='{html.escape(s)}'></script>" for s in page.viewer_scripts)
     page_text = ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"
                  f"<title>{html.escape(manifest['experiment'])} — aaeval report</title><style>{_CSS}</style>"
