@@ -17,6 +17,7 @@ from urllib.parse import unquote, urlparse
 import numpy as np
 import pytest
 
+from aaeval.report.names import figure_stem
 from report_util import small_report
 
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
@@ -86,7 +87,7 @@ def test_page_loads_without_errors(browser_page):
     assert len(images) >= 8
     assert all(width > 0 for _, width in images), [src for src, width in images if not width]
     groups = page.evaluate("[...document.querySelectorAll('.aav')].map(e => e.dataset.group)")
-    assert "edges" in groups and page.evaluate("Object.keys(AAV.data).length") == len(groups)
+    assert figure_stem("edges") in groups and page.evaluate("Object.keys(AAV.data).length") == len(groups)
     for href in page.evaluate("[...document.querySelectorAll('a[href]')].map(a => a.href)"):
         url = urlparse(href)
         assert url.scheme == "file", f"a link leaves the report: {href}"
@@ -95,10 +96,11 @@ def test_page_loads_without_errors(browser_page):
 
 def test_viewer_flips_zooms_and_shows_errors(browser_page):
     page, _, problems = browser_page
-    viewer = page.locator(".aav[data-group='edges']")
+    group = figure_stem("edges")
+    viewer = page.locator(f".aav[data-group='{group}']")
     viewer.scroll_into_view_if_needed()
     viewer.locator(".aav-help").click()  # make it the viewer that keys go to
-    labels = page.evaluate("AAV.data['edges'].scenes[0].panels.map(p => p.label)")
+    labels = page.evaluate(f"AAV.data['{group}'].scenes[0].panels.map(p => p.label)")
 
     page.keyboard.press("1")
     assert viewer.get_attribute("data-layout") == "ab" and viewer.get_attribute("data-shown") == labels[1]
@@ -116,7 +118,7 @@ def test_viewer_flips_zooms_and_shows_errors(browser_page):
     page.mouse.move(box["x"] + box["width"] * 0.4, box["y"] + box["height"] * 0.45)
     for _ in range(4):
         page.mouse.wheel(0, -200)
-    page.wait_for_function("+document.querySelector(\".aav[data-group='edges']\").dataset.zoom > 2")
+    page.wait_for_function(f"+document.querySelector(\".aav[data-group='{group}']\").dataset.zoom > 2")
     zoomed = _png(canvas.screenshot())
     assert _canvas(page) != first
     # nearest-neighbour pixels: a zoomed image is made of flat blocks (few distinct rows)

@@ -52,10 +52,6 @@ figure{margin:1em 0} figcaption{font-size:12px;color:#444;max-width:1000px} img{
 """ + VIEWER_CSS
 
 
-def _slug(text: str) -> str:
-    return "".join(ch if ch.isalnum() else "_" for ch in text)
-
-
 def _column(rows: pd.DataFrame, name: str, fallback) -> pd.Series:
     """A results column that older sweep folders may lack."""
     if name in rows and rows[name].notna().any():
@@ -172,7 +168,7 @@ class _Page:
         self.viewer_scripts: list[str] = []
 
     def table(self, frame: pd.DataFrame, name: str, caption: str = "") -> str:
-        return write_table(frame, self.tabdir, _slug(name), self.root, caption)
+        return write_table(frame, self.tabdir, name, self.root, caption)  # names: fixed words and figure stems
 
 
 def _timing_block(page: _Page, group: str, slug: str, summary: pd.DataFrame, rows: pd.DataFrame,
