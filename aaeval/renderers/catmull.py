@@ -16,6 +16,7 @@ from aaeval.filters.registry import DEFAULT_FILTER, FILTERS
 from aaeval.renderers._catmull_kernel import BACKGROUND, catmull_fragments
 from aaeval.renderers.registry import Option, register_method
 from aaeval.scenes import Scene, parse_scene
+from aaeval.specular.methods import PARAMETERS as SPECULAR_PARAMETERS
 
 __all__ = ["Fragments", "visible_fragments", "resolve_flat", "render_catmull", "render_catmull_jagged"]
 
@@ -112,32 +113,12 @@ def _warmup() -> None:
     render_catmull_jagged(tiny)
 
 
-# Options for scenes with [shaded] objects (aaeval.specular); flat scenes ignore them.
-# Kept here as literals so this module does not import aaeval.specular at load time.
+# Options for scenes with [shaded] objects, declared once by the specular registry
+# (flat scenes ignore them). Its method list is a live view: a clamp registered there
+# later is accepted by catmull:specular=NAME.
 SPECULAR_OPTIONS = {
-    "specular": Option(
-        str,
-        "none",
-        "shading of [shaded] objects: none (plain Phong, one shade per visible piece), "
-        "amanatides (Amanatides 1992 clamp), crow (K x K shading samples in flagged "
-        "pieces), toksvig, vlachos, tokuyoshi (geometric specular AA)",
-        choices=("none", "amanatides", "crow", "toksvig", "vlachos", "tokuyoshi"),
-    ),
-    "power": Option(
-        float,
-        1.0,
-        "amanatides/crow: fraction of the power of cos^n kept by the tables; 1 = the "
-        "conservative form, 0.999 = the paper's aggressive plate",
-        minimum=1e-6,
-    ),
-    "k": Option(int, 4, "crow: K x K shading samples per supersampled piece", minimum=1),
-    "region": Option(str, "flagged", "crow: supersample flagged pieces or all", choices=("flagged", "all")),
-    "energy": Option(
-        str,
-        "amanatides",
-        "toksvig/vlachos/tokuyoshi: rescale ks by Maximum[n]/Maximum[n'] or keep it",
-        choices=("amanatides", "none"),
-    ),
+    name: Option(p.type, p.default, p.doc, choices=p.choices, minimum=p.minimum)
+    for name, p in SPECULAR_PARAMETERS.items()
 }
 
 
@@ -174,6 +155,7 @@ def render_catmull(scene: Scene, filter: str = DEFAULT_FILTER, **specular_option
             raise ValueError(f"catmull: filter={filter} supports flat-coloured scenes only, not [shaded] objects")
         return filtered_image(scene, FILTERS[filter])
     if has_shaded(scene):
+        # at call time: the specular renderer uses this module's visible_fragments
         from aaeval.specular.render import render_shaded
 
         return render_shaded(scene, **specular_options)

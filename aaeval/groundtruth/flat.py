@@ -1,7 +1,7 @@
-"""Rendering an aaeval scene with Mitsuba 3: the independent ground truth.
+"""The flat-colour ground truth: an aaeval scene rendered by Mitsuba 3.
 
-The conversion is split into small public steps so other Mitsuba-based methods (a Phong
-integrator, say) can reuse them:
+The conversion is split into small public steps so the Phong ground truth
+(:mod:`aaeval.groundtruth.phong`) reuses them:
 
 - :func:`triangulate_scene`: every visible polygon, clipped to a margin around the image
   and ear-cut into triangles (concave outlines included), with camera depths;
@@ -12,7 +12,9 @@ integrator, say) can reuse them:
 - :func:`orthographic_sensor`: the camera that maps pixel (col i, row j) onto world
   [i, i+1] x [j, j+1], box pixel filter, float32 ``hdrfilm``;
 - :func:`mitsuba_scene_dict`: all of it as a ``mi.load_dict`` dictionary;
-- :func:`render_mitsuba`: the (H, W, 3) float64 image, row 0 at the top.
+- :func:`render_in_bands`: large films rendered in row bands, one seed each;
+- :func:`render_mitsuba`: the (H, W, 3) float64 image, row 0 at the top (not cached:
+  :mod:`aaeval.groundtruth.cache` caches it).
 
 Mitsuba computes in float32. Vertices are clipped to at most :data:`MARGIN` pixels
 outside the image so far-away vertices cannot cost precision, and scene depths are mapped
@@ -47,6 +49,7 @@ __all__ = [
     "orthographic_sensor",
     "mitsuba_scene_dict",
     "render_mitsuba",
+    "render_in_bands",
     "MAX_SAMPLES_PER_PASS",
     "row_bands",
     "band_seed",
@@ -133,8 +136,12 @@ def coplanar_ranks(scene: Scene, *, rtol: float = 1e-11) -> np.ndarray:
         return ranks
     xy = arrays.vertices[:, :2]
     lo, hi = np.minimum.reduceat(xy, arrays.start), np.maximum.reduceat(xy, arrays.start)
+    group = np.arange(len(depth))
+    for h in scene.holed:  # a polygon with holes ranks as one: its pieces share plane, box, rank
+        group[h.pieces] = h.first
+        lo[h.pieces], hi[h.pieces] = lo[h.pieces].min(axis=0), hi[h.pieces].max(axis=0)
     for j in range(1, len(depth)):
-        below = np.all(np.abs(depth[:j] - depth[j]) <= eps, axis=1)
+        below = np.all(np.abs(depth[:j] - depth[j]) <= eps, axis=1) & (group[:j] != group[j])
         below &= np.all((lo[:j] <= hi[j]) & (hi[:j] >= lo[j]), axis=1)
         if below.any():
             ranks[j] = 1 + ranks[:j][below].max()
@@ -337,11 +344,28 @@ def render_mitsuba(
         raise ValueError(f"unknown sampler {sampler!r}; use one of {', '.join(SAMPLERS)}")
     mi = import_mitsuba(variant)
     mesh = scene_mesh(scene)
-    image = np.empty(scene.shape, dtype=np.float64)
-    bands = row_bands(scene.width, scene.height, spp) if rfilter is None else [(0, scene.height)]
+    out = render_in_bands(
+        mi, scene, spp=spp, seed=seed, whole=rfilter is not None,
+        scene_dict=lambda rows: mitsuba_scene_dict(scene, spp=spp, sampler=sampler, mesh=mesh, rows=rows,
+                                                   rfilter=rfilter),
+    )
+    return out[..., :3]
+
+
+def render_in_bands(mi, scene: Scene, *, spp: int, seed: int, scene_dict, whole: bool = False) -> np.ndarray:
+    """Render the whole film in row bands (:func:`row_bands`), each with its own seed.
+
+    ``whole=True`` renders one pass: a filter wider than a pixel would be cut at band edges.
+
+    ``scene_dict(rows)`` gives the ``load_dict`` dictionary of rows ``(r0, r1)`` (None for
+    the whole film). Returns every film channel, (H, W, C) float64.
+    """
+    image = None
+    bands = [(0, scene.height)] if whole else row_bands(scene.width, scene.height, spp)
     for band, (r0, r1) in enumerate(bands):
         rows = None if (r0, r1) == (0, scene.height) else (r0, r1)
-        loaded = mi.load_dict(mitsuba_scene_dict(scene, spp=spp, sampler=sampler, mesh=mesh, rows=rows, rfilter=rfilter))
-        out = np.array(mi.render(loaded, spp=spp, seed=band_seed(seed, band)), dtype=np.float64)
-        image[r0:r1] = out[..., :3]
+        out = np.array(mi.render(mi.load_dict(scene_dict(rows)), spp=spp, seed=band_seed(seed, band)), dtype=np.float64)
+        if image is None:
+            image = np.empty((scene.height, scene.width, out.shape[-1]))
+        image[r0:r1] = out
     return image
