@@ -121,6 +121,9 @@ def test_default_is_one_frame_and_quiet_prints_only_the_summary(scene_file, tmp_
         (["-m", "catmull", "-r", "catmull", "--frames", "5"], "only 4 frame"),
         (["-m", "catmull", "-r", "catmull", "--frames", "0"], "at least 1"),
         (["-m", "catmull", "-r", "catmull", "--frames", "some"], "positive number or 'all'"),
+        (["-m", "catmull", "-r", "catmull", "--metric", "rmsee"], "unknown image metric(s) ['rmsee']"),
+        (["-m", "catmull", "-r", "catmull", "--temporal", "rmse"], "unknown temporal metric(s) ['rmse']"),
+        (["-m", "catmull", "-r", "catmull", "--repeats", "0"], "--repeats must be"),
     ],
 )
 def test_bad_input_fails_in_one_line_and_keeps_the_old_output(scene_file, tmp_path, capsys, args, message):

@@ -40,6 +40,14 @@ plt.rcParams.update({"svg.fonttype": "none", "pdf.fonttype": 42, "font.size": 9,
                      "axes.titlesize": 9.5})
 
 
+
+def _metric_label(name: str) -> str:
+    """A metric's axis label from the registry: its title and which way is better."""
+    from aaeval.metrics import METRICS
+
+    m = METRICS.get(name)
+    return name if m is None else f"{m.title} ({m.direction})"
+
 def _save(fig, path: Path) -> Path:
     """Write ``path`` (PNG) and its SVG and PDF twins; return the PNG path."""
     path = Path(path).with_suffix(".png")
@@ -188,7 +196,7 @@ def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str
     ax.set_ylim(lo, hi)
     _log_ticks(ax.yaxis)
     ax.set_xlabel("render time per megapixel (ms; median of the repeats, bar: fastest to slowest)")
-    ax.set_ylabel(f"{metric} against the ground truth (mean over cells)")
+    ax.set_ylabel(f"{_metric_label(metric)} against the ground truth (mean over cells)")
     ax.set_title(title)
     ax.grid(True, which="major", alpha=0.3)
     _legend(ax, ncols=1 if len(summary) <= 22 else 2)
@@ -218,7 +226,7 @@ def accuracy_dots(summary: pd.DataFrame, path: Path, *, metric: str, title: str,
     ax.set_xscale("log")
     ax.set_xlim(lo, hi)
     _log_ticks(ax.xaxis)
-    ax.set_xlabel(f"{metric} against the ground truth (dot: mean over cells; bar: best to worst cell)")
+    ax.set_xlabel(f"{_metric_label(metric)} against the ground truth (dot: mean over cells; bar: best to worst cell)")
     ax.set_title(title)
     ax.grid(True, axis="x", which="major", alpha=0.3)
     if ax.get_legend_handles_labels()[0]:
@@ -358,7 +366,7 @@ def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: 
     ax.set_ylim(lo, hi)
     _log_ticks(ax.yaxis)
     ax.set_xlabel(label)
-    ax.set_ylabel(f"{metric} (mean over cells)")
+    ax.set_ylabel(f"{_metric_label(metric)} (mean over cells)")
     ax.grid(True, alpha=0.3)
     bx.set_xscale("log")
     bx.set_xlabel(label)

@@ -26,6 +26,7 @@ from aaeval.experiments.table import load_results, short_label
 from aaeval.imageio import atomic_write
 from aaeval.report import figures
 from aaeval.report.names import figure_stem
+from aaeval.report.filters_section import filters_section
 from aaeval.report.specular_section import specular_section
 from aaeval.report.style import Styles
 from aaeval.report.tables import write_table
@@ -531,6 +532,7 @@ def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
             if task is not None:
                 progress.advance(task)
     parts.append(specular_section(store.root, page.figdir))
+    parts.append(filters_section(store.root, page.figdir))
     scripts = "".join(f"<script src='{html.escape(s)}'></script>" for s in page.viewer_scripts)
     page_text = ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"
                  f"<title>{html.escape(manifest['experiment'])} — aaeval report</title><style>{_CSS}</style>"

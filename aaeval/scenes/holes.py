@@ -18,6 +18,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from aaeval.scenes.simplicity import rings_contact
 from aaeval.scenes.format import (
     MAX_COORDINATE,
     PLANARITY_RTOL,
@@ -26,7 +27,6 @@ from aaeval.scenes.format import (
     _check_no_repeats,
     _check_simple,
     _polygon,
-    _segments_meet,
     _vector,
 )
 
@@ -167,19 +167,14 @@ def _check_rings_apart(flat: list[np.ndarray], where: str) -> None:
 
 
 def _rings_meet(p: np.ndarray, q: np.ndarray) -> tuple[int, int] | None:
-    """The first (edge of p, edge of q) pair that shares a point, or None."""
+    """The first (edge of p, edge of q) pair that shares a point, or None (both rings simple)."""
     if (p.min(axis=0) > q.max(axis=0)).any() or (q.min(axis=0) > p.max(axis=0)).any():
         return None
-    p1, q1 = np.roll(p, -1, axis=0), np.roll(q, -1, axis=0)
-    rows = max(1, (1 << 20) // len(q))  # bounded memory for long rings
-    for lo in range(0, len(p), rows):
-        i, j = np.meshgrid(np.arange(lo, min(lo + rows, len(p))), np.arange(len(q)), indexing="ij")
-        i, j = i.ravel(), j.ravel()
-        hit = _segments_meet(p[i], p1[i], q[j], q1[j])
-        if hit.any():
-            k = int(np.flatnonzero(hit)[0])
-            return int(i[k]), int(j[k])
-    return None
+    hit = rings_contact([p, q])  # O(n log n) sweep line, shared with the format's simplicity check
+    if hit is None:
+        return None
+    ring_a, edge_a, _, edge_b = hit
+    return (edge_a, edge_b) if ring_a == 0 else (edge_b, edge_a)
 
 
 def _inside(point: np.ndarray, ring: np.ndarray) -> bool:
