@@ -71,16 +71,20 @@ def _add(sink, pix, src, scale):
                 sink.acc[row, col, a, b, c] += v * sink.colors[src, c]
 
 
-@njit(cache=True)
-def _integrate_piece(sink, pix, xs, ys, start, n):
-    """``sink.out`` = the piece's integrals, cut to the image if its cell is on the border."""
+@njit(cache=True, inline="always")
+def _cell_window(sink, pix):
+    """Cell ``pix``'s row, column and its square cut to the image ``(x0, x1, y0, y1)`` (shifted coordinates)."""
     wc = sink.width + 1
     row = pix // wc
     col = pix - row * wc
-    x0 = max(float(col), 0.5)
-    x1 = min(col + 1.0, sink.width + 0.5)
-    y0 = max(float(row), 0.5)
-    y1 = min(row + 1.0, sink.height + 0.5)
+    return (row, col, max(float(col), 0.5), min(col + 1.0, sink.width + 0.5),
+            max(float(row), 0.5), min(row + 1.0, sink.height + 0.5))
+
+
+@njit(cache=True)
+def _integrate_piece(sink, pix, xs, ys, start, n):
+    """``sink.out`` = the piece's integrals, cut to the image if its cell is on the border."""
+    row, col, x0, x1, y0, y1 = _cell_window(sink, pix)
     ox = col + 0.5
     oy = row + 0.5
     if col > 0 and row > 0 and col < sink.width and row < sink.height:
@@ -101,13 +105,7 @@ def _integrate_piece(sink, pix, xs, ys, start, n):
 @njit(cache=True)
 def _cell_integrals(sink, pix):
     """``sink.out`` = the integrals over the whole cell (cut to the image)."""
-    wc = sink.width + 1
-    row = pix // wc
-    col = pix - row * wc
-    x0 = max(float(col), 0.5)
-    x1 = min(col + 1.0, sink.width + 0.5)
-    y0 = max(float(row), 0.5)
-    y1 = min(row + 1.0, sink.height + 0.5)
+    row, col, x0, x1, y0, y1 = _cell_window(sink, pix)
     sink.sx[0] = x0
     sink.sy[0] = y0
     sink.sx[1] = x1
