@@ -299,7 +299,7 @@ methods = ["catmull:specular=none", "catmull:specular=amanatides"]
 
 def test_highlight_metrics_run_in_a_sweep_over_the_ground_truth_highlight(tmp_path):
     from aaeval.metrics.masks import HIGHLIGHT_SPP, HIGHLIGHT_THRESHOLD
-    from aaeval.specular.groundtruth import groundtruth_phong
+    from aaeval.groundtruth import groundtruth_phong
 
     exp = load_experiment(write_config(tmp_path, SHINY))
     run_sweep(exp, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache")
