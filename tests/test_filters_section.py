@@ -17,7 +17,7 @@ from scipy.integrate import quad
 from scipy.optimize import brentq
 
 from aaeval.experiments import load_experiment, run_sweep
-from aaeval.experiments.generators import generate_scene
+from aaeval.scenes.generate import generate_scene
 from aaeval.filters import FILTERS
 from aaeval.renderers import render
 from aaeval.report.filters_section import _edge_window, edge_width_10_90, fence_interior, filters_section, picket_flicker
