@@ -250,3 +250,16 @@ def test_layers_stand_where_svgelements_puts_the_shapes(name):
     assert len(fills) == len(boxes)
     for box, g in zip(boxes, fills):
         np.testing.assert_allclose(g.bounds, box, atol=1 / 16 + 1e-5)
+
+
+def test_use_is_placed_and_nested_svg_refused(tmp_path):
+    svg = tmp_path / "use.svg"
+    body = ('<defs><path id="tri" d="M 0 0 L 6 0 L 3 5 Z"/></defs>'
+            '<use href="#tri" x="2" y="3" fill="red"/><use href="#tri" transform="translate(15 8) scale(2)" fill="blue"/>')
+    svg.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" width="30" height="20">{body}</svg>')
+    layers = imported_layers(import_svg(svg).document)
+    np.testing.assert_allclose([g.bounds for g in layers], [(2, 3, 8, 8), (15, 8, 27, 18)], atol=1e-6)
+    svg.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" width="30" height="20">{body}'
+                   '<svg x="10" width="10" height="10" viewBox="0 0 20 20"><rect width="20" height="20"/></svg></svg>')
+    with pytest.raises(ValueError, match="nested <svg>"):
+        import_svg(svg)
