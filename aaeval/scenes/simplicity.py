@@ -14,8 +14,9 @@ without the closing vertex, edge ``k`` running from vertex ``k`` to vertex ``k +
 ring is one polygon outline; several rings (an outline and its holes) are checked together,
 where no edge of one ring may meet any edge of another.
 
-Orientation signs are computed exactly as the pairwise test computes them, so both give
-the same answer on every input (tests/test_simplicity.py compares them).
+Orientation signs are computed in float64 the way the pairwise test computes them, so the
+two agree wherever the signs are exact (integer coordinates, tests/test_simplicity.py);
+a meeting or a miss within rounding error of a tie may be judged either way by either.
 """
 
 from __future__ import annotations
