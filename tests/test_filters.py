@@ -196,6 +196,27 @@ def test_random_interpenetrating_scenes_agree_with_oracle(name, seed):
     assert np.abs(image - reference).max() < EXACT
 
 
+@pytest.mark.parametrize("name", ["tent", "mitchell", "gaussian"])
+@pytest.mark.parametrize("seed", [0, 1, 2, 3])
+def test_degenerate_scenes_agree_with_oracle(name, seed):
+    # shared vertices, edges on pixel boundaries, abutting mesh triangles, shared planes
+    from randomscenes import degenerate_scene
+
+    scene = degenerate_scene(seed)
+    reference = filtered_oracle(scene, name, order=4 if name != "gaussian" else 14)
+    assert np.abs(render(scene, f"catmull:filter={name}") - reference).max() < EXACT
+
+
+@pytest.mark.parametrize("name", ["mitchell", "gaussian"])
+def test_polygons_with_holes_agree_with_oracle(name):
+    from test_holes import random_holed_scene
+
+    scene = random_holed_scene(2)
+    assert scene.holed
+    reference = filtered_oracle(scene, name, order=4 if name != "gaussian" else 14)
+    assert np.abs(render(scene, f"catmull:filter={name}") - reference).max() < EXACT
+
+
 def test_box_oracle_is_todays_catmull():
     # the oracle's box path is the plain GEOS area average, and catmull:filter=box is today's
     scene = random_scene(5, width=12, height=9)

@@ -4,8 +4,8 @@ The scene is shifted by half a pixel and rendered at ``(W + 1) x (H + 1)`` by th
 scanline stages as ``catmull`` (:func:`aaeval.renderers._catmull_kernel.scanline`): the
 pixels of that render are exactly the knot cells ``[m - 1/2, m + 1/2] x [n - 1/2, n + 1/2]``
 of the original image, so every visible piece the kernel emits lies inside one cell. A
-:class:`MomentSink` receives them (``emit_pixel``, ``emit_piece``, ``emit_area``,
-``emit_rest``) and accumulates each one's integrals (:func:`~aaeval.filters.integrate.piece_integrals`)
+:class:`MomentSink` receives them (``emit_pixel``, ``emit_piece``, ``emit_strip_piece``,
+``emit_area``, ``emit_rest``) and accumulates each one's integrals (:func:`~aaeval.filters.integrate.piece_integrals`)
 times its colour per cell. Cells on the image border are cut to the image first
 (samples lie only inside it). :func:`~aaeval.filters.integrate.combine_cells` then turns
 cells into pixels.
@@ -134,6 +134,15 @@ def _emit_piece(sink, pix, src, xs, ys, start, n):
     return impl
 
 
+@overload_method(MomentSinkType, "emit_strip_piece", jit_options={"cache": True})
+def _emit_strip_piece(sink, pix, src, area, xs, ys, start, n):
+    # the strip coverage's area is the polygon's own: its integrals come from the polygon
+    def impl(sink, pix, src, area, xs, ys, start, n):
+        _integrate_piece(sink, pix, xs, ys, start, n)
+        _add(sink, pix, src, 1.0)
+    return impl
+
+
 @overload_method(MomentSinkType, "emit_area", jit_options={"cache": True})
 def _emit_area(sink, pix, src, area, x0, y0):
     # reached only for a front piece whose clip to its column left nothing (area ~ 0),
@@ -161,7 +170,7 @@ def _emit_rest(sink, pix, src, x0, y0):
 def _knot_grid_sums(start, length, x, y, planes, eps_z, colors, width, height, kind, radius, k, alpha, bias):
     polys = sort_polygons(start, length, x, y, planes)
     sink = new_moment_sink(width, height, colors, kind, radius, k, alpha, bias)
-    scanline(polys, width + 1, height + 1, eps_z, False, True, sink)
+    scanline(polys, width + 1, 0, height + 1, eps_z, False, True, sink)
     return sink.acc
 
 

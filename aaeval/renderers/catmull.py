@@ -166,8 +166,7 @@ FILTER_OPTION = {
     "filter": Option(
         str,
         DEFAULT_FILTER,
-        "pixel filter, as Mitsuba 3 defines it and normalises its film (aaeval.filters): "
-        + ", ".join(FILTERS),
+        "pixel filter, as Mitsuba 3 defines it and normalises its film (aaeval.filters, docs/filters.md)",
         choices=tuple(FILTERS),
     ),
 }
