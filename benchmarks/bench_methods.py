@@ -11,7 +11,8 @@ too, for the thread speed-up.
 
 Printed per scene and method: median wall milliseconds, the spread (interquartile range),
 median process CPU milliseconds, and the ratio of the median to Skia's. A method whose
-first render takes longer than ``--slow`` seconds is timed once on that scene. Written to
+first render takes longer than ``--slow`` seconds is timed once on that scene, and
+``weiler-atherton`` (object-space, far slower) is left out above ``--wa-max`` polygons. Written to
 ``--out``: ``bench_methods.csv`` (every timing) and ``bench_methods.png``, cost against work
 (log-log; work = pixels + the pixel area of every polygon, i.e. pixels x (1 + depth
 complexity)) with the machine's fill-rate line (the time to write that many RGB float64
@@ -122,6 +123,7 @@ def main() -> None:
     parser.add_argument("--methods", nargs="+", default=METHODS)
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--slow", type=float, default=3.0, help="seconds above which a method is timed once")
+    parser.add_argument("--wa-max", type=int, default=2000, help="most polygons weiler-atherton is timed on")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results"))
     args = parser.parse_args()
@@ -136,7 +138,8 @@ def main() -> None:
         pixels = side * side
         depth = covered_area(scene) / pixels
         work = pixels * (1 + depth)
-        timings = time_scene(scene, args.methods, args.repeats, args.slow)
+        methods = [m for m in args.methods if not (m.startswith("weiler-atherton") and n > args.wa_max)]
+        timings = time_scene(scene, methods, args.repeats, args.slow)
         skia = summary([w for w, _ in timings["skia"]])[0] if "skia" in timings else float("nan")
         print(f"\n{side}x{side}, {n} triangles of {size:g} px, depth complexity {depth:.2f}")
         print(f"{'method':>26} {'wall ms':>9} {'IQR':>7} {'cpu ms':>9} {'/ skia':>7} {'ns/px':>7} {'n':>2}")
