@@ -19,7 +19,8 @@ strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm
                        stay sorted front to back at the pixel centre -> :class:`ZList`
     ``pixel_list``     the pixel's polygon list: front to back up to the first solid
                        piece, and what behind it is not hidden everywhere in the pixel
-    ``resolve_pixel``  a solid piece in front: the whole pixel (``emit_pixel``); one
+    ``resolve_pixel``  a solid piece in front: the whole pixel (``emit_pixel``), and
+                       while it stays alone in front, its whole run (``solid_run``); one
                        irregular piece in front of a solid one or of the background: that
                        piece (``emit_strip_piece``, or ``emit_area`` without centroids) and the
                        rest of the pixel (``emit_rest``); otherwise ``integrate``
@@ -40,6 +41,11 @@ area centroid (its pieces merged), so flat colours and per-piece shading are res
 outside. Another sink type (for instance one accumulating polynomial moments of each
 piece for an exact filter) runs through the same stages via :func:`scanline`, which is
 compiled once per sink type.
+
+The rows are run in fixed bands of ``BAND_ROWS`` (``scanline(polys, width, row0, row1,
+...)``), each started at its top row, so bands are independent: ``band_fragments`` and
+``band_colors`` (flat colours straight into the image through :class:`ColorSink`) run
+without the GIL on any number of threads, with the same result.
 
 Workspaces grow by doubling; the integrator reports a too-small workspace with -1 and is
 rerun after growing it.
