@@ -15,9 +15,11 @@ from typing import NamedTuple
 
 import numpy as np
 
+from aaeval.filters.registry import DEFAULT_FILTER, FILTERS
 from aaeval.renderers._catmull_kernel import BACKGROUND, BAND_ROWS, band_colors, band_fragments, sort_polygons
 from aaeval.renderers.registry import Option, register_method
 from aaeval.scenes import Scene, parse_scene
+from aaeval.specular.methods import PARAMETERS as SPECULAR_PARAMETERS
 
 __all__ = ["Fragments", "visible_fragments", "resolve_flat", "render_flat", "render_catmull", "render_catmull_jagged"]
 
@@ -151,33 +153,29 @@ def _warmup() -> None:
     render_catmull_jagged(tiny)
 
 
-# Options for scenes with [shaded] objects (aaeval.specular); flat scenes ignore them.
-# Kept here as literals so this module does not import aaeval.specular at load time.
+# Options for scenes with [shaded] objects, declared once by the specular registry
+# (flat scenes ignore them). Its method list is a live view: a clamp registered there
+# later is accepted by catmull:specular=NAME.
 SPECULAR_OPTIONS = {
-    "specular": Option(
+    name: Option(p.type, p.default, p.doc, choices=p.choices, minimum=p.minimum)
+    for name, p in SPECULAR_PARAMETERS.items()
+}
+
+
+FILTER_OPTION = {
+    "filter": Option(
         str,
-        "none",
-        "shading of [shaded] objects: none (plain Phong, one shade per visible piece), "
-        "amanatides (Amanatides 1992 clamp), crow (K x K shading samples in flagged "
-        "pieces), toksvig, vlachos, tokuyoshi (geometric specular AA)",
-        choices=("none", "amanatides", "crow", "toksvig", "vlachos", "tokuyoshi"),
-    ),
-    "power": Option(
-        float,
-        1.0,
-        "amanatides/crow: fraction of the power of cos^n kept by the tables; 1 = the "
-        "conservative form, 0.999 = the paper's aggressive plate",
-        minimum=1e-6,
-    ),
-    "k": Option(int, 4, "crow: K x K shading samples per supersampled piece", minimum=1),
-    "region": Option(str, "flagged", "crow: supersample flagged pieces or all", choices=("flagged", "all")),
-    "energy": Option(
-        str,
-        "amanatides",
-        "toksvig/vlachos/tokuyoshi: rescale ks by Maximum[n]/Maximum[n'] or keep it",
-        choices=("amanatides", "none"),
+        DEFAULT_FILTER,
+        "pixel filter, as Mitsuba 3 defines it and normalises its film (aaeval.filters): "
+        + ", ".join(FILTERS),
+        choices=tuple(FILTERS),
     ),
 }
+
+# methods whose coverage is per pixel by construction (masks, analytic coverage) accept
+# only the box, and say so when asked for another
+BOX_ONLY = {"filter": Option(str, DEFAULT_FILTER, "pixel filter: box only (coverage is computed per pixel)",
+                             choices=(DEFAULT_FILTER,))}
 
 
 THREADS = Option(int, 0, "bands of rows rendered in parallel on this many threads (0: all cores); "
@@ -186,15 +184,22 @@ THREADS = Option(int, 0, "bands of rows rendered in parallel on this many thread
 
 @register_method(
     "catmull",
-    summary="Catmull 1978: exact box filter, hidden surfaces solved inside each pixel",
-    options={**SPECULAR_OPTIONS, "threads": THREADS},
+    summary="Catmull 1978: exact box filter (or another filter=), hidden surfaces solved inside each pixel",
+    options={**SPECULAR_OPTIONS, **FILTER_OPTION, "threads": THREADS},
     exact=True,
     warmup=_warmup,
 )
-def render_catmull(scene: Scene, threads: int = 0, **specular_options) -> np.ndarray:
+def render_catmull(scene: Scene, filter: str = DEFAULT_FILTER, threads: int = 0, **specular_options) -> np.ndarray:
     from aaeval.scenes.shaded import has_shaded
 
+    if filter != DEFAULT_FILTER:
+        from aaeval.filters.exact import filtered_image
+
+        if has_shaded(scene):
+            raise ValueError(f"catmull: filter={filter} supports flat-coloured scenes only, not [shaded] objects")
+        return filtered_image(scene, FILTERS[filter])
     if has_shaded(scene):
+        # at call time: the specular renderer uses this module's visible_fragments
         from aaeval.specular.render import render_shaded
 
         return render_shaded(scene, **specular_options)

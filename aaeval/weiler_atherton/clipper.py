@@ -28,11 +28,25 @@ following the paper's steps:
 
 from __future__ import annotations
 
-import bisect
 import math
 from typing import NamedTuple
 
-__all__ = ["Shape", "clip", "shape_area", "ring_area", "oriented", "polygons", "tolerance"]
+import numpy as np
+
+from aaeval.weiler_atherton.clip_kernel import clip_arrays, first_crossing, ring_area_of, winding
+
+__all__ = [
+    "Shape",
+    "InvalidShapeError",
+    "clip",
+    "shape_area",
+    "ring_area",
+    "oriented",
+    "polygons",
+    "tolerance",
+    "to_arrays",
+    "from_arrays",
+]
 
 Point = tuple[float, float]
 
@@ -52,16 +66,10 @@ class Shape(NamedTuple):
 
 def ring_area(ring: list[Point]) -> float:
     """Shoelace area (positive for a main contour)."""
-    n = len(ring)
-    if n < 3:
+    if len(ring) < 3:
         return 0.0
-    x0, y0 = ring[0]
-    s = 0.0
-    for i in range(1, n - 1):
-        ax, ay = ring[i]
-        bx, by = ring[i + 1]
-        s += (ax - x0) * (by - y0) - (bx - x0) * (ay - y0)
-    return 0.5 * s
+    xy = np.asarray(ring, dtype=np.float64)
+    return float(ring_area_of(np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]), 0, len(ring)))
 
 
 def shape_area(shape: Shape) -> float:
@@ -98,236 +106,50 @@ def tolerance(*shapes: Shape) -> float:
     return 2e-14 * m
 
 
-def _bbox(shape: Shape):
-    xs = [p[0] for r in shape.rings for p in r]
-    ys = [p[1] for r in shape.rings for p in r]
-    return min(xs), min(ys), max(xs), max(ys)
+class InvalidShapeError(ValueError):
+    """A shape the clipper cannot take: each contour needs 3 or more finite vertices, and
+    no two edges may cross (a contour may touch itself or another one, not cross)."""
 
 
-def _winding(px: float, py: float, rings) -> int:
-    """Winding number of the point about the oriented contours (1 inside a shape)."""
-    w = 0
-    for r in rings:
-        n = len(r)
-        x0, y0 = r[n - 1]
-        for i in range(n):
-            x1, y1 = r[i]
-            if y0 <= py:
-                if y1 > py and (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0) > 0:
-                    w += 1
-            elif y1 <= py and (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0) < 0:
-                w -= 1
-            x0, y0 = x1, y1
-    return w
+def to_arrays(shape: Shape):
+    """The shape as the kernels' four arrays (xs, ys, labels, starts)."""
+    lengths = [len(r) for r in shape.rings]
+    starts = np.zeros(len(lengths) + 1, dtype=np.int64)
+    np.cumsum(lengths, out=starts[1:])
+    n = int(starts[-1])
+    xy = np.array([p for r in shape.rings for p in r], dtype=np.float64).reshape(n, 2)
+    labels = np.array([lab for labs in shape.labels for lab in labs], dtype=np.int64)
+    return np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]), labels, starts
 
 
-def _snap_vertices(subject: Shape, clipper: Shape, eps: float) -> Shape:
-    """The clip shape with each vertex that coincides with a subject vertex replaced by
-    it, so shared vertices are bitwise equal."""
-    sub = {}
-    for r in subject.rings:
-        for p in r:
-            sub[p] = p
-    pts = list(sub)
-    rings = []
-    for r in clipper.rings:
-        nr = []
-        for q in r:
-            if q not in sub:
-                for p in pts:
-                    if abs(p[0] - q[0]) <= eps and abs(p[1] - q[1]) <= eps:
-                        q = p
-                        break
-            nr.append(q)
-        rings.append(nr)
-    return Shape(rings, clipper.labels)
+def from_arrays(xs, ys, labels, starts) -> Shape:
+    """A shape (lists of point tuples) from the kernels' arrays."""
+    pts = list(zip(xs.tolist(), ys.tolist()))
+    labs = labels.tolist()
+    bounds = starts.tolist()
+    return Shape([pts[a:b] for a, b in zip(bounds, bounds[1:])], [labs[a:b] for a, b in zip(bounds, bounds[1:])])
 
 
-def _edges(shape: Shape):
-    """(ring, k, p0, p1, bbox) for every edge."""
-    out = []
-    for i, r in enumerate(shape.rings):
-        n = len(r)
-        for k in range(n):
-            p0 = r[k]
-            p1 = r[(k + 1) % n]
-            out.append((i, k, p0, p1, min(p0[0], p1[0]), min(p0[1], p1[1]), max(p0[0], p1[0]), max(p0[1], p1[1])))
-    return out
-
-
-def _on_segment(q: Point, p0: Point, p1: Point, eps: float):
-    """Parameter t in (0, 1) of q on segment p0-p1 when q lies on it strictly between the
-    ends (distance <= eps from the line, > eps from both ends); else None."""
-    dx = p1[0] - p0[0]
-    dy = p1[1] - p0[1]
-    ll = dx * dx + dy * dy
-    if ll == 0.0:
-        return None
-    qx = q[0] - p0[0]
-    qy = q[1] - p0[1]
-    cr = dx * qy - dy * qx
-    if cr * cr > eps * eps * ll:
-        return None
-    t = (dx * qx + dy * qy) / ll
-    tol = eps / math.sqrt(ll)
-    if t <= tol or t >= 1.0 - tol:
-        return None
-    return t
-
-
-def _intersections(subject: Shape, clipper: Shape, eps: float):
-    """Split points for every edge of both shapes: ``{(ring, k): [(t, point), ...]}``.
-
-    Crossings of a subject edge with a clip edge are computed once and shared by both;
-    then every vertex and crossing point lying on any edge (of either shape, its own
-    contours included: a hole may touch its main contour) is inserted into that edge.
-    """
-    s_edges = _edges(subject)
-    c_edges = _edges(clipper)
-    points = {p for r in subject.rings for p in r} | {q for r in clipper.rings for q in r}
-    for _, _, p0, p1, sx0, sy0, sx1, sy1 in s_edges:
-        for _, _, q0, q1, cx0, cy0, cx1, cy1 in c_edges:
-            if cx0 > sx1 + eps or cx1 < sx0 - eps or cy0 > sy1 + eps or cy1 < sy0 - eps:
-                continue
-            x = _proper_crossing(p0, p1, q0, q1, eps)
-            if x is not None:
-                points.add(x)
-    pts = sorted(points)
-    xs = [p[0] for p in pts]
-    return _node(s_edges, pts, xs, eps), _node(c_edges, pts, xs, eps)
-
-
-def _node(edges, pts, xs, eps):
-    """Points of ``pts`` (sorted by x) lying strictly inside each edge."""
-    splits: dict = {}
-    for i, k, p0, p1, x0, y0, x1, y1 in edges:
-        lo = bisect.bisect_left(xs, x0 - eps)
-        hi = bisect.bisect_right(xs, x1 + eps)
-        for j in range(lo, hi):
-            q = pts[j]
-            if q[1] < y0 - eps or q[1] > y1 + eps or q == p0 or q == p1:
-                continue
-            t = _on_segment(q, p0, p1, eps)
-            if t is not None:
-                splits.setdefault((i, k), []).append((t, q))
-    return splits
-
-
-def _proper_crossing(p0, p1, q0, q1, eps):
-    """The point where two segments cross strictly inside both (each end farther than
-    eps from the other line); else None."""
-    dpx = p1[0] - p0[0]
-    dpy = p1[1] - p0[1]
-    dqx = q1[0] - q0[0]
-    dqy = q1[1] - q0[1]
-    lp = math.hypot(dpx, dpy)
-    lq = math.hypot(dqx, dqy)
-    d0 = dpx * (q0[1] - p0[1]) - dpy * (q0[0] - p0[0])
-    d1 = dpx * (q1[1] - p0[1]) - dpy * (q1[0] - p0[0])
-    if not ((d0 > eps * lp and d1 < -eps * lp) or (d0 < -eps * lp and d1 > eps * lp)):
-        return None
-    e0 = dqx * (p0[1] - q0[1]) - dqy * (p0[0] - q0[0])
-    e1 = dqx * (p1[1] - q0[1]) - dqy * (p1[0] - q0[0])
-    if not ((e0 > eps * lq and e1 < -eps * lq) or (e0 < -eps * lq and e1 > eps * lq)):
-        return None
-    tp = e0 / (e0 - e1)
-    tq = d0 / (d0 - d1)
-    # compute the point from the shorter parametrisation's nearer end (less rounding)
-    if min(tp, 1 - tp) * lp <= min(tq, 1 - tq) * lq:
-        x = (p0[0] + tp * dpx, p0[1] + tp * dpy) if tp <= 0.5 else (p1[0] - (1 - tp) * dpx, p1[1] - (1 - tp) * dpy)
-    else:
-        x = (q0[0] + tq * dqx, q0[1] + tq * dqy) if tq <= 0.5 else (q1[0] - (1 - tq) * dqx, q1[1] - (1 - tq) * dqy)
-    return x
-
-
-def _split_rings(shape: Shape, splits: dict):
-    """The shape's contours with the split points inserted (ordered along each edge)."""
-    rings = []
-    labels = []
-    for i, r in enumerate(shape.rings):
-        nr = []
-        nl = []
-        lab = shape.labels[i]
-        for k, p in enumerate(r):
-            nr.append(p)
-            nl.append(lab[k])
-            pts = splits.get((i, k))
-            if pts:
-                pts.sort()
-                for _, q in pts:
-                    if q != nr[-1]:
-                        nr.append(q)
-                        nl.append(lab[k])
-        # drop a closing duplicate (a split point equal to the first vertex)
-        while len(nr) > 1 and nr[-1] == nr[0]:
-            nr.pop()
-            nl.pop()
-        rings.append(nr)
-        labels.append(nl)
-    return rings, labels
-
-
-def _directed_edges(rings, labels):
-    out = []
-    for r, lab in zip(rings, labels):
-        n = len(r)
-        for k in range(n):
-            a = r[k]
-            b = r[(k + 1) % n]
-            if a != b:
-                out.append((a, b, lab[k]))
-    return out
-
-
-def _trace(edges) -> list[tuple[list[Point], list[int]]]:
-    """Link directed edges into closed contours, turning at shared vertices onto the first
-    edge clockwise from the way the walk came (keeps contours free of crossings)."""
-    outgoing: dict = {}
-    for e in edges:
-        outgoing.setdefault(e[0], []).append(e)
-    used = set()
-    contours = []
-    for e0 in edges:
-        if id(e0) in used:
-            continue
-        ring = []
-        labs = []
-        e = e0
-        while True:
-            used.add(id(e))
-            ring.append(e[0])
-            labs.append(e[2])
-            v = e[1]
-            cands = [f for f in outgoing.get(v, ()) if id(f) not in used]
-            if not cands:
-                break
-            if len(cands) > 1:
-                back = math.atan2(e[0][1] - v[1], e[0][0] - v[0])
-                best = None
-                for f in cands:
-                    turn = (back - math.atan2(f[1][1] - v[1], f[1][0] - v[0])) % (2 * math.pi)
-                    if turn == 0.0:
-                        turn = 2 * math.pi
-                    if best is None or turn < best[0]:
-                        best = (turn, f)
-                f = best[1]
-            else:
-                f = cands[0]
-            e = f
-        if len(ring) >= 3:
-            contours.append((ring, labs))
-    return contours
-
-
-def _clean(contours, eps: float) -> Shape:
-    """Contours without the zero-area leftovers of degenerate contact."""
-    rings = []
-    labels = []
-    for r, lab in contours:
-        if abs(ring_area(r)) > eps * eps:
-            rings.append(r)
-            labels.append(lab)
-    return Shape(rings, labels)
+def check_shape(shape: Shape, name: str, eps: float) -> None:
+    """Refuse a shape the clipper would answer wrongly (see :class:`InvalidShapeError`)."""
+    if len(shape.labels) != len(shape.rings):
+        raise InvalidShapeError(f"{name}: {len(shape.rings)} contours but {len(shape.labels)} label lists")
+    for i, (r, lab) in enumerate(zip(shape.rings, shape.labels)):
+        if len(r) < 3:
+            raise InvalidShapeError(f"{name}: contour {i} has {len(r)} vertices; a contour needs at least 3")
+        if len(lab) != len(r):
+            raise InvalidShapeError(f"{name}: contour {i} has {len(r)} vertices but {len(lab)} edge labels")
+    xs, ys, _, starts = to_arrays(shape)
+    if not (np.isfinite(xs).all() and np.isfinite(ys).all()):
+        raise InvalidShapeError(f"{name}: vertex coordinates must be finite numbers")
+    u, w = first_crossing(xs, ys, starts, eps)
+    if u >= 0:
+        ru = int(np.searchsorted(starts, u, side="right")) - 1
+        rw = int(np.searchsorted(starts, w, side="right")) - 1
+        raise InvalidShapeError(
+            f"{name} is self-crossing: edge {u - starts[ru]} of contour {ru} crosses edge "
+            f"{w - starts[rw]} of contour {rw} (contours must neither cross themselves nor each other)"
+        )
 
 
 def clip(subject: Shape, clipper: Shape, eps: float | None = None) -> tuple[Shape, Shape]:
@@ -346,68 +168,30 @@ def clip(subject: Shape, clipper: Shape, eps: float | None = None) -> tuple[Shap
     -------
     inside, outside : Shape
         ``subject ∩ clipper`` and ``subject \\ clipper``, as oriented contours.
+
+    Raises
+    ------
+    InvalidShapeError
+        A contour with fewer than 3 vertices, a non-finite coordinate, or two edges of
+        one shape crossing (a self-crossing contour, or a hole crossing its main contour):
+        no fill rule makes such input a region, so no answer would be right.
     """
+    if eps is None:
+        eps = tolerance(subject, clipper)
+    check_shape(subject, "subject", eps)
+    check_shape(clipper, "clip shape", eps)
     if not subject.rings:
         return Shape([], []), Shape([], [])
     if not clipper.rings:
         return Shape([], []), subject
-    if eps is None:
-        eps = tolerance(subject, clipper)
-    sb = _bbox(subject)
-    cb = _bbox(clipper)
-    if cb[0] >= sb[2] - eps or cb[2] <= sb[0] + eps or cb[1] >= sb[3] - eps or cb[3] <= sb[1] + eps:
-        return Shape([], []), subject
-
-    clipper = _snap_vertices(subject, clipper, eps)
-    s_split, c_split = _intersections(subject, clipper, eps)
-    shared_vertex = bool({p for r in subject.rings for p in r} & {q for r in clipper.rings for q in r})
-    if not s_split and not c_split and not shared_vertex:
-        return _holding_lists(subject, clipper)
-
-    s_rings, s_labels = _split_rings(subject, s_split)
-    c_rings, c_labels = _split_rings(clipper, c_split)
-    s_edges = _directed_edges(s_rings, s_labels)
-    c_edges = _directed_edges(c_rings, c_labels)
-    s_set = {(a, b) for a, b, _ in s_edges}
-    c_set = {(a, b) for a, b, _ in c_edges}
-
-    inside = []
-    outside = []
-    for a, b, lab in s_edges:
-        if (a, b) in c_set:  # shared, same side: interior of both on the same side
-            inside.append((a, b, lab))
-        elif (b, a) in c_set:  # shared, opposite sides: boundary of the outside part
-            outside.append((a, b, lab))
-        elif _winding(0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), c_rings) > 0:
-            inside.append((a, b, lab))
-        else:
-            outside.append((a, b, lab))
-    for a, b, lab in c_edges:
-        if (a, b) in s_set or (b, a) in s_set:
-            continue
-        if _winding(0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), s_rings) > 0:
-            inside.append((a, b, lab))
-            outside.append((b, a, lab))  # walked backwards: it bounds the outside part
-    return _clean(_trace(inside), eps), _clean(_trace(outside), eps)
+    out = clip_arrays(*to_arrays(subject), *to_arrays(clipper), float(eps))
+    return from_arrays(*out[:4]), from_arrays(*out[4:])
 
 
-def _holding_lists(subject: Shape, clipper: Shape) -> tuple[Shape, Shape]:
-    """The paper's step 2 when no boundaries meet: whole contours to the holding lists."""
-    ins = Shape([], [])
-    out = Shape([], [])
-    for r, lab in zip(subject.rings, subject.labels):
-        a, b = r[0], r[1]
-        target = ins if _winding(0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), clipper.rings) > 0 else out
-        target.rings.append(r)
-        target.labels.append(lab)
-    for r, lab in zip(clipper.rings, clipper.labels):
-        a, b = r[0], r[1]
-        if _winding(0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), subject.rings) > 0:
-            ins.rings.append(r)
-            ins.labels.append(lab)
-            out.rings.append(r[::-1])
-            out.labels.append(lab[-2::-1] + lab[-1:])
-    return ins, out
+def _winding(px: float, py: float, rings) -> int:
+    """Winding number of the point about the oriented contours (1 inside a shape)."""
+    xs, ys, _, starts = to_arrays(Shape(rings, [[0] * len(r) for r in rings]))
+    return int(winding(float(px), float(py), xs, ys, starts))
 
 
 def polygons(shape: Shape) -> list[Shape]:
