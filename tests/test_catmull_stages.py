@@ -336,3 +336,32 @@ def test_jagged_kernel_gives_each_pixel_to_its_nearest_piece():
     polys = polygons(SQUARE)
     frags = K.catmull_fragments(3, 3, polys.start, polys.length, polys.x, polys.y, polys.planes, 1e-11, True, False)
     np.testing.assert_array_equal(fragment_image(frags, 9, 0), np.ones(9))
+
+
+# --- solid runs ---------------------------------------------------------------------
+
+
+def test_hidden_until_is_the_last_column_where_the_plane_stays_in_front():
+    # z_p = x against z_q = 2.5: p is nearer on the whole square [x0, x0+1] while x0 + 1 < 2.5
+    planes = np.array([(1.0, 0.0, 0.0), (0.0, 0.0, 2.5)])
+    assert K._hidden_until(planes, 0, 1, 0, 5, 0, 6) == 1
+    assert K._hidden_until(planes, 0, 1, 2, 5, 0, 6) == 1  # not even at column 2
+    assert K._hidden_until(planes, 1, 0, 0, 5, 0, 6) == -1  # q in front at column 0
+    assert K._hidden_until(planes, 1, 0, 3, 5, 0, 6) == 5  # ... and hidden from column 3 on
+
+
+def test_solid_run_stops_before_a_piece_entering_in_front_and_takes_in_those_behind():
+    solid = [(-1.0, 0.0), (7.0, 0.0), (7.0, 1.0), (-1.0, 1.0)]  # z = 5, whole row
+    behind = [(2.2, 0.1), (2.8, 0.1), (2.8, 0.9)]  # enters at column 2, z = 9
+    front = [(4.2, 0.1), (4.8, 0.1), (4.8, 0.9)]  # enters at column 4, z = 1
+    polys = polygons(solid, behind, front, planes=[(0, 0, 5), (0, 0, 9), (0, 0, 1)])
+    _, strip = strip_of(polys, [0], width=6)
+    K.bucket_by_x(strip, 6)
+    zl = np.empty(3, np.int64)
+    n = K.update_zlist(zl, np.empty(3), 0, strip.bucket_head, strip.bucket_items, strip.span, strip.pieces,
+                       polys.planes, 0, 0)
+    k = zl[0]
+    end, n = K.solid_run(k, zl, n, strip.bucket_head, strip.bucket_items, strip.span, strip.pieces, strip.cov,
+                         polys.planes, 0, 0, 6)
+    assert end == 3
+    assert sorted(strip.pieces[zl[:n], 2]) == [0, 1]  # `behind` joined the z-list, `front` waits

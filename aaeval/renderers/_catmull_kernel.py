@@ -19,7 +19,8 @@ strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm
                        stay sorted front to back at the pixel centre -> :class:`ZList`
     ``pixel_list``     the pixel's polygon list: front to back up to the first solid
                        piece, and what behind it is not hidden everywhere in the pixel
-    ``resolve_pixel``  a solid piece in front: the whole pixel (``emit_pixel``); one
+    ``resolve_pixel``  a solid piece in front: the whole pixel (``emit_pixel``), and
+                       while it stays alone in front, its whole run (``solid_run``); one
                        irregular piece in front of a solid one or of the background: that
                        piece (``emit_strip_piece``, or ``emit_area`` without centroids) and the
                        rest of the pixel (``emit_rest``); otherwise ``integrate``
@@ -40,6 +41,11 @@ area centroid (its pieces merged), so flat colours and per-piece shading are res
 outside. Another sink type (for instance one accumulating polynomial moments of each
 piece for an exact filter) runs through the same stages via :func:`scanline`, which is
 compiled once per sink type.
+
+The rows are run in fixed bands of ``BAND_ROWS`` (``scanline(polys, width, row0, row1,
+...)``), each started at its top row, so bands are independent: ``band_fragments`` and
+``band_colors`` (flat colours straight into the image through :class:`ColorSink`) run
+without the GIL on any number of threads, with the same result.
 
 Workspaces grow by doubling; the integrator reports a too-small workspace with -1 and is
 rerun after growing it.
@@ -682,9 +688,76 @@ def resolve_pixel(strip, plist, n_pl, solid, planes, eps_z, pix, col, row, work,
     integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out)
 
 
+@njit(cache=True, inline="always")
+def _hidden_until(planes, p, q, col, end, row, width):
+    """The last column in ``col .. end`` up to which polygon p hides polygon q over every
+    pixel square by a safe margin (``col - 1`` if it does not at ``col``).
+
+    z_p - z_q = da x + db y + dc is linear, so its largest corner value on the square
+    [x0, x0+1] x [y0, y0+1] is linear in x0: the bound is found in closed form, then
+    checked. The margin is far above the rounding of any depth evaluation, so where this
+    holds the per-pixel tests (``update_zlist``, ``in_front_on_square``) agree.
+    """
+    da = planes[p, 0] - planes[q, 0]
+    db = planes[p, 1] - planes[q, 1]
+    dc = planes[p, 2] - planes[q, 2]
+    y0 = float(row)
+    margin = 1e-9 * ((abs(planes[p, 0]) + abs(planes[q, 0]) + abs(planes[p, 1]) + abs(planes[q, 1]))
+                     * (width + y0 + 2.0) + abs(planes[p, 2]) + abs(planes[q, 2]) + 1.0)
+    rest = max(da, 0.0) + db * y0 + max(db, 0.0) + dc
+    if da * col + rest >= -margin:
+        return col - 1
+    if da <= 0.0 or da * end + rest < -margin:
+        return end
+    last = min(int(np.floor((-margin - rest) / da)), end)
+    while last >= col and da * last + rest >= -margin:
+        last -= 1
+    return last
+
+
+@njit(cache=True)
+def solid_run(k, zl, n_zl, bucket_head, bucket_items, span, pieces, cov, planes, col, row, width):
+    """How far strip piece k, alone and solid in front at ``col``, stays so without any
+    per-pixel work: returns ``(last column, z-list length)``.
+
+    The run goes on while k covers whole pixels and hides every other piece of the
+    z-list over the whole pixel square; pieces entering the z-list inside the run are
+    added to it (the run stops before one that k does not hide), so the z-list is as
+    the per-pixel sweep would have it. Within the run every pixel is k's.
+    """
+    p = pieces[k, 2]
+    end = min(span[k, 1], width - 1)
+    c = col + 1
+    while c <= end and cov[span[k, 2] + c - span[k, 0]] >= COV_SOLID:
+        c += 1
+    end = c - 1
+    for t in range(n_zl):
+        if end <= col:
+            return col, n_zl
+        if zl[t] != k:
+            end = min(end, _hidden_until(planes, p, pieces[zl[t], 2], col + 1, end, row, width))
+    c = col + 1
+    while c <= end:
+        for t in range(bucket_head[c], bucket_head[c + 1]):
+            q = bucket_items[t]
+            last = _hidden_until(planes, p, pieces[q, 2], c, end, row, width)
+            if last < c:
+                return c - 1, n_zl  # q enters at c visible: the per-pixel sweep takes over
+            end = min(end, last)
+        for t in range(bucket_head[c], bucket_head[c + 1]):
+            zl[n_zl] = bucket_items[t]
+            n_zl += 1
+        c += 1
+    return end, n_zl
+
+
 @njit(cache=True)
 def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centroids):
-    """Sweep the pixels of ``row`` left to right, emitting each pixel's visible pieces."""
+    """Sweep the pixels of ``row`` left to right, emitting each pixel's visible pieces.
+
+    Where a solid piece is alone in front, its whole solid run is filled at once
+    (``solid_run``): the per-pixel z-list and pixel-list work is skipped there.
+    """
     zl = zlist.items
     zdepth = zlist.depth
     plist = zlist.pixel
@@ -694,11 +767,19 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
     head = strip.bucket_head
     items = strip.bucket_items
     n_zl = 0
-    for col in range(width):
+    col = 0
+    while col < width:
         n_zl = update_zlist(zl, zdepth, n_zl, head, items, span, pieces, planes, col, row)
         n_pl, solid = pixel_list(zl, n_zl, plist, pieces, span, cov, planes, col, row, eps_z)
         resolve_pixel(strip, plist, n_pl, solid, planes, eps_z, row * width + col, col, row, work, out,
                       jagged, centroids)
+        if n_pl == 1 and plist[0] == solid:
+            end, n_zl = solid_run(solid, zl, n_zl, head, items, span, pieces, cov, planes, col, row, width)
+            src = pieces[solid, 2]
+            for c in range(col + 1, end + 1):
+                out.emit_pixel(row * width + c, src, float(c), float(row))
+            col = end
+        col += 1
 
 
 # --- III.E.b: the pixel integrator ------------------------------------------------

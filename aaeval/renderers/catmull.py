@@ -84,7 +84,7 @@ def _pool(threads: int) -> ThreadPoolExecutor:
     return ThreadPoolExecutor(max_workers=threads, thread_name_prefix="catmull")
 
 
-def _run_bands(height: int, threads: int, band):
+def run_bands(height: int, threads: int, band):
     """``band(row0, row1)`` for every band of rows, on ``threads`` threads (0: all cores);
     results in band order. The kernel releases the GIL, and the bands do not depend on
     the thread count, so neither does the result."""
@@ -105,7 +105,7 @@ def visible_fragments(scene: Scene, *, jagged: bool = False, centroids: bool = T
     """
     starts, lengths, x, y, planes, source, eps_z = kernel_inputs(scene)
     polys = sort_polygons(starts, lengths, x, y, planes)
-    parts = _run_bands(scene.height, threads,
+    parts = run_bands(scene.height, threads,
                        lambda r0, r1: band_fragments(polys, scene.width, r0, r1, eps_z, jagged, centroids))
     pix, src, area, cx, cy = (np.concatenate([p[i] for p in parts]) if parts else np.zeros(0) for i in range(5))
     pix = pix.astype(np.int64)
@@ -132,7 +132,7 @@ def render_flat(scene: Scene, *, jagged: bool = False, threads: int = 0) -> np.n
     polys = sort_polygons(starts, lengths, x, y, planes)
     colors = np.ascontiguousarray(np.vstack([scene.arrays.colors[source], scene.background]), dtype=float)
     image = np.empty((scene.width * scene.height, 3))
-    _run_bands(scene.height, threads,
+    run_bands(scene.height, threads,
                lambda r0, r1: band_colors(polys, scene.width, r0, r1, eps_z, jagged, colors, image))
     return image.reshape(scene.height, scene.width, 3)
 
