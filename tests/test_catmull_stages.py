@@ -9,9 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from numba import njit, types
-from numba.experimental import structref
-from numba.extending import overload_method
+from numba import njit
 
 from aaeval.renderers import _catmull_kernel as K
 
@@ -191,6 +189,23 @@ def _emit_then_rest(out, xs, ys, n, rest_src):
     out.emit_rest(0, rest_src, 0.0, 0.0)
 
 
+@njit
+def _emit_strip_piece(out, area, xs, ys, n):
+    out.emit_strip_piece(5, 2, area, xs, ys, 0, n)
+
+
+def test_emit_strip_piece_keeps_the_coverage_area_and_finds_the_centroid():
+    # the strip coverage's area is kept as given (it may differ from the clipped
+    # polygon's by rounding); the centroid comes from the vertices
+    xs = np.array([0.0, 1.0, 0.0])
+    ys = np.array([0.0, 0.0, 1.0])
+    out = K.new_fragment_sink(1)
+    _emit_strip_piece(out, 0.5 + 1e-16, xs, ys, 3)
+    pix, src, area, cx, cy = _sink_arrays(out)
+    assert (pix[0], src[0], area[0]) == (5, 2, 0.5 + 1e-16)
+    np.testing.assert_allclose([cx[0], cy[0]], [1 / 3, 1 / 3])
+
+
 def _sink_arrays(out):
     n = out.n
     return out.pix[:n], out.src[:n], out.area[:n], out.cx[:n], out.cy[:n]
@@ -321,68 +336,3 @@ def test_jagged_kernel_gives_each_pixel_to_its_nearest_piece():
     polys = polygons(SQUARE)
     frags = K.catmull_fragments(3, 3, polys.start, polys.length, polys.x, polys.y, polys.planes, 1e-11, True, False)
     np.testing.assert_array_equal(fragment_image(frags, 9, 0), np.ones(9))
-
-
-# --- another sink through the same stages ----------------------------------------------
-
-
-@structref.register
-class CoverageSinkType(types.StructRef):
-    def preprocess_fields(self, fields):
-        return tuple((name, types.unliteral(typ)) for name, typ in fields)
-
-
-class CoverageSink(structref.StructRefProxy):
-    """A toy sink: total visible polygon area per pixel (background left out)."""
-
-
-K.define_workspace(CoverageSink, CoverageSinkType, ["image"])
-
-
-@overload_method(CoverageSinkType, "emit_pixel")
-def _cov_pixel(out, pix, src, x0, y0):
-    def impl(out, pix, src, x0, y0):
-        if src != K.BACKGROUND:
-            out.image[pix] += 1.0
-    return impl
-
-
-@overload_method(CoverageSinkType, "emit_piece")
-def _cov_piece(out, pix, src, xs, ys, start, n):
-    def impl(out, pix, src, xs, ys, start, n):
-        if src != K.BACKGROUND:
-            s = 0.0
-            for i in range(start, start + n):
-                j = i + 1 if i + 1 < start + n else start
-                s += xs[i] * ys[j] - xs[j] * ys[i]
-            out.image[pix] += 0.5 * s
-    return impl
-
-
-@overload_method(CoverageSinkType, "emit_area")
-def _cov_area(out, pix, src, area, x0, y0):
-    def impl(out, pix, src, area, x0, y0):
-        if src != K.BACKGROUND:
-            out.image[pix] += area
-    return impl
-
-
-@overload_method(CoverageSinkType, "emit_rest")
-def _cov_rest(out, pix, src, x0, y0):
-    def impl(out, pix, src, x0, y0):
-        if src != K.BACKGROUND:
-            out.image[pix] = 1.0
-    return impl
-
-
-@pytest.mark.parametrize("centroids", [False, True])
-def test_a_second_sink_type_runs_through_the_same_stages(centroids):
-    # two overlapping triangles make irregular-over-solid pixels and integrator pixels
-    tri_a = [(0.2, 0.1), (2.9, 0.4), (0.6, 2.8)]
-    tri_b = [(2.8, 0.2), (2.6, 2.9), (0.1, 1.3)]
-    polys = polygons(tri_a, tri_b, planes=[(0.3, -0.2, 1.0), (-0.4, 0.1, 1.2)])
-    sink = CoverageSink(np.zeros(9))
-    K.scanline(polys, 3, 3, 1e-11, False, centroids, sink)
-    frags = K.catmull_fragments(3, 3, polys.start, polys.length, polys.x, polys.y, polys.planes, 1e-11, False, True)
-    expected = 1.0 - fragment_image(frags, 9, K.BACKGROUND)
-    np.testing.assert_allclose(sink.image, expected, atol=1e-12)

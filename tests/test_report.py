@@ -15,6 +15,7 @@ from aaeval.experiments import load_experiment, run_sweep
 from aaeval.report import write_report
 from aaeval.report.names import figure_stem
 from aaeval.report.figures import pareto_front
+from aaeval.report.names import figure_stem
 from report_util import small_report
 from sweep_util import write_config
 

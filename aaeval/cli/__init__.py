@@ -30,6 +30,12 @@ COMMANDS = [
 ]
 
 
+def _version() -> str:
+    import aaeval
+
+    return f"aaeval {aaeval.__version__}"
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="aaeval",
@@ -39,6 +45,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="Run 'aaeval COMMAND --help' for the options of a command. "
         "Method specs look like NAME or NAME:key=value,key=value (see 'aaeval methods').",
     )
+    parser.add_argument("--version", action="version", version=_version())
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in COMMANDS:
         importlib.import_module(name).add_parser(sub)

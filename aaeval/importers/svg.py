@@ -113,7 +113,7 @@ def _element_layers(se, element, name: str, tol: float, ignored: list[str]) -> l
         if _number(values.get(attr), 1.0) < 1.0:
             ignored.append(f"{name}: {attr} {values.get(attr)} ignored (drawn opaque)")
 
-    subpaths = shape_subpaths(se.Path(element), tol)
+    subpaths = shape_subpaths(abs(se.Path(element)), tol)  # abs: the transform applied to the points
     layers = []
     fill = _paint(values.get("fill"), element.fill, name, "fill", ignored)
     if fill is not None and subpaths:

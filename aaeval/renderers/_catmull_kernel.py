@@ -21,7 +21,7 @@ strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm
                        piece, and what behind it is not hidden everywhere in the pixel
     ``resolve_pixel``  a solid piece in front: the whole pixel (``emit_pixel``); one
                        irregular piece in front of a solid one or of the background: that
-                       piece (``emit_piece``, or ``emit_area`` without centroids) and the
+                       piece (``emit_strip_piece``, or ``emit_area`` without centroids) and the
                        rest of the pixel (``emit_rest``); otherwise ``integrate``
 ``integrate``       the pixel integrator: ``pixel_polygons`` clips the listed pieces to
     the pixel (a solid piece becomes the pixel square, the background square goes last),
@@ -29,10 +29,12 @@ strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm
     unclipped edges and along the lines where depth planes cross), then every visible
     piece goes to ``emit_piece`` with its vertices -> :class:`PixelWork`
 
-Every result leaves through a *sink*: a structref with four methods, ``emit_pixel``
+Every result leaves through a *sink*: a structref with five methods, ``emit_pixel``
 (the whole pixel square), ``emit_piece`` (a visible piece inside a pixel, as its polygon
-vertices), ``emit_area`` (an area without its shape, only with ``centroids=False``) and
-``emit_rest`` (the pixel square minus what was already emitted for that pixel).
+vertices), ``emit_strip_piece`` (the same for a strip piece alone in front, with the exact
+area the strip coverage already gave), ``emit_area`` (an area without its shape, only with
+``centroids=False``) and ``emit_rest`` (the pixel square minus what was already emitted for
+that pixel).
 :class:`FragmentSink` turns them into fragments: per pixel, each visible polygon's area and
 area centroid (its pieces merged), so flat colours and per-piece shading are resolved
 outside. Another sink type (for instance one accumulating polynomial moments of each
@@ -253,17 +255,22 @@ def new_fragment_sink(capacity):
 def _append(out, pix, src, area, cx, cy):
     n = out.n
     if n >= out.pix.shape[0]:
-        out.pix = _grow(out.pix, n + 1)
-        out.src = _grow(out.src, n + 1)
-        out.area = _grow(out.area, n + 1)
-        out.cx = _grow(out.cx, n + 1)
-        out.cy = _grow(out.cy, n + 1)
+        _grow_sink(out, n + 1)
     out.pix[n] = pix
     out.src[n] = src
     out.area[n] = area
     out.cx[n] = cx
     out.cy[n] = cy
     out.n = n + 1
+
+
+@njit(cache=True)
+def _grow_sink(out, n):
+    out.pix = _grow(out.pix, n)
+    out.src = _grow(out.src, n)
+    out.area = _grow(out.area, n)
+    out.cx = _grow(out.cx, n)
+    out.cy = _grow(out.cy, n)
 
 
 @overload_method(FragmentSinkType, "emit_pixel", jit_options={"cache": True})
@@ -301,6 +308,19 @@ def _emit_piece(out, pix, src, xs, ys, start, n):
             out.cx[g] = (out.cx[g] * out.area[g] + cx * area) / total
             out.cy[g] = (out.cy[g] * out.area[g] + cy * area) / total
         out.area[g] = total
+    return impl
+
+
+@overload_method(FragmentSinkType, "emit_strip_piece", jit_options={"cache": True})
+def _emit_strip_piece(out, pix, src, area, xs, ys, start, n):
+    """Strip piece of polygon ``src`` clipped to the pixel, ``xs, ys[start:start+n]``, whose
+    exact area ``area`` is known from the strip coverage (the first fragment of its pixel).
+
+    The coverage's area is kept, so fragments with and without centroids agree exactly.
+    """
+    def impl(out, pix, src, area, xs, ys, start, n):
+        _, cx, cy = area_centroid(xs, ys, start, n)
+        _append(out, pix, src, area, cx, cy)
     return impl
 
 
@@ -559,7 +579,7 @@ def bucket_by_x(strip, width):
 # --- III.D/E: sweeping the row ----------------------------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def update_zlist(zl, zdepth, n_zl, bucket_head, bucket_items, span, pieces, planes, col, row):
     """Move the z-list to column ``col``; returns its new length.
 
@@ -593,7 +613,7 @@ def update_zlist(zl, zdepth, n_zl, bucket_head, bucket_items, span, pieces, plan
     return n_zl
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def pixel_list(zl, n_zl, plist, pieces, span, cov, planes, col, row, eps_z):
     """The pixel's polygon list ``plist``: front to back up to the first solid piece, and
     anything behind that piece not hidden by it everywhere in the pixel.
@@ -629,12 +649,12 @@ def emit_front_piece(strip, k, pix, col, row, work, out, centroids):
         m = clip_to_column(strip.x, strip.y, strip.f, strip.pieces[k, 0], n, float(col),
                            work.x, work.y, work.f, 0, 4 * n + 8)
         if m > 0:
-            out.emit_piece(pix, src, work.x, work.y, 0, m)
+            out.emit_strip_piece(pix, src, cv, work.x, work.y, 0, m)
             return
     out.emit_area(pix, src, cv, float(col), float(row))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def resolve_pixel(strip, plist, n_pl, solid, planes, eps_z, pix, col, row, work, out, jagged, centroids):
     """Emit the visible pieces of one pixel, by the cheapest case that applies."""
     x0 = float(col)
@@ -904,19 +924,24 @@ def integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out):
         out.emit_piece(pix, recs[r, 2], work.x, work.y, recs[r, 0], recs[r, 1])
 
 
-# --- the whole image --------------------------------------------------------------
+# --- the whole image ---------------------------------------------------------------
+# The image is cut into bands of BAND_ROWS rows, each run from its own first row (the
+# polygons reaching into it cut at its top), so bands are independent: they can run on
+# any number of threads and the result is the same, bit for bit.
+
+BAND_ROWS = 32
 
 
 @njit(cache=True)
-def scanline(polys, width, height, eps_z, jagged, centroids, out):
-    """Run the scanline algorithm over every row, emitting every pixel's visible pieces
-    into the sink ``out`` (compiled once per sink type)."""
+def scanline(polys, width, row0, row1, eps_z, jagged, centroids, out):
+    """Run the scanline algorithm over rows ``row0 .. row1-1``, emitting every pixel's
+    visible pieces into the sink ``out`` (compiled once per sink type)."""
     n_polys = polys.order.size
     active = new_active_list(n_polys)
     strip = new_strip(n_polys, width)
     zlist = new_zlist(n_polys)
     work = new_pixel_work()
-    for row in range(height):
+    for row in range(row0, row1):
         enter_polygons(polys, active, row)
         if active.n == 0 and active.next_in >= n_polys:
             for col in range(width):
@@ -927,9 +952,18 @@ def scanline(polys, width, height, eps_z, jagged, centroids, out):
         sweep_row(strip, zlist, work, out, polys.planes, row, width, eps_z, jagged, centroids)
 
 
+@njit(cache=True, nogil=True)
+def band_fragments(polys, width, row0, row1, eps_z, jagged, centroids):
+    """Fragments ``(pix, src, area, cx, cy)`` of rows ``row0 .. row1-1`` (runs without the GIL)."""
+    out = new_fragment_sink((row1 - row0) * width + 16)
+    scanline(polys, width, row0, row1, eps_z, jagged, centroids, out)
+    n = out.n
+    return out.pix[:n], out.src[:n], out.area[:n], out.cx[:n], out.cy[:n]
+
+
 @njit(cache=True)
 def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, jagged, centroids):
-    """Visible fragments of every pixel.
+    """Visible fragments of every pixel, band after band.
 
     Returns ``(pix, src, area, cx, cy)``: pixel index ``row * width + col``, source
     polygon (-1 for background), visible area, and its area centroid. With
@@ -938,6 +972,121 @@ def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, ja
     """
     polys = sort_polygons(pstart0, plen0, vx0, vy0, planes)
     out = new_fragment_sink(width * height + 16)
-    scanline(polys, width, height, eps_z, jagged, centroids, out)
+    for row0 in range(0, height, BAND_ROWS):
+        scanline(polys, width, row0, min(row0 + BAND_ROWS, height), eps_z, jagged, centroids, out)
     n = out.n
     return out.pix[:n], out.src[:n], out.area[:n], out.cx[:n], out.cy[:n]
+
+
+# --- flat colours straight into the image ---------------------------------------------
+
+
+@structref.register
+class ColorSinkType(_Workspace):
+    pass
+
+
+class ColorSink(structref.StructRefProxy):
+    """Box-filtered flat colours written straight into ``image`` (pixels x 3).
+
+    ``colors[src]`` is a polygon's colour (row -1: the background). The current pixel's
+    fragments (``src, area``, pieces of one polygon merged, ``n`` of them) are summed
+    into the image when the next pixel starts (``flush``), in the order a bincount over
+    :class:`FragmentSink` fragments would add them, so both give the same bits.
+    """
+
+
+define_workspace(ColorSink, ColorSinkType, ["image", "colors", "pixel", "src", "area", "n"])
+
+
+@njit(cache=True)
+def new_color_sink(image, colors):
+    return ColorSink(image, colors, -1, np.empty(16, np.int64), np.empty(16), 0)
+
+
+@njit(cache=True)
+def flush(out):
+    """Write the pending pixel into the image."""
+    if out.n == 0:
+        return
+    image = out.image
+    colors = out.colors
+    pix = out.pixel
+    for ch in range(3):
+        acc = 0.0
+        for g in range(out.n):
+            acc += out.area[g] * colors[out.src[g], ch]
+        image[pix, ch] = acc
+    out.n = 0
+
+
+@njit(cache=True, inline="always")
+def _color_add(out, pix, src, area):
+    """Add ``area`` of polygon ``src`` to pixel ``pix`` (merged with the same polygon)."""
+    if pix != out.pixel:
+        flush(out)
+        out.pixel = pix
+    for g in range(out.n):
+        if out.src[g] == src:
+            out.area[g] = out.area[g] + area
+            return
+    if out.n >= out.src.shape[0]:
+        out.src = _grow(out.src, out.n + 1)
+        out.area = _grow(out.area, out.n + 1)
+    out.src[out.n] = src
+    out.area[out.n] = area
+    out.n += 1
+
+
+@overload_method(ColorSinkType, "emit_pixel", jit_options={"cache": True})
+def _color_pixel(out, pix, src, x0, y0):
+    def impl(out, pix, src, x0, y0):
+        if out.n > 0:
+            flush(out)
+        out.pixel = pix
+        for ch in range(3):
+            out.image[pix, ch] = 1.0 * out.colors[src, ch]
+    return impl
+
+
+@overload_method(ColorSinkType, "emit_piece", jit_options={"cache": True})
+def _color_piece(out, pix, src, xs, ys, start, n):
+    def impl(out, pix, src, xs, ys, start, n):
+        _color_add(out, pix, src, signed_area(xs, ys, start, n))
+    return impl
+
+
+@overload_method(ColorSinkType, "emit_strip_piece", jit_options={"cache": True})
+def _color_strip_piece(out, pix, src, area, xs, ys, start, n):
+    def impl(out, pix, src, area, xs, ys, start, n):
+        _color_add(out, pix, src, area)
+    return impl
+
+
+@overload_method(ColorSinkType, "emit_area", jit_options={"cache": True})
+def _color_area(out, pix, src, area, x0, y0):
+    def impl(out, pix, src, area, x0, y0):
+        _color_add(out, pix, src, area)
+    return impl
+
+
+@overload_method(ColorSinkType, "emit_rest", jit_options={"cache": True})
+def _color_rest(out, pix, src, x0, y0):
+    def impl(out, pix, src, x0, y0):
+        covered = 0.0
+        if pix == out.pixel:
+            for g in range(out.n):
+                covered += out.area[g]
+        rest = 1.0 - covered
+        if rest > 0.0:
+            _color_add(out, pix, src, rest)
+    return impl
+
+
+@njit(cache=True, nogil=True)
+def band_colors(polys, width, row0, row1, eps_z, jagged, colors, image):
+    """Write the flat-colour pixels of rows ``row0 .. row1-1`` into ``image`` (pixels x 3;
+    runs without the GIL)."""
+    out = new_color_sink(image, colors)
+    scanline(polys, width, row0, row1, eps_z, jagged, False, out)
+    flush(out)

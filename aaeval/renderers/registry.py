@@ -32,6 +32,7 @@ __all__ = [
     "resolve",
     "render",
     "render_timed",
+    "required_table",
     "check_budget",
     "available_memory",
     "MAX_SAMPLES",
@@ -110,6 +111,8 @@ class Method:
     summary: str = ""
     exact: bool = False
     warmup: Callable[[], None] | None = None
+    # the scene extension table the method draws from (e.g. "text"); it refuses scenes without it
+    requires: str | None = None
     # point samples per pixel for these options (None: one pass per pixel, no sampling)
     samples: Callable[[Mapping[str, Any]], int] | None = None
     # bytes the method holds besides IMAGE_COPIES images, for a scene and options
@@ -126,6 +129,7 @@ def register_method(
     options: Mapping[str, Option] | None = None,
     exact: bool = False,
     warmup: Callable[[], None] | None = None,
+    requires: str | None = None,
     samples: Callable[[Mapping[str, Any]], int] | None = None,
     memory: Callable[[Scene, Mapping[str, Any]], int] | None = None,
 ):
@@ -138,10 +142,26 @@ def register_method(
     def decorate(func):
         if name in METHODS:
             raise ValueError(f"method {name!r} is registered twice")
-        METHODS[name] = Method(name, func, dict(options or {}), summary, exact, warmup, samples, memory)
+        METHODS[name] = Method(name, func, dict(options or {}), summary, exact, warmup, requires, samples, memory)
         return func
 
     return decorate
+
+
+def required_table(scene: Scene, name: str) -> Any:
+    """The scene's extension table that method ``name`` draws from (``Method.requires``).
+
+    A scene without it is refused in one line: such a method draws the scene's source
+    (the text, the SVG), not its polygons.
+    """
+    table = METHODS[name].requires
+    value = scene.extensions.get(table)
+    if value is None:
+        raise MethodError(
+            f"{scene.source}: method {name!r} draws a scene's [{table}] table (written by "
+            f"'aaeval import {table}'); this scene has none"
+        )
+    return value
 
 
 def parse_spec(spec: str) -> tuple[str, dict[str, str]]:

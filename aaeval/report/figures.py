@@ -2,7 +2,7 @@
 
 Every figure is written three times beside each other: PNG (for the page), SVG and PDF
 (for a paper). Every method is drawn in the style :mod:`aaeval.report.style` gives it, and
-every artist of a spec carries ``gid="method=NAME;options=JSON"`` (kept in the SVG) so that tests can
+every artist of a spec carries ``gid="method=NAME;options=k=v,..."`` (kept in the SVG) so that tests can
 check that a method looks the same in every figure.
 
 Errors are drawn on log axes without an invented floor: the ground truth's measured noise
@@ -182,8 +182,11 @@ def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str
         y = r[metric].to_numpy(float)
         y = _on_axis(y, at) if exact else y
         err = np.vstack([x - r["ms_per_mpix_min"].to_numpy(float), r["ms_per_mpix_max"].to_numpy(float) - x])
-        ax.errorbar(x, y, xerr=np.clip(err, 0, None), capsize=2, elinewidth=0.8, ecolor=st.colour,
-                    label=label, **st.point())
+        kw = st.point()
+        gid = kw.pop("gid")
+        bars = ax.errorbar(x, y, xerr=np.clip(err, 0, None), capsize=2, elinewidth=0.8, ecolor=st.colour,
+                           label=label, **kw)
+        bars.lines[0].set_gid(gid)  # the point itself; caps and bars are not the method's marker
     t = summary["ms_per_mpix"].to_numpy(float)
     e = summary[metric].to_numpy(float)
     ok = np.isfinite(t) & np.isfinite(e) & (t > 0)
@@ -234,7 +237,8 @@ def accuracy_dots(summary: pd.DataFrame, path: Path, *, metric: str, title: str,
     return _save(fig, path)
 
 
-def _scene_axes(scenes: list[str], height: float = 2.6, width: float = 7.6):
+def _scene_axes(scenes: list[str], entries: int, width: float = 7.6):
+    height = max(2.6, 0.17 * entries)  # room for the legend beside each panel
     fig, axes = plt.subplots(len(scenes), 1, figsize=(width, height * len(scenes) + 0.4), squeeze=False,
                              layout="constrained")
     return fig, axes[:, 0]
@@ -244,7 +248,7 @@ def error_per_frame(results: pd.DataFrame, path: Path, *, metric: str, title: st
     """The error of every frame, one curve per spec, one panel per animated scene; the
     ground truth's noise of each frame as a grey curve."""
     scenes = list(dict.fromkeys(results["scene"]))
-    fig, axes = _scene_axes(scenes)
+    fig, axes = _scene_axes(scenes, results["spec"].nunique() + 1)
     for ax, scene in zip(axes, scenes):
         rows = results[results["scene"] == scene]
         ref = rows.drop_duplicates("frame").sort_values("frame")
@@ -273,7 +277,7 @@ def intensity_sums(results: pd.DataFrame, path: Path, *, title: str, styles: Sty
     """Intensity sum per frame relative to the ground truth's sum of the same frame, on a
     linear axis: 1 is right, and area sampling stays at 1 while the scene moves."""
     scenes = list(dict.fromkeys(results["scene"]))
-    fig, axes = _scene_axes(scenes)
+    fig, axes = _scene_axes(scenes, results["spec"].nunique() + 1)
     for ax, scene in zip(axes, scenes):
         rows = results[results["scene"] == scene]
         ref = rows.drop_duplicates("frame").sort_values("frame")
@@ -347,7 +351,8 @@ def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: 
               definition: str) -> Path:
     """Error (left) and fraction of failed cells (right) against difficulty, one line per spec.
     ``failed``: boolean Series over ``results``' index (the report's one definition)."""
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, max(4.2, 0.17 * results["spec"].nunique())),
+                                 layout="constrained")
     label = results["difficulty_label"].dropna().iloc[0] if results["difficulty_label"].notna().any() else "difficulty"
     lo, hi, exact = _log_limits(results[metric], results["reference_noise_rmse"])
     at = _exact_strip(ax, lo, hi) if exact else None

@@ -89,8 +89,9 @@ class SpecStyle:
 
     @property
     def gid(self) -> str:
-        """Tag of this spec's artists (kept in SVG ids): ``method=NAME;options=JSON``."""
-        return f"method={self.method};options={self.options}"
+        """Tag of this spec's artists (kept as SVG ids): ``method=NAME;options=k=v,k=v``."""
+        opts = json.loads(self.options)
+        return f"method={self.method};options=" + ",".join(f"{k}={opts[k]}" for k in sorted(opts))
 
     def point(self) -> dict:
         """Keywords for a marker-only ``ax.plot``."""

@@ -279,11 +279,13 @@
       g.fillStyle = "#777"; g.fillRect(0, 0, c.width, c.height);
       g.imageSmoothingEnabled = false;
       g.drawImage(off, c.width / 2 - this.cx * s, c.height / 2 - this.cy * s, w * s, h * s);
-      const ab = this.layout === "ab" ? ` [${entry.idx}] A/B: ${entry.idx === this.shown ? "showing" : ""}` : ` [${entry.idx}]`;
+      const other = sc.panels[this.previous] ? `[${this.previous}] ${sc.panels[this.previous].label}` : "";
+      const ab = this.layout === "ab" ? ` [${entry.idx}] (f flips to ${other})` : ` [${entry.idx}]`;
       entry.cap.textContent = p.label + ab;
       entry.cap.style.borderLeft = `6px solid ${p.colour}`;
-      entry.info.textContent = mode === "image" ? (p.err ? "" : "ground truth")
-        : `${MODE_NAMES[mode]}, ${this.shared ? "shared" : "own"} scale ${mode === "signed" ? "±" : "0.."}${fmt(scale)}`;
+      entry.info.textContent = (mode === "image" ? (p.err ? "" : "ground truth")
+        : `${MODE_NAMES[mode]}, ${this.shared ? "shared" : "own"} scale ${mode === "signed" ? "±" : "0.."}${fmt(scale)}`)
+        + (this.slice ? ` · space-time: row ${row}, x column, y frame (down)` : "");
     }
 
     redraw() {
