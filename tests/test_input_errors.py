@@ -136,6 +136,12 @@ def test_an_image_bigger_than_memory_is_refused_with_its_estimate(tmp_path, caps
     assert time.monotonic() - start < 10
 
 
+def test_an_enlargement_that_cannot_fit_is_refused_before_rendering(scene, tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("AAEVAL_MAX_MEMORY", "1G")
+    out = tmp_path / "x.png"
+    _refused(capsys, ["render", scene, "--scale", "5000", "-o", out], "--scale", "GiB", written=[out])
+
+
 # --- outputs, checked before rendering ------------------------------------------------
 
 
@@ -156,7 +162,8 @@ def test_an_unwritable_place_is_refused_before_rendering(scene, tmp_path, capsys
     _refused(capsys, ["render", scene, "-o", "/proc/aaeval-test.npy"], "-o", "/proc")
     afile = tmp_path / "file"
     afile.write_text("x")
-    _refused(capsys, ["render", scene, "-o", afile / "x.npy"], "-o", "not a directory")
+    _refused(capsys, ["render", scene, "-o", afile / "x.npy"], afile, "no such folder")
+    _refused(capsys, ["render", scene, "--mkdir", "-o", afile / "x.npy"], "-o", "not a directory")
     _refused(capsys, ["hidden-lines", scene, "-o", "/proc/aaeval-test.svg"], "-o", "/proc")
 
 
