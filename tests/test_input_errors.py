@@ -136,6 +136,12 @@ def test_an_image_bigger_than_memory_is_refused_with_its_estimate(tmp_path, caps
     assert time.monotonic() - start < 10
 
 
+def test_an_enlargement_that_cannot_fit_is_refused_before_rendering(scene, tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("AAEVAL_MAX_MEMORY", "1G")
+    out = tmp_path / "x.png"
+    _refused(capsys, ["render", scene, "--scale", "5000", "-o", out], "--scale", "GiB", written=[out])
+
+
 # --- outputs, checked before rendering ------------------------------------------------
 
 
@@ -156,7 +162,8 @@ def test_an_unwritable_place_is_refused_before_rendering(scene, tmp_path, capsys
     _refused(capsys, ["render", scene, "-o", "/proc/aaeval-test.npy"], "-o", "/proc")
     afile = tmp_path / "file"
     afile.write_text("x")
-    _refused(capsys, ["render", scene, "-o", afile / "x.npy"], "-o", "not a directory")
+    _refused(capsys, ["render", scene, "-o", afile / "x.npy"], afile, "no such folder")
+    _refused(capsys, ["render", scene, "--mkdir", "-o", afile / "x.npy"], "-o", "not a directory")
     _refused(capsys, ["hidden-lines", scene, "-o", "/proc/aaeval-test.svg"], "-o", "/proc")
 
 
@@ -206,18 +213,27 @@ def test_hidden_lines_stroke_must_be_a_positive_width(scene, tmp_path, capsys, s
 # --- the numba cache ----------------------------------------------------------------
 
 
-def test_a_damaged_numba_cache_is_cleared_with_a_warning_and_rebuilt(tmp_path, scene):
+def test_a_damaged_numba_cache_is_cleared_with_a_warning_and_rebuilt(tmp_path):
+    # a 300-vertex outline is checked by the (numba) sweep line; skia itself needs no JIT,
+    # so only the small sweep kernels compile: seconds, not a minute
+    import math
+
+    circle = [[20 + 15 * math.cos(2 * math.pi * i / 300), 20 + 15 * math.sin(2 * math.pi * i / 300), 1.0]
+              for i in range(300)]
+    scene = tmp_path / "circle.toml"
+    scene.write_text(f"[image]\nwidth = 40\nheight = 40\n[[polygons]]\ncolor = [1, 1, 1]\nvertices = {circle}\n")
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
     env.update(PYTHONPATH=str(ROOT), AAEVAL_CACHE_DIR=str(tmp_path / "cache"))
-    cmd = [sys.executable, "-m", "aaeval", "render", str(scene), "-m", "point", "-o"]
+    cmd = [sys.executable, "-m", "aaeval", "render", str(scene), "-m", "skia", "-o"]
     first = subprocess.run(cmd + [str(tmp_path / "a.npy")], env=env, capture_output=True, text=True, timeout=300)
     assert first.returncode == 0, first.stderr
     data = sorted((tmp_path / "cache" / "numba").rglob("*.nbc"))
     assert data
-    for victim in data:
+    for victim in data:  # what a full disk or a killed write leaves: half a file
         victim.write_bytes(victim.read_bytes()[: len(victim.read_bytes()) // 2])
     second = subprocess.run(cmd + [str(tmp_path / "b.npy")], env=env, capture_output=True, text=True, timeout=300)
-    assert second.returncode == 0, second.stderr
+    assert second.returncode == 0, second.stderr  # was: UnpicklingError on every render
     assert "numba cache" in second.stderr and "Traceback" not in second.stderr
     assert second.stderr.count("\n") == 1, second.stderr
     np.testing.assert_array_equal(np.load(tmp_path / "a.npy"), np.load(tmp_path / "b.npy"))
+    assert sorted((tmp_path / "cache" / "numba").rglob("*.nbc"))  # rebuilt

@@ -257,7 +257,7 @@ def _max_samples() -> int:
 def check_budget(scene: Scene, method: Method, options: Mapping[str, Any]) -> None:
     """Refuse, with the estimate, a render whose samples or memory cannot fit."""
     pixels = scene.width * scene.height
-    where = f"method {method.name!r} on a {scene.width}x{scene.height} image"
+    where = f"{scene.source}: method {method.name!r} on a {scene.width}x{scene.height} image"
     if method.samples is not None:
         per_pixel = int(method.samples(options))
         limit = _max_samples()

@@ -162,6 +162,26 @@ def _side(pts, a, b, left, right, e, t, v):
 
 
 @njit(cache=True)
+def _locate(pts, a, b, left, right, active, size, e, v):
+    """Binary search of the list at the sweep point v for edge e: ``(position, -1)``, where
+    e is (when listed) or goes, or ``(position, t)`` for an edge t that v lies on."""
+    lo, hi = 0, size
+    while lo < hi:
+        mid = (lo + hi) // 2
+        t = active[mid]
+        if t == e:
+            return mid, -1
+        c = _side(pts, a, b, left, right, e, t, v)
+        if c == 2:
+            return mid, t
+        if c > 0:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo, -1
+
+
+@njit(cache=True)
 def _sweep(pts, a, b, order, incoming):
     n = len(a)
     rank = np.empty(n, dtype=np.int64)
@@ -182,21 +202,9 @@ def _sweep(pts, a, b, order, incoming):
             e = incoming[v] if k == 0 else v
             if right[e] != v:
                 continue
-            lo, hi = 0, size
-            while lo < hi:
-                mid = (lo + hi) // 2
-                t = active[mid]
-                if t == e:
-                    lo = hi = mid
-                    break
-                c = _side(pts, a, b, left, right, e, t, v)
-                if c == 2:
-                    return e, t
-                if c > 0:
-                    lo = mid + 1
-                else:
-                    hi = mid
-            pos = lo
+            pos, hit = _locate(pts, a, b, left, right, active, size, e, v)
+            if hit >= 0:
+                return e, hit
             if pos >= size or active[pos] != e:  # rounding left the list unordered: look it up
                 pos = 0
                 while active[pos] != e:
@@ -210,17 +218,9 @@ def _sweep(pts, a, b, order, incoming):
             e = incoming[v] if k == 0 else v
             if left[e] != v:
                 continue
-            lo, hi = 0, size
-            while lo < hi:
-                mid = (lo + hi) // 2
-                t = active[mid]
-                c = _side(pts, a, b, left, right, e, t, v)
-                if c == 2:
-                    return e, t
-                if c > 0:
-                    lo = mid + 1
-                else:
-                    hi = mid
+            lo, hit = _locate(pts, a, b, left, right, active, size, e, v)
+            if hit >= 0:
+                return e, hit
             for m in range(size, lo, -1):
                 active[m] = active[m - 1]
             active[lo] = e
