@@ -40,7 +40,6 @@ plt.rcParams.update({"svg.fonttype": "none", "pdf.fonttype": 42, "font.size": 9,
                      "axes.titlesize": 9.5})
 
 
-
 def _metric_label(name: str) -> str:
     """A metric's axis label from the registry: its title and which way is better."""
     from aaeval.metrics import METRICS
@@ -48,9 +47,11 @@ def _metric_label(name: str) -> str:
     m = METRICS.get(name)
     return name if m is None else f"{m.title} ({m.direction})"
 
+
 def _save(fig, path: Path) -> Path:
     """Write ``path`` (PNG) and its SVG and PDF twins; return the PNG path."""
     path = Path(path).with_suffix(".png")
+    _plain_log_axes(fig)
     for fmt in FORMATS:
         fig.savefig(path.with_suffix(f".{fmt}"), dpi=_DPI, bbox_inches="tight", metadata=_metadata(fmt))
     plt.close(fig)
@@ -127,12 +128,42 @@ def _exact_strip(ax, lo: float, hi: float, orientation: str = "y") -> float:
     return at
 
 
-def _log_ticks(axis) -> None:
-    """Label only the decades (minor labels collide on short log axes)."""
-    from matplotlib.ticker import LogLocator, NullFormatter
+_SUPERSCRIPT = str.maketrans("-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079")
 
+
+def _tick_text(value: float, _pos=None) -> str:
+    """A log-axis tick as plain text (mathtext is off for user names): 0.5, 20, 10⁻⁴."""
+    if value <= 0 or not math.isfinite(value):
+        return ""
+    if 1e-2 <= value < 1e4:
+        return f"{value:g}"
+    exponent = math.floor(math.log10(value) + 1e-9)
+    mantissa = value / 10**exponent
+    head = "" if abs(mantissa - 1) < 1e-6 else f"{mantissa:g}\u00d7"
+    return f"{head}10{str(exponent).translate(_SUPERSCRIPT)}"
+
+
+def _log_ticks(axis) -> None:
+    """Plain-text labels on a log axis: decades, and 2 and 5 between them on short axes."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    lo, hi = sorted(axis.get_view_interval())
+    decades = math.log10(hi / lo) if lo > 0 and hi > 0 else 10
     axis.set_major_locator(LogLocator(base=10))
-    axis.set_minor_formatter(NullFormatter())
+    axis.set_major_formatter(FuncFormatter(_tick_text))
+    if decades < 2.5:
+        axis.set_minor_locator(LogLocator(base=10, subs=(2.0, 5.0)))
+        axis.set_minor_formatter(FuncFormatter(_tick_text))
+    else:
+        axis.set_minor_formatter(NullFormatter())
+
+
+def _plain_log_axes(fig) -> None:
+    """Every log axis of ``fig`` with plain-text ticks (the default ones are mathtext)."""
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            if axis.get_scale() == "log":
+                _log_ticks(axis)
 
 
 def _frame_ticks(ax) -> None:

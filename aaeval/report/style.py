@@ -37,7 +37,7 @@ class MethodStyle:
 
 
 # The one table. Exact methods are blues, sampling methods warm colours, the ground
-# truth's renderer wine; markers and dashes differ for every method.
+# truth's renderer olive; markers and dashes differ for every method.
 METHOD_STYLES: dict[str, MethodStyle] = {
     "catmull": MethodStyle("#0072B2", "o", ()),
     "weiler-atherton": MethodStyle("#56B4E9", "s", (6, 2)),
@@ -47,10 +47,10 @@ METHOD_STYLES: dict[str, MethodStyle] = {
     "jitter": MethodStyle("#CC79A7", "D", (8, 2, 1, 2)),
     "abuffer": MethodStyle("#009E73", "P", (2, 2)),
     "skia": MethodStyle("#000000", "X", (5, 1, 1, 1, 1, 1)),
-    "mitsuba": MethodStyle("#882255", "h", (1, 3)),
+    "mitsuba": MethodStyle("#999933", "h", (1, 3)),
 }
 
-_SPARE_COLOURS = ["#999933", "#332288", "#AA4499", "#117733", "#88CCEE", "#DDCC77", "#661100", "#6699CC"]
+_SPARE_COLOURS = ["#882255", "#332288", "#AA4499", "#117733", "#88CCEE", "#DDCC77", "#661100", "#6699CC"]
 _SPARE_MARKERS = ["p", "*", "d", "H", ">", "8", "1", "2"]
 _FILLS = ["full", "none", "left", "right", "bottom", "top"]
 GROUND_TRUTH_COLOUR = "#555555"

@@ -194,7 +194,9 @@
       });
     }
 
-    dims() { const sc = this.sc; return this.slice ? [sc.width, sc.frames] : [sc.width, sc.height]; }
+    // rows per frame in the space-time slice: short animations still fill a squarish panel
+    get rep() { const sc = this.sc; return Math.max(1, Math.round(sc.width / sc.frames / 1.5)); }
+    dims() { const sc = this.sc; return this.slice ? [sc.width, sc.frames * this.rep] : [sc.width, sc.height]; }
     fit() { const [w, h] = this.dims(); this.zoom = 1; this.cx = w / 2; this.cy = h / 2; }
     scaleFor(c) { const [w, h] = this.dims(); return Math.min(c.width / w, c.height / h) * this.zoom; }
     toImage(c, x, y, floor = true) {
@@ -257,9 +259,9 @@
       const ctx = off.getContext("2d"), img = ctx.createImageData(w, h), d = img.data;
       const gain = Math.pow(2, this.ev), mode = p.err || this.mode === "image" ? this.mode : "image";
       const scale = this.scaleOf(p) || 1e-30, row = Math.max(0, Math.min(sc.height - 1, this.row));
-      const mag = LUTS.magma, rdbu = LUTS.rdbu;
+      const mag = LUTS.magma, rdbu = LUTS.rdbu, rep = this.rep;
       for (let yy = 0; yy < h; yy++) {
-        const f = this.slice ? yy : this.frame, y = this.slice ? row : yy;
+        const f = this.slice ? Math.floor(yy / rep) : this.frame, y = this.slice ? row : yy;
         for (let x = 0; x < w; x++) {
           const i = (f * sc.height + y) * sc.width + x, o = 4 * (yy * w + x);
           if (mode === "image") {
@@ -283,9 +285,10 @@
       const ab = this.layout === "ab" ? ` [${entry.idx}] (f flips to ${other})` : ` [${entry.idx}]`;
       entry.cap.textContent = p.label + ab;
       entry.cap.style.borderLeft = `6px solid ${p.colour}`;
-      entry.info.textContent = (mode === "image" ? (p.err ? "" : "ground truth")
-        : `${MODE_NAMES[mode]}, ${this.shared ? "shared" : "own"} scale ${mode === "signed" ? "±" : "0.."}${fmt(scale)}`)
-        + (this.slice ? ` · space-time: row ${row}, x column, y frame (down)` : "");
+      const parts = [mode === "image" ? (p.err ? "" : "ground truth")
+        : `${MODE_NAMES[mode]}, ${this.shared ? "shared" : "own"} scale ${mode === "signed" ? "±" : "0.."}${fmt(scale)}`];
+      if (this.slice) parts.push(`space-time: row ${row}, x column, y frame 1-${sc.frames} (down)`);
+      entry.info.textContent = parts.filter((t) => t).join(" · ");
     }
 
     redraw() {
@@ -304,7 +307,7 @@
       const sc = this.sc, [ix, iy] = this.toImage(c, x, y);
       const [w, h] = this.dims();
       if (ix < 0 || iy < 0 || ix >= w || iy >= h) return;
-      const f = this.slice ? iy : this.frame, yy = this.slice ? this.row : iy;
+      const f = this.slice ? Math.floor(iy / this.rep) : this.frame, yy = this.slice ? this.row : iy;
       if (!this.slice) this.row = iy;
       const p = sc.panels[+c.dataset.panel], gt = sc.panels[0];
       const v = this.pixel(p, f, ix, yy), g = this.pixel(gt, f, ix, yy);
