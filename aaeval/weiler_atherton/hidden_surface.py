@@ -16,6 +16,10 @@ Then the outside list is processed the same way until it is empty. The output pi
 not overlap. :func:`visible_pieces` adds the paper's screen subdivision: the image is cut
 Warnock-style into windows holding at most ``window`` polygons, each solved separately.
 
+Each window is solved by compiled code (:mod:`.solve_kernel`, on the clipper's stages in
+:mod:`.clip_kernel`); this module prepares the problem and hands back the pieces, as
+flat arrays (:func:`visible_arrays`, for the renderer) or as :class:`Piece` objects.
+
 Edge labels (see :mod:`.clipper`) record where each output edge came from:
 :data:`EDGE_OWN` an edge of the piece's own polygon, :data:`EDGE_CROSSING` the line where
 its plane crosses another polygon's, :data:`EDGE_CUT` a cut made by clipping (another
