@@ -32,8 +32,8 @@ strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm
 
 Every result leaves through a *sink*: a structref with five methods, ``emit_pixel``
 (the whole pixel square), ``emit_piece`` (a visible piece inside a pixel, as its polygon
-vertices), ``emit_strip_piece`` (the same for a strip piece alone in front, with the exact
-area the strip coverage already gave), ``emit_area`` (an area without its shape, only with
+vertices), ``emit_strip_piece`` (optional: the same for a strip piece alone in front, with
+the exact area the strip coverage already gave; sinks without it get ``emit_piece``), ``emit_area`` (an area without its shape, only with
 ``centroids=False``) and ``emit_rest`` (the pixel square minus what was already emitted for
 that pixel).
 :class:`FragmentSink` turns them into fragments: per pixel, each visible polygon's area and
@@ -42,8 +42,8 @@ outside. Another sink type (for instance one accumulating polynomial moments of 
 piece for an exact filter) runs through the same stages via :func:`scanline`, which is
 compiled once per sink type.
 
-The rows are run in fixed bands of ``BAND_ROWS`` (``scanline(polys, width, row0, row1,
-...)``), each started at its top row, so bands are independent: ``band_fragments`` and
+The rows are run in fixed bands of ``BAND_ROWS`` (``scan_rows(polys, width, row0, row1,
+...)``; ``scanline`` runs them all in turn), each started at its top row, so bands are independent: ``band_fragments`` and
 ``band_colors`` (flat colours straight into the image through :class:`ColorSink`) run
 without the GIL on any number of threads, with the same result.
 
@@ -56,7 +56,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, types
 from numba.experimental import structref
-from numba.extending import overload_method
+from numba.extending import overload, overload_method
 
 from aaeval.renderers._clip import EPS_LINE, area_centroid, clip_side, clip_split, clip_to_column, signed_area
 
@@ -348,6 +348,26 @@ def _emit_rest(out, pix, src, x0, y0):
         rest = 1.0 - covered
         if rest > 0.0:
             _append(out, pix, src, rest, (x0 + 0.5 - mx) / rest, (y0 + 0.5 - my) / rest)
+    return impl
+
+
+def emit_strip_piece(out, pix, src, area, xs, ys, start, n):
+    """``out.emit_strip_piece(...)`` where the sink has that method, else ``out.emit_piece``
+    with the vertices (the method is optional: it only lets a sink keep the strip
+    coverage's area)."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(emit_strip_piece, jit_options={"cache": True})
+def _emit_strip_piece_or_piece(out, pix, src, area, xs, ys, start, n):
+    from numba.core.registry import cpu_target
+
+    if cpu_target.typing_context.resolve_getattr(out, "emit_strip_piece") is not None:
+        def impl(out, pix, src, area, xs, ys, start, n):
+            out.emit_strip_piece(pix, src, area, xs, ys, start, n)
+    else:
+        def impl(out, pix, src, area, xs, ys, start, n):
+            out.emit_piece(pix, src, xs, ys, start, n)
     return impl
 
 
@@ -655,7 +675,7 @@ def emit_front_piece(strip, k, pix, col, row, work, out, centroids):
         m = clip_to_column(strip.x, strip.y, strip.f, strip.pieces[k, 0], n, float(col),
                            work.x, work.y, work.f, 0, 4 * n + 8)
         if m > 0:
-            out.emit_strip_piece(pix, src, cv, work.x, work.y, 0, m)
+            emit_strip_piece(out, pix, src, cv, work.x, work.y, 0, m)
             return
     out.emit_area(pix, src, cv, float(col), float(row))
 
@@ -1014,9 +1034,9 @@ BAND_ROWS = 32
 
 
 @njit(cache=True)
-def scanline(polys, width, row0, row1, eps_z, jagged, centroids, out):
-    """Run the scanline algorithm over rows ``row0 .. row1-1``, emitting every pixel's
-    visible pieces into the sink ``out`` (compiled once per sink type)."""
+def scan_rows(polys, width, row0, row1, eps_z, jagged, centroids, out):
+    """Run the scanline algorithm over the band of rows ``row0 .. row1-1``, emitting every
+    pixel's visible pieces into the sink ``out`` (compiled once per sink type)."""
     n_polys = polys.order.size
     active = new_active_list(n_polys)
     strip = new_strip(n_polys, width)
@@ -1033,11 +1053,19 @@ def scanline(polys, width, row0, row1, eps_z, jagged, centroids, out):
         sweep_row(strip, zlist, work, out, polys.planes, row, width, eps_z, jagged, centroids)
 
 
+@njit(cache=True)
+def scanline(polys, width, height, eps_z, jagged, centroids, out):
+    """The whole image into the sink ``out``, band after band (the same pieces as
+    running the bands on threads)."""
+    for row0 in range(0, height, BAND_ROWS):
+        scan_rows(polys, width, row0, min(row0 + BAND_ROWS, height), eps_z, jagged, centroids, out)
+
+
 @njit(cache=True, nogil=True)
 def band_fragments(polys, width, row0, row1, eps_z, jagged, centroids):
     """Fragments ``(pix, src, area, cx, cy)`` of rows ``row0 .. row1-1`` (runs without the GIL)."""
     out = new_fragment_sink((row1 - row0) * width + 16)
-    scanline(polys, width, row0, row1, eps_z, jagged, centroids, out)
+    scan_rows(polys, width, row0, row1, eps_z, jagged, centroids, out)
     n = out.n
     return out.pix[:n], out.src[:n], out.area[:n], out.cx[:n], out.cy[:n]
 
@@ -1053,8 +1081,7 @@ def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, ja
     """
     polys = sort_polygons(pstart0, plen0, vx0, vy0, planes)
     out = new_fragment_sink(width * height + 16)
-    for row0 in range(0, height, BAND_ROWS):
-        scanline(polys, width, row0, min(row0 + BAND_ROWS, height), eps_z, jagged, centroids, out)
+    scanline(polys, width, height, eps_z, jagged, centroids, out)
     n = out.n
     return out.pix[:n], out.src[:n], out.area[:n], out.cx[:n], out.cy[:n]
 
@@ -1169,5 +1196,5 @@ def band_colors(polys, width, row0, row1, eps_z, jagged, colors, image):
     """Write the flat-colour pixels of rows ``row0 .. row1-1`` into ``image`` (pixels x 3;
     runs without the GIL)."""
     out = new_color_sink(image, colors)
-    scanline(polys, width, row0, row1, eps_z, jagged, False, out)
+    scan_rows(polys, width, row0, row1, eps_z, jagged, False, out)
     flush(out)
