@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from aaeval.groundtruth.mitsuba import SAMPLERS, render_mitsuba
+from aaeval.groundtruth.flat import SAMPLERS, render_mitsuba
 from aaeval.groundtruth.variant import import_mitsuba
 from aaeval.renderers import METHODS, render
 from aaeval.scenes import Scene, load_scene, parse_scene

@@ -25,4 +25,16 @@ if ! have_llvm && [ -z "${DRJIT_LIBLLVM_PATH:-}" ]; then
   fi
 fi
 
+# AAEVAL_INSTALL_BROWSER=1 (CI sets it): Debian's chromium for the report's browser test,
+# driven by Playwright through the system executable (no browser is ever downloaded).
+if [ -n "${AAEVAL_INSTALL_BROWSER:-}" ] && ! command -v chromium >/dev/null 2>&1; then
+  if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
+    echo "installing chromium for the report's browser test"
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null
+  else
+    echo "error: AAEVAL_INSTALL_BROWSER is set but chromium cannot be installed (needs apt-get as root)" >&2
+    exit 1
+  fi
+fi
+
 "$PY" -m pip install -q --disable-pip-version-check -e ".[test]"

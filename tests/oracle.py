@@ -3,11 +3,14 @@
 It shares nothing with the renderers: each polygon's visible region is the polygon minus
 every other polygon restricted to the half-plane where that one is nearer (for
 interpenetrating polygons the boundary is the line where the depth planes cross; on one
-shared plane the later polygon is in front), and a pixel's colour is the sum of the
+shared plane the later polygon is in front; a polygon with holes is one GEOS polygon with
+interior rings, never the pieces the scene cuts it into), and a pixel's colour is the sum of the
 visible regions' areas over the pixel square times their colours.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 import shapely
@@ -46,18 +49,43 @@ def _nearer_region(p, q, bounds) -> shapely.Geometry:
     return big.intersection(half)
 
 
+class _Whole(NamedTuple):
+    """A polygon as the file gave it, holes included (the oracle never uses the pieces)."""
+
+    xy: np.ndarray
+    holes: list
+    plane: np.ndarray
+    color: np.ndarray
+    index: int  # file order, for ties on a shared plane
+
+
+def whole_polygons(scene: Scene) -> list[_Whole]:
+    """The scene's polygons with their holes as GEOS shapes take them, in file order."""
+    holed = {h.first: h for h in scene.holed}
+    pieces = {i for h in scene.holed for i in h.pieces}
+    wholes = []
+    for i, p in enumerate(scene.polygons):
+        if i in holed:
+            h = holed[i]
+            wholes.append(_Whole(h.rings[0][:, :2], [r[:, :2] for r in h.rings[1:]], h.plane, h.color, i))
+        elif i not in pieces:
+            wholes.append(_Whole(p.xy, [], p.plane, p.color, i))
+    return wholes
+
+
 def visible_regions(scene: Scene) -> list[shapely.Geometry]:
-    """The exactly visible region of every polygon of the scene (GEOS)."""
-    shapes = [ShapelyPolygon(p.xy) for p in scene.polygons]
-    allpts = np.vstack([p.xy for p in scene.polygons] + [np.array([[0, 0], [scene.width, scene.height]])])
+    """The exactly visible region of every polygon of the scene (GEOS), holes included."""
+    polygons = whole_polygons(scene)
+    shapes = [ShapelyPolygon(p.xy, p.holes) for p in polygons]
+    allpts = np.vstack([p.xy for p in polygons] + [np.array([[0, 0], [scene.width, scene.height]])])
     bounds = (*(allpts.min(axis=0) - 10), *(allpts.max(axis=0) + 10))
     regions = []
-    for i, p in enumerate(scene.polygons):
+    for i, p in enumerate(polygons):
         if not np.isfinite(p.plane).all():
             regions.append(shapely.Polygon())
             continue
         region = shapes[i]
-        for j, q in enumerate(scene.polygons):
+        for j, q in enumerate(polygons):
             if j == i or not np.isfinite(q.plane).all() or not region.intersects(shapes[j]):
                 continue
             region = region.difference(shapes[j].intersection(_nearer_region(p, q, bounds)))
@@ -71,7 +99,7 @@ def oracle_image(scene: Scene) -> np.ndarray:
     pixels = shapely.box(cols.ravel(), rows.ravel(), cols.ravel() + 1.0, rows.ravel() + 1.0)
     image = np.zeros((scene.height * scene.width, 3))
     covered = np.zeros(scene.height * scene.width)
-    for p, region in zip(scene.polygons, visible_regions(scene)):
+    for p, region in zip(whole_polygons(scene), visible_regions(scene)):
         if region.is_empty:
             continue
         area = shapely.area(shapely.intersection(pixels, region))

@@ -9,7 +9,8 @@ import pytest
 
 from aaeval.cli import main
 from aaeval.experiments.compare import parse_frames, plan_comparison, run_comparison
-from aaeval.metrics import IMAGE_METRICS, edge_mask, rmse
+from aaeval.experiments.record import TIMING_FIELDS
+from aaeval.metrics import METRICS, edge_mask, rmse
 from aaeval.renderers import MethodError, render
 from aaeval.scenes import SceneError
 
@@ -33,6 +34,10 @@ vertices = [[8.1, 0.5, 2.0], [14.7, 6.3, 2.0], [9.3, 11.2, 0.5]]
 """
 
 
+# every image metric that applies to a flat scene (highlight metrics need [shaded] objects)
+FLAT_METRICS = [n for n, m in METRICS.items() if m.kind == "image" and m.mask != "highlight"]
+
+
 @pytest.fixture
 def scene_file(tmp_path):
     path = tmp_path / "tiny.toml"
@@ -49,18 +54,22 @@ def test_compare_writes_rows_and_temporal_summaries(scene_file, tmp_path, capsys
     assert compare(scene_file, "-m", "catmull", "-m", "catmull-jagged", "-r", "catmull",
                    "--frames", "all", "--json", out) == 0
     printed = capsys.readouterr().out
-    assert "catmull-jagged" in printed and "sum variation" in printed
+    assert "catmull-jagged" in printed and "sum var" in printed
+    assert max(len(line) for line in printed.splitlines()) <= 100
     doc = json.loads(out.read_text())
     assert doc["frames"] == [0, 1, 2, 3] and doc["reference"] == "catmull"
-    assert doc["metrics"] == list(IMAGE_METRICS)
+    assert doc["metrics"] == FLAT_METRICS
     assert [(r["method"], r["frame"]) for r in doc["rows"]] == [
         (m, k) for k in range(4) for m in ("catmull", "catmull-jagged")
     ]
     for row in doc["rows"]:
-        assert set(row) == {"method", "frame", *IMAGE_METRICS, "intensity_sum", "render_s"}
-        assert row["render_s"] > 0
+        assert set(row) == {"method", "frame", *FLAT_METRICS, "intensity_sum", *TIMING_FIELDS, "error",
+                            "metric_errors"}
+        assert row["render_s"] > 0 and row["repeats"] == 1 and row["megapixels"] == 16 * 12 / 1e6
+        assert row["render_s_min"] <= row["render_s"] <= row["render_s_max"]
+        assert row["ms_per_mpix"] == pytest.approx(row["render_s"] * 1e3 / row["megapixels"])
         if row["method"] == "catmull":  # the exact method against itself
-            assert row["rmse"] == 0 and row["psnr"] == math.inf and row["ssim"] == 1
+            assert row["rmse"] == 0 and row["psnr"] is None and row["ssim"] == 1  # PSNR inf: null in JSON
             assert row["ciede2000_mean"] == row["ciede2000_p95"] == row["flip"] == row["edge_rmse"] == 0
         else:
             assert row["rmse"] > 0.01 and row["edge_rmse"] > row["rmse"] and row["psnr"] < 40
@@ -69,13 +78,13 @@ def test_compare_writes_rows_and_temporal_summaries(scene_file, tmp_path, capsys
     reference_variation = doc["reference_summary"]["sum_variation"]
     # area sampling keeps the sum under sub-pixel motion; the jagged mode does not
     assert reference_variation < 1e-12
-    assert summary["catmull"]["sum_variation"] == reference_variation
-    assert summary["catmull"]["flicker"] == 0
-    assert summary["catmull-jagged"]["sum_variation"] > 1e-3
-    assert summary["catmull-jagged"]["flicker"] > 1e-3
+    assert summary["catmull"]["temporal"]["sum_variation"] == reference_variation
+    assert summary["catmull"]["temporal"]["flicker"] == 0
+    assert summary["catmull-jagged"]["temporal"]["sum_variation"] > 1e-3
+    assert summary["catmull-jagged"]["temporal"]["flicker"] > 1e-3
     for entry in summary.values():
         assert entry["reference_sum_variation"] == reference_variation and entry["frames"] == 4
-        assert set(entry["mean"]) == set(IMAGE_METRICS)
+        assert set(entry["mean"]) == set(FLAT_METRICS)
     jagged_rmse = [r["rmse"] for r in doc["rows"] if r["method"] == "catmull-jagged"]
     assert summary["catmull-jagged"]["mean"]["rmse"] == pytest.approx(sum(jagged_rmse) / 4, rel=1e-12)
 
@@ -86,7 +95,8 @@ def test_rows_hold_the_metrics_of_the_rendered_frames(scene_file):
     scene = plan.scene
     truth, test = render(scene, "catmull", frame=1), render(scene, "catmull-jagged", frame=1)
     row = doc["rows"][1]
-    assert row["frame"] == 1 and set(row) == {"method", "frame", "rmse", "edge_rmse", "intensity_sum", "render_s"}
+    assert row["frame"] == 1 and set(row) == {"method", "frame", "rmse", "edge_rmse", "intensity_sum",
+                                              *TIMING_FIELDS, "error", "metric_errors"}
     assert row["rmse"] == pytest.approx(rmse(truth, test), rel=1e-12)
     mask = edge_mask(scene.at_frame(1))
     assert row["edge_rmse"] == pytest.approx(rmse(truth[mask][None], test[mask][None]), rel=1e-12)
@@ -97,7 +107,7 @@ def test_default_is_one_frame_and_quiet_prints_only_the_summary(scene_file, tmp_
     out = tmp_path / "one.json"
     assert compare(scene_file, "-m", "catmull-jagged", "-r", "catmull", "--json", out, "--quiet") == 0
     printed = capsys.readouterr().out
-    assert "sum variation" in printed and "against catmull" not in printed and "wrote" not in printed
+    assert "median ms" in printed and "against catmull" not in printed and "wrote" not in printed
     doc = json.loads(out.read_text())
     assert doc["frames"] == [0] and len(doc["rows"]) == 1
 
@@ -111,6 +121,9 @@ def test_default_is_one_frame_and_quiet_prints_only_the_summary(scene_file, tmp_
         (["-m", "catmull", "-r", "catmull", "--frames", "5"], "only 4 frame"),
         (["-m", "catmull", "-r", "catmull", "--frames", "0"], "at least 1"),
         (["-m", "catmull", "-r", "catmull", "--frames", "some"], "positive number or 'all'"),
+        (["-m", "catmull", "-r", "catmull", "--metric", "rmsee"], "unknown image metric(s) ['rmsee']"),
+        (["-m", "catmull", "-r", "catmull", "--temporal", "rmse"], "unknown temporal metric(s) ['rmse']"),
+        (["-m", "catmull", "-r", "catmull", "--repeats", "0"], "--repeats must be"),
     ],
 )
 def test_bad_input_fails_in_one_line_and_keeps_the_old_output(scene_file, tmp_path, capsys, args, message):
@@ -145,3 +158,38 @@ def test_parse_frames():
     assert parse_frames("all", 3) == (0, 1, 2)
     assert parse_frames("2", 3) == (0, 1)
     assert parse_frames(1, 1) == (0,)
+
+
+def _strict(text):
+    def refuse(constant):
+        raise ValueError(f"not JSON: {constant}")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+LONG = ["catmull", "catmull-jagged", "mitsuba:sampler=stratified,seed=1,spp=4", "supersample:k=3"]
+
+
+def test_every_format_holds_every_metric_and_the_table_fits_100_columns(scene_file, tmp_path, capsys):
+    args = [scene_file, *(a for m in LONG for a in ("-m", m)), "-r", "catmull", "--frames", "2", "-q"]
+    assert compare(*args, "--format", "table") == 0
+    table = capsys.readouterr().out
+    assert max(len(line) for line in table.splitlines()) <= 100
+    for name in FLAT_METRICS:
+        assert METRICS[name].title in table
+    assert compare(*args, "--format", "json", "--json", tmp_path / "c.json") == 0
+    doc = _strict(capsys.readouterr().out)
+    assert doc == _strict((tmp_path / "c.json").read_text())
+    exact = next(r for r in doc["rows"] if r["method"] == "catmull")
+    assert exact["psnr"] is None  # inf is not JSON
+    assert compare(*args, "--format", "csv") == 0
+    import csv
+    import io
+
+    rows = list(csv.DictReader(io.StringIO(capsys.readouterr().out)))
+    assert len(rows) == len(doc["rows"]) == 2 * len(LONG)
+    for row, ref in zip(rows, doc["rows"]):
+        assert row["method"] == ref["method"] and float(row["rmse"]) == ref["rmse"]
+    assert compare(*args, "--format", "markdown") == 0
+    md = capsys.readouterr().out
+    assert md.count("| catmull-jagged |") == 3  # two frames and the summary

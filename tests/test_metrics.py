@@ -9,6 +9,7 @@ import pytest
 
 from aaeval.metrics import (
     IMAGE_METRICS,
+    METRICS,
     TEMPORAL_METRICS,
     MetricError,
     ciede2000_map,
@@ -40,6 +41,8 @@ PERFECT = {
     "ciede2000_p95": 0.0,
     "flip": 0.0,
     "edge_rmse": 0.0,
+    "highlight_rmse": 0.0,
+    "highlight_energy_bias": 0.0,
 }
 
 # Sharma, Wu & Dalal (2005), "The CIEDE2000 color-difference formula: implementation
@@ -109,6 +112,8 @@ def test_different_images_do_not_score_perfectly(name):
     ],
 )
 def test_bad_inputs_are_refused_before_any_work(name, true, test, message):
+    if METRICS[name].mask == "highlight" and true.ndim == 2:
+        pytest.skip("highlight metrics also take (H, W) specular-only images")
     with pytest.raises(ValueError, match=message):
         compute_metric(name, true, test, mask=MASK)
 
@@ -119,6 +124,21 @@ def test_constant_offset_gives_the_exact_psnr():
     assert rmse(base, base + 0.1) == pytest.approx(0.1, rel=1e-12)
     assert psnr(base, base + 0.1) == pytest.approx(20.0, abs=1e-9)
     assert psnr(base, base + 0.1, data_range=2.0) == pytest.approx(20.0 + 20 * math.log10(2), abs=1e-9)
+
+
+@pytest.mark.parametrize("data_range", [1.0, 2.0])
+def test_ssim_of_constant_images_follows_its_closed_form(data_range):
+    # constant images: every local variance and covariance is 0, so SSIM per channel is the
+    # luminance term (2 a b + C1) / (a^2 + b^2 + C1), C1 = (0.01 L)^2 (Wang et al. 2004)
+    a = np.array([0.2, 0.5, 0.9])
+    b = np.array([0.5, 0.45, 0.1])
+    c1 = (0.01 * data_range) ** 2
+    expected = np.mean((2 * a * b + c1) / (a**2 + b**2 + c1))
+    image_a = np.broadcast_to(a, (9, 11, 3)).copy()
+    image_b = np.broadcast_to(b, (9, 11, 3)).copy()
+    assert ssim(image_a, image_b, data_range=data_range) == pytest.approx(expected, rel=1e-9)
+    assert compute_metric("ssim", image_a, image_b) == pytest.approx(
+        np.mean((2 * a * b + 1e-4) / (a**2 + b**2 + 1e-4)), rel=1e-9)
 
 
 def test_ssim_is_symmetric_and_works_on_images_smaller_than_its_window():
@@ -262,7 +282,8 @@ def test_dispatcher_routes_options_to_the_metrics_that_take_them():
     )
     assert compute_metric("rmse", IMAGE, other, mask=MASK, data_range=2.0) == pytest.approx(0.1)
     assert compute_temporal_metric("flicker", IMAGE[None], other[None]) == 0.0
-    assert set(TEMPORAL_METRICS) == {"flicker"}
+    assert set(TEMPORAL_METRICS) == {n for n, m in METRICS.items() if m.kind == "temporal"}
+    assert {"flicker", "sum_variation"} <= set(TEMPORAL_METRICS)
 
 
 def test_dispatcher_refuses_unknown_names_and_options():

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from aaeval.groundtruth import cache as gt_cache
-from aaeval.groundtruth import mitsuba as gt
+from aaeval.groundtruth import flat as gt
 from aaeval.groundtruth import variant as gv
 from aaeval.renderers import render, resolve
 from aaeval.scenes import parse_scene
@@ -204,7 +204,7 @@ def test_extension_tables_are_refused():
 
 def test_method_is_registered_with_its_options():
     method, options = resolve("mitsuba")
-    assert options == {"spp": 16384, "sampler": "multijitter", "seed": 0, "variant": "auto", "cache": True}
+    assert options == {"spp": 16384, "sampler": "multijitter", "seed": 0, "variant": "auto", "cache": True, "filter": "box"}
     with pytest.raises(ValueError):
         resolve("mitsuba:sampler=halton")
     with pytest.raises(ValueError):
@@ -216,7 +216,7 @@ def test_cache_second_request_does_not_render(tmp_path, monkeypatch):
     scene = mixed_scene()
     first = render(scene, "mitsuba:spp=16,seed=2")
     files = sorted(p.name for p in (tmp_path / "groundtruth").iterdir())
-    assert len(files) == 2 and files[0].endswith(".json") and files[1].endswith(".npy")
+    assert len(files) == 2 and files[0].endswith(".json") and files[1].endswith(".npz")
 
     def no_render(*args, **kwargs):
         raise AssertionError("rendered although the image was cached")
@@ -246,6 +246,37 @@ def test_cache_key_follows_geometry_and_options():
     assert gt_cache.scene_digest(recoloured) != gt_cache.scene_digest(
         parse_scene({"image": {"width": 32, "height": 24, "background": [0.1, 0.2, 0.3]}})
     )
+
+
+def test_cache_key_follows_the_conversion_code(tmp_path, monkeypatch):
+    """Editing the code that converts or shades a scene gives new keys (no version to bump)."""
+    root = tmp_path / "pkg"
+    for rel in gt_cache.CODE_FILES:
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        (root / rel).write_bytes((gt_cache.Path(gt_cache.aaeval.__file__).parent / rel).read_bytes())
+    before = gt_cache.code_digest(root=root)
+    assert before == gt_cache.code_digest()  # the same sources
+    with open(root / "groundtruth" / "flat.py", "a") as f:
+        f.write("\nNEAR = 2.0\n")
+    gt_cache.code_digest.cache_clear()  # computed once per process otherwise
+    assert gt_cache.code_digest(root=root) != before
+    scene = mixed_scene()
+    key = gt_cache.groundtruth_key(scene, spp=16, sampler="stratified", seed=0)
+    monkeypatch.setattr(gt_cache, "code_digest", lambda: "edited")
+    assert gt_cache.groundtruth_key(scene, spp=16, sampler="stratified", seed=0) != key
+
+
+def test_damaged_cache_entry_is_rendered_again_with_a_warning(tmp_path, monkeypatch):
+    monkeypatch.setenv("AAEVAL_CACHE_DIR", str(tmp_path))
+    scene = mixed_scene(8, 6)
+    first, _ = gt_cache.groundtruth_image(scene, spp=4, seed=1)
+    path = gt_cache.groundtruth_path(scene, spp=4, sampler=gt.DEFAULT_SAMPLER, seed=1)
+    path.write_bytes(path.read_bytes()[:40])  # truncated, as a power cut could leave it
+    with pytest.warns(UserWarning, match="damaged ground-truth cache entry"):
+        again, hit = gt_cache.groundtruth_image(scene, spp=4, seed=1)
+    assert not hit
+    np.testing.assert_array_equal(again, first)
+    assert gt_cache.groundtruth_image(scene, spp=4, seed=1)[1]  # replaced by a sound entry
 
 
 def test_cache_dir_default_and_override(monkeypatch, tmp_path):

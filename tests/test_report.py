@@ -1,4 +1,5 @@
-"""The HTML report: every link resolves, every comparison names its reference."""
+"""The HTML report: every link resolves, every comparison names its ground truth, exact methods
+are checked against it, figures and tables come in paper formats."""
 
 from __future__ import annotations
 
@@ -7,11 +8,15 @@ from pathlib import Path
 from urllib.parse import unquote, urlparse
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from aaeval.experiments import load_experiment, run_sweep
 from aaeval.report import write_report
+from aaeval.report.names import figure_stem
 from aaeval.report.figures import pareto_front
+from aaeval.report.names import figure_stem
+from report_util import small_report
 from sweep_util import write_config
 
 
@@ -42,18 +47,14 @@ class _Links(HTMLParser):
 
 @pytest.fixture(scope="module")
 def report(tmp_path_factory):
-    tmp = tmp_path_factory.mktemp("report")
-    exp = load_experiment(write_config(tmp))
-    out = tmp / "sweep"
-    run_sweep(exp, out, workers=1, quiet=True, cache_dir=tmp / "cache")
-    return write_report(out)
+    return small_report(tmp_path_factory)
 
 
 def test_every_link_resolves(report):
     parser = _Links()
     parser.feed(report.read_text())
     imgs = [link for tag, link in parser.links if tag == "img"]
-    assert len(imgs) >= 5  # speed-accuracy, intensity sum, temporal (flicker), stability, image grids
+    assert len(imgs) >= 8  # accuracy x3, validation, error per frame, intensity sum, flicker, space-time, ...
     for tag, link in parser.links:
         url = urlparse(link)
         assert not url.scheme and not url.netloc, f"report must be self-contained: {link}"
@@ -64,20 +65,77 @@ def test_every_link_resolves(report):
         assert target.is_file() and target.stat().st_size > 0, f"{tag} {link} does not resolve"
 
 
-def test_every_figure_states_its_reference(report):
+def test_every_group_figure_states_its_ground_truth(report):
     parser = _Links()
     parser.feed(report.read_text())
-    assert parser.figcaptions
-    for caption in parser.figcaptions:
-        assert "Reference: catmull (exact; noise 0)" in caption, caption
+    captions = [c for c in parser.figcaptions if "validation" not in c and "over that ground truth" not in c]
+    assert captions
+    for caption in captions:
+        assert ("Reference: mitsuba:sampler=stratified,spp=256 (Mitsuba ground truth; stochastic; spp 256, "
+                "seed 0; measured noise RMS" in caption
+                or "Reference: catmull (NOT the Mitsuba ground truth; exact; noise 0)" in caption), caption
 
 
-def test_report_has_the_expected_charts_and_tables(report):
-    figures = {p.name for p in (report.parent / "figures").glob("*.png")}
-    assert {"edges_speed_accuracy.png", "edges_intensity_sum.png", "edges_temporal.png",
-            "stability_stability.png", "edges_images.png"} <= figures
+def test_catmull_is_judged_against_mitsuba_at_its_noise_level(report):
+    # the validation table: catmull's RMSE against the ground truth next to the ground truth's own noise
+    table = pd.read_csv(report.parent / "tables" / "ground_truth_validation.csv")
+    catmull = table[table["exact method"] == "catmull"]
+    assert set(catmull["group"]) == {"edges", "stability"}
+    ratio = catmull["RMSE / noise (worst frame)"]
+    assert (ratio > 0.5).all() and (ratio < 1.5).all(), table
+    assert (catmull["agrees within noise"] == "yes").all()
+    policy = pd.read_csv(report.parent / "tables" / "ground_truth_per_group.csv")
+    assert dict(zip(policy["group"], policy["Mitsuba ground truth"])) == {
+        "edges": "yes", "stability": "yes", "exact reference": "NO (unvalidated)"}
+    assert "compare against a reference that is not the Mitsuba ground truth" in report.read_text()
+
+
+def test_figures_and_tables_come_in_paper_formats(report):
+    root = report.parent
+    pngs = {p.stem for p in (root / "figures").glob("*.png")}
+    edges, stability = figure_stem("edges"), figure_stem("stability")  # group files: slug + hash of the name
+    assert {f"{edges}_accuracy", f"{edges}_error_per_frame", f"{edges}_intensity_sum", f"{edges}_flicker",
+            f"{edges}_space_time", f"{edges}_images", f"{stability}_stability", "ground_truth_validation"} <= pngs
+    for stem in pngs:
+        for fmt in ("svg", "pdf"):
+            assert (root / "figures" / f"{stem}.{fmt}").stat().st_size > 0, (stem, fmt)
+    tables = {p.stem for p in (root / "tables").glob("*.csv")}
+    assert {"overview_error", "overview_failed", f"{figure_stem('edges')}_numbers", "ground_truth_validation"} <= tables
+    for stem in tables:
+        tex = (root / "tables" / f"{stem}.tex").read_text()
+        assert tex.startswith("\\begin{table}") and "\\bottomrule" in tex
+
+
+def test_overview_has_one_row_per_method_and_option(report):
+    overview = pd.read_csv(report.parent / "tables" / "overview_error.csv")
+    rows = list(overview["method and option"])
+    assert rows.index("supersample:k=2") < rows.index("supersample:k=4")  # sorted by option value
+    assert len(rows) == len(set(rows)) == 5  # catmull, weiler-atherton, catmull-jagged, supersample k=2, k=4
+
+
+def test_failed_is_defined_once_and_stated(report):
+    from aaeval.report.html import failure_definition
+
     text = report.read_text()
-    assert "<table>" in text and "catmull-jagged" in text and "9 of 9 distinct cells finished" in text
+    definition = failure_definition("rmse", 0.1)
+    assert definition in text and "How to read this report" in text
+    assert "fails when" not in text.replace(definition, "")  # no second wording anywhere
+
+
+def test_tiny_groups_show_accuracy_not_speed(report):
+    text = report.read_text()
+    assert "speed_accuracy" not in text
+    assert "render ms (overhead: tiny images)" in text
+
+
+def test_viewer_data_is_self_contained_and_small(report):
+    root = report.parent
+    text = report.read_text()
+    assert f"<script src='viewer/{figure_stem('edges')}.js'></script>" in text and "AAV.init()" in text
+    page_bytes = report.stat().st_size + sum(p.stat().st_size for d in ("figures", "viewer", "tables")
+                                              for p in (root / d).iterdir())
+    assert page_bytes < 20e6
+    assert "http://" not in text and "https://" not in text
 
 
 def test_report_of_a_partial_sweep(tmp_path):

@@ -1,4 +1,5 @@
-"""The Mitsuba Phong ground truth evaluates the same formula as aaeval's shading."""
+"""The Mitsuba Phong ground truth evaluates the same formula as aaeval's shading, and puts
+the highlight where the cylinder's geometry (computed in the test) says it is."""
 
 from __future__ import annotations
 
@@ -9,7 +10,8 @@ from aaeval.renderers import render
 from aaeval.renderers.catmull import visible_fragments
 from aaeval.scenes import parse_scene
 from aaeval.scenes.shaded import expand_shaded
-from aaeval.specular import groundtruth
+from aaeval.groundtruth import groundtruth_phong
+from aaeval.groundtruth import phong as phong_gt
 from aaeval.specular.render import scaled_scene
 from aaeval.specular.shading import phong
 
@@ -42,7 +44,7 @@ def test_integrator_and_aaeval_shade_the_same_points(mi, light):
     y = (cell // (scene.width * k) + rng.uniform(0.05, 0.95, len(cell))) / k
     assert len(cell) > 1000
 
-    loaded = mi.load_dict(groundtruth.phong_scene_dict(scene, spp=1, mi=mi))
+    loaded = mi.load_dict(phong_gt.phong_scene_dict(scene, spp=1, mi=mi))
     ray = mi.Ray3f(mi.Point3f(x, y, 0.0), mi.Vector3f(0.0, 0.0, 1.0))
     rgb_mi, valid, (spec_mi,) = loaded.integrator().sample(loaded, loaded.sensors()[0].sampler(), ray)
     rgb_mi = np.stack([np.array(rgb_mi.x), np.array(rgb_mi.y), np.array(rgb_mi.z)], axis=1)
@@ -61,14 +63,30 @@ def test_integrator_and_aaeval_shade_the_same_points(mi, light):
 def test_ground_truth_agrees_with_crow_everywhere(mi, tmp_path, monkeypatch):
     monkeypatch.setenv("AAEVAL_CACHE_DIR", str(tmp_path))
     scene = parse_scene(small_scene())
-    rgb, spec = groundtruth.render_mitsuba_phong(scene, spp=1024)
+    rgb, spec = phong_gt.render_mitsuba_phong(scene, spp=1024, sampler="stratified")
     # the registered method dispatches shaded scenes to the Phong integrator (and caches)
     method = render(scene, "mitsuba:spp=1024,sampler=stratified")
     np.testing.assert_array_equal(method, rgb)
-    assert groundtruth.groundtruth_phong(scene, spp=1024)[2]  # a cache hit now
+    assert groundtruth_phong(scene, spp=1024, sampler="stratified")[2]  # a cache hit now
     crow = render(scene, "catmull:specular=crow,k=16,region=all")
     plain = render(scene, "catmull")
     err_crow = np.sqrt(np.mean((crow - rgb) ** 2))
     err_plain = np.sqrt(np.mean((plain - rgb) ** 2))
     assert err_crow < 2e-3 and err_crow < err_plain / 4
     assert spec.max() > 0.1 and spec.min() >= 0.0
+
+
+def test_ground_truth_highlight_sits_where_the_normal_is_the_half_vector(mi, tmp_path, monkeypatch):
+    """The integrator shares aaeval's formula, so it is checked against geometry: a flipped
+    light or eye direction in it moves the peak by several pixels."""
+    from tests.test_specular_methods import CX, CY, RADIUS, cylinder_document, half_vector_column
+
+    monkeypatch.setenv("AAEVAL_CACHE_DIR", str(tmp_path))
+    scene = parse_scene(cylinder_document(), source="<cylinder>")
+    _, specular, _ = groundtruth_phong(scene, spp=256, sampler="stratified")
+    profile = specular[int(CY)]
+    i = int(np.argmax(profile))
+    a, b, c = profile[i - 1], profile[i], profile[i + 1]
+    peak = i + 0.5 + 0.5 * (a - c) / (a - 2 * b + c)
+    assert abs(half_vector_column() - CX) > 0.2 * RADIUS
+    assert peak == pytest.approx(half_vector_column(), abs=0.25)

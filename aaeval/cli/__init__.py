@@ -1,11 +1,19 @@
 """The ``aaeval`` command line. Each subcommand lives in its own module here and adds
 itself through ``add_parser(subparsers)``; ``main`` turns known errors into one-line
-messages and exit code 2."""
+messages and exit code 2.
+
+Exit codes: 0 success; 1 a sweep left cells not run (they run on the next sweep); 2 an
+input error (one line on stderr, nothing written); 128 + N when stopped by signal N:
+130 Ctrl-C (SIGINT), 143 SIGTERM (``kill PID``), 129 SIGHUP (terminal closed). An
+interrupted command stops its workers first and keeps every finished result.
+"""
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
+import signal
 import sys
 
 # one entry per subcommand module
@@ -13,11 +21,19 @@ COMMANDS = [
     "aaeval.cli.render",
     "aaeval.cli.invariance",
     "aaeval.cli.methods",
+    "aaeval.cli.metrics",
     "aaeval.cli.compare",
     "aaeval.cli.sweep",
     "aaeval.cli.report",
     "aaeval.cli.hidden_lines",
+    "aaeval.cli.import_content",
 ]
+
+
+def _version() -> str:
+    import aaeval
+
+    return f"aaeval {aaeval.__version__}"
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -29,10 +45,42 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="Run 'aaeval COMMAND --help' for the options of a command. "
         "Method specs look like NAME or NAME:key=value,key=value (see 'aaeval methods').",
     )
+    parser.add_argument("--version", action="version", version=_version())
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in COMMANDS:
         importlib.import_module(name).add_parser(sub)
     return parser
+
+
+class Interrupted(KeyboardInterrupt):
+    """SIGTERM or SIGHUP, raised where the program is, so that cleanup runs as for Ctrl-C."""
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+def _raise_interrupted(signum, frame) -> None:
+    raise Interrupted(signum)
+
+
+@contextlib.contextmanager
+def _signals_interrupt():
+    """SIGTERM and SIGHUP interrupt like Ctrl-C while a command runs (main thread only)."""
+    caught = [s for s in (signal.SIGTERM, getattr(signal, "SIGHUP", None)) if s is not None]
+    try:
+        previous = {s: signal.signal(s, _raise_interrupted) for s in caught}
+    except ValueError:  # not the main thread: leave signals alone
+        previous = {}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+
+
+def _one_line(message) -> str:
+    return " ".join(str(message).split("\n")).strip()
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -43,13 +91,23 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        return int(args.run(args) or 0)
-    except (SceneError, MethodError, ConfigError, ValueError, FileNotFoundError) as exc:
-        print(f"aaeval {args.command}: error: {exc}", file=sys.stderr)
+        with _signals_interrupt():
+            return int(args.run(args) or 0)
+    except (SceneError, MethodError, ConfigError, ValueError) as exc:
+        print(f"aaeval {args.command}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print(f"aaeval {args.command}: interrupted", file=sys.stderr)
-        return 130
+    except OSError as exc:  # a full disk, a vanished folder, permissions: named, no traceback
+        detail = f"{exc.strerror}: {exc.filename}" if exc.strerror and exc.filename else str(exc)
+        print(f"aaeval {args.command}: error: {_one_line(detail)}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print(f"aaeval {args.command}: error: out of memory (a smaller image, fewer samples or "
+              "AAEVAL_MAX_MEMORY to refuse such requests up front)", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt as exc:
+        signum = exc.signum if isinstance(exc, Interrupted) else signal.SIGINT
+        print(f"aaeval {args.command}: interrupted ({signal.Signals(signum).name})", file=sys.stderr)
+        return 128 + signum
 
 
 if __name__ == "__main__":

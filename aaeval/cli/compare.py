@@ -1,21 +1,22 @@
-"""``aaeval compare``: methods against a reference on the frames of a scene, as a table and JSON."""
+"""``aaeval compare``: methods against a reference on the frames of a scene.
+
+Output formats (``--format``): ``table`` (default; rich tables at most 100 columns wide,
+metric columns split over several tables when they do not fit), ``csv`` (one row per
+method and frame, every field), ``markdown`` (the per-frame and summary tables as pipe
+tables) and ``json`` (the whole document). JSON is strict: a value that is not a finite
+number (NaN, infinity: PSNR of identical images, a metric on an empty mask) is ``null``.
+Column titles and number formats come from the metric registry (``aaeval metrics``).
+"""
 
 from __future__ import annotations
 
-import json
-import math
+import csv
+import io
+import sys
 from pathlib import Path
 
-# column title and format of each metric in the table (names as in IMAGE_METRICS)
-_COLUMNS = {
-    "rmse": ("RMSE", "{:.3e}"),
-    "psnr": ("PSNR dB", "{:.2f}"),
-    "ssim": ("SSIM", "{:.4f}"),
-    "ciede2000_mean": ("ΔE00 mean", "{:.3f}"),
-    "ciede2000_p95": ("ΔE00 p95", "{:.3f}"),
-    "flip": ("FLIP", "{:.4f}"),
-    "edge_rmse": ("edge RMSE", "{:.3e}"),
-}
+FORMATS = ("table", "csv", "markdown", "json")
+TABLE_WIDTH = 100
 
 
 def add_parser(sub) -> None:
@@ -23,11 +24,11 @@ def add_parser(sub) -> None:
         "compare",
         help="compare methods against a reference: image metrics, render times, temporal stability",
         description="Render SCENE with every --method and with the --reference on the frames asked, "
-        "and print for each method and frame the image metrics against the reference (RMSE, PSNR, "
-        "SSIM, CIEDE2000 mean and 95th percentile, FLIP, RMSE over edge pixels), its intensity sum "
-        "and its render time (JIT warm-up excluded); then per method the relative variation "
-        "(max - min) / mean of its intensity sum over the frames, beside the reference's, and its "
-        "flicker (RMS over pixels of the standard deviation across frames of its error).",
+        "and print for each method and frame every image metric against the reference (see 'aaeval "
+        "metrics'), its intensity sum and its render time (median of --repeats timed renders after an "
+        "untimed warm-up); then per method the mean of each metric and, over two or more frames, the "
+        "temporal metrics (intensity-sum variation beside the reference's, flicker, ...).",
+        epilog="JSON output writes null for a value that is not a finite number (NaN, infinity).",
     )
     p.add_argument("scene", help="scene file (TOML)")
     p.add_argument("--method", "-m", action="append", required=True, metavar="SPEC", dest="methods",
@@ -36,43 +37,53 @@ def add_parser(sub) -> None:
                    help="method spec of the reference, e.g. catmull")
     p.add_argument("--frames", default="1", metavar="N|all",
                    help="the first N frames of the animation, or 'all' (default 1)")
-    p.add_argument("--json", metavar="OUT.json", help="write the rows and the temporal summary as JSON")
+    p.add_argument("--metric", action="append", metavar="NAME", dest="metrics",
+                   help="image metric to compute; repeat for more (default: every one that applies to the scene)")
+    p.add_argument("--temporal", action="append", metavar="NAME",
+                   help="temporal metric to compute over the frames; repeat for more (default: every one)")
+    p.add_argument("--repeats", type=int, default=1, metavar="N",
+                   help="timed renders per method and frame; the median is reported (default 1)")
+    p.add_argument("--format", "-f", choices=FORMATS, default="table",
+                   help="output on stdout: table (default, fits 100 columns), csv, markdown or json")
+    p.add_argument("--json", metavar="OUT.json", help="also write the whole document as JSON to this file")
     p.add_argument("--quiet", "-q", action="store_true",
-                   help="no progress bar and no per-frame table: only the per-method summary")
+                   help="no progress bar; with --format table, no per-frame table: only the per-method summary")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
-    from rich.console import Console
-
     from aaeval.experiments.compare import plan_comparison, run_comparison
+    from aaeval.experiments.record import dumps
     from aaeval.imageio import atomic_write
 
     if args.json and Path(args.json).is_dir():
         raise ValueError(f"--json {args.json} is a directory; give a file name")
-    plan = plan_comparison(args.scene, args.methods, args.reference, args.frames)
-    console = Console()
-    if not console.is_terminal:  # piped or logged: tables at their natural width, never elided
-        console = Console(width=10_000)
-    if args.quiet:
-        document = run_comparison(plan)
+    plan = plan_comparison(args.scene, args.methods, args.reference, args.frames, metrics=args.metrics,
+                           temporal=args.temporal, repeats=args.repeats)
+    quiet = args.quiet or not sys.stderr.isatty()
+    document = run_comparison(plan) if quiet else _run_with_progress(plan, run_comparison)
+    if args.format == "json":
+        sys.stdout.write(dumps(document, indent=2) + "\n")
+    elif args.format == "csv":
+        sys.stdout.write(to_csv(document))
+    elif args.format == "markdown":
+        sys.stdout.write(to_markdown(document))
     else:
-        document = _run_with_progress(plan, run_comparison)
-        console.print(_rows_table(document))
-    console.print(_summary_table(document))
+        print_tables(document, per_frame=not args.quiet)
     if args.json:
-        text = json.dumps(document, indent=2) + "\n"
+        text = dumps(document, indent=2) + "\n"
         atomic_write(args.json, lambda tmp: Path(tmp).write_text(text))
         if not args.quiet:
-            console.print(f"wrote {args.json}")
+            print(f"wrote {args.json}", file=sys.stderr)
     return 0
 
 
 def _run_with_progress(plan, run_comparison) -> dict:
+    from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
-    with Progress(*columns, transient=True) as progress:
+    with Progress(*columns, transient=True, console=Console(stderr=True)) as progress:
         task = progress.add_task("rendering", total=plan.renders)
 
         def advance(spec: str, frame: int) -> None:
@@ -81,42 +92,112 @@ def _run_with_progress(plan, run_comparison) -> dict:
         return run_comparison(plan, on_render=advance)
 
 
-def _number(value: float, fmt: str) -> str:
-    if math.isnan(value):
-        return "n/a"
-    if math.isinf(value):
-        return "∞" if value > 0 else "-∞"
-    return fmt.format(value)
+# --- the tables, as rows of strings ---------------------------------------------------
+
+def _ms(seconds) -> str:
+    from aaeval.metrics import format_value
+
+    return format_value(None if seconds is None else seconds * 1e3, ".3g")
 
 
-def _rows_table(document: dict):
-    from rich.table import Table
+def frame_table(document: dict) -> tuple[list[str], list[list[str]], int]:
+    """Titles and cells of the per-frame table; the first ``n`` columns identify the row."""
+    from aaeval.metrics import METRICS, format_value
 
-    table = Table(title=f"{document['scene']} against {document['reference']}")
-    for title in ("method", "frame", *(_COLUMNS[m][0] for m in document["metrics"]), "intensity sum", "render ms"):
-        table.add_column(title, justify="left" if title == "method" else "right", overflow="fold")
+    metrics = document["metrics"]
+    titles = ["method", "frame", *(METRICS[m].title for m in metrics), "intensity sum", "ms", "error"]
+    rows = []
     for row in document["rows"]:
-        cells = [_number(row[m], _COLUMNS[m][1]) for m in document["metrics"]]
-        table.add_row(row["method"], str(row["frame"]), *cells,
-                      f"{row['intensity_sum']:.10g}", f"{row['render_s'] * 1e3:.2f}")
-    return table
+        rows.append([row["method"], str(row["frame"]), *(METRICS[m].format(row[m]) for m in metrics),
+                     format_value(row["intensity_sum"], ".6g"), _ms(row["render_s"]), row["error"] or ""])
+    return titles, rows, 2
 
 
-def _summary_table(document: dict):
+def summary_table(document: dict) -> tuple[list[str], list[list[str]], int]:
+    """Titles and cells of the per-method summary (means, temporal metrics, median time)."""
+    from aaeval.metrics import METRICS, format_value
+
+    metrics, temporal = document["metrics"], document["temporal"]
+    titles = ["method", *(METRICS[m].title for m in metrics), *(METRICS[m].title for m in temporal), "median ms"]
+    ref = document["reference_summary"]
+    rows = [[f"{ref['method']} (reference)", *("" for _ in metrics),
+             *(format_value(ref["sum_variation"], METRICS["sum_variation"].fmt) if m == "sum_variation" else ""
+               for m in temporal), _ms(ref["render_s_median"])]]
+    for entry in document["summary"]:
+        rows.append([entry["method"], *(METRICS[m].format(entry["mean"][m]) for m in metrics),
+                     *(METRICS[m].format(entry["temporal"][m]) for m in temporal), _ms(entry["render_s_median"])])
+    return titles, rows, 1
+
+
+def _chunks(titles: list[str], rows: list[list[str]], keys: int, width: int) -> list[list[int]]:
+    """Column indices of tables at most ``width`` wide: the key columns, then what fits."""
+
+    def col_width(j):
+        return max([len(titles[j]), *(len(r[j]) for r in rows)])
+
+    overhead = 2  # a space either side of each column (rich, box=None, padding (0, 1))
+    base = sum(col_width(j) + overhead for j in range(keys))
+    chunks, current, used = [], [], base
+    for j in range(keys, len(titles)):
+        if not any(r[j] for r in rows):  # a column with nothing in it (no errors): left out
+            continue
+        w = col_width(j) + overhead
+        if current and used + w > width:
+            chunks.append(current)
+            current, used = [], base
+        current.append(j)
+        used += w
+    if current or not chunks:
+        chunks.append(current)
+    return [list(range(keys)) + c for c in chunks]
+
+
+def print_tables(document: dict, *, per_frame: bool = True, file=None) -> None:
+    """The per-frame table (unless not ``per_frame``) and the summary, at most 100 columns wide."""
+    from rich.console import Console
     from rich.table import Table
+
+    console = Console(file=file or sys.stdout, width=TABLE_WIDTH, soft_wrap=False, highlight=False)
+    frames = len(document["frames"])
+    parts = []
+    if per_frame:
+        parts.append((f"{document['scene']} against {document['reference']}", *frame_table(document)))
+    parts.append((f"over {frames} frame{'s' if frames != 1 else ''}: mean metrics, temporal metrics, median time",
+                  *summary_table(document)))
+    for title, titles, rows, keys in parts:
+        for cols in _chunks(titles, rows, keys, TABLE_WIDTH - 2):
+            table = Table(title=title, box=None, padding=(0, 1), title_justify="left")
+            for j in cols:
+                table.add_column(titles[j], justify="left" if j < keys else "right", no_wrap=True,
+                                 overflow="fold" if j == 0 else "ellipsis")
+            for row in rows:
+                table.add_row(*(row[j] for j in cols))
+            console.print(table)
+
+
+def to_csv(document: dict) -> str:
+    """One row per method and frame: every metric, the intensity sum, timings and errors."""
+    fields = ["method", "frame", *document["metrics"], "intensity_sum", "render_s", "render_s_min",
+              "render_s_max", "repeats", "megapixels", "ms_per_mpix", "error"]
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(fields)
+    for row in document["rows"]:
+        writer.writerow(["" if row[f] is None else row[f] for f in fields])
+    return out.getvalue()
+
+
+def to_markdown(document: dict) -> str:
+    """The per-frame table and the summary as Markdown pipe tables."""
+
+    def pipe(titles, rows):
+        esc = [[c.replace("|", "\\|") for c in r] for r in [titles, *rows]]
+        lines = ["| " + " | ".join(esc[0]) + " |", "|" + "|".join("---" for _ in titles) + "|"]
+        lines += ["| " + " | ".join(r) + " |" for r in esc[1:]]
+        return "\n".join(lines)
 
     frames = len(document["frames"])
-    metrics = document["metrics"]
-    table = Table(title=f"over {frames} frame{'s' if frames != 1 else ''}: mean metrics, "
-                  "intensity sum variation (max - min) / mean, flicker")
-    titles = ("method", *(_COLUMNS[m][0] for m in metrics), "sum variation", "flicker", "median render ms")
-    for title in titles:
-        table.add_column(title, justify="left" if title == "method" else "right", overflow="fold")
-    reference = document["reference_summary"]
-    table.add_row(f"{reference['method']} (reference)", *("" for _ in metrics), f"{reference['sum_variation']:.3e}",
-                  "", f"{reference['render_s_median'] * 1e3:.2f}")
-    for entry in document["summary"]:
-        cells = [_number(entry["mean"][m], _COLUMNS[m][1]) for m in metrics]
-        table.add_row(entry["method"], *cells, f"{entry['sum_variation']:.3e}", f"{entry['flicker']:.3e}",
-                      f"{entry['render_s_median'] * 1e3:.2f}")
-    return table
+    parts = [f"**{document['scene']}** against **{document['reference']}**", "",
+             pipe(*frame_table(document)[:2]), "",
+             f"Over {frames} frame{'s' if frames != 1 else ''}:", "", pipe(*summary_table(document)[:2]), ""]
+    return "\n".join(parts)

@@ -20,6 +20,9 @@ def add_parser(sub) -> None:
                    help="local worker processes (default: every core; 1 runs in this process)")
     p.add_argument("--retry-failed", action="store_true", help="run cells that finished with an error again")
     p.add_argument("--cache", metavar="DIR", help="reference cache folder (default $AAEVAL_CACHE_DIR or ~/.cache/aaeval)")
+    p.add_argument("--force", action="store_true",
+                   help="run into a folder that holds another experiment (its config moves to DIR/history/, "
+                   "its cell files stay)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bars; print only the summary line")
     p.set_defaults(run=run)
 
@@ -29,12 +32,15 @@ def run(args) -> int:
 
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
+    from aaeval.imageio import check_outputs
+
     experiment = load_experiment(args.config)
     if args.dry_run:
         return dry_run(experiment, args.out)
+    check_outputs({"--out": args.out, "--cache": args.cache}, folders=True)
     try:
         summary = run_sweep(experiment, args.out, workers=args.workers, scheduler=args.scheduler, quiet=args.quiet,
-                            retry_failed=args.retry_failed, cache_dir=args.cache)
+                            retry_failed=args.retry_failed, cache_dir=args.cache, force=args.force)
     except ConnectionError as exc:
         raise ValueError(str(exc)) from None
     print(f"{experiment.name}: {summary.total} cells, {summary.skipped} already done, {summary.ran} run "
@@ -51,7 +57,7 @@ def dry_run(experiment, out) -> int:
     from aaeval.experiments.table import short_label
 
     planned = plan(experiment)
-    done = SweepStore(out).finished()
+    done = set(SweepStore(out).check(heal=False))  # sound cells only; a dry run moves nothing
     rows: dict[tuple, list] = {}
     for p in planned:
         rows.setdefault((p.cell.group, p.cell.scene.name, short_label(p.cell.spec)), []).append(p.key in done)

@@ -1,47 +1,56 @@
 """Compare rendering methods against a reference, frame by frame, on one scene.
 
-:func:`plan_comparison` checks everything (scene, method specs, frames) before any
-rendering; :func:`run_comparison` renders and measures, and returns a JSON-ready
-document: one row per method and frame (every image metric of :data:`IMAGE_METRICS`, the
-intensity sum and the render time) and a temporal summary per method.
+:func:`plan_comparison` checks everything (scene, method specs, frames, metrics) before any
+rendering; :func:`run_comparison` measures through the same engine as a sweep cell
+(:mod:`aaeval.experiments.measure`) and returns a JSON-ready document (write it with
+:func:`aaeval.experiments.record.dumps`: NaN and infinities become ``null``).
 """
 
 from __future__ import annotations
 
-import statistics
 from dataclasses import dataclass
 from typing import Callable, Sequence
 
 import numpy as np
 
-from aaeval.metrics import (
-    IMAGE_METRICS,
-    MetricError,
-    compute_metric,
-    compute_temporal_metric,
-    edge_mask,
-    intensity_sum,
-    sum_variation,
+from aaeval.experiments.measure import (
+    SceneCache,
+    check_image_metrics,
+    check_temporal_metrics,
+    measure_frame,
+    reference_sum_variation,
+    render_reference,
+    series_metrics,
 )
-from aaeval.renderers import format_spec, render_timed, resolve
+from aaeval.metrics import MASKS, METRICS
+from aaeval.renderers import format_spec, resolve
 from aaeval.scenes import Scene, load_scene
 
-__all__ = ["ComparisonPlan", "parse_frames", "plan_comparison", "run_comparison"]
+__all__ = ["ComparisonPlan", "parse_frames", "plan_comparison", "run_comparison", "default_metrics"]
+
+
+def default_metrics(kind: str, scene: Scene | None = None) -> tuple[str, ...]:
+    """Every registered metric of ``kind``, less those whose mask is always empty on ``scene``
+    (highlight metrics on a scene without shaded objects)."""
+    return tuple(n for n, m in METRICS.items()
+                 if m.kind == kind and (scene is None or m.mask is None or MASKS[m.mask].applies_to(scene)))
 
 
 @dataclass(frozen=True)
 class ComparisonPlan:
-    """A validated comparison: the scene, the specs and the frames to render."""
+    """A validated comparison: the scene, the specs, the frames and metrics to measure."""
 
     scene: Scene
     methods: tuple[str, ...]
     reference: str
     frames: tuple[int, ...]
-    metrics: tuple[str, ...] = tuple(IMAGE_METRICS)
+    metrics: tuple[str, ...]
+    temporal: tuple[str, ...]
+    repeats: int = 1
 
     @property
     def renders(self) -> int:
-        """How many images the comparison renders."""
+        """How many images the comparison renders (timed repeats counted once)."""
         return len(self.frames) * (1 + len(self.methods))
 
 
@@ -66,8 +75,13 @@ def plan_comparison(
     reference: str,
     frames: str | int = 1,
     metrics: Sequence[str] | None = None,
+    temporal: Sequence[str] | None = None,
+    repeats: int = 1,
 ) -> ComparisonPlan:
     """Check every input and return the plan; raises before anything is rendered.
+
+    ``metrics`` and ``temporal`` default to every registered metric of their kind that
+    applies to the scene (:func:`default_metrics`).
 
     Raises
     ------
@@ -75,8 +89,10 @@ def plan_comparison(
         A bad method or reference spec.
     SceneError
         A scene file that breaks the scene format.
+    MetricError
+        An unknown metric.
     ValueError
-        No methods, a method given twice, bad frames or an unknown metric.
+        No methods, a method given twice, bad frames or repeats.
     """
     if not methods:
         raise ValueError("give at least one --method to compare")
@@ -89,13 +105,18 @@ def plan_comparison(
         if canonical in seen:
             raise ValueError(f"method {spec!r} is the same as {seen[canonical]!r}; give each method once")
         seen[canonical] = spec
-    metrics = tuple(IMAGE_METRICS) if metrics is None else tuple(metrics)
-    unknown = [m for m in metrics if m not in IMAGE_METRICS]
-    if unknown:
-        raise MetricError(f"unknown metric(s) {unknown}; available: {', '.join(IMAGE_METRICS)}")
+    if metrics is not None:
+        metrics = check_image_metrics(metrics)
+    if temporal is not None:
+        temporal = check_temporal_metrics(temporal)
+    if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
+        raise ValueError(f"--repeats must be a whole number >= 1, got {repeats!r}")
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
-    return ComparisonPlan(scene, methods, reference.strip(), parse_frames(frames, scene.frames), metrics)
+    metrics = default_metrics("image", scene) if metrics is None else metrics
+    temporal = default_metrics("temporal", scene) if temporal is None else temporal
+    return ComparisonPlan(scene, methods, reference.strip(), parse_frames(frames, scene.frames), metrics,
+                          temporal, repeats)
 
 
 def run_comparison(plan: ComparisonPlan, *, on_render: Callable[[str, int], None] | None = None) -> dict:
@@ -111,46 +132,56 @@ def run_comparison(plan: ComparisonPlan, *, on_render: Callable[[str, int], None
     Returns
     -------
     document : dict
-        ``scene``, ``width``, ``height``, ``reference``, ``frames``, ``metrics``;
-        ``rows``: per method and frame ``method``, ``frame``, each metric, ``intensity_sum``
-        and ``render_s`` (the render alone, JIT warm-up excluded); ``reference_rows``: the
-        reference's ``frame``, ``intensity_sum`` and ``render_s``; ``reference_summary``: its
-        ``sum_variation`` and ``render_s_median``; ``summary``: per method ``mean`` (each
-        metric's mean over the frames), ``sum_variation`` (of its intensity sums over the frames), ``flicker`` (of its error
-        against the reference), ``reference_sum_variation``, ``render_s_median``.
+        ``scene``, ``width``, ``height``, ``reference``, ``frames``, ``metrics``,
+        ``temporal``, ``repeats``; ``rows``: per method and frame ``method``, ``frame``,
+        each metric, ``intensity_sum``, the timing fields (``render_s`` median,
+        ``render_s_min``, ``render_s_max``, ``repeats``, ``megapixels``, ``ms_per_mpix``),
+        ``error`` and ``metric_errors``; ``reference_rows``: the reference's ``frame``,
+        ``intensity_sum`` and ``render_s``; ``reference_summary``: its ``sum_variation`` and
+        ``render_s_median``; ``summary``: per method ``mean`` (each metric's mean over the
+        frames), ``temporal`` (each temporal metric over the frames, when there are at
+        least two), ``reference_sum_variation``, ``render_s_median``. A value that is not a
+        finite number is NaN here and ``null`` in JSON.
     """
     scene = plan.scene
-    reference_frames = []
-    reference_rows = []
+    cache = SceneCache()
+    digest = "compare"
+    reference_frames, reference_rows, rows = [], [], []
     method_frames: dict[str, list[np.ndarray]] = {spec: [] for spec in plan.methods}
-    rows = []
     for k in plan.frames:
-        truth, seconds = render_timed(scene, plan.reference, frame=k)
+        ref = render_reference(scene, plan.reference, k, estimate_noise=False)
         _notify(on_render, plan.reference, k)
-        reference_frames.append(truth)
-        reference_rows.append({"frame": k, "intensity_sum": intensity_sum(truth), "render_s": seconds})
-        context = {"mask": edge_mask(scene.at_frame(k))} if "edge_rmse" in plan.metrics else {}
+        reference_frames.append(ref["image"])
+        reference_rows.append({"frame": k, "intensity_sum": ref["intensity_sum"], "render_s": ref["render_s"]})
         for spec in plan.methods:
-            image, seconds = render_timed(scene, spec, frame=k)
+            measured = measure_frame(scene, spec, k, ref["image"], plan.metrics, repeats=plan.repeats,
+                                     digest=digest, cache=cache)
             _notify(on_render, spec, k)
-            method_frames[spec].append(image)
-            row = {"method": spec, "frame": k}
-            row.update({name: compute_metric(name, truth, image, **context) for name in plan.metrics})
-            row.update(intensity_sum=intensity_sum(image), render_s=seconds)
-            rows.append(row)
-    reference_variation = sum_variation([r["intensity_sum"] for r in reference_rows])
+            method_frames[spec].append(measured.image)
+            fields = measured.fields(scene.width, scene.height)
+            rows.append({"method": spec, "frame": k, **fields.pop("metrics"), **fields})
+            rows[-1].pop("traceback")
+    reference_variation = reference_sum_variation([r["intensity_sum"] for r in reference_rows])
     summary = []
     for spec in plan.methods:
         own = [r for r in rows if r["method"] == spec]
+        failed = any(r["error"] for r in own)
+        temporal = {name: float("nan") for name in plan.temporal}
+        temporal_errors: dict[str, str] = {}
+        if len(plan.frames) >= 2 and not failed:
+            temporal, temporal_errors = series_metrics(
+                plan.temporal, reference_frames, method_frames[spec],
+                lambda name: cache.series_mask(digest, scene, plan.frames, name))
         summary.append(
             {
                 "method": spec,
                 "frames": len(own),
+                "failed_frames": sum(bool(r["error"]) for r in own),
                 "mean": {name: float(np.mean([r[name] for r in own])) for name in plan.metrics},
-                "sum_variation": sum_variation([r["intensity_sum"] for r in own]),
-                "flicker": compute_temporal_metric("flicker", reference_frames, method_frames[spec]),
+                "temporal": temporal,
+                "temporal_errors": temporal_errors,
                 "reference_sum_variation": reference_variation,
-                "render_s_median": statistics.median(r["render_s"] for r in own),
+                "render_s_median": float(np.median([r["render_s"] for r in own])),
             }
         )
     return {
@@ -160,13 +191,15 @@ def run_comparison(plan: ComparisonPlan, *, on_render: Callable[[str, int], None
         "reference": plan.reference,
         "frames": list(plan.frames),
         "metrics": list(plan.metrics),
+        "temporal": list(plan.temporal),
+        "repeats": plan.repeats,
         "rows": rows,
         "reference_rows": reference_rows,
         "reference_summary": {
             "method": plan.reference,
             "frames": len(reference_rows),
             "sum_variation": reference_variation,
-            "render_s_median": statistics.median(r["render_s"] for r in reference_rows),
+            "render_s_median": float(np.median([r["render_s"] for r in reference_rows])),
         },
         "summary": summary,
     }

@@ -5,8 +5,9 @@ A config file looks like::
     [experiment]
     name = "edges"
     reference = "catmull"                  # method spec every cell is compared against
-    metrics = ["rmse", "psnr"]             # per-frame metrics
+    metrics = ["rmse", "psnr"]             # per-frame metrics (see `aaeval metrics`)
     temporal = ["sum_variation", "flicker"]  # metrics over the frames of an animation
+    repeats = 1                            # timed renders per cell (groups may override)
     primary = "rmse"                       # the error axis of the report's charts
 
     [[groups]]
@@ -16,11 +17,15 @@ A config file looks like::
     frames = "all"                         # or a list of frame numbers
     options = { spp = [16, 64] }           # expanded for every method that declares it
     options.supersample = { k = [2, 4] }   # for one method only
+    metrics = ["rmse", "highlight_rmse"]   # a group may override metrics, temporal, reference
+    repeats = 5                            # timed renders per cell, after one untimed warm-up (default 1)
 
 A method with a ``cache`` option (Mitsuba) gets ``cache=false`` unless the spec sets it, so
 its render time is a render, not a cache hit. References keep their cache.
 
-Every key is checked before any work starts; an error names the file and the key.
+Every key is checked before any work starts; an error names the file and the key. A
+config that repeats itself (a scene, a difficulty or a method spec given twice in a group)
+is refused, naming the key: every cell of a config is one row of the results table.
 Scene paths are relative to the config file.
 """
 
@@ -29,13 +34,14 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 from typing import Any, Mapping
 
 from aaeval._toml import read_toml, refuse_unknown_keys
-from aaeval.experiments.generators import GENERATORS, generate_scene
-from aaeval.experiments.metrics import check_metric_names
+from aaeval.scenes.generate import GENERATORS, generate_scene
+from aaeval.metrics import MetricError, check_metric_names
 from aaeval.renderers import MethodError, format_spec, parse_spec, resolve
 from aaeval.scenes import Scene, SceneError, parse_scene
 
@@ -56,14 +62,23 @@ class SceneSource:
     difficulty: float | None = None
     difficulty_label: str | None = None
 
-    @property
+    @cached_property
     def digest(self) -> str:
-        """Hash of the scene's content (not its path): the cache and cell key use it."""
+        """Hash of the scene's content (not its path): the reference cache key uses it."""
         blob = json.dumps(self.document, sort_keys=True, separators=(",", ":")).encode()
         return hashlib.sha256(blob).hexdigest()
 
-    def scene(self) -> Scene:
+    @cached_property
+    def parsed(self) -> Scene:
+        """The parsed scene, parsed once (raises :class:`SceneError`)."""
         return parse_scene(self.document, source=self.source)
+
+    def scene(self) -> Scene:
+        return self.parsed
+
+    @property
+    def frames(self) -> int:
+        return self.parsed.frames
 
 
 @dataclass(frozen=True)
@@ -76,11 +91,18 @@ class Cell:
     frame: int
     reference: str  # canonical reference spec
     metrics: tuple[str, ...]
+    repeats: int = 1
 
     def identity(self) -> dict:
-        """Everything the result depends on, apart from the code version."""
-        return {"scene": self.scene.digest, "frame": self.frame, "method": self.spec,
-                "reference": self.reference, "metrics": sorted(self.metrics)}
+        """Everything the row depends on, apart from the code version.
+
+        The group, the scene's name and difficulty are part of it: two config entries that
+        happen to build the same scene (a generator clamping two difficulties to one
+        radius) stay two rows, each with its own label, never one row counted twice.
+        """
+        return {"group": self.group, "scene_name": self.scene.name, "difficulty": self.scene.difficulty,
+                "scene": self.scene.digest, "frame": self.frame, "method": self.spec,
+                "reference": self.reference, "metrics": sorted(self.metrics), "repeats": self.repeats}
 
 
 @dataclass(frozen=True)
@@ -91,15 +113,16 @@ class Group:
     frames: Any  # "all" or tuple of ints
     reference: str
     metrics: tuple[str, ...]
+    repeats: int = 1
+    temporal: tuple[str, ...] = ()  # temporal metrics of this group's animations
 
     def cells(self) -> list[Cell]:
         out = []
         for src in self.scenes:
-            n = int(src.document.get("animation", {}).get("frames", 1))
-            frames = range(n) if self.frames == "all" else self.frames
+            frames = range(src.frames) if self.frames == "all" else self.frames
             for spec in self.specs:
                 for k in frames:
-                    out.append(Cell(self.name, src, spec, int(k), self.reference, self.metrics))
+                    out.append(Cell(self.name, src, spec, int(k), self.reference, self.metrics, self.repeats))
         return out
 
 
@@ -120,8 +143,9 @@ class Experiment:
 
 
 _EXPERIMENT_KEYS = {"name", "description", "reference", "metrics", "temporal", "primary", "noise_estimate",
-                    "fail_above"}
-_GROUP_KEYS = {"name", "scenes", "methods", "frames", "options", "reference", "metrics", "animate"}
+                    "fail_above", "repeats"}
+_GROUP_KEYS = {"name", "scenes", "methods", "frames", "options", "reference", "metrics", "temporal", "animate",
+               "repeats"}
 
 
 def load_experiment(path: str | Path) -> Experiment:
@@ -146,6 +170,7 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
     metrics = _metric_list(head.get("metrics", ["rmse"]), f"{where}: [experiment].metrics", temporal=False)
     temporal = _metric_list(head.get("temporal", []), f"{where}: [experiment].temporal", temporal=True)
     primary = _string(head, "primary", f"{where}: [experiment]", default=metrics[0])
+    repeats = _repeats(head.get("repeats", 1), f"{where}: [experiment].repeats")
     noise = head.get("noise_estimate", True)
     if not isinstance(noise, bool):
         raise ConfigError(f"{where}: [experiment].noise_estimate must be true or false, got {noise!r}")
@@ -160,7 +185,7 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
         raise ConfigError(f"{where}: needs at least one [[groups]] table")
     groups = []
     for i, raw in enumerate(raw_groups):
-        groups.append(_group(raw, f"{where}: groups[{i}]", base, reference, metrics))
+        groups.append(_group(raw, f"{where}: groups[{i}]", base, reference, metrics, repeats, temporal))
     names = [g.name for g in groups]
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:
@@ -171,7 +196,8 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
                       None if fail_above is None else float(fail_above))
 
 
-def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str, ...]) -> Group:
+def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str, ...], repeats: int,
+           temporal: tuple[str, ...]) -> Group:
     if not isinstance(raw, Mapping):
         raise ConfigError(f"{where}: must be a table")
     _no_unknown(raw, _GROUP_KEYS, where)
@@ -180,6 +206,8 @@ def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str,
         reference = _spec(_string(raw, "reference", where), f"{where}.reference")
     if "metrics" in raw:
         metrics = _metric_list(raw["metrics"], f"{where}.metrics", temporal=False)
+    if "temporal" in raw:
+        temporal = _metric_list(raw["temporal"], f"{where}.temporal", temporal=True)
     scenes = _scenes(raw.get("scenes"), f"{where}.scenes", base)
     if "animate" in raw:
         scenes = _animate(scenes, raw["animate"], f"{where}.animate")
@@ -191,7 +219,15 @@ def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str,
         raise ConfigError(f"{where}.options: expected a table of option = [values], got {options!r}")
     specs = _expand_specs(methods, options, f"{where}")
     frames = _frames(raw.get("frames", "all"), f"{where}.frames", scenes)
-    return Group(name, scenes, tuple(specs), frames, reference, metrics)
+    if "repeats" in raw:
+        repeats = _repeats(raw["repeats"], f"{where}.repeats")
+    return Group(name, scenes, tuple(specs), frames, reference, metrics, repeats, temporal)
+
+
+def _repeats(raw: Any, where: str) -> int:
+    if isinstance(raw, bool) or not isinstance(raw, int) or raw < 1:
+        raise ConfigError(f"{where}: expected a whole number of timed renders >= 1, got {raw!r}")
+    return raw
 
 
 def _expand_specs(methods: list[str], options: Mapping[str, Any], where: str) -> list[str]:
@@ -219,11 +255,14 @@ def _expand_specs(methods: list[str], options: Mapping[str, Any], where: str) ->
         if bad:
             raise ConfigError(f"{where}.options.{name}: method {name!r} has no option(s) {bad}; "
                               f"options: {', '.join(sorted(method.options)) or 'none'}")
+    j_of = {spec: j for j, (spec, _) in enumerate(resolved)}
     for spec, method in resolved:
+        j = j_of[spec]
         given = set(parse_spec(spec)[1])
         if "cache" in method.options and "cache" not in given:
             # a cache hit would be timed as the render: measured cells render for real
             spec = f"{spec}{',' if ':' in spec else ':'}cache=false"
+            j_of[spec] = j
             given.add("cache")
         mine = {k: v for k, v in shared.items() if k in method.options}
         used.update(mine)
@@ -241,8 +280,10 @@ def _expand_specs(methods: list[str], options: Mapping[str, Any], where: str) ->
             except MethodError as exc:
                 raise ConfigError(f"{where}.options: {exc}") from None
             canonical = format_spec(method.name, opts)
-            if canonical not in specs:
-                specs.append(canonical)
+            if canonical in specs:
+                raise ConfigError(f"{where}.methods[{j_of[spec]}]: method {canonical!r} is already in this group "
+                                  "(given twice, or made twice by options); give each method once")
+            specs.append(canonical)
     unused = sorted(set(shared) - used)
     if unused:
         raise ConfigError(f"{where}.options: option(s) {unused} are declared by none of the methods {methods}")
@@ -265,10 +306,19 @@ def _scenes(raw: Any, where: str, base: Path) -> tuple[SceneSource, ...]:
             d = item.get("difficulty")
             if d is not None and (isinstance(d, bool) or not isinstance(d, (int, float))):
                 raise ConfigError(f"{here}.difficulty: expected a number, got {d!r}")
-            out.append(SceneSource(src.name, src.document, src.source, None if d is None else float(d),
-                                   item.get("difficulty_label", "difficulty")))
+            labelled = SceneSource(src.name, src.document, src.source, None if d is None else float(d),
+                                   item.get("difficulty_label", "difficulty"))
+            labelled.__dict__["parsed"] = src.parsed  # same document: parsed once
+            out.append(labelled)
         else:
             raise ConfigError(f"{here}: expected a scene path, {{path = ...}} or {{generator = ...}}, got {item!r}")
+    seen: dict[tuple, int] = {}
+    for i, src in enumerate(out):
+        label = (src.name, src.difficulty)
+        if label in seen:
+            raise ConfigError(f"{where}: scene {src.name!r} (from {src.source}) is listed twice in this group; "
+                              "give each scene once, or give one a different name")
+        seen[label] = i
     return tuple(out)
 
 
@@ -281,10 +331,11 @@ def _scene_file(rel: Any, where: str, base: Path) -> SceneSource:
         raise ConfigError(f"{where}: scene file {rel!r} not found (looked at {', '.join(map(str, candidates))})")
     try:
         document, _ = read_toml(path, SceneError, "scene file")
-        parse_scene(document, source=str(path))
+        src = SceneSource(path.stem, document, str(path))
+        src.parsed  # noqa: B018 - parse (and validate) now, once
     except SceneError as exc:
         raise ConfigError(f"{where}: {exc}") from None
-    return SceneSource(path.stem, document, str(path))
+    return src
 
 
 def _generated(item: Mapping[str, Any], where: str) -> list[SceneSource]:
@@ -296,17 +347,21 @@ def _generated(item: Mapping[str, Any], where: str) -> list[SceneSource]:
         raise ConfigError(f"{where}.difficulty: expected a non-empty list of difficulty values, got {levels!r}")
     params = {k: v for k, v in item.items() if k not in ("generator", "difficulty")}
     out = []
+    repeated = sorted({d for d in levels if levels.count(d) > 1}, key=str)
+    if repeated:
+        raise ConfigError(f"{where}.difficulty: value(s) {repeated} given more than once")
     for d in levels:
         if isinstance(d, bool) or not isinstance(d, (int, float)):
             raise ConfigError(f"{where}.difficulty: expected numbers, got {d!r}")
+        extra = "".join(f",{k}={params[k]}" for k in sorted(params))
         try:
             document = generate_scene(name, d, **params)
-            parse_scene(document, source=f"{name}@{d}")
+            src = SceneSource(f"{name}@{d:g}", document, f"generator {name}(difficulty={d}{extra})",
+                              float(d), GENERATORS[name].difficulty)
+            src.parsed  # noqa: B018 - parse (and validate) now, once
         except (ValueError, TypeError) as exc:
             raise ConfigError(f"{where}: {exc}") from None
-        extra = "".join(f",{k}={params[k]}" for k in sorted(params))
-        out.append(SceneSource(f"{name}@{d:g}", document, f"generator {name}(difficulty={d}{extra})",
-                               float(d), GENERATORS[name].difficulty))
+        out.append(src)
     return out
 
 
@@ -318,11 +373,12 @@ def _animate(scenes: tuple[SceneSource, ...], raw: Any, where: str) -> tuple[Sce
     out = []
     for src in scenes:
         document = {**src.document, "animation": dict(raw)}
+        moving = SceneSource(src.name, document, src.source, src.difficulty, src.difficulty_label)
         try:
-            parse_scene(document, source=f"{src.source} with {where}")
+            moving.__dict__["parsed"] = parse_scene(document, source=f"{src.source} with {where}")
         except SceneError as exc:
             raise ConfigError(f"{where}: {exc}") from None
-        out.append(SceneSource(src.name, document, src.source, src.difficulty, src.difficulty_label))
+        out.append(moving)
     return tuple(out)
 
 
@@ -331,8 +387,11 @@ def _frames(raw: Any, where: str, scenes: tuple[SceneSource, ...]) -> Any:
         return "all"
     if not isinstance(raw, list) or not raw or not all(isinstance(k, int) and not isinstance(k, bool) for k in raw):
         raise ConfigError(f"{where}: expected \"all\" or a non-empty list of frame numbers, got {raw!r}")
+    repeated = sorted({k for k in raw if raw.count(k) > 1})
+    if repeated:
+        raise ConfigError(f"{where}: frame(s) {repeated} given more than once")
     for src in scenes:
-        n = int(src.document.get("animation", {}).get("frames", 1))
+        n = src.frames
         bad = [k for k in raw if not 0 <= k < n]
         if bad:
             raise ConfigError(f"{where}: frame(s) {bad} outside 0..{n - 1} of scene {src.source}")
@@ -351,10 +410,9 @@ def _metric_list(raw: Any, where: str, *, temporal: bool) -> tuple[str, ...]:
     if not isinstance(raw, list) or not all(isinstance(m, str) for m in raw) or (not temporal and not raw):
         raise ConfigError(f"{where}: expected a {'' if temporal else 'non-empty '}list of metric names, got {raw!r}")
     try:
-        check_metric_names(raw, temporal=temporal)
-    except ValueError as exc:
+        return check_metric_names(raw, "temporal" if temporal else "image")
+    except MetricError as exc:
         raise ConfigError(f"{where}: {exc}") from None
-    return tuple(raw)
 
 
 def _string(table: Mapping, key: str, where: str, default: str | None = None) -> str:

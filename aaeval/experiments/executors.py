@@ -4,12 +4,18 @@ Each executor has one method, ``run(fn, payloads)``, yielding ``(index, result, 
 as tasks finish, in any order. ``error`` is set only when the task could not run at all
 (a worker died, the cluster went away); the sweep does not record those cells, so a
 rerun tries them again.
+
+An interrupt (Ctrl-C, or SIGTERM/SIGHUP, which the command line turns into one) ends the
+workers before it goes on: none outlives the sweep. Local workers also watch their parent
+and exit when it is gone, so even a ``kill -9`` of the sweep leaves no orphan computing.
 """
 
 from __future__ import annotations
 
 import multiprocessing
 import os
+import threading
+import time
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any, Callable, Iterator, Sequence
 
@@ -32,6 +38,17 @@ class SerialExecutor:
         pass
 
 
+def _exit_with_parent(parent: int) -> None:
+    """Worker initializer: exit as soon as the sweep process that started us is gone."""
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)  # no cleanup to wait for: results go back to the parent, which is gone
+
+    threading.Thread(target=watch, name="aaeval-parent-watch", daemon=True).start()
+
+
 class ProcessExecutor:
     """Local worker processes; each warms its JIT once, on its first task of a method."""
 
@@ -39,28 +56,44 @@ class ProcessExecutor:
         self.workers = workers
         self.description = f"{workers} local worker processes"
         # spawn: numba and Dr.Jit threads do not survive fork
-        self._pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+        self._pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"),
+                                         initializer=_exit_with_parent, initargs=(os.getpid(),))
 
     def run(self, fn: Callable, payloads: Sequence) -> Iterator[Outcome]:
         # keep about two tasks per worker queued, so a kill loses little and memory stays flat
         pending: dict = {}
         todo = iter(enumerate(payloads))
         exhausted = False
-        while pending or not exhausted:
-            while not exhausted and len(pending) < 2 * self.workers:
-                try:
-                    i, payload = next(todo)
-                except StopIteration:
-                    exhausted = True
+        try:
+            while pending or not exhausted:
+                while not exhausted and len(pending) < 2 * self.workers:
+                    try:
+                        i, payload = next(todo)
+                    except StopIteration:
+                        exhausted = True
+                        break
+                    pending[self._pool.submit(fn, *payload)] = i
+                if not pending:
                     break
-                pending[self._pool.submit(fn, *payload)] = i
-            if not pending:
-                break
-            done, _ = wait(pending, return_when=FIRST_COMPLETED)
-            for future in done:
-                i = pending.pop(future)
-                exc = future.exception()
-                yield i, (None if exc else future.result()), exc
+                done, _ = wait(pending, return_when=FIRST_COMPLETED)
+                for future in done:
+                    i = pending.pop(future)
+                    exc = future.exception()
+                    yield i, (None if exc else future.result()), exc
+        except (KeyboardInterrupt, SystemExit):
+            self.terminate()  # do not wait for cells in flight: the user asked to stop
+            raise
+
+    def terminate(self) -> None:
+        """End the workers now; their cells in flight are lost (and rerun next time)."""
+        processes = list((getattr(self._pool, "_processes", None) or {}).values())
+        for p in processes:
+            p.terminate()
+        for p in processes:
+            p.join(5)
+            if p.is_alive():
+                p.kill()
+        self._pool.shutdown(wait=True, cancel_futures=True)
 
     def close(self) -> None:
         self._pool.shutdown(wait=True, cancel_futures=True)
@@ -93,13 +126,17 @@ class DaskExecutor:
         # tasks render and time: never let Dask skip one as a duplicate of a pure call
         futures = [self.client.submit(fn, *p, pure=False) for p in payloads]
         index = {f.key: i for i, f in enumerate(futures)}
-        for future in as_completed(futures):
-            i = index[future.key]
-            if future.status == "error":
-                yield i, None, future.exception()
-            else:
-                yield i, future.result(), None
-            future.release()
+        try:
+            for future in as_completed(futures):
+                i = index[future.key]
+                if future.status == "error":
+                    yield i, None, future.exception()
+                else:
+                    yield i, future.result(), None
+                future.release()
+        except (KeyboardInterrupt, SystemExit):
+            self.client.cancel(futures)  # the cluster stops computing cells nobody will write
+            raise
 
     def close(self) -> None:
         if self._own:

@@ -15,12 +15,15 @@ from typing import Any, Iterator
 
 import numpy as np
 
-from aaeval.experiments.config import Cell, Experiment
+from aaeval.experiments.config import Cell, ConfigError, Experiment
 from aaeval.experiments.executors import make_executor
+from aaeval.experiments.measure import reference_kind
+from aaeval.experiments.provenance import write_provenance
+from aaeval.experiments.record import SCHEMA_VERSION, json_safe
 from aaeval.experiments.store import ReferenceCache, SweepStore, cell_key, code_version, reference_key
-from aaeval.experiments.tasks import reference_kind, render_reference, run_cell
+from aaeval.experiments.tasks import render_reference, run_cell
 
-__all__ = ["PlannedCell", "plan", "run_sweep", "SweepSummary", "progress_bar"]
+__all__ = ["PlannedCell", "plan", "manifest", "run_sweep", "SweepSummary", "progress_bar"]
 
 
 @dataclass
@@ -31,17 +34,50 @@ class PlannedCell:
 
     def manifest_row(self) -> dict:
         c = self.cell
-        return {"key": self.key, "group": c.group, "scene": c.scene.name, "spec": c.spec, "frame": c.frame,
-                "reference": c.reference, "reference_key": self.reference_key,
-                "frames": int(c.scene.document.get("animation", {}).get("frames", 1))}
+        return {"key": self.key, "group": c.group, "scene": c.scene.name, "difficulty": c.scene.difficulty,
+                "difficulty_label": c.scene.difficulty_label, "scene_digest": c.scene.digest, "spec": c.spec,
+                "frame": c.frame, "reference": c.reference, "reference_key": self.reference_key,
+                "frames": c.scene.frames, "repeats": c.repeats}
 
 
 def plan(experiment: Experiment) -> list[PlannedCell]:
-    """Every cell of the config with its key; a cell in two groups appears twice, same key."""
+    """Every cell of the config with its key: one key per (group, scene, difficulty, spec, frame).
+
+    Raises
+    ------
+    ConfigError
+        Two cells with one key: the config repeats itself (the message names both).
+    """
     version = code_version()
-    return [PlannedCell(c, cell_key(c.identity(), version),
-                        reference_key(c.scene.digest, c.frame, c.reference, version))
-            for c in experiment.cells()]
+    planned = [PlannedCell(c, cell_key(c.identity(), version),
+                           reference_key(c.scene.digest, c.frame, c.reference, version))
+               for c in experiment.cells()]
+    seen: dict[str, PlannedCell] = {}
+    for p in planned:
+        if p.key in seen:
+            a, b = seen[p.key].cell, p.cell
+            raise ConfigError(f"{experiment.path}: group {b.group!r} scene {b.scene.name!r} {b.spec} frame {b.frame} "
+                              f"is given twice (also as group {a.group!r} scene {a.scene.name!r}); give each cell once")
+        seen[p.key] = p
+    return planned
+
+
+def manifest(experiment: Experiment, planned: list[PlannedCell]) -> dict:
+    """What ``manifest.json`` holds: the experiment's settings, every cell, every scene document.
+
+    The scene documents (by digest) let the table rebuild masks for temporal metrics from the
+    folder alone.
+    """
+    scenes = {}
+    for p in planned:
+        scenes.setdefault(p.cell.scene.digest, {"source": p.cell.scene.source, "document": p.cell.scene.document})
+    return {"experiment": experiment.name, "description": experiment.description, "config": experiment.path,
+            "schema_version": SCHEMA_VERSION, "code_version": code_version(), "primary": experiment.primary,
+            "fail_above": experiment.fail_above,
+            "metrics": list(dict.fromkeys(m for g in experiment.groups for m in g.metrics)),
+            "temporal": list(dict.fromkeys(m for g in experiment.groups for m in g.temporal)),
+            "group_temporal": {g.name: list(g.temporal) for g in experiment.groups},
+            "cells": [p.manifest_row() for p in planned], "scenes": scenes}
 
 
 @dataclass
@@ -76,37 +112,47 @@ def _option(spec: str, name: str) -> Any:
     return resolve(spec)[1].get(name)
 
 
-def _base_record(p: PlannedCell, ref_meta: dict) -> dict:
+def _identity(p: PlannedCell, ref_meta: dict) -> dict:
+    """The record fields known before the cell runs (:class:`~aaeval.experiments.record.CellRecord`)."""
     from aaeval.renderers import resolve
 
     c = p.cell
     method, options = resolve(c.spec)
     return {
-        "key": p.key, "code_version": code_version(), "scene": c.scene.name, "scene_source": c.scene.source,
-        "scene_digest": c.scene.digest, "difficulty": c.scene.difficulty, "difficulty_label": c.scene.difficulty_label,
+        "key": p.key, "group": c.group, "code_version": code_version(), "scene": c.scene.name,
+        "scene_source": c.scene.source, "scene_digest": c.scene.digest, "difficulty": c.scene.difficulty,
+        "difficulty_label": c.scene.difficulty_label,
         "method": method.name, "spec": c.spec, "options": options, "frame": c.frame,
         "spp": options.get("spp"), "seed": options.get("seed"),
         "reference": c.reference, "reference_key": p.reference_key, "reference_kind": reference_kind(c.reference),
         "reference_spp": _option(c.reference, "spp"), "reference_seed": _option(c.reference, "seed"),
         "reference_noise_rmse": ref_meta.get("noise_rmse", math.nan),
         "reference_intensity_sum": ref_meta.get("intensity_sum", math.nan),
-        "width": int(c.scene.document["image"]["width"]), "height": int(c.scene.document["image"]["height"]),
+        "width": c.scene.parsed.width, "height": c.scene.parsed.height,
     }
 
 
 def run_sweep(experiment: Experiment, out: str | Path, *, workers: int | None = None, scheduler: Any = None,
               quiet: bool = False, retry_failed: bool = False, cache_dir: str | Path | None = None,
-              log=print) -> SweepSummary:
-    """Run every unfinished cell of ``experiment`` into the folder ``out``."""
-    from aaeval.experiments.table import write_results
+              force: bool = False, log=print) -> SweepSummary:
+    """Run every unfinished cell of ``experiment`` into the folder ``out``.
 
+    The folder is locked for the run (a second sweep into it is refused), and a folder of
+    another experiment is refused unless ``force``: nothing in it is replaced before then.
+    """
     store = SweepStore(out)
     planned = plan(experiment)
-    store.write_manifest(experiment.text, {
-        "experiment": experiment.name, "description": experiment.description, "config": experiment.path,
-        "code_version": code_version(), "primary": experiment.primary, "fail_above": experiment.fail_above,
-        "metrics": list(dict.fromkeys(m for g in experiment.groups for m in g.metrics)), "temporal": list(experiment.temporal),
-        "cells": [p.manifest_row() for p in planned]})
+    with store.lock():
+        store.check_experiment(experiment.name, {p.key for p in planned}, force=force)
+        return _run_locked(experiment, store, planned, workers=workers, scheduler=scheduler, quiet=quiet,
+                           retry_failed=retry_failed, cache_dir=cache_dir)
+
+
+def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_failed, cache_dir) -> SweepSummary:
+    from aaeval.experiments.table import write_results
+
+    def write_manifest():  # only once the run can start: a failed start leaves the folder as it was
+        store.write_manifest(experiment.text, manifest(experiment, planned))
 
     unique: dict[str, PlannedCell] = {}
     for p in planned:
@@ -117,11 +163,14 @@ def run_sweep(experiment: Experiment, out: str | Path, *, workers: int | None = 
     todo = [p for k, p in unique.items() if k not in finished]
     summary = SweepSummary(total=len(unique), skipped=len(unique) - len(todo))
     if not todo:
+        write_manifest()
         write_results(store)
         return summary
 
     executor = make_executor(workers, scheduler)
+    write_manifest()
     summary.executor = executor.description
+    write_provenance(store.root, executor.description, executor.workers)
     try:
         with progress_bar(quiet) as progress:
             refs = _references(experiment, todo, store, ReferenceCache(cache_dir and Path(cache_dir) / "references"),
@@ -151,7 +200,7 @@ def _references(experiment, todo, store, cache, executor, progress, summary) -> 
             missing.append(p)
     task = progress.add_task("references", total=len(missing)) if progress and missing else None
     payloads = [(p.cell.scene.document, p.cell.scene.source, p.cell.frame, p.cell.reference,
-                 experiment.noise_estimate) for p in missing]
+                 experiment.noise_estimate, p.cell.scene.digest) for p in missing]
     for i, result, exc in executor.run(render_reference, payloads):
         key = missing[i].reference_key
         if exc is not None:  # the worker died: its cells wait for the next run
@@ -159,12 +208,10 @@ def _references(experiment, todo, store, cache, executor, progress, summary) -> 
         elif "error" in result:
             meta[key] = {"error": result["error"]}
         else:
-            from aaeval.metrics import intensity_sum
-
             info = {"spec": missing[i].cell.reference, "render_s": result["render_s"],
                     "noise_rmse": result["noise_rmse"], "noise_spec": result["noise_spec"],
-                    "intensity_sum": intensity_sum(result["image"]), "host": result["host"]}
-            cache.put(key, result["image"], info)
+                    "intensity_sum": result["intensity_sum"], "host": result["host"]}
+            cache.put(key, result["image"], json_safe(info))  # strict JSON: an unmeasured noise is null
             store.write_reference(key, result["image"])
             meta[key] = info
             summary.references_rendered += 1
@@ -175,7 +222,7 @@ def _references(experiment, todo, store, cache, executor, progress, summary) -> 
 
 def _cells(todo, refs, store, executor, progress, summary) -> None:
     # timings are only comparable between cells that shared the machine the same way
-    workers = {"executor": executor.description, "workers": executor.workers}
+    run = {"executor": executor.description, "workers": executor.workers}
     task = progress.add_task("cells", total=len(todo)) if progress else None
     loaded: dict[str, np.ndarray] = {}
 
@@ -184,8 +231,8 @@ def _cells(todo, refs, store, executor, progress, summary) -> None:
             info = refs.get(p.reference_key, {})
             if p.reference_key not in loaded and "error" not in info:
                 loaded[p.reference_key] = store.load_reference(p.reference_key)
-            yield ({"record": {**_base_record(p, info), **workers}, "document": p.cell.scene.document,
-                    "source": p.cell.scene.source, "metrics": list(p.cell.metrics),
+            yield ({"identity": _identity(p, info), "run": run, "document": p.cell.scene.document,
+                    "source": p.cell.scene.source, "metrics": list(p.cell.metrics), "repeats": p.cell.repeats,
                     "reference_image": loaded.get(p.reference_key), "reference_error": info.get("error")},)
 
     lost = [p for p in todo if "lost" in refs.get(p.reference_key, {})]

@@ -9,29 +9,46 @@ Layout of a sweep folder ``DIR``::
     DIR/references/<key>.npy     reference images the cells were compared against
     DIR/results.parquet          one tidy table, rebuilt from the cell files
 
+Also ``DIR/sweep.lock`` (the PID of the sweep writing the folder, empty when none),
+``DIR/quarantine/<time>/`` (damaged files set aside, never deleted) and
+``DIR/history/<time>/`` (earlier configs run into this folder).
+
 A cell's key hashes its full configuration and the code version, so a changed scene,
 option or source file gives new cells instead of stale results. Every file is written
 atomically (temporary file, then ``os.replace``) and the record last, so a cell file that
 exists is complete, and a killed sweep loses at most the cells in flight.
+
+Every file is checked when read: a cell record that is not JSON of its key, or an image
+or reference ``.npy`` whose header and size disagree (what a power cut or a full disk
+leaves), is named, moved to the quarantine folder and counted as not done, so the next
+sweep runs that cell again. One folder holds one experiment and has one writer: a second
+sweep into it is refused while the first runs, and another experiment only with ``force``.
 """
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import hashlib
 import json
+import math
 import os
+import socket
+import sys
+import time
 from pathlib import Path
-from typing import Any, Iterable
+from typing import Any, Callable, Iterable, Iterator
 
 import numpy as np
 
 import aaeval
 from aaeval.imageio import atomic_write
 
-__all__ = ["code_version", "cell_key", "reference_key", "SweepStore", "ReferenceCache", "default_cache_dir"]
+__all__ = ["code_version", "cell_key", "reference_key", "SweepStore", "ReferenceCache", "default_cache_dir",
+           "StoreError", "npy_problem"]
 
 # Packages whose source cannot change a cell's result: editing them keeps old results.
-_PRESENTATION = ("cli", "reports")
+_PRESENTATION = ("cli", "report")
 
 
 def _package_digest() -> str:
@@ -74,6 +91,41 @@ def default_cache_dir() -> Path:
     return Path(env) if env else Path.home() / ".cache" / "aaeval"
 
 
+class StoreError(ValueError):
+    """A sweep folder that cannot be used as asked: in use, another experiment, a damaged file."""
+
+
+def npy_problem(path: str | Path) -> str | None:
+    """Why ``path`` is not a complete ``.npy`` array (header and size agree), or None.
+
+    Reads the header only: cheap enough to check every stored image on every read.
+    """
+    readers = {(1, 0): np.lib.format.read_array_header_1_0, (2, 0): np.lib.format.read_array_header_2_0}
+    try:
+        size = os.stat(path).st_size
+        with open(path, "rb") as f:
+            version = np.lib.format.read_magic(f)
+            if version not in readers:
+                return f"unsupported .npy version {version}"
+            shape, _, dtype = readers[version](f)
+            if dtype.hasobject:
+                return "holds Python objects, not numbers"
+            expected = f.tell() + math.prod(shape) * dtype.itemsize
+    except (OSError, ValueError, EOFError) as exc:
+        return f"not a .npy array ({exc or type(exc).__name__})"
+    if size != expected:
+        return f"{size} bytes where its header promises {expected}" + (" (truncated)" if size < expected else "")
+    return None
+
+
+def _warn(message: str) -> None:
+    print(f"aaeval: warning: {message}", file=sys.stderr)
+
+
+def _stamp() -> str:
+    return time.strftime("%Y%m%dT%H%M%SZ", time.gmtime()) + f"-{os.getpid()}"
+
+
 def _save_npy(path: Path, array: np.ndarray, dtype) -> None:
     atomic_write(path, lambda tmp: np.save(tmp, np.asarray(array, dtype=dtype)))
 
@@ -89,8 +141,8 @@ class ReferenceCache:
 
     def get(self, key: str) -> tuple[np.ndarray, dict] | None:
         p, meta = self.path(key), self.root / f"{key}.json"
-        if not (p.is_file() and meta.is_file()):
-            return None
+        if not (p.is_file() and meta.is_file()) or npy_problem(p):
+            return None  # missing or damaged: render it again
         try:
             return np.load(p), json.loads(meta.read_text())
         except (OSError, ValueError):
@@ -102,13 +154,19 @@ class ReferenceCache:
 
 
 class SweepStore:
-    """The files of one sweep folder."""
+    """The files of one sweep folder.
 
-    def __init__(self, root: str | Path):
+    ``log`` receives one line per damaged file found (default: a warning on stderr).
+    """
+
+    def __init__(self, root: str | Path, log: Callable[[str], None] | None = None):
         self.root = Path(root)
         self.cells_dir = self.root / "cells"
         self.images_dir = self.root / "images"
         self.refs_dir = self.root / "references"
+        self.lock_path = self.root / "sweep.lock"
+        self.log = log or _warn
+        self._quarantine: Path | None = None
 
     def cell_path(self, key: str) -> Path:
         return self.cells_dir / f"{key}.json"
@@ -119,14 +177,116 @@ class SweepStore:
     def reference_path(self, key: str) -> Path:
         return self.refs_dir / f"{key}.npy"
 
+    # --- reading, checked ------------------------------------------------------------
+
     def finished(self) -> set[str]:
-        """Keys of every complete cell file (temporary files start with a dot)."""
+        """Keys of every sound cell; damaged ones are reported and set aside to run again."""
+        return set(self.check(heal=True))
+
+    def check(self, heal: bool = True) -> dict[str, dict]:
+        """Every sound finished cell, ``key -> record``.
+
+        A cell is sound when its record is JSON of its own key and, unless it recorded an
+        error, its image and its reference are complete arrays. Each damaged file is
+        named through ``log``; with ``heal`` it and the files of its cell are moved to
+        ``quarantine/`` so that the next sweep runs the cell again.
+        """
         if not self.cells_dir.is_dir():
-            return set()
-        return {p.stem for p in self.cells_dir.glob("*.json") if not p.name.startswith(".")}
+            return {}
+        sound: dict[str, dict] = {}
+        bad_refs: dict[str, str] = {}
+        for path in sorted(self.cells_dir.glob("*.json")):
+            if path.name.startswith("."):  # a temporary file of a write in flight
+                continue
+            record, problem = self._parse_cell(path)
+            if problem is None and not record.get("error"):
+                problem = self._array_problem(self.image_path(path.stem), "its image")
+                ref = record.get("reference_key")
+                if problem is None and isinstance(ref, str):
+                    if ref not in bad_refs:
+                        bad_refs[ref] = self._array_problem(self.reference_path(ref), "its reference")
+                    problem = bad_refs[ref]
+            if problem is None:
+                sound[path.stem] = record
+            else:
+                self._set_aside(path, problem, heal, [self.image_path(path.stem)])
+        for ref, problem in bad_refs.items():
+            if problem is not None and self.reference_path(ref).is_file():
+                self._move(self.reference_path(ref), heal)
+        return sound
+
+    def _parse_cell(self, path: Path) -> tuple[dict, str | None]:
+        try:
+            record = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError) as exc:  # UnicodeDecodeError and JSONDecodeError are ValueErrors
+            return {}, f"not a cell record ({exc})"
+        if not isinstance(record, dict) or record.get("key") != path.stem:
+            return {}, "not the record of this cell's key"
+        return record, None
+
+    def _array_problem(self, path: Path, what: str) -> str | None:
+        if not path.is_file():
+            return f"{what} {path} is missing"
+        problem = npy_problem(path)
+        return None if problem is None else f"{what} {path} is damaged: {problem}"
+
+    def _set_aside(self, cell: Path, problem: str, heal: bool, companions: list[Path]) -> None:
+        if not heal:
+            self.log(f"damaged sweep file {cell}: {problem} (left in place; the cell counts as not done)")
+            return
+        moved = self._move(cell, heal)
+        for path in companions:
+            if path.is_file():
+                self._move(path, heal)
+        self.log(f"damaged sweep file {cell}: {problem}; moved to {moved.parent}, the cell will run again")
+
+    def _move(self, path: Path, heal: bool) -> Path:
+        if not heal:
+            return path
+        if self._quarantine is None:
+            self._quarantine = self.root / "quarantine" / _stamp()
+        target = self._quarantine / path.relative_to(self.root)
+        target.parent.mkdir(parents=True, exist_ok=True)
+        os.replace(path, target)  # never deleted: the user may want to look at it
+        return target
 
     def read_cell(self, key: str) -> dict:
-        return json.loads(self.cell_path(key).read_text())
+        record, problem = self._parse_cell(self.cell_path(key))
+        if problem is not None:
+            raise StoreError(f"{self.cell_path(key)}: {problem}")
+        return record
+
+    def _load_array(self, path: Path) -> np.ndarray | None:
+        if not path.is_file():
+            return None
+        problem = npy_problem(path)
+        if problem is not None:
+            raise StoreError(f"{path}: {problem}")
+        return np.load(path, allow_pickle=False)
+
+    def load_image(self, key: str) -> np.ndarray | None:
+        return self._load_array(self.image_path(key))
+
+    def load_reference(self, key: str) -> np.ndarray | None:
+        return self._load_array(self.reference_path(key))
+
+    def read_manifest(self) -> dict:
+        p = self.root / "manifest.json"
+        if not p.is_file():
+            raise FileNotFoundError(f"{self.root}: no manifest.json; is this a sweep folder (aaeval sweep CONFIG --out DIR)?")
+        try:
+            manifest = json.loads(p.read_text(encoding="utf-8"))
+        except (OSError, ValueError) as exc:
+            raise StoreError(f"{p}: damaged manifest ({exc}); run the sweep again to rewrite it") from None
+        if not isinstance(manifest, dict) or not isinstance(manifest.get("cells"), list):
+            raise StoreError(f"{p}: not a sweep manifest (no list of cells); run the sweep again to rewrite it")
+        return manifest
+
+    def records(self, keys: Iterable[str]) -> dict[str, dict]:
+        sound = self.check(heal=True)
+        return {k: sound[k] for k in keys if k in sound}
+
+    # --- writing ---------------------------------------------------------------------
 
     def write_cell(self, record: dict, image: np.ndarray | None) -> None:
         # image first: a record that exists always has its image
@@ -137,31 +297,84 @@ class SweepStore:
         atomic_write(self.cell_path(record["key"]), lambda tmp: Path(tmp).write_text(text))
 
     def write_reference(self, key: str, image: np.ndarray) -> None:
-        if not self.reference_path(key).is_file():
+        if not self.reference_path(key).is_file() or npy_problem(self.reference_path(key)):
             _save_npy(self.reference_path(key), image, np.float64)
 
-    def load_image(self, key: str) -> np.ndarray | None:
-        p = self.image_path(key)
-        return np.load(p) if p.is_file() else None
-
-    def load_reference(self, key: str) -> np.ndarray | None:
-        p = self.reference_path(key)
-        return np.load(p) if p.is_file() else None
-
     def write_manifest(self, experiment_text: str, manifest: dict) -> None:
+        """Write the config and its cells; an earlier, different config moves to ``history/``."""
+        old = self.root / "experiment.toml"
+        if old.is_file() and old.read_bytes() != experiment_text.encode():
+            kept = self.root / "history" / _stamp()
+            kept.mkdir(parents=True, exist_ok=True)
+            for name in ("experiment.toml", "manifest.json"):
+                if (self.root / name).is_file():
+                    os.replace(self.root / name, kept / name)
+            self.log(f"the earlier config of {self.root} is kept in {kept}")
         atomic_write(self.root / "experiment.toml", lambda tmp: Path(tmp).write_text(experiment_text))
         text = json.dumps(manifest, indent=1, default=_jsonable) + "\n"
         atomic_write(self.root / "manifest.json", lambda tmp: Path(tmp).write_text(text))
 
-    def read_manifest(self) -> dict:
+    # --- one folder, one experiment, one writer ----------------------------------------
+
+    @contextlib.contextmanager
+    def lock(self) -> Iterator[None]:
+        """Hold ``sweep.lock`` (an advisory ``flock`` plus the owner's PID) while writing.
+
+        The kernel drops the ``flock`` when its process ends, however it ends, so a lock
+        file that names a PID but is not locked is stale and is taken over.
+        """
+        self.root.mkdir(parents=True, exist_ok=True)
+        fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT, 0o666)
+        try:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                owner = _lock_owner(fd)
+                raise StoreError(
+                    f"{self.root} is in use by another sweep (pid {owner.get('pid', '?')} on "
+                    f"{owner.get('host', '?')}, started {owner.get('started', '?')}); wait for it or stop it"
+                ) from None
+            stale = _lock_owner(fd)
+            if stale.get("pid"):
+                self.log(f"stale lock {self.lock_path} of pid {stale['pid']} on {stale.get('host', '?')} "
+                         "(that sweep no longer runs) taken over")
+            owner = {"pid": os.getpid(), "host": socket.gethostname(),
+                     "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
+            os.ftruncate(fd, 0)
+            os.pwrite(fd, (json.dumps(owner) + "\n").encode(), 0)
+            try:
+                yield
+            finally:
+                os.ftruncate(fd, 0)  # kept, not unlinked: unlinking a locked file races
+        finally:
+            os.close(fd)  # releases the flock
+
+    def check_experiment(self, name: str, keys: set[str], *, force: bool = False) -> None:
+        """Refuse another experiment's folder unless ``force``; say which finished cells
+        this config leaves out of the table (their files stay)."""
         p = self.root / "manifest.json"
         if not p.is_file():
-            raise FileNotFoundError(f"{self.root}: no manifest.json; is this a sweep folder (aaeval sweep CONFIG --out DIR)?")
-        return json.loads(p.read_text())
+            return
+        try:
+            previous = json.loads(p.read_text(encoding="utf-8")).get("experiment")
+        except (OSError, ValueError, AttributeError):
+            previous = None  # a damaged manifest is rewritten by this run
+        if previous is not None and previous != name and not force:
+            raise StoreError(f"{self.root} holds the results of experiment {previous!r}, not {name!r}; "
+                             "choose another --out folder, or pass --force to run it here "
+                             "(the old config goes to history/, its cell files stay)")
+        left_out = set(self.check(heal=True)) - keys
+        if left_out:
+            self.log(f"{len(left_out)} finished cells in {self.cells_dir} are not in this config: "
+                     "they leave results.parquet, their files stay (run their config again to see them)")
 
-    def records(self, keys: Iterable[str]) -> dict[str, dict]:
-        done = self.finished()
-        return {k: self.read_cell(k) for k in keys if k in done}
+
+def _lock_owner(fd: int) -> dict:
+    try:
+        owner = json.loads(os.pread(fd, 4096, 0).decode() or "{}")
+    except (OSError, ValueError):
+        return {}
+    return owner if isinstance(owner, dict) else {}
 
 
 def _jsonable(obj: Any) -> Any:

@@ -1,54 +1,71 @@
 """The tidy results tables, rebuilt from the cell files at any time.
 
-``results.parquet``: one row per (group, cell) of the manifest that has finished: scene,
-method, options, frame, every metric, render_s, host, error, and what the comparison was
-against (reference, its spp, seed and noise level).
-``temporal.parquet``: one row per (group, scene, method) animation whose frames have all
-finished: the temporal metrics (``sum_variation``, ``flicker``) over its frames.
+``results.parquet``: one row per cell of the manifest that has finished, read through
+:class:`~aaeval.experiments.record.CellRecord` (one column per record field, ``options``
+and ``metric_errors`` as JSON text, one column per metric of the experiment, and
+``label``). A cell file that is not a readable record of this schema is an error naming
+the file. The parquet file's metadata carries ``aaeval_schema_version``.
+
+``temporal.parquet``: one row per (group, scene, spec) animation whose frames have all
+finished: every temporal metric of the experiment over all its frames, recomputed from the
+stored images by the measuring engine (:func:`aaeval.experiments.measure.series_metrics`),
+and ``reference_sum_variation`` (the reference's own intensity-sum variation).
 """
 
 from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
-import numpy as np
 import pandas as pd
 
-from aaeval.experiments.metrics import temporal_metric
+from aaeval.experiments.measure import SceneCache, reference_sum_variation, series_metrics
+from aaeval.experiments.record import SCHEMA_VERSION, TABLE_FIELDS, CellRecord, RecordError
 from aaeval.experiments.store import SweepStore
 from aaeval.imageio import atomic_write
 
-__all__ = ["results_frame", "temporal_frame", "write_results", "load_results", "short_label", "varying_options"]
+__all__ = ["results_frame", "temporal_frame", "write_results", "load_results", "read_table", "short_label",
+           "varying_options", "RESULTS_COLUMNS", "TEMPORAL_COLUMNS"]
 
-_COLUMNS = ["group", "scene", "method", "spec", "options", "frame", "difficulty", "difficulty_label",
-            "render_s", "intensity_sum", "reference", "reference_kind", "reference_spp", "reference_seed",
-            "reference_noise_rmse", "reference_intensity_sum", "spp", "seed", "host", "error", "key",
-            "scene_source", "code_version", "finished_at", "width", "height", "executor", "workers"]
+#: Columns of ``results.parquet`` besides one per metric.
+RESULTS_COLUMNS = (*TABLE_FIELDS, "label")
+#: Columns of ``temporal.parquet`` besides one per temporal metric.
+TEMPORAL_COLUMNS = ("group", "scene", "difficulty", "difficulty_label", "spec", "label", "method", "frames",
+                    "reference", "reference_noise_rmse", "failed_frames", "reference_sum_variation", "metric_errors")
+_SCHEMA_KEY = b"aaeval_schema_version"
+
+
+def read_record(store: SweepStore, key: str) -> CellRecord:
+    """The cell file ``key`` as a record (:class:`RecordError` naming the file if it is not one)."""
+    return CellRecord.from_json(store.read_cell(key), where=str(store.cell_path(key)))
 
 
 def results_frame(store: SweepStore) -> pd.DataFrame:
+    """One row per finished cell of the manifest, in manifest order."""
     manifest = store.read_manifest()
-    rows = manifest["cells"]
-    records = store.records({r["key"] for r in rows})
+    metrics = list(manifest.get("metrics", []))
+    done = store.finished()
     out = []
-    for row in rows:
-        rec = records.get(row["key"])
-        if rec is None:
+    for row in manifest["cells"]:
+        if row["key"] not in done:
             continue
-        flat = {c: rec.get(c) for c in _COLUMNS}
-        flat["group"] = row["group"]
-        flat["options"] = json.dumps(rec.get("options", {}), sort_keys=True)
-        flat["metric_errors"] = json.dumps(rec["metric_errors"]) if rec.get("metric_errors") else None
-        for name, value in rec.get("metrics", {}).items():
-            flat[name] = math.nan if value is None else value
+        record = read_record(store, row["key"])
+        for name in ("group", "scene", "spec", "frame"):
+            if getattr(record, name) != row[name]:
+                raise RecordError(f"{store.cell_path(row['key'])}: {name} {getattr(record, name)!r} differs from "
+                                  f"the manifest's {row[name]!r}")
+        flat = record.table_row()
+        for name in metrics:
+            flat.setdefault(name, math.nan)  # a metric another group measured
         out.append(flat)
-    frame = pd.DataFrame(out, columns=None if out else _COLUMNS)
+    columns = [*TABLE_FIELDS, *metrics]
+    frame = pd.DataFrame(out, columns=columns)
     frame["label"] = _labels(frame) if out else pd.Series(dtype=object)
-    for col in ("render_s", "intensity_sum", "reference_noise_rmse", "reference_intensity_sum", "difficulty",
-                "spp", "seed", "reference_spp", "reference_seed"):
-        if col in frame:
-            frame[col] = pd.to_numeric(frame[col], errors="coerce")
+    for col in ("render_s", "render_s_min", "render_s_max", "megapixels", "ms_per_mpix", "intensity_sum",
+                "reference_noise_rmse", "reference_intensity_sum", "difficulty", "spp", "seed", "reference_spp",
+                "reference_seed", *metrics):
+        frame[col] = pd.to_numeric(frame[col], errors="coerce").astype(float)
     return frame
 
 
@@ -87,59 +104,88 @@ def _labels(frame: pd.DataFrame) -> pd.Series:
 
 
 def temporal_frame(store: SweepStore, results: pd.DataFrame) -> pd.DataFrame:
+    """One row per finished animation: every temporal metric over all of its frames."""
     manifest = store.read_manifest()
-    names = manifest.get("temporal", [])
+    names = list(manifest.get("temporal", []))
     out = []
     if results.empty or not names:
-        return pd.DataFrame(out)
-    expected = {}
+        return pd.DataFrame(out, columns=[*TEMPORAL_COLUMNS, *names])
+    expected: dict[tuple, set] = {}
     for row in manifest["cells"]:
         expected.setdefault((row["group"], row["scene"], row["spec"]), set()).add(row["frame"])
+    scenes = SceneCache()
+    documents = manifest.get("scenes", {})
+    own = manifest.get("group_temporal", {})
     for (group, scene, spec), series in results.groupby(["group", "scene", "spec"], sort=False):
         frames = expected.get((group, scene, spec), set())
+        wanted = own.get(group, names)
         if len(frames) < 2 or set(series["frame"]) != frames:
             continue  # not an animation, or not finished
         series = series.sort_values("frame")
-        row = {"group": group, "scene": scene, "spec": spec, "label": series["label"].iloc[0],
-               "method": series["method"].iloc[0],
-               "frames": len(series), "reference": series["reference"].iloc[0],
-               "reference_noise_rmse": series["reference_noise_rmse"].iloc[0],
+        first = series.iloc[0]
+        row = {"group": group, "scene": scene, "difficulty": first["difficulty"],
+               "difficulty_label": first["difficulty_label"], "spec": spec, "label": first["label"],
+               "method": first["method"], "frames": len(series), "reference": first["reference"],
+               "reference_noise_rmse": first["reference_noise_rmse"],
                "failed_frames": int(series["error"].notna().sum()),
-               "reference_sum_variation": _variation(series["reference_intensity_sum"])}
-        ok = series[series["error"].isna()]
-        tests = [store.load_image(k) for k in ok["key"]]
-        refs = [store.load_reference(k) for k in _reference_keys(store, ok["key"])]
-        for name in names:
-            try:
-                row[name] = temporal_metric(name, refs, tests) if len(ok) == len(series) else math.nan
-            except (ValueError, TypeError):
-                row[name] = math.nan
+               "reference_sum_variation": reference_sum_variation(series["reference_intensity_sum"].to_numpy(float)),
+               "metric_errors": None}
+        row.update({name: math.nan for name in names})  # a metric another group asked for
+        if not row["failed_frames"]:
+            digest = first["scene_digest"]
+            entry = documents.get(digest)
+            tests = [store.load_image(k) for k in series["key"]]
+            refs = [store.load_reference(k) for k in series["reference_key"]]
+            frame_list = [int(k) for k in series["frame"]]
+
+            def mask_of(name, entry=entry, digest=digest, frame_list=frame_list):
+                if entry is None:
+                    raise RecordError(f"{store.root}/manifest.json has no scene {digest[:12]}… to build masks")
+                scene = scenes.scene(digest, entry["document"], entry["source"])
+                return scenes.series_mask(digest, scene, frame_list, name)
+
+            values, errors = series_metrics(wanted, refs, tests, mask_of)
+            row.update(values)
+            row["metric_errors"] = json.dumps(errors, sort_keys=True) if errors else None
         out.append(row)
-    return pd.DataFrame(out)
+    return pd.DataFrame(out, columns=[*TEMPORAL_COLUMNS, *names])
 
 
-def _variation(sums: pd.Series) -> float:
-    s = np.asarray(sums, dtype=float)
-    if not np.all(np.isfinite(s)) or s.mean() == 0:
-        return math.nan
-    return float(np.ptp(s) / abs(s.mean()))
+def _write_parquet(frame: pd.DataFrame, path: Path) -> None:
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    table = pa.Table.from_pandas(frame, preserve_index=False)
+    meta = dict(table.schema.metadata or {})
+    meta[_SCHEMA_KEY] = str(SCHEMA_VERSION).encode()
+    table = table.replace_schema_metadata(meta)
+    atomic_write(path, lambda tmp: pq.write_table(table, tmp))
 
 
-def _reference_keys(store: SweepStore, keys) -> list[str]:
-    return [store.read_cell(k)["reference_key"] for k in keys]
+def read_table(path: str | Path) -> pd.DataFrame:
+    """Read ``results.parquet`` or ``temporal.parquet``, refusing another schema version."""
+    import pyarrow.parquet as pq
+
+    path = Path(path)
+    meta = pq.read_schema(path).metadata or {}
+    version = meta.get(_SCHEMA_KEY, b"").decode() or None
+    if version != str(SCHEMA_VERSION):
+        raise RecordError(f"{path}: results schema version {version}, this aaeval reads {SCHEMA_VERSION}; "
+                          "rebuild it with 'aaeval report' or run the sweep again")
+    return pd.read_parquet(path)
 
 
 def write_results(store: SweepStore) -> pd.DataFrame:
     """Rebuild ``results.parquet`` and ``temporal.parquet`` from the cell files."""
     results = results_frame(store)
     temporal = temporal_frame(store, results)
-    atomic_write(store.root / "results.parquet", lambda tmp: results.to_parquet(tmp, index=False))
-    atomic_write(store.root / "temporal.parquet", lambda tmp: temporal.to_parquet(tmp, index=False))
+    _write_parquet(results, store.root / "results.parquet")
+    _write_parquet(temporal, store.root / "temporal.parquet")
     return results
 
 
 def load_results(store: SweepStore) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Both tables, rebuilt first so they match the cell files on disk."""
     results = write_results(store)
-    temporal = pd.read_parquet(store.root / "temporal.parquet")
+    temporal = read_table(store.root / "temporal.parquet")
     return results, temporal

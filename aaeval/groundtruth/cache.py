@@ -1,41 +1,75 @@
-"""Ground-truth images cached on disk, so each one is rendered once.
+"""The one ground-truth cache: every Mitsuba ground truth (flat or Phong) is rendered once.
 
-A cached image is keyed by what determines it and nothing else: the scene's geometry at
-that frame (size, background, every polygon's vertices and colour, in file order — not
-the file's path), the render options that change pixels (spp, sampler, seed), the
-Mitsuba version and :data:`GROUNDTRUTH_VERSION` (bumped whenever the conversion to
-Mitsuba changes). The variant is not part of the key: CUDA, LLVM and scalar renders of
-one key are all valid ground truths (it is recorded beside the image).
+:func:`groundtruth` renders a scene's ground truth (the flat-colour one of
+:mod:`aaeval.groundtruth.flat`, or for a scene with ``[shaded]`` objects the Phong one of
+:mod:`aaeval.groundtruth.phong`, with its specular channel) or reads it back from disk.
 
-Files are written atomically (temporary file, then ``os.replace``), so concurrent
-workers and interrupted runs never leave a broken entry.
+An entry is keyed by what determines it and nothing else:
+
+- the scene at that frame (:func:`scene_digest`: size, background, every polygon's
+  vertices and colour in file order, and for shaded scenes the expanded triangles, their
+  normal fields, materials and light; not the file's path);
+- the options that change pixels (spp, sampler, seed);
+- the Mitsuba version;
+- the source code that turns a scene into Mitsuba's scene and shades it
+  (:data:`CODE_FILES`, hashed by :func:`code_digest`): editing the conversion gives new
+  keys, so stale ground truth is never served (no version number to bump by hand).
+
+The variant is not part of the key: CUDA, LLVM and scalar renders of one key are all
+valid ground truths (it is recorded in the ``.json`` note beside the image). Files are
+written atomically, so concurrent workers and interrupted runs never leave a half-written
+entry; an entry that cannot be read (damaged) is rendered again and replaced, with a
+warning naming the file.
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
+import warnings
+import zipfile
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
-from aaeval.groundtruth.mitsuba import DEFAULT_SAMPLER, DEFAULT_SPP
+import aaeval
+from aaeval.groundtruth.flat import DEFAULT_SAMPLER, DEFAULT_SPP
 from aaeval.imageio import atomic_write
 from aaeval.scenes import Scene
+from aaeval.scenes.shaded import expand_shaded, has_shaded
 
 __all__ = [
-    "GROUNDTRUTH_VERSION",
     "CACHE_ENV",
+    "CODE_FILES",
+    "GroundTruth",
     "cache_dir",
+    "code_digest",
     "scene_digest",
     "groundtruth_key",
     "groundtruth_path",
+    "groundtruth",
     "groundtruth_image",
+    "groundtruth_phong",
 ]
 
-GROUNDTRUTH_VERSION = 1
 CACHE_ENV = "AAEVAL_CACHE_DIR"
+
+# Source files (relative to the aaeval package) whose code decides a ground-truth image
+# beyond the scene data the digest covers: the conversion to Mitsuba, the Phong
+# integrator and the clipping kernel the conversion uses.
+CODE_FILES = ("groundtruth/flat.py", "groundtruth/phong.py", "renderers/_clip.py")
+
+
+class GroundTruth(NamedTuple):
+    """A ground truth: ``image`` (H, W, 3) linear RGB, ``specular`` (H, W) for shaded
+    scenes (the specular term alone) else None, ``hit`` True when read from the cache."""
+
+    image: np.ndarray
+    specular: np.ndarray | None
+    hit: bool
 
 
 def cache_dir() -> Path:
@@ -44,13 +78,39 @@ def cache_dir() -> Path:
     return Path(root).expanduser() / "groundtruth"
 
 
+@functools.lru_cache(maxsize=None)
+def code_digest(files: tuple[str, ...] = CODE_FILES, root: Path | None = None) -> str:
+    """SHA-256 (hex, 16 digits) of the source of ``files``, paths inside ``root`` (the aaeval package)."""
+    root = Path(aaeval.__file__).parent if root is None else Path(root)
+    h = hashlib.sha256()
+    for rel in files:
+        h.update(rel.encode() + b"\0" + (root / rel).read_bytes() + b"\0")
+    return h.hexdigest()[:16]
+
+
 def scene_digest(scene: Scene) -> str:
-    """SHA-256 of everything in a core scene that shows in the image, at its current frame.
+    """SHA-256 of everything in a scene that shows in its ground truth, at its current frame.
 
     Width, height, background and each polygon's vertices and colour in file order, as
-    little-endian float64 bytes. The source path, frame number and animation settings are
-    left out: two files with the same geometry share one digest.
+    little-endian float64 bytes; for a scene with ``[shaded]`` objects, the same of the
+    expanded scene plus every polygon's normal field, material and the light. The source
+    path, frame number and animation settings are left out: two files with the same
+    geometry share one digest.
     """
+    if has_shaded(scene):
+        expanded = expand_shaded(scene)
+        field = expanded.field
+        h = hashlib.sha256(b"shaded\0" + _core_digest(expanded.scene).encode())
+        for array in (field.shaded, field.G, field.ka, field.kd, field.ks, field.n):
+            h.update(np.ascontiguousarray(array, dtype="<f8").tobytes())
+        if field.light is not None:
+            h.update(field.light.kind.encode())
+            h.update(np.ascontiguousarray(field.light.vector, dtype="<f8").tobytes())
+        return h.hexdigest()
+    return _core_digest(scene)
+
+
+def _core_digest(scene: Scene) -> str:
     arrays = scene.arrays
     h = hashlib.sha256()
     h.update(np.array([scene.width, scene.height, len(scene.polygons)], dtype="<i8").tobytes())
@@ -73,24 +133,24 @@ def _mitsuba_version() -> str:
 
 
 def groundtruth_key(scene: Scene, *, spp: int, sampler: str, seed: int) -> str:
-    """Hex key of a ground-truth image (see the module docstring for what it covers)."""
+    """Hex key of a ground truth (see the module docstring for what it covers)."""
     config = {
         "scene": scene_digest(scene),
         "spp": int(spp),
         "sampler": sampler,
         "seed": int(seed),
         "mitsuba": _mitsuba_version(),
-        "groundtruth": GROUNDTRUTH_VERSION,
+        "code": code_digest(),
     }
     return hashlib.sha256(json.dumps(config, sort_keys=True).encode()).hexdigest()[:32]
 
 
 def groundtruth_path(scene: Scene, *, spp: int, sampler: str, seed: int) -> Path:
-    """Where the cached image of this configuration lives (it may not exist yet)."""
-    return cache_dir() / f"{groundtruth_key(scene, spp=spp, sampler=sampler, seed=seed)}.npy"
+    """Where the cached ground truth of this configuration lives (it may not exist yet)."""
+    return cache_dir() / f"{groundtruth_key(scene, spp=spp, sampler=sampler, seed=seed)}.npz"
 
 
-def groundtruth_image(
+def groundtruth(
     scene: Scene,
     *,
     spp: int = DEFAULT_SPP,
@@ -98,37 +158,65 @@ def groundtruth_image(
     seed: int = 0,
     variant: str = "auto",
     cache: bool = True,
-) -> tuple[np.ndarray, bool]:
-    """The Mitsuba ground truth of ``scene`` and whether it came from the cache.
-
-    Returns
-    -------
-    image : ndarray, shape (H, W, 3), float64
-        Linear RGB, row 0 at the top.
-    hit : bool
-        True when the image was read from the cache (nothing was rendered).
-    """
-    from aaeval.groundtruth import mitsuba as gt
-
+) -> GroundTruth:
+    """The Mitsuba ground truth of ``scene`` (Phong for ``[shaded]`` scenes), cached on disk."""
+    render = _render_phong if has_shaded(scene) else _render_flat
+    options = {"spp": spp, "sampler": sampler, "seed": seed}
     if not cache:
-        return gt.render_mitsuba(scene, spp=spp, sampler=sampler, seed=seed, variant=variant), False
-    path = groundtruth_path(scene, spp=spp, sampler=sampler, seed=seed)
-    image = _read(path, scene.shape)
-    if image is not None:
-        return image, True
-    image = gt.render_mitsuba(scene, spp=spp, sampler=sampler, seed=seed, variant=variant)
-    atomic_write(path, lambda tmp: np.save(tmp, image))
-    _write_note(path, scene, spp=spp, sampler=sampler, seed=seed)
-    return image, False
+        return GroundTruth(*render(scene, variant=variant, **options), False)
+    path = groundtruth_path(scene, **options)
+    stored = _read(path, scene)
+    if stored is not None:
+        return GroundTruth(*stored, True)
+    image, specular = render(scene, variant=variant, **options)
+    arrays = {"image": image} if specular is None else {"image": image, "specular": specular}
+    atomic_write(path, lambda tmp: np.savez(tmp, **arrays))  # tmp ends in .npz: kept as is
+    _write_note(path, scene, **options)
+    return GroundTruth(image, specular, False)
 
 
-def _read(path: Path, shape: tuple[int, ...]) -> np.ndarray | None:
-    try:
-        image = np.load(path, allow_pickle=False)
-    except (OSError, ValueError, EOFError):  # missing or unreadable: render it again
+def groundtruth_image(scene: Scene, **options) -> tuple[np.ndarray, bool]:
+    """``(image, hit)`` of :func:`groundtruth` (same options)."""
+    truth = groundtruth(scene, **options)
+    return truth.image, truth.hit
+
+
+def groundtruth_phong(scene: Scene, **options) -> tuple[np.ndarray, np.ndarray, bool]:
+    """``(image, specular, hit)`` of :func:`groundtruth` for a scene with ``[shaded]`` objects."""
+    if not has_shaded(scene):
+        raise ValueError(f"{scene.source}: the Phong ground truth needs a scene with [shaded] objects")
+    return tuple(groundtruth(scene, **options))
+
+
+def _render_flat(scene: Scene, **options) -> tuple[np.ndarray, None]:
+    from aaeval.groundtruth import flat
+
+    return flat.render_mitsuba(scene, **options), None
+
+
+def _render_phong(scene: Scene, **options) -> tuple[np.ndarray, np.ndarray]:
+    from aaeval.groundtruth import phong
+
+    return phong.render_mitsuba_phong(scene, **options)
+
+
+def _read(path: Path, scene: Scene) -> tuple[np.ndarray, np.ndarray | None] | None:
+    if not path.exists():
         return None
-    # a file of the wrong shape cannot be this key's image: render again, overwrite it
-    return image if image.shape == shape and image.dtype == np.float64 else None
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            image = data["image"]
+            specular = data["specular"] if "specular" in data.files else None
+    except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as exc:
+        warnings.warn(f"damaged ground-truth cache entry {path} ({exc}); rendering it again", stacklevel=3)
+        return None
+    wanted_specular = has_shaded(scene)
+    if (image.shape != scene.shape or image.dtype != np.float64 or (specular is not None) != wanted_specular
+            or (specular is not None and specular.shape != scene.shape[:2])):
+        warnings.warn(f"ground-truth cache entry {path} does not hold this scene's image; rendering it again",
+                      stacklevel=3)
+        return None
+    return image, specular
 
 
 def _write_note(path: Path, scene: Scene, **options) -> None:
@@ -138,8 +226,9 @@ def _write_note(path: Path, scene: Scene, **options) -> None:
         **options,
         "source": scene.source,
         "frame": scene.frame,
+        "shaded": has_shaded(scene),
         "variant": mi.variant(),
         "mitsuba": _mitsuba_version(),
-        "groundtruth": GROUNDTRUTH_VERSION,
+        "code": code_digest(),
     }
     atomic_write(path.with_suffix(".json"), lambda tmp: Path(tmp).write_text(json.dumps(note, indent=1) + "\n"))

@@ -1,31 +1,58 @@
 """Image metrics, one plain function per metric: ``metric(image_true, image_test, *, ...)``.
 
 Every metric checks its inputs first: two finite (H, W, 3) linear RGB images of one shape
-(or, for temporal metrics, two (F, H, W, 3) frame sequences). Look metrics up by name in
-:data:`IMAGE_METRICS` / :data:`TEMPORAL_METRICS` and call them with
-:func:`compute_metric` / :func:`compute_temporal_metric`.
+(or, for temporal metrics, two (F, H, W, 3) frame sequences). :data:`METRICS` is the
+registry: each metric with its title, format, direction and what it needs
+(:func:`register_metric`); :data:`IMAGE_METRICS` / :data:`TEMPORAL_METRICS` are its
+functions by kind, called with :func:`compute_metric` / :func:`compute_temporal_metric`.
+Masks for the masked metrics are built by :mod:`aaeval.metrics.masks`.
 """
 
 from aaeval.metrics.colour_difference import ciede2000_map, ciede2000_mean, ciede2000_p95, linear_rgb_to_lab
 from aaeval.metrics.edges import edge_mask, edge_rmse
 from aaeval.metrics.image import psnr, rmse, ssim
+from aaeval.metrics.masks import MASKS, build_mask
 from aaeval.metrics.perceptual import flip
 from aaeval.metrics.registry import (
     IMAGE_METRICS,
+    METRICS,
     TEMPORAL_METRICS,
+    Metric,
     MetricError,
+    check_metric_names,
     compute_metric,
     compute_temporal_metric,
+    format_value,
+    get_metric,
+    register_metric,
+    unregister_metric,
 )
-from aaeval.metrics.temporal import flicker, intensity_sum, sum_variation
-from aaeval.metrics.specular import detection_precision_recall, highlight_energy_bias, highlight_energy_flicker, highlight_flicker, highlight_mask, highlight_profile_flicker, highlight_rmse  # noqa: E501,F401
+from aaeval.metrics.specular import (
+    detection_precision_recall,
+    highlight_energy_bias,
+    highlight_energy_flicker,
+    highlight_flicker,
+    highlight_mask,
+    highlight_profile_flicker,
+    highlight_rmse,
+)
+from aaeval.metrics.temporal import flicker, intensity_sum, intensity_sum_variation, sum_variation
 
 __all__ = [
+    "METRICS",
     "IMAGE_METRICS",
     "TEMPORAL_METRICS",
+    "MASKS",
+    "Metric",
     "MetricError",
+    "build_mask",
+    "check_metric_names",
     "compute_metric",
     "compute_temporal_metric",
+    "format_value",
+    "get_metric",
+    "register_metric",
+    "unregister_metric",
     "rmse",
     "psnr",
     "ssim",
@@ -38,5 +65,13 @@ __all__ = [
     "edge_rmse",
     "flicker",
     "intensity_sum",
+    "intensity_sum_variation",
     "sum_variation",
+    "highlight_mask",
+    "highlight_rmse",
+    "highlight_energy_bias",
+    "highlight_flicker",
+    "highlight_energy_flicker",
+    "highlight_profile_flicker",
+    "detection_precision_recall",
 ]

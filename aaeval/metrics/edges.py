@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from aaeval.metrics._checks import check_image_pair
+from aaeval.metrics.image import masked_rmse
 
 __all__ = ["edge_mask", "edge_rmse"]
 
@@ -63,6 +64,4 @@ def edge_rmse(image_true, image_test, *, mask) -> float:
         raise ValueError(f"mask has shape {mask.shape}, expected the images' {image_true.shape[:2]}")
     if mask.dtype != bool:
         raise ValueError(f"mask must be boolean, got dtype {mask.dtype}")
-    if not mask.any():
-        return float("nan")
-    return float(np.sqrt(np.mean((image_test[mask] - image_true[mask]) ** 2)))
+    return masked_rmse(image_true, image_test, mask)

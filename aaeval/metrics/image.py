@@ -11,7 +11,7 @@ from skimage.metrics import peak_signal_noise_ratio, structural_similarity
 
 from aaeval.metrics._checks import check_image_pair, check_positive
 
-__all__ = ["rmse", "psnr", "ssim"]
+__all__ = ["rmse", "masked_rmse", "psnr", "ssim"]
 
 
 def rmse(image_true, image_test) -> float:
@@ -31,6 +31,17 @@ def rmse(image_true, image_test) -> float:
     """
     image_true, image_test = check_image_pair(image_true, image_test)
     return float(np.sqrt(np.mean((image_test - image_true) ** 2)))
+
+
+def masked_rmse(image_true: np.ndarray, image_test: np.ndarray, mask: np.ndarray) -> float:
+    """RMSE over the pixels of ``mask`` (every channel); NaN when the mask selects none.
+
+    The one masked RMSE behind ``edge_rmse`` and ``highlight_rmse``: they check their
+    inputs, this only computes. ``mask`` has the images' shape without the channel axis.
+    """
+    if not mask.any():
+        return float("nan")
+    return float(np.sqrt(np.mean((image_test[mask] - image_true[mask]) ** 2)))
 
 
 def psnr(image_true, image_test, *, data_range: float = 1.0) -> float:

@@ -1,26 +1,57 @@
-"""Metrics by name: one mapping per kind and a dispatcher, in colour-science's style
+"""Metrics by name, with everything known about them, in colour-science's style
 (``colour.difference.DELTA_E_METHODS`` and ``colour.delta_E``).
 
-The names are stable: sweeps and reports address metrics by them.
+:data:`METRICS` is the only place a metric is known: :func:`register_metric` adds one with
+its title, number format, direction (higher or lower is better) and what it needs to be
+computed (the reference, the scene, a mask, every frame). ``aaeval compare``, sweeps, the
+results table, the report and ``aaeval metrics`` all read it from there, so adding a metric
+is one registration and nothing else.
+
+Two kinds:
+
+- ``image`` metrics ``metric(image_true, image_test, **options) -> float`` on one frame,
+  (H, W, 3) linear RGB;
+- ``temporal`` metrics ``metric(frames_true, frames_test, **options) -> float`` on every
+  frame of an animation, (F, H, W, 3).
+
+A metric that declares a ``mask`` receives it as the keyword option ``mask``; masks are
+built from the scene by :mod:`aaeval.metrics.masks` (shape (H, W) for image metrics,
+(F, H, W) for temporal ones). The names are stable: sweeps and reports address metrics by
+them.
 """
 
 from __future__ import annotations
 
 import inspect
+from dataclasses import dataclass
 from typing import Any, Callable, Mapping
 
 from aaeval.metrics.colour_difference import ciede2000_mean, ciede2000_p95
 from aaeval.metrics.edges import edge_rmse
 from aaeval.metrics.image import psnr, rmse, ssim
 from aaeval.metrics.perceptual import flip
-from aaeval.metrics.temporal import flicker
+from aaeval.metrics.specular import (
+    highlight_energy_bias,
+    highlight_energy_flicker,
+    highlight_flicker,
+    highlight_rmse,
+)
+from aaeval.metrics.temporal import flicker, intensity_sum_variation
 
 __all__ = [
+    "METRICS",
     "IMAGE_METRICS",
     "TEMPORAL_METRICS",
+    "KINDS",
+    "NEEDS",
+    "Metric",
     "MetricError",
+    "register_metric",
+    "get_metric",
+    "check_metric_names",
     "compute_metric",
     "compute_temporal_metric",
+    "format_value",
 ]
 
 
@@ -28,21 +59,151 @@ class MetricError(ValueError):
     """An unknown metric name, an unknown option, or a required option missing."""
 
 
-#: Image metrics ``metric(image_true, image_test, **options) -> float`` on (H, W, 3) images.
-IMAGE_METRICS: dict[str, Callable[..., float]] = {
-    "rmse": rmse,
-    "psnr": psnr,
-    "ssim": ssim,
-    "ciede2000_mean": ciede2000_mean,
-    "ciede2000_p95": ciede2000_p95,
-    "flip": flip,
-    "edge_rmse": edge_rmse,
-}
+KINDS = ("image", "temporal")
+#: What a metric may need: the reference image(s), the scene, every frame of an animation.
+#: (A mask is declared by name in :attr:`Metric.mask`.)
+NEEDS = ("reference", "scene", "frames")
 
-#: Temporal metrics ``metric(frames_true, frames_test, **options) -> float`` on (F, H, W, 3) frames.
-TEMPORAL_METRICS: dict[str, Callable[..., float]] = {
-    "flicker": flicker,
-}
+
+@dataclass(frozen=True)
+class Metric:
+    """One registered metric and what is known about it.
+
+    Attributes
+    ----------
+    name : str
+        Stable name, the key of :data:`METRICS` and the column of the results table.
+    func : callable
+        ``func(true, test, **options) -> float``.
+    kind : {"image", "temporal"}
+    title : str
+        Short column title for tables and axis labels.
+    fmt : str
+        Python format spec for one value (``".3e"``).
+    higher_is_better : bool
+    target : float or None
+        For a signed metric (a bias), the ideal value: closer to it is better, whatever the
+        sign; ``higher_is_better`` is then False and means nothing.
+    needs : tuple of str
+        Subset of :data:`NEEDS`; temporal metrics always need ``frames``.
+    mask : str or None
+        Name of the mask (:data:`aaeval.metrics.masks.MASKS`) passed as ``mask=``.
+    summary : str
+        One line for ``aaeval metrics`` and the report.
+    """
+
+    name: str
+    func: Callable[..., float]
+    kind: str
+    title: str
+    fmt: str
+    higher_is_better: bool
+    needs: tuple[str, ...]
+    mask: str | None
+    summary: str
+    target: float | None = None
+
+    @property
+    def direction(self) -> str:
+        if self.target is not None:
+            return f"closer to {self.target:g} is better"
+        return "higher is better" if self.higher_is_better else "lower is better"
+
+    def format(self, value) -> str:
+        """``value`` in this metric's format; ``n/a`` for NaN or None, ``inf`` spelled out."""
+        return format_value(value, self.fmt)
+
+
+#: Every metric, by name, in registration order.
+METRICS: dict[str, Metric] = {}
+#: The functions of the ``image`` metrics, by name (a view kept in step with :data:`METRICS`).
+IMAGE_METRICS: dict[str, Callable[..., float]] = {}
+#: The functions of the ``temporal`` metrics, by name (a view kept in step with :data:`METRICS`).
+TEMPORAL_METRICS: dict[str, Callable[..., float]] = {}
+_BY_KIND = {"image": IMAGE_METRICS, "temporal": TEMPORAL_METRICS}
+
+
+def register_metric(name: str, func: Callable[..., float], *, kind: str, title: str, fmt: str,
+                    higher_is_better: bool = False, needs: tuple[str, ...] = ("reference",),
+                    mask: str | None = None, summary: str | None = None, target: float | None = None) -> Metric:
+    """Register a metric; the only step needed for compare, sweeps, tables and reports to know it.
+
+    Raises
+    ------
+    MetricError
+        A name registered twice, an unknown kind, need or mask, or a bad format.
+    """
+    from aaeval.metrics.masks import MASKS
+
+    if not isinstance(name, str) or not name.isidentifier():
+        raise MetricError(f"metric name must be an identifier (it becomes a table column), got {name!r}")
+    if name in METRICS:
+        raise MetricError(f"metric {name!r} is registered twice")
+    if kind not in KINDS:
+        raise MetricError(f"metric {name!r}: kind must be one of {KINDS}, got {kind!r}")
+    bad = sorted(set(needs) - set(NEEDS))
+    if bad:
+        raise MetricError(f"metric {name!r}: unknown need(s) {bad}; needs: {', '.join(NEEDS)}")
+    if kind == "temporal" and "frames" not in needs:
+        needs = (*needs, "frames")
+    if mask is not None:
+        if mask not in MASKS:
+            raise MetricError(f"metric {name!r}: unknown mask {mask!r}; masks: {', '.join(MASKS)}")
+        if "mask" not in _keyword_options(func):
+            raise MetricError(f"metric {name!r} declares mask {mask!r} but its function takes no 'mask' option")
+        needs = tuple(dict.fromkeys((*needs, "scene")))
+    try:
+        format(1.0, fmt)
+    except ValueError:
+        raise MetricError(f"metric {name!r}: bad number format {fmt!r}") from None
+    doc = (inspect.getdoc(func) or "").split("\n", 1)[0]
+    metric = Metric(name, func, kind, title, fmt, bool(higher_is_better), tuple(needs), mask, summary or doc,
+                    None if target is None else float(target))
+    METRICS[name] = metric
+    _BY_KIND[kind][name] = func
+    return metric
+
+
+def unregister_metric(name: str) -> None:
+    """Remove a metric (tests that register a toy metric clean up with this)."""
+    metric = METRICS.pop(name, None)
+    if metric is not None:
+        _BY_KIND[metric.kind].pop(name, None)
+
+
+def get_metric(name: str, kind: str | None = None) -> Metric:
+    """The registered metric ``name`` (of ``kind`` when given); :class:`MetricError` names the choices."""
+    metric = METRICS.get(name)
+    if metric is None or (kind is not None and metric.kind != kind):
+        choices = [n for n, m in METRICS.items() if kind is None or m.kind == kind]
+        what = f"{kind} metric" if kind else "metric"
+        raise MetricError(f"unknown {what} {name!r}; available: {', '.join(choices)}")
+    return metric
+
+
+def check_metric_names(names, kind: str) -> tuple[str, ...]:
+    """The names as a tuple after checking each is a registered ``kind`` metric, given once."""
+    names = tuple(names)
+    unknown = [n for n in names if n not in METRICS or METRICS[n].kind != kind]
+    if unknown:
+        choices = [n for n, m in METRICS.items() if m.kind == kind]
+        raise MetricError(f"unknown {kind} metric(s) {unknown}; available: {', '.join(choices)}")
+    repeated = sorted({n for n in names if names.count(n) > 1})
+    if repeated:
+        raise MetricError(f"metric(s) {repeated} given more than once")
+    return names
+
+
+def format_value(value, fmt: str) -> str:
+    """A number in ``fmt``; ``n/a`` for None or NaN, ``inf``/``-inf`` for infinities."""
+    if value is None:
+        return "n/a"
+    value = float(value)
+    if value != value:
+        return "n/a"
+    if value in (float("inf"), float("-inf")):
+        return "inf" if value > 0 else "-inf"
+    return format(value, fmt)
 
 
 def compute_metric(name: str, image_true, image_test, **context: Any) -> float:
@@ -56,8 +217,8 @@ def compute_metric(name: str, image_true, image_test, **context: Any) -> float:
         Reference and test images.
     **context
         Options for the metrics. Each metric receives only the ones it accepts (``mask``
-        reaches ``edge_rmse`` alone, ``data_range`` reaches ``psnr`` and ``ssim``), so one
-        context can serve every metric; an option no metric accepts is an error.
+        reaches the masked metrics alone, ``data_range`` reaches ``psnr`` and ``ssim``), so
+        one context can serve every metric; an option no metric accepts is an error.
 
     Returns
     -------
@@ -80,8 +241,7 @@ def _keyword_options(func: Callable) -> dict[str, inspect.Parameter]:
 
 
 def _dispatch(registry: Mapping[str, Callable], kind: str, name: str, true, test, context) -> float:
-    if name not in registry:
-        raise MetricError(f"unknown {kind} metric {name!r}; available: {', '.join(registry)}")
+    get_metric(name, kind)  # the one unknown-name check
     known = set().union(*(_keyword_options(f) for f in registry.values()))
     unknown = sorted(set(context) - known)
     if unknown:
@@ -92,4 +252,37 @@ def _dispatch(registry: Mapping[str, Callable], kind: str, name: str, true, test
     missing = sorted(k for k, p in accepted.items() if p.default is inspect.Parameter.empty and k not in context)
     if missing:
         raise MetricError(f"{kind} metric {name!r} needs option(s) {missing}")
-    return registry[name](true, test, **{k: v for k, v in context.items() if k in accepted})
+    return float(registry[name](true, test, **{k: v for k, v in context.items() if k in accepted}))
+
+
+# --- the built-in metrics -------------------------------------------------------------
+register_metric("rmse", rmse, kind="image", title="RMSE", fmt=".3e",
+                summary="root-mean-square error over pixels and channels")
+register_metric("psnr", psnr, kind="image", title="PSNR dB", fmt=".2f", higher_is_better=True,
+                summary="peak signal-to-noise ratio, data range 1 (scikit-image)")
+register_metric("ssim", ssim, kind="image", title="SSIM", fmt=".4f", higher_is_better=True,
+                summary="mean structural similarity, 7x7 uniform window, data range 1 (scikit-image)")
+register_metric("ciede2000_mean", ciede2000_mean, kind="image", title="ΔE00 mean", fmt=".3f",
+                summary="mean CIEDE2000 colour difference (colour-science)")
+register_metric("ciede2000_p95", ciede2000_p95, kind="image", title="ΔE00 p95", fmt=".3f",
+                summary="95th percentile of the CIEDE2000 colour difference")
+register_metric("flip", flip, kind="image", title="FLIP", fmt=".4f",
+                summary="mean LDR-FLIP error (flip-evaluator)")
+register_metric("edge_rmse", edge_rmse, kind="image", title="edge RMSE", fmt=".3e", mask="edge",
+                summary="RMSE over the pixels a visible edge crosses (exact coverage)")
+register_metric("highlight_rmse", highlight_rmse, kind="image", title="hl RMSE", fmt=".3e", mask="highlight",
+                summary="RMSE over the highlight pixels (ground-truth specular term > 0.02)")
+register_metric("highlight_energy_bias", highlight_energy_bias, kind="image", title="hl bias", fmt="+.3f",
+                mask="highlight", target=0.0,
+                summary="sum(test) / sum(reference) - 1 over the highlight pixels, RGB (negative: dimmer)")
+register_metric("sum_variation", intensity_sum_variation, kind="temporal", title="sum var", fmt=".3e",
+                needs=("frames",),
+                summary="(max - min) / mean of the test's intensity sums over the frames (no reference)")
+register_metric("flicker", flicker, kind="temporal", title="flicker", fmt=".3e",
+                summary="RMS over pixels of the std over frames of the error against the reference")
+register_metric("highlight_flicker", highlight_flicker, kind="temporal", title="hl flicker", fmt=".3e",
+                mask="highlight",
+                summary="RMS of the frame-to-frame change of the error over the highlight pixels")
+register_metric("highlight_energy_flicker", highlight_energy_flicker, kind="temporal", title="hl E flicker",
+                fmt=".3e", mask="highlight",
+                summary="std over frames of the highlight energy ratio test / reference")

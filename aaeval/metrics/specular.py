@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from aaeval.metrics.image import masked_rmse
+
 __all__ = [
     "highlight_mask",
     "highlight_rmse",
@@ -56,9 +58,7 @@ def highlight_rmse(image_true, image_test, *, mask) -> float:
         NaN when the mask is empty.
     """
     image_true, image_test, mask = _checked(image_true, image_test, mask)
-    if not mask.any():
-        return float("nan")
-    return float(np.sqrt(np.mean((image_test[mask] - image_true[mask]) ** 2)))
+    return masked_rmse(image_true, image_test, mask)
 
 
 def highlight_energy_bias(image_true, image_test, *, mask) -> float:
@@ -219,7 +219,12 @@ def _checked(image_true, image_test, mask):
     image_test = np.asarray(image_test, dtype=np.float64)
     mask = np.asarray(mask, dtype=bool)
     if image_true.shape != image_test.shape:
-        raise ValueError(f"image shapes differ: {image_true.shape} vs {image_test.shape}")
+        raise ValueError(f"images differ in shape: {image_true.shape} vs {image_test.shape}")
+    if image_true.ndim == 3 and image_true.shape[2] != 3 and mask.ndim == 2:
+        raise ValueError(f"expected (H, W) specular or (H, W, 3) RGB images, got shape {image_true.shape}")
+    for label, image in (("true", image_true), ("test", image_test)):
+        if not np.isfinite(image).all():
+            raise ValueError(f"the {label} image has non-finite values (NaN or inf)")
     if image_true.shape[: mask.ndim] != mask.shape:
         raise ValueError(f"mask shape {mask.shape} does not match images of shape {image_true.shape}")
     return image_true, image_test, mask
@@ -239,6 +244,9 @@ def _frames(frames_true, frames_test):
     frames_test = np.asarray(frames_test, dtype=np.float64)
     if frames_true.shape != frames_test.shape:
         raise ValueError(f"frame stacks differ in shape: {frames_true.shape} vs {frames_test.shape}")
+    for label, frames in (("true", frames_true), ("test", frames_test)):
+        if not np.isfinite(frames).all():
+            raise ValueError(f"the {label} frames have non-finite values (NaN or inf)")
     if frames_true.ndim < 3 or frames_true.shape[0] < 2:
         raise ValueError(f"need a stack of at least 2 frames (T, H, W[, C]), got shape {frames_true.shape}")
     return frames_true, frames_test

@@ -6,7 +6,7 @@ import numpy as np
 
 from aaeval.metrics._checks import check_frames_pair
 
-__all__ = ["intensity_sum", "sum_variation", "flicker"]
+__all__ = ["intensity_sum", "sum_variation", "intensity_sum_variation", "flicker"]
 
 
 def intensity_sum(image: np.ndarray) -> float:
@@ -30,6 +30,28 @@ def sum_variation(sums) -> float:
     if mean == 0.0:
         return 0.0 if np.ptp(sums) == 0.0 else float("inf")
     return float(np.ptp(sums) / abs(mean))
+
+
+def intensity_sum_variation(frames_true, frames_test) -> float:
+    """Relative variation of the test's intensity sums over the frames (the reference is unused).
+
+    ``sum_variation([intensity_sum(f) for f in frames_test])``: the registry's temporal
+    ``sum_variation``, with the signature every temporal metric shares.
+
+    Parameters
+    ----------
+    frames_true : array_like, shape (F, H, W, 3)
+        Reference frames; only checked against the test frames' shape.
+    frames_test : array_like, shape (F, H, W, 3)
+        The test method's frames.
+
+    Returns
+    -------
+    variation : float
+        ``(max - min) / mean`` of the per-frame sums; 0 for a single frame.
+    """
+    frames_true, frames_test = check_frames_pair(frames_true, frames_test)
+    return sum_variation(frames_test.sum(axis=(1, 2, 3)))
 
 
 def flicker(frames_true, frames_test) -> float:

@@ -26,6 +26,8 @@ from aaeval.renderers import abuffer  # noqa: E402,F401
 from aaeval.renderers import skia_painter  # noqa: E402,F401
 from aaeval.renderers import mitsuba  # noqa: E402,F401
 from aaeval.renderers import weiler_atherton  # noqa: E402,F401
+from aaeval.renderers import freetype  # noqa: E402,F401
+from aaeval.renderers import resvg  # noqa: E402,F401
 
 __all__ = [
     "METHODS",

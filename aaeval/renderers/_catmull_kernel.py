@@ -1,42 +1,64 @@
 """Catmull 1978 scanline hidden-surface algorithm with the pixel integrator (numba).
 
-The structure follows the paper's "Hidden-surface Algorithm":
+The kernel is a chain of small stages, each an ``njit(cache=True)`` function with a named
+workspace (a numba structref whose fields are read by name). Data flow, one scanline (a
+strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm":
 
-I.   polygons are sorted on their highest y (smallest y here: y grows downward);
-II.  an active polygon list starts empty;
-III. for each scanline (a strip one pixel high)
-     A. polygons entering on this scanline join the active list;
-     C. from each active polygon the strip piece on this scanline is clipped off and the
-        polygon replaced by what remains below; the exact area of the piece over every
-        pixel column it spans is found (the edge integral -∫ y dx per column), which
-        splits it into a solid run (pixels it covers completely) and irregular pieces;
-        pieces go into an x-bucket by their leftmost pixel;
-     E. sweeping the pixels, pieces move from the x-bucket into the z-list, which is kept
-        sorted front to back; the pixel is then evaluated:
-        - a solid piece in front of everything: its colour;
-        - one irregular piece in front of a solid one: the two weighted by area;
-        - otherwise the pixel integrator.
+``sort_polygons``   I. the input polygons with their y range, in order of first scanline
+    -> :class:`Polygons`
+``enter_polygons``  III.A polygons whose first scanline is this one join the active list
+    (the part above the image cut away) -> :class:`ActiveList`
+``clip_to_strip``   III.C the strip piece is clipped off every active polygon, which keeps
+    what remains below; ``strip_coverage`` finds each piece's exact area over every pixel
+    column it spans (-∫ y dx per column), which splits it into solid runs and irregular
+    ends -> :class:`Strip` (pieces, their column span, coverage)
+``bucket_by_x``     III.C.4 pieces listed under their leftmost pixel (a counting sort)
+    -> ``Strip.bucket_head`` / ``Strip.bucket_items``
+``sweep_row``       III.D/E the pixels of the row, left to right:
+    ``update_zlist``   pieces enter from the x-bucket, leave past their last column, and
+                       stay sorted front to back at the pixel centre -> :class:`ZList`
+    ``pixel_list``     the pixel's polygon list: front to back up to the first solid
+                       piece, and what behind it is not hidden everywhere in the pixel
+    ``resolve_pixel``  a solid piece in front: the whole pixel (``emit_pixel``), and
+                       while it stays alone in front, its whole run (``solid_run``); one
+                       irregular piece in front of a solid one or of the background: that
+                       piece (``emit_strip_piece``, or ``emit_area`` without centroids) and the
+                       rest of the pixel (``emit_rest``); otherwise ``integrate``
+``integrate``       the pixel integrator: ``pixel_polygons`` clips the listed pieces to
+    the pixel (a solid piece becomes the pixel square, the background square goes last),
+    ``integrate_pixel`` resolves them (recursive clipping along the front polygon's
+    unclipped edges and along the lines where depth planes cross), then every visible
+    piece goes to ``emit_piece`` with its vertices -> :class:`PixelWork`
 
-The pixel integrator recursively clips the pixel's polygon list against the first
-unclipped edge of the front polygon (clip flags mark edges that lie on clipping lines
-or pixel boundaries), with a dummy solid background polygon last. When the front
-polygon is clipped on all sides it covers the whole region of its list, and its colour
-weighted by its area is returned. Interpenetrating polygons are handled where the paper
-says to: when a polygon behind the front one crosses its depth plane, the list is split
-along the line where the two planes meet; when one is wholly in front it moves to the
-front. The recursion runs on an explicit stack.
+Every result leaves through a *sink*: a structref with five methods, ``emit_pixel``
+(the whole pixel square), ``emit_piece`` (a visible piece inside a pixel, as its polygon
+vertices), ``emit_strip_piece`` (the same for a strip piece alone in front, with the exact
+area the strip coverage already gave), ``emit_area`` (an area without its shape, only with
+``centroids=False``) and ``emit_rest`` (the pixel square minus what was already emitted for
+that pixel).
+:class:`FragmentSink` turns them into fragments: per pixel, each visible polygon's area and
+area centroid (its pieces merged), so flat colours and per-piece shading are resolved
+outside. Another sink type (for instance one accumulating polynomial moments of each
+piece for an exact filter) runs through the same stages via :func:`scanline`, which is
+compiled once per sink type.
 
-The kernel returns *fragments*: for every pixel, each visible polygon's area and area
-centroid (all its visible pieces in the pixel merged), so flat colours and per-piece
-shading are resolved outside it.
+The rows are run in fixed bands of ``BAND_ROWS`` (``scanline(polys, width, row0, row1,
+...)``), each started at its top row, so bands are independent: ``band_fragments`` and
+``band_colors`` (flat colours straight into the image through :class:`ColorSink`) run
+without the GIL on any number of threads, with the same result.
+
+Workspaces grow by doubling; the integrator reports a too-small workspace with -1 and is
+rerun after growing it.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.experimental import structref
+from numba.extending import overload_method
 
-from aaeval.renderers._clip import EPS_LINE, area_centroid, clip_side, clip_split, signed_area
+from aaeval.renderers._clip import EPS_LINE, area_centroid, clip_side, clip_split, clip_to_column, signed_area
 
 # Coverage within this of 1 is a solid piece; below COV_EMPTY a piece is absent.
 COV_SOLID = 1.0 - 1e-12
@@ -48,8 +70,117 @@ MAX_STEPS = 100_000
 BACKGROUND = -1
 
 
+# --- named workspaces -------------------------------------------------------------
+# A polygon lives in vertex buffers (x, y, clip flag) as a record (start, length, source).
+
+
+class _Workspace(types.StructRef):
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(typ)) for name, typ in fields)
+
+
+def define_workspace(proxy, struct_type, fields):
+    """Constructor and by-name fields in compiled code, read-only properties in Python
+    (for tests and inspection; compiled on first use, not cached)."""
+    structref.define_proxy(proxy, struct_type, fields)
+    for name in fields:
+        getter = njit(eval(f"lambda s: s.{name}"))  # numba reads attributes by literal name only
+        setattr(proxy, name, property(lambda self, get=getter: get(self)))
+
+
+@structref.register
+class PolygonsType(_Workspace):
+    pass
+
+
+class Polygons(structref.StructRefProxy):
+    """The input polygons: ``x, y[start[p] : start[p] + length[p]]``, depth ``planes[p]``
+    (z = a x + b y + c), y range ``ymin, ymax``, and ``order``: indices sorted on ymin."""
+
+
+define_workspace(Polygons, PolygonsType, ["start", "length", "x", "y", "planes", "ymin", "ymax", "order"])
+
+
+@structref.register
+class ActiveListType(_Workspace):
+    pass
+
+
+class ActiveList(structref.StructRefProxy):
+    """The active polygons' remaining parts (below the current scanline).
+
+    ``recs[:n]`` are records into the vertex buffers ``x, y, f`` (``used`` entries
+    taken); ``spare_*`` is the second buffer the next remainders are written to.
+    ``next_in`` counts the polygons of ``Polygons.order`` that have entered.
+    """
+
+
+define_workspace(ActiveList, ActiveListType,
+                       ["x", "y", "f", "spare_x", "spare_y", "spare_f", "recs", "n", "used", "next_in"])
+
+
+@structref.register
+class StripType(_Workspace):
+    pass
+
+
+class Strip(structref.StructRefProxy):
+    """This scanline's strip pieces.
+
+    ``pieces[:n]`` are records into ``x, y, f``; ``span[k] = (first column, last column,
+    offset into cov)``; ``cov[span[k, 2] + c - span[k, 0]]`` is piece k's exact area in
+    column c. The x-bucket: pieces ``bucket_items[bucket_head[c] : bucket_head[c + 1]]``
+    have leftmost column c.
+    """
+
+
+define_workspace(Strip, StripType,
+                       ["x", "y", "f", "pieces", "span", "cov", "n", "used", "cov_used", "bucket_head", "bucket_items"])
+
+
+@structref.register
+class ZListType(_Workspace):
+    pass
+
+
+class ZList(structref.StructRefProxy):
+    """The z-list (strip pieces over the current pixel, front to back, ``depth`` at the
+    pixel centre) and ``pixel``, the current pixel's polygon list."""
+
+
+define_workspace(ZList, ZListType, ["items", "depth", "pixel"])
+
+
+@structref.register
+class PixelWorkType(_Workspace):
+    """The pixel integrator's workspace."""
+
+
+class PixelWork(structref.StructRefProxy):
+    """The pixel integrator's workspace.
+
+    Polygons are records ``recs[j] = (start, length, source)`` into ``x, y, f``;
+    ``items`` holds the lists' members, ``lists[L] = (first item, count)``, ``stack`` the
+    lists still to resolve, ``visible`` the records of the visible pieces found.
+    """
+
+
+define_workspace(PixelWork, PixelWorkType, ["x", "y", "f", "recs", "items", "lists", "stack", "visible"])
+
+
+@structref.register
+class FragmentSinkType(_Workspace):
+    pass
+
+
+class FragmentSink(structref.StructRefProxy):
+    """Fragments ``[:n]``: pixel, source polygon (-1: background), area, area centroid."""
+
+
+define_workspace(FragmentSink, FragmentSinkType, ["pix", "src", "area", "cx", "cy", "n"])
+
+
 # --- growable buffers -------------------------------------------------------------
-# Polygons live in vertex buffers (x, y, clip flag) with records (start, length, source).
 
 
 @njit(cache=True)
@@ -80,15 +211,144 @@ def _record(recs, k, start, length, src):
     return k + 1
 
 
+@njit(cache=True)
+def new_active_list(n_polys):
+    x, y, f = _new_verts(1024)
+    sx, sy, sf = _new_verts(1024)
+    return ActiveList(x, y, f, sx, sy, sf, np.empty((n_polys, 3), np.int64), 0, 0, 0)
+
+
+@njit(cache=True)
+def new_strip(n_polys, width):
+    x, y, f = _new_verts(1024)
+    return Strip(x, y, f, np.empty((n_polys, 3), np.int64), np.empty((n_polys, 3), np.int64), np.empty(1024),
+                 0, 0, 0, np.zeros(width + 1, np.int64), np.empty(n_polys, np.int64))
+
+
+@njit(cache=True)
+def new_zlist(n_polys):
+    return ZList(np.empty(n_polys, np.int64), np.empty(n_polys), np.empty(n_polys + 1, np.int64))
+
+
+@njit(cache=True)
+def new_pixel_work():
+    x, y, f = _new_verts(4096)
+    return PixelWork(x, y, f, np.empty((1024, 3), np.int64), np.empty(4096, np.int64), np.empty((1024, 2), np.int64),
+                     np.empty(1024, np.int64), np.empty(256, np.int64))
+
+
+@njit(cache=True)
+def grow_pixel_work(work):
+    """Double every buffer of the integrator's workspace."""
+    work.x, work.y, work.f = _grow_verts(work.x, work.y, work.f, 2 * work.x.shape[0])
+    work.recs = _grow(work.recs, 2 * work.recs.shape[0])
+    work.items = _grow(work.items, 2 * work.items.shape[0])
+    work.lists = _grow(work.lists, 2 * work.lists.shape[0])
+    work.stack = _grow(work.stack, 2 * work.stack.shape[0])
+    work.visible = _grow(work.visible, 2 * work.visible.shape[0])
+
+
+@njit(cache=True)
+def new_fragment_sink(capacity):
+    return FragmentSink(np.empty(capacity, np.int64), np.empty(capacity, np.int64), np.empty(capacity),
+                        np.empty(capacity), np.empty(capacity), 0)
+
+
+# --- the fragment sink ------------------------------------------------------------
+
+
 @njit(cache=True, inline="always")
-def _emit(fi, ff, n, pix, src, area, cx, cy):
-    """Append one fragment (pixel, source; area, centroid) and return the new count."""
-    fi[n, 0] = pix
-    fi[n, 1] = src
-    ff[n, 0] = area
-    ff[n, 1] = cx
-    ff[n, 2] = cy
-    return n + 1
+def _append(out, pix, src, area, cx, cy):
+    n = out.n
+    if n >= out.pix.shape[0]:
+        _grow_sink(out, n + 1)
+    out.pix[n] = pix
+    out.src[n] = src
+    out.area[n] = area
+    out.cx[n] = cx
+    out.cy[n] = cy
+    out.n = n + 1
+
+
+@njit(cache=True)
+def _grow_sink(out, n):
+    out.pix = _grow(out.pix, n)
+    out.src = _grow(out.src, n)
+    out.area = _grow(out.area, n)
+    out.cx = _grow(out.cx, n)
+    out.cy = _grow(out.cy, n)
+
+
+@overload_method(FragmentSinkType, "emit_pixel", jit_options={"cache": True})
+def _emit_pixel(out, pix, src, x0, y0):
+    """The whole pixel square ``[x0, x0+1] x [y0, y0+1]`` is polygon ``src``."""
+    def impl(out, pix, src, x0, y0):
+        _append(out, pix, src, 1.0, x0 + 0.5, y0 + 0.5)
+    return impl
+
+
+@overload_method(FragmentSinkType, "emit_area", jit_options={"cache": True})
+def _emit_area(out, pix, src, area, x0, y0):
+    """``area`` of the pixel is polygon ``src``; its shape is not known (centre used)."""
+    def impl(out, pix, src, area, x0, y0):
+        _append(out, pix, src, area, x0 + 0.5, y0 + 0.5)
+    return impl
+
+
+@overload_method(FragmentSinkType, "emit_piece", jit_options={"cache": True})
+def _emit_piece(out, pix, src, xs, ys, start, n):
+    """A visible piece of polygon ``src`` in the pixel: the polygon ``xs, ys[start:start+n]``.
+
+    Pieces of one polygon in one pixel merge into one fragment (area-weighted centroid).
+    """
+    def impl(out, pix, src, xs, ys, start, n):
+        area, cx, cy = area_centroid(xs, ys, start, n)
+        g = out.n - 1
+        while g >= 0 and out.pix[g] == pix and out.src[g] != src:
+            g -= 1
+        if g < 0 or out.pix[g] != pix:
+            _append(out, pix, src, area, cx, cy)
+            return
+        total = out.area[g] + area
+        if total > 0.0:
+            out.cx[g] = (out.cx[g] * out.area[g] + cx * area) / total
+            out.cy[g] = (out.cy[g] * out.area[g] + cy * area) / total
+        out.area[g] = total
+    return impl
+
+
+@overload_method(FragmentSinkType, "emit_strip_piece", jit_options={"cache": True})
+def _emit_strip_piece(out, pix, src, area, xs, ys, start, n):
+    """Strip piece of polygon ``src`` clipped to the pixel, ``xs, ys[start:start+n]``, whose
+    exact area ``area`` is known from the strip coverage (the first fragment of its pixel).
+
+    The coverage's area is kept, so fragments with and without centroids agree exactly.
+    """
+    def impl(out, pix, src, area, xs, ys, start, n):
+        _, cx, cy = area_centroid(xs, ys, start, n)
+        _append(out, pix, src, area, cx, cy)
+    return impl
+
+
+@overload_method(FragmentSinkType, "emit_rest", jit_options={"cache": True})
+def _emit_rest(out, pix, src, x0, y0):
+    """Polygon ``src`` covers the rest of the pixel: the square minus what was emitted
+    for this pixel so far (the sink's last fragments)."""
+    def impl(out, pix, src, x0, y0):
+        first = out.n
+        while first > 0 and out.pix[first - 1] == pix:
+            first -= 1
+        covered = 0.0
+        mx = 0.0
+        my = 0.0
+        for g in range(first, out.n):
+            covered += out.area[g]
+            mx += out.area[g] * out.cx[g]
+            my += out.area[g] * out.cy[g]
+        rest = 1.0 - covered
+        if rest > 0.0:
+            _append(out, pix, src, rest, (x0 + 0.5 - mx) / rest, (y0 + 0.5 - my) / rest)
+    return impl
 
 
 # --- depth relations --------------------------------------------------------------
@@ -100,7 +360,7 @@ def _depth(planes, p, x, y):
 
 
 @njit(cache=True)
-def _in_front_on_square(planes, p, q, x0, y0, eps_z):
+def in_front_on_square(planes, p, q, x0, y0, eps_z):
     """Whether polygon p hides polygon q everywhere over the square [x0,x0+1]x[y0,y0+1].
 
     Depth differences are linear, so the four corners decide. On one shared plane the
@@ -123,7 +383,7 @@ def _in_front_on_square(planes, p, q, x0, y0, eps_z):
 
 
 @njit(cache=True)
-def _relation(planes, q, f, xs, ys, start, n, eps_z):
+def depth_relation(planes, q, f, xs, ys, start, n, eps_z):
     """Where polygon q (the outline at ``start``) lies in depth against polygon f's plane.
 
     0: behind f everywhere on q; 1: in front everywhere on q; 2: the planes cross inside
@@ -158,18 +418,464 @@ def _relation(planes, q, f, xs, ys, start, n, eps_z):
     return 2
 
 
-# --- the pixel integrator ---------------------------------------------------------
+# --- I. and III.A: polygons enter the active list ---------------------------------
 
 
 @njit(cache=True)
-def integrate_pixel(wx, wy, wf, recs, n_init, n_vert, planes, eps_z, litems, lists, stack, oi, of):
-    """Resolve the polygon list ``recs[0:n_init]`` (front to back, background last).
+def sort_polygons(start, length, x, y, planes):
+    """The input polygons with their y range, ordered on their first scanline."""
+    n_polys = start.size
+    ymin = np.empty(n_polys)
+    ymax = np.empty(n_polys)
+    for p in range(n_polys):
+        ymin[p] = y[start[p]:start[p] + length[p]].min()
+        ymax[p] = y[start[p]:start[p] + length[p]].max()
+    return Polygons(start, length, x, y, planes, ymin, ymax, np.argsort(ymin, kind="mergesort"))
 
-    Polygon record ``j`` is ``w*[recs[j,0] : recs[j,0] + recs[j,1]]`` with source
-    ``recs[j,2]``; vertices from ``n_vert`` on are free. Writes the visible pieces'
-    (source; area, centroid) to ``oi, of`` and returns their count, or -1 if a work array
-    was too small (the caller grows them and calls again).
+
+@njit(cache=True)
+def _below(vx0, vy0, start, n, y_top, out_x, out_y, out_f, at):
+    """A polygon's part below ``y_top`` (all of it unless it starts above the image)."""
+    lo = vy0[start:start + n].min()
+    if lo >= y_top:
+        for i in range(n):
+            out_x[at + i] = vx0[start + i]
+            out_y[at + i] = vy0[start + i]
+            out_f[at + i] = 0
+        return n
+    flags = np.zeros(n, np.uint8)
+    m = clip_side(vx0[start:start + n], vy0[start:start + n], flags, 0, n, 0.0, 1.0, -y_top, 1,
+                  out_x, out_y, out_f, at)
+    if m > 0 and signed_area(out_x, out_y, at, m) <= COV_EMPTY:
+        return 0
+    return m
+
+
+@njit(cache=True)
+def enter_polygons(polys, active, row):
+    """Polygons whose first scanline is ``row`` join the active list (their part y >= row)."""
+    y_top = float(row)
+    y_bot = y_top + 1.0
+    order = polys.order
+    n_polys = order.size
+    next_in = active.next_in
+    while next_in < n_polys and polys.ymin[order[next_in]] < y_bot:
+        p = order[next_in]
+        next_in += 1
+        if polys.ymax[p] <= y_top:
+            continue
+        n = polys.length[p]
+        active.x, active.y, active.f = _grow_verts(active.x, active.y, active.f, active.used + 2 * n + 4)
+        m = _below(polys.x, polys.y, polys.start[p], n, y_top, active.x, active.y, active.f, active.used)
+        if m > 0:
+            active.n = _record(active.recs, active.n, active.used, m, p)
+            active.used += m
+    active.next_in = next_in
+
+
+# --- III.C: the strip pieces ------------------------------------------------------
+
+
+@njit(cache=True)
+def strip_coverage(xs, ys, start, n, row, c0, c1, cov, cov_off):
+    """Exact area of a strip piece over each pixel column c0..c1 (-∫ y dx per column)."""
+    for c in range(c1 - c0 + 1):
+        cov[cov_off + c] = 0.0
+    for i in range(start, start + n):
+        j = i + 1 if i + 1 < start + n else start
+        x0 = xs[i]
+        x1 = xs[j]
+        if x0 == x1:
+            continue
+        y0 = ys[i] - row
+        y1 = ys[j] - row
+        slope = (y1 - y0) / (x1 - x0)
+        lo = min(x0, x1)
+        hi = max(x0, x1)
+        ca = max(int(np.floor(lo)), c0)
+        cb = min(int(np.floor(hi)), c1)
+        for col in range(ca, cb + 1):
+            xa = min(max(x0, col), col + 1.0)
+            xb = min(max(x1, col), col + 1.0)
+            if xa == xb:
+                continue
+            ya = y0 + slope * (xa - x0)
+            yb = y0 + slope * (xb - x0)
+            cov[cov_off + col - c0] -= 0.5 * (xb - xa) * (ya + yb)
+
+
+@njit(cache=True)
+def _add_piece(strip, m, src, row, width):
+    """Keep the piece just written at ``strip.used`` (m vertices) if it covers a column."""
+    at = strip.used
+    xs = strip.x
+    c0 = max(int(np.floor(xs[at:at + m].min())), 0)
+    c1 = min(int(np.ceil(xs[at:at + m].max())) - 1, width - 1)
+    if c1 < c0:
+        return
+    strip.cov = _grow(strip.cov, strip.cov_used + c1 - c0 + 1)
+    strip_coverage(xs, strip.y, at, m, float(row), c0, c1, strip.cov, strip.cov_used)
+    k = strip.n
+    strip.span[k, 0] = c0
+    strip.span[k, 1] = c1
+    strip.span[k, 2] = strip.cov_used
+    strip.n = _record(strip.pieces, k, at, m, src)
+    strip.cov_used += c1 - c0 + 1
+    strip.used += m
+
+
+@njit(cache=True)
+def clip_to_strip(active, strip, row, width):
+    """Clip this scanline's piece off every active polygon into ``strip``; keep the rest.
+
+    The line y = row + 1 splits each polygon: side A (above) is the strip piece, with
+    its coverage of every column; side B replaces the polygon in the active list.
     """
+    y_bot = float(row) + 1.0
+    strip.n = 0
+    strip.used = 0
+    strip.cov_used = 0
+    rx = active.x
+    ry = active.y
+    rf = active.f
+    nx = active.spare_x
+    ny = active.spare_y
+    nf = active.spare_f
+    recs = active.recs
+    new_used = 0
+    keep = 0
+    for k in range(active.n):
+        s = recs[k, 0]
+        n = recs[k, 1]
+        src = recs[k, 2]
+        strip.x, strip.y, strip.f = _grow_verts(strip.x, strip.y, strip.f, strip.used + 2 * n + 4)
+        nx, ny, nf = _grow_verts(nx, ny, nf, new_used + 2 * n + 4)
+        m, m2 = clip_split(rx, ry, rf, s, n, 0.0, 1.0, -y_bot, True, True,
+                           strip.x, strip.y, strip.f, strip.used, nx, ny, nf, new_used)
+        if m > 0 and signed_area(strip.x, strip.y, strip.used, m) > COV_EMPTY:
+            _add_piece(strip, m, src, row, width)
+        if m2 > 0 and signed_area(nx, ny, new_used, m2) > COV_EMPTY:
+            keep = _record(recs, keep, new_used, m2, src)
+            new_used += m2
+    active.n = keep
+    active.used = new_used
+    # the remainders' buffer becomes the active one
+    active.x, active.spare_x = nx, rx
+    active.y, active.spare_y = ny, ry
+    active.f, active.spare_f = nf, rf
+
+
+@njit(cache=True)
+def bucket_by_x(strip, width):
+    """The x-bucket: list the strip pieces under their leftmost column (counting sort)."""
+    head = strip.bucket_head
+    items = strip.bucket_items
+    span = strip.span
+    head[:] = 0
+    for k in range(strip.n):
+        head[span[k, 0] + 1] += 1
+    for col in range(width):
+        head[col + 1] += head[col]
+    fill = head[:width].copy()
+    for k in range(strip.n):
+        items[fill[span[k, 0]]] = k
+        fill[span[k, 0]] += 1
+
+
+# --- III.D/E: sweeping the row ----------------------------------------------------
+
+
+@njit(cache=True, inline="always")
+def update_zlist(zl, zdepth, n_zl, bucket_head, bucket_items, span, pieces, planes, col, row):
+    """Move the z-list to column ``col``; returns its new length.
+
+    Pieces of the x-bucket at this column enter, pieces that ended to the left leave,
+    and the list is sorted front to back on depth at the pixel centre (ties: the later
+    polygon first). Insertion sort is linear while the order holds from pixel to pixel.
+    """
+    for t in range(bucket_head[col], bucket_head[col + 1]):
+        zl[n_zl] = bucket_items[t]
+        n_zl += 1
+    w = 0
+    for t in range(n_zl):
+        if span[zl[t], 1] >= col:
+            zl[w] = zl[t]
+            w += 1
+    n_zl = w
+    xc = col + 0.5
+    yc = row + 0.5
+    for t in range(n_zl):
+        zdepth[t] = _depth(planes, pieces[zl[t], 2], xc, yc)
+    for t in range(1, n_zl):
+        kz = zl[t]
+        dz = zdepth[t]
+        u = t - 1
+        while u >= 0 and (zdepth[u] > dz or (zdepth[u] == dz and pieces[zl[u], 2] < pieces[kz, 2])):
+            zl[u + 1] = zl[u]
+            zdepth[u + 1] = zdepth[u]
+            u -= 1
+        zl[u + 1] = kz
+        zdepth[u + 1] = dz
+    return n_zl
+
+
+@njit(cache=True, inline="always")
+def pixel_list(zl, n_zl, plist, pieces, span, cov, planes, col, row, eps_z):
+    """The pixel's polygon list ``plist``: front to back up to the first solid piece, and
+    anything behind that piece not hidden by it everywhere in the pixel.
+
+    Returns ``(length, solid)``, ``solid`` the strip piece covering the whole pixel
+    (-1 if none).
+    """
+    n_pl = 0
+    solid = -1
+    for t in range(n_zl):
+        k = zl[t]
+        cv = cov[span[k, 2] + col - span[k, 0]]
+        if cv <= COV_EMPTY:
+            continue
+        if solid >= 0 and in_front_on_square(planes, pieces[solid, 2], pieces[k, 2], float(col), float(row), eps_z):
+            continue
+        plist[n_pl] = k
+        n_pl += 1
+        if solid < 0 and cv >= COV_SOLID:
+            solid = k
+    return n_pl, solid
+
+
+@njit(cache=True)
+def emit_front_piece(strip, k, pix, col, row, work, out, centroids):
+    """Emit strip piece k's part in pixel column ``col``: its shape if ``centroids``."""
+    cv = strip.cov[strip.span[k, 2] + col - strip.span[k, 0]]
+    src = strip.pieces[k, 2]
+    if centroids:
+        n = strip.pieces[k, 1]
+        if work.x.shape[0] < 6 * n + 16:
+            work.x, work.y, work.f = _grow_verts(work.x, work.y, work.f, 6 * n + 16)
+        m = clip_to_column(strip.x, strip.y, strip.f, strip.pieces[k, 0], n, float(col),
+                           work.x, work.y, work.f, 0, 4 * n + 8)
+        if m > 0:
+            out.emit_strip_piece(pix, src, cv, work.x, work.y, 0, m)
+            return
+    out.emit_area(pix, src, cv, float(col), float(row))
+
+
+@njit(cache=True, inline="always")
+def resolve_pixel(strip, plist, n_pl, solid, planes, eps_z, pix, col, row, work, out, jagged, centroids):
+    """Emit the visible pieces of one pixel, by the cheapest case that applies."""
+    x0 = float(col)
+    y0 = float(row)
+    if n_pl == 0:
+        out.emit_pixel(pix, BACKGROUND, x0, y0)
+        return
+    pieces = strip.pieces
+    first = plist[0]
+    if jagged or (n_pl == 1 and first == solid):
+        # a solid piece in front (or, with the integrator switched off, the nearest
+        # piece colours the whole pixel)
+        out.emit_pixel(pix, pieces[first, 2], x0, y0)
+        return
+    # one irregular piece in front of a solid one (or of the background)
+    behind = -2
+    if n_pl == 1:
+        behind = BACKGROUND
+    elif n_pl == 2 and plist[1] == solid and in_front_on_square(planes, pieces[first, 2], pieces[solid, 2], x0, y0, eps_z):
+        behind = pieces[solid, 2]
+    if behind != -2:
+        emit_front_piece(strip, first, pix, col, row, work, out, centroids)
+        out.emit_rest(pix, behind, x0, y0)
+        return
+    integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out)
+
+
+@njit(cache=True, inline="always")
+def _hidden_until(planes, p, q, col, end, row, width):
+    """The last column in ``col .. end`` up to which polygon p hides polygon q over every
+    pixel square by a safe margin (``col - 1`` if it does not at ``col``).
+
+    z_p - z_q = da x + db y + dc is linear, so its largest corner value on the square
+    [x0, x0+1] x [y0, y0+1] is linear in x0: the bound is found in closed form, then
+    checked. The margin is far above the rounding of any depth evaluation, so where this
+    holds the per-pixel tests (``update_zlist``, ``in_front_on_square``) agree.
+    """
+    da = planes[p, 0] - planes[q, 0]
+    db = planes[p, 1] - planes[q, 1]
+    dc = planes[p, 2] - planes[q, 2]
+    y0 = float(row)
+    margin = 1e-9 * ((abs(planes[p, 0]) + abs(planes[q, 0]) + abs(planes[p, 1]) + abs(planes[q, 1]))
+                     * (width + y0 + 2.0) + abs(planes[p, 2]) + abs(planes[q, 2]) + 1.0)
+    rest = max(da, 0.0) + db * y0 + max(db, 0.0) + dc
+    if da * col + rest >= -margin:
+        return col - 1
+    if da <= 0.0 or da * end + rest < -margin:
+        return end
+    last = min(int(np.floor((-margin - rest) / da)), end)
+    while last >= col and da * last + rest >= -margin:
+        last -= 1
+    return last
+
+
+@njit(cache=True)
+def solid_run(k, zl, n_zl, bucket_head, bucket_items, span, pieces, cov, planes, col, row, width):
+    """How far strip piece k, alone and solid in front at ``col``, stays so without any
+    per-pixel work: returns ``(last column, z-list length)``.
+
+    The run goes on while k covers whole pixels and hides every other piece of the
+    z-list over the whole pixel square; pieces entering the z-list inside the run are
+    added to it (the run stops before one that k does not hide), so the z-list is as
+    the per-pixel sweep would have it. Within the run every pixel is k's.
+    """
+    p = pieces[k, 2]
+    end = min(span[k, 1], width - 1)
+    c = col + 1
+    while c <= end and cov[span[k, 2] + c - span[k, 0]] >= COV_SOLID:
+        c += 1
+    end = c - 1
+    for t in range(n_zl):
+        if end <= col:
+            return col, n_zl
+        if zl[t] != k:
+            end = min(end, _hidden_until(planes, p, pieces[zl[t], 2], col + 1, end, row, width))
+    c = col + 1
+    while c <= end:
+        for t in range(bucket_head[c], bucket_head[c + 1]):
+            q = bucket_items[t]
+            last = _hidden_until(planes, p, pieces[q, 2], c, end, row, width)
+            if last < c:
+                return c - 1, n_zl  # q enters at c visible: the per-pixel sweep takes over
+            end = min(end, last)
+        for t in range(bucket_head[c], bucket_head[c + 1]):
+            zl[n_zl] = bucket_items[t]
+            n_zl += 1
+        c += 1
+    return end, n_zl
+
+
+@njit(cache=True)
+def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centroids):
+    """Sweep the pixels of ``row`` left to right, emitting each pixel's visible pieces.
+
+    Where a solid piece is alone in front, its whole solid run is filled at once
+    (``solid_run``): the per-pixel z-list and pixel-list work is skipped there.
+    """
+    zl = zlist.items
+    zdepth = zlist.depth
+    plist = zlist.pixel
+    pieces = strip.pieces
+    span = strip.span
+    cov = strip.cov
+    head = strip.bucket_head
+    items = strip.bucket_items
+    n_zl = 0
+    col = 0
+    while col < width:
+        n_zl = update_zlist(zl, zdepth, n_zl, head, items, span, pieces, planes, col, row)
+        n_pl, solid = pixel_list(zl, n_zl, plist, pieces, span, cov, planes, col, row, eps_z)
+        resolve_pixel(strip, plist, n_pl, solid, planes, eps_z, row * width + col, col, row, work, out,
+                      jagged, centroids)
+        if n_pl == 1 and plist[0] == solid:
+            end, n_zl = solid_run(solid, zl, n_zl, head, items, span, pieces, cov, planes, col, row, width)
+            src = pieces[solid, 2]
+            for c in range(col + 1, end + 1):
+                out.emit_pixel(row * width + c, src, float(c), float(row))
+            col = end
+        col += 1
+
+
+# --- III.E.b: the pixel integrator ------------------------------------------------
+
+
+@njit(cache=True)
+def pixel_polygons(strip, plist, n_pl, solid, x0, y0, work):
+    """The pixel's polygon list as integrator records, background square last if needed.
+
+    Each listed strip piece is clipped to the pixel column; a solid piece becomes the
+    pixel square with every edge flagged. Returns ``(vertices used, records)``, or
+    ``(-1, 0)`` if the workspace is too small.
+    """
+    wx = work.x
+    wy = work.y
+    wf = work.f
+    recs = work.recs
+    pieces = strip.pieces
+    used = 0
+    n_rec = 0
+    total = n_pl + (1 if solid < 0 else 0)
+    if total > recs.shape[0]:
+        return -1, 0
+    for t in range(total):
+        if t < n_pl and plist[t] != solid:
+            k = plist[t]
+            n = pieces[k, 1]
+            # the first clip goes above the space the second one (up to 4n) writes into
+            tmp = used + 4 * n + 8
+            if tmp + 2 * n + 4 > wx.shape[0]:
+                return -1, 0
+            m = clip_to_column(strip.x, strip.y, strip.f, pieces[k, 0], n, x0, wx, wy, wf, used, tmp)
+            if m > 0:
+                n_rec = _record(recs, n_rec, used, m, pieces[k, 2])
+                used += m
+        else:
+            if used + 4 > wx.shape[0]:
+                return -1, 0
+            for i, (px, py) in enumerate(((x0, y0), (x0 + 1.0, y0), (x0 + 1.0, y0 + 1.0), (x0, y0 + 1.0))):
+                wx[used + i] = px
+                wy[used + i] = py
+                wf[used + i] = 1
+            n_rec = _record(recs, n_rec, used, 4, pieces[plist[t], 2] if t < n_pl else BACKGROUND)
+            used += 4
+    return used, n_rec
+
+
+@njit(cache=True)
+def _is_sliver(wx, wy, recs, litems, s0, cnt):
+    """Whether the front polygon of a list is much smaller than the list's region.
+
+    Every list holds a polygon spanning its whole region (the background or a solid
+    piece, only ever clipped by the region's own lines), so the region's area is the
+    largest area in the list.
+    """
+    f = litems[s0]
+    area_f = signed_area(wx, wy, recs[f, 0], recs[f, 1])
+    region = area_f
+    for i in range(1, cnt):
+        q = litems[s0 + i]
+        region = max(region, signed_area(wx, wy, recs[q, 0], recs[q, 1]))
+    return area_f < region * (1.0 - 1e-9)
+
+
+@njit(cache=True)
+def _first_clip_edge(wx, wy, wf, fs, fn):
+    """The line of the first unclipped, non-degenerate edge of a polygon: (found, a, b, c)."""
+    for k in range(fn):
+        if wf[fs + k] == 0:
+            k2 = fs + (k + 1) % fn
+            ex = wx[k2] - wx[fs + k]
+            ey = wy[k2] - wy[fs + k]
+            norm = np.sqrt(ex * ex + ey * ey)
+            if norm > EPS_LINE:
+                a = ey / norm
+                b = -ex / norm
+                return True, a, b, -(a * wx[fs + k] + b * wy[fs + k])
+    return False, 0.0, 0.0, 0.0
+
+
+@njit(cache=True)
+def integrate_pixel(work, n_init, n_vert, planes, eps_z):
+    """Resolve the polygon list ``work.recs[0:n_init]`` (front to back, background last).
+
+    Vertices from ``n_vert`` on are free. Writes the records of the visible pieces to
+    ``work.visible`` and returns their count, or -1 if a buffer was too small (the
+    caller grows the workspace and calls again).
+    """
+    wx = work.x
+    wy = work.y
+    wf = work.f
+    recs = work.recs
+    litems = work.items
+    lists = work.lists
+    stack = work.stack
+    visible = work.visible
     n_poly = n_init
     for j in range(n_init):
         litems[j] = j
@@ -188,8 +894,6 @@ def integrate_pixel(wx, wy, wf, recs, n_init, n_vert, planes, eps_z, litems, lis
         s0 = lists[L, 0]
         cnt = lists[L, 1]
         f = litems[s0]
-        fs = recs[f, 0]
-        fn = recs[f, 1]
         src_f = recs[f, 2]
         # 2. the first unclipped (and not degenerate) edge of the front polygon
         clip = False
@@ -197,18 +901,7 @@ def integrate_pixel(wx, wy, wf, recs, n_init, n_vert, planes, eps_z, litems, lis
         b = 0.0
         c = 0.0
         if cnt > 1:
-            for k in range(fn):
-                if wf[fs + k] == 0:
-                    k2 = fs + (k + 1) % fn
-                    ex = wx[k2] - wx[fs + k]
-                    ey = wy[k2] - wy[fs + k]
-                    norm = np.sqrt(ex * ex + ey * ey)
-                    if norm > EPS_LINE:
-                        a = ey / norm
-                        b = -ex / norm
-                        c = -(a * wx[fs + k] + b * wy[fs + k])
-                        clip = True
-                        break
+            clip, a, b, c = _first_clip_edge(wx, wy, wf, recs[f, 0], recs[f, 1])
         if cnt > 1 and not clip and _is_sliver(wx, wy, recs, litems, s0, cnt):
             # F has no edge left to clip along, so it should be the whole region; when it
             # is smaller it is a rounding remnant (a spike along two clip lines, or edges
@@ -227,7 +920,7 @@ def integrate_pixel(wx, wy, wf, recs, n_init, n_vert, planes, eps_z, litems, lis
                 sq = recs[q, 2]
                 if sq == BACKGROUND:
                     continue
-                rel = _relation(planes, sq, src_f, wx, wy, recs[q, 0], recs[q, 1], eps_z)
+                rel = depth_relation(planes, sq, src_f, wx, wy, recs[q, 0], recs[q, 1], eps_z)
                 if rel == 1:
                     front = i
                     break
@@ -251,14 +944,10 @@ def integrate_pixel(wx, wy, wf, recs, n_init, n_vert, planes, eps_z, litems, lis
                 top += 1
                 continue
         if not clip:
-            # 2. the front polygon's colour, weighted by its area, for this region
-            if n_out >= oi.shape[0]:
+            # 2. the front polygon is visible over this whole region
+            if n_out >= visible.shape[0]:
                 return -1
-            area, cx, cy = area_centroid(wx, wy, fs, fn)
-            oi[n_out] = src_f
-            of[n_out, 0] = area
-            of[n_out, 1] = cx
-            of[n_out, 2] = cy
+            visible[n_out] = f
             n_out += 1
             continue
         # 3. clip every polygon in the list against the line into two lists
@@ -299,359 +988,186 @@ def integrate_pixel(wx, wy, wf, recs, n_init, n_vert, planes, eps_z, litems, lis
 
 
 @njit(cache=True)
-def _is_sliver(wx, wy, recs, litems, s0, cnt):
-    """Whether the front polygon of a list is much smaller than the list's region.
-
-    Every list holds a polygon spanning its whole region (the background or a solid
-    piece, only ever clipped by the region's own lines), so the region's area is the
-    largest area in the list.
-    """
-    f = litems[s0]
-    area_f = signed_area(wx, wy, recs[f, 0], recs[f, 1])
-    region = area_f
-    for i in range(1, cnt):
-        q = litems[s0 + i]
-        region = max(region, signed_area(wx, wy, recs[q, 0], recs[q, 1]))
-    return area_f < region * (1.0 - 1e-9)
-
-
-@njit(cache=True)
-def _pixel_polygons(sx, sy, sf, pieces, plist, n_pl, solid, x0, y0, wx, wy, wf, recs):
-    """The pixel's polygon list as integrator records, background square last if needed.
-
-    Each listed strip piece is clipped to the pixel column; a solid piece becomes the
-    pixel square with every edge flagged. Returns ``(vertices used, records)``, or
-    ``(-1, 0)`` if the workspace is too small.
-    """
-    used = 0
-    n_rec = 0
-    total = n_pl + (1 if solid < 0 else 0)
-    if total > recs.shape[0]:
-        return -1, 0
-    for t in range(total):
-        if t < n_pl and plist[t] != solid:
-            k = plist[t]
-            n = pieces[k, 1]
-            # the first clip goes above the space the second one (up to 4n) writes into
-            tmp = used + 4 * n + 8
-            if tmp + 2 * n + 4 > wx.shape[0]:
-                return -1, 0
-            # the pixel column: x >= x0 (side B of x - x0), then x <= x0+1 (side A)
-            m1 = clip_side(sx, sy, sf, pieces[k, 0], n, 1.0, 0.0, -x0, 1, wx, wy, wf, tmp)
-            m2 = clip_side(wx, wy, wf, tmp, m1, 1.0, 0.0, -(x0 + 1.0), -1, wx, wy, wf, used)
-            if m2 > 0:
-                n_rec = _record(recs, n_rec, used, m2, pieces[k, 2])
-                used += m2
-        else:
-            if used + 4 > wx.shape[0]:
-                return -1, 0
-            for i, (px, py) in enumerate(((x0, y0), (x0 + 1.0, y0), (x0 + 1.0, y0 + 1.0), (x0, y0 + 1.0))):
-                wx[used + i] = px
-                wy[used + i] = py
-                wf[used + i] = 1
-            n_rec = _record(recs, n_rec, used, 4, pieces[plist[t], 2] if t < n_pl else BACKGROUND)
-            used += 4
-    return used, n_rec
-
-
-@njit(cache=True)
-def _integrate(sx, sy, sf, pieces, plist, n_pl, solid, x0, y0, planes, eps_z, ws):
-    """Run the pixel integrator, growing the workspace until it fits.
-
-    Returns the workspace (possibly grown) and the number of visible pieces in it.
-    """
-    wx, wy, wf, recs, litems, lists, stack, oi, of = ws
+def integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out):
+    """Run the pixel integrator (growing its workspace until it fits) and emit every
+    visible piece with its vertices (in the order the integrator found them)."""
     while True:
-        nv, n_init = _pixel_polygons(sx, sy, sf, pieces, plist, n_pl, solid, x0, y0, wx, wy, wf, recs)
+        nv, n_init = pixel_polygons(strip, plist, n_pl, solid, x0, y0, work)
         n_out = -1
         if nv >= 0:
-            n_out = integrate_pixel(wx, wy, wf, recs, n_init, nv, planes, eps_z, litems, lists, stack, oi, of)
+            n_out = integrate_pixel(work, n_init, nv, planes, eps_z)
         if n_out >= 0:
-            return (wx, wy, wf, recs, litems, lists, stack, oi, of), n_out
-        wx, wy, wf = _grow_verts(wx, wy, wf, 2 * wx.shape[0])
-        recs = _grow(recs, 2 * recs.shape[0])
-        litems = _grow(litems, 2 * litems.shape[0])
-        lists = _grow(lists, 2 * lists.shape[0])
-        stack = _grow(stack, 2 * stack.shape[0])
-        oi = _grow(oi, 2 * oi.shape[0])
-        of = _grow(of, 2 * of.shape[0])
+            break
+        grow_pixel_work(work)
+    recs = work.recs
+    for o in range(n_out):
+        r = work.visible[o]
+        out.emit_piece(pix, recs[r, 2], work.x, work.y, recs[r, 0], recs[r, 1])
 
 
-# --- the scanline algorithm -------------------------------------------------------
+# --- the whole image ---------------------------------------------------------------
+# The image is cut into bands of BAND_ROWS rows, each run from its own first row (the
+# polygons reaching into it cut at its top), so bands are independent: they can run on
+# any number of threads and the result is the same, bit for bit.
+
+BAND_ROWS = 32
 
 
 @njit(cache=True)
-def _strip_coverage(xs, ys, start, n, row, c0, c1, cov, cov_off):
-    """Exact area of a strip piece over each pixel column c0..c1 (-∫ y dx per column)."""
-    for c in range(c1 - c0 + 1):
-        cov[cov_off + c] = 0.0
-    for i in range(start, start + n):
-        j = i + 1 if i + 1 < start + n else start
-        x0 = xs[i]
-        x1 = xs[j]
-        if x0 == x1:
+def scanline(polys, width, row0, row1, eps_z, jagged, centroids, out):
+    """Run the scanline algorithm over rows ``row0 .. row1-1``, emitting every pixel's
+    visible pieces into the sink ``out`` (compiled once per sink type)."""
+    n_polys = polys.order.size
+    active = new_active_list(n_polys)
+    strip = new_strip(n_polys, width)
+    zlist = new_zlist(n_polys)
+    work = new_pixel_work()
+    for row in range(row0, row1):
+        enter_polygons(polys, active, row)
+        if active.n == 0 and active.next_in >= n_polys:
+            for col in range(width):
+                out.emit_pixel(row * width + col, BACKGROUND, float(col), float(row))
             continue
-        y0 = ys[i] - row
-        y1 = ys[j] - row
-        slope = (y1 - y0) / (x1 - x0)
-        lo = min(x0, x1)
-        hi = max(x0, x1)
-        ca = max(int(np.floor(lo)), c0)
-        cb = min(int(np.floor(hi)), c1)
-        for col in range(ca, cb + 1):
-            xa = min(max(x0, col), col + 1.0)
-            xb = min(max(x1, col), col + 1.0)
-            if xa == xb:
-                continue
-            ya = y0 + slope * (xa - x0)
-            yb = y0 + slope * (xb - x0)
-            cov[cov_off + col - c0] -= 0.5 * (xb - xa) * (ya + yb)
+        clip_to_strip(active, strip, row, width)
+        bucket_by_x(strip, width)
+        sweep_row(strip, zlist, work, out, polys.planes, row, width, eps_z, jagged, centroids)
 
 
-@njit(cache=True)
-def _enter(vx0, vy0, start, n, y_top, out_x, out_y, out_f, at):
-    """A polygon's part below ``y_top`` (all of it unless it starts above the image)."""
-    lo = vy0[start:start + n].min()
-    if lo >= y_top:
-        for i in range(n):
-            out_x[at + i] = vx0[start + i]
-            out_y[at + i] = vy0[start + i]
-            out_f[at + i] = 0
-        return n
-    flags = np.zeros(n, np.uint8)
-    m = clip_side(vx0[start:start + n], vy0[start:start + n], flags, 0, n, 0.0, 1.0, -y_top, 1,
-                  out_x, out_y, out_f, at)
-    if m > 0 and signed_area(out_x, out_y, at, m) <= COV_EMPTY:
-        return 0
-    return m
-
-
-@njit(cache=True)
-def _irregular_centroid(sx, sy, sf, start, n, col, wx, wy, wf):
-    """Area centroid of a strip piece within pixel column ``col`` (y is NaN if none is left)."""
-    m1 = clip_side(sx, sy, sf, start, n, 1.0, 0.0, -float(col), 1, wx, wy, wf, 0)
-    m2 = clip_side(wx, wy, wf, 0, m1, 1.0, 0.0, -float(col + 1), -1, wx, wy, wf, m1)
-    if m2 == 0:
-        return col + 0.5, np.nan
-    _, cx, cy = area_centroid(wx, wy, m1, m2)
-    return cx, cy
+@njit(cache=True, nogil=True)
+def band_fragments(polys, width, row0, row1, eps_z, jagged, centroids):
+    """Fragments ``(pix, src, area, cx, cy)`` of rows ``row0 .. row1-1`` (runs without the GIL)."""
+    out = new_fragment_sink((row1 - row0) * width + 16)
+    scanline(polys, width, row0, row1, eps_z, jagged, centroids, out)
+    n = out.n
+    return out.pix[:n], out.src[:n], out.area[:n], out.cx[:n], out.cy[:n]
 
 
 @njit(cache=True)
 def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, jagged, centroids):
-    """Visible fragments of every pixel.
+    """Visible fragments of every pixel, band after band.
 
     Returns ``(pix, src, area, cx, cy)``: pixel index ``row * width + col``, source
     polygon (-1 for background), visible area, and its area centroid. With
     ``centroids`` false the fast paths skip finding centroids (flat colours need none)
     and report the pixel centre instead.
     """
-    n_polys = pstart0.size
-    # I. sort polygons on their first scanline
-    ymin = np.empty(n_polys)
-    ymax = np.empty(n_polys)
-    for p in range(n_polys):
-        ymin[p] = vy0[pstart0[p]:pstart0[p] + plen0[p]].min()
-        ymax[p] = vy0[pstart0[p]:pstart0[p] + plen0[p]].max()
-    y_order = np.argsort(ymin, kind="mergesort")
-    next_in = 0
+    polys = sort_polygons(pstart0, plen0, vx0, vy0, planes)
+    out = new_fragment_sink(width * height + 16)
+    for row0 in range(0, height, BAND_ROWS):
+        scanline(polys, width, row0, min(row0 + BAND_ROWS, height), eps_z, jagged, centroids, out)
+    n = out.n
+    return out.pix[:n], out.src[:n], out.area[:n], out.cx[:n], out.cy[:n]
 
-    # II. the active list: each polygon's remaining part (below the current scanline),
-    # double-buffered as the strip is clipped off
-    rx, ry, rf = _new_verts(1024)
-    nx, ny, nf = _new_verts(1024)
-    active = np.empty((n_polys, 3), np.int64)  # start, length, source
-    n_act = 0
-    rem_used = 0
-    # this scanline's strip pieces, their columns (first, last, coverage offset), coverage
-    sx, sy, sf = _new_verts(1024)
-    pieces = np.empty((n_polys, 3), np.int64)
-    span = np.empty((n_polys, 3), np.int64)
-    cov = np.empty(1024)
-    bucket_head = np.empty(width + 1, np.int64)
-    bucket_items = np.empty(n_polys, np.int64)
-    # the z-list, and a pixel's polygon list
-    zl = np.empty(n_polys, np.int64)
-    zdepth = np.empty(n_polys)
-    plist = np.empty(n_polys + 1, np.int64)
-    # the integrator's workspace: vertices, records, lists, stack, visible pieces
-    wx, wy, wf = _new_verts(4096)
-    ws = (wx, wy, wf, np.empty((1024, 3), np.int64), np.empty(4096, np.int64), np.empty((1024, 2), np.int64),
-          np.empty(1024, np.int64), np.empty(256, np.int64), np.empty((256, 3)))
-    # fragments out: (pixel, source) and (area, cx, cy)
-    n_frag = 0
-    fi = np.empty((width * height + 16, 2), np.int64)
-    ff = np.empty((width * height + 16, 3))
 
-    for row in range(height):
-        y_top = float(row)
-        y_bot = y_top + 1.0
-        # A. polygons entering on this scanline join the active list
-        while next_in < n_polys and ymin[y_order[next_in]] < y_bot:
-            p = y_order[next_in]
-            next_in += 1
-            if ymax[p] <= y_top:
-                continue
-            rx, ry, rf = _grow_verts(rx, ry, rf, rem_used + 2 * plen0[p] + 4)
-            # the part above the image is cut away first (keep y >= row)
-            m = _enter(vx0, vy0, pstart0[p], plen0[p], y_top, rx, ry, rf, rem_used)
-            if m > 0:
-                n_act = _record(active, n_act, rem_used, m, p)
-                rem_used += m
-        fi = _grow(fi, n_frag + width)
-        ff = _grow(ff, n_frag + width)
-        if n_act == 0 and next_in >= n_polys:
-            for col in range(width):
-                n_frag = _emit(fi, ff, n_frag, row * width + col, BACKGROUND, 1.0, col + 0.5, row + 0.5)
-            continue
+# --- flat colours straight into the image ---------------------------------------------
 
-        # C. clip the strip piece off every active polygon; keep what remains below
-        new_used = 0
-        n_sp = 0
-        sp_used = 0
-        cov_used = 0
-        keep = 0
-        for k in range(n_act):
-            s = active[k, 0]
-            n = active[k, 1]
-            sx, sy, sf = _grow_verts(sx, sy, sf, sp_used + 2 * n + 4)
-            nx, ny, nf = _grow_verts(nx, ny, nf, new_used + 2 * n + 4)
-            # the line y = row + 1: side A (y < row+1) is this scanline's piece
-            m, m2 = clip_split(rx, ry, rf, s, n, 0.0, 1.0, -y_bot, True, True,
-                               sx, sy, sf, sp_used, nx, ny, nf, new_used)
-            if m > 0 and signed_area(sx, sy, sp_used, m) > COV_EMPTY:
-                c0 = max(int(np.floor(sx[sp_used:sp_used + m].min())), 0)
-                c1 = min(int(np.ceil(sx[sp_used:sp_used + m].max())) - 1, width - 1)
-                if c1 >= c0:
-                    # C.3 exact coverage of every column: solid runs and irregular ends
-                    cov = _grow(cov, cov_used + c1 - c0 + 1)
-                    _strip_coverage(sx, sy, sp_used, m, y_top, c0, c1, cov, cov_used)
-                    span[n_sp, 0] = c0
-                    span[n_sp, 1] = c1
-                    span[n_sp, 2] = cov_used
-                    n_sp = _record(pieces, n_sp, sp_used, m, active[k, 2])
-                    cov_used += c1 - c0 + 1
-                    sp_used += m
-            if m2 > 0 and signed_area(nx, ny, new_used, m2) > COV_EMPTY:
-                keep = _record(active, keep, new_used, m2, active[k, 2])
-                new_used += m2
-        n_act = keep
-        rx, nx = nx, rx
-        ry, ny = ny, ry
-        rf, nf = nf, rf
-        rem_used = new_used
 
-        # C.4 the x-bucket: pieces listed under their leftmost pixel
-        bucket_head[:] = 0
-        for k in range(n_sp):
-            bucket_head[span[k, 0] + 1] += 1
-        for col in range(width):
-            bucket_head[col + 1] += bucket_head[col]
-        fill = bucket_head[:width].copy()
-        for k in range(n_sp):
-            bucket_items[fill[span[k, 0]]] = k
-            fill[span[k, 0]] += 1
+@structref.register
+class ColorSinkType(_Workspace):
+    pass
 
-        # D./E. sweep the pixels with a z-list
-        n_zl = 0
-        for col in range(width):
-            # E.1 entries of the x-bucket at this pixel enter the z-list; pieces that
-            # ended to the left leave it
-            for t in range(bucket_head[col], bucket_head[col + 1]):
-                zl[n_zl] = bucket_items[t]
-                n_zl += 1
-            w = 0
-            for t in range(n_zl):
-                if span[zl[t], 1] >= col:
-                    zl[w] = zl[t]
-                    w += 1
-            n_zl = w
-            xc = col + 0.5
-            yc = row + 0.5
-            # keep the z-list sorted front to back (depth at the pixel centre);
-            # insertion sort is linear while the order holds from pixel to pixel
-            for t in range(n_zl):
-                zdepth[t] = _depth(planes, pieces[zl[t], 2], xc, yc)
-            for t in range(1, n_zl):
-                kz = zl[t]
-                dz = zdepth[t]
-                u = t - 1
-                while u >= 0 and (zdepth[u] > dz or (zdepth[u] == dz and pieces[zl[u], 2] < pieces[kz, 2])):
-                    zl[u + 1] = zl[u]
-                    zdepth[u + 1] = zdepth[u]
-                    u -= 1
-                zl[u + 1] = kz
-                zdepth[u + 1] = dz
-            pix = row * width + col
 
-            # E.2 the pixel's polygon list: front to back up to a solid piece, and
-            # anything behind it that is not hidden everywhere in the pixel
-            n_pl = 0
-            solid = -1
-            for t in range(n_zl):
-                k = zl[t]
-                cv = cov[span[k, 2] + col - span[k, 0]]
-                if cv <= COV_EMPTY:
-                    continue
-                if solid >= 0 and _in_front_on_square(planes, pieces[solid, 2], pieces[k, 2], float(col), y_top, eps_z):
-                    continue
-                plist[n_pl] = k
-                n_pl += 1
-                if solid < 0 and cv >= COV_SOLID:
-                    solid = k
+class ColorSink(structref.StructRefProxy):
+    """Box-filtered flat colours written straight into ``image`` (pixels x 3).
 
-            fi = _grow(fi, n_frag + 2)
-            ff = _grow(ff, n_frag + 2)
-            if n_pl == 0:
-                n_frag = _emit(fi, ff, n_frag, pix, BACKGROUND, 1.0, xc, yc)
-                continue
-            first = plist[0]
-            if jagged or (n_pl == 1 and first == solid):
-                # a. a solid piece in front (or, with the integrator switched off, the
-                # nearest piece colours the whole pixel)
-                n_frag = _emit(fi, ff, n_frag, pix, pieces[first, 2], 1.0, xc, yc)
-                continue
-            # a. one irregular piece in front of a solid one (or of the background)
-            behind = -2
-            if n_pl == 1:
-                behind = BACKGROUND
-            elif n_pl == 2 and plist[1] == solid and _in_front_on_square(
-                    planes, pieces[first, 2], pieces[solid, 2], float(col), y_top, eps_z):
-                behind = pieces[solid, 2]
-            if behind != -2:
-                cv = cov[span[first, 2] + col - span[first, 0]]
-                icx = xc
-                icy = yc
-                if centroids:
-                    wx, wy, wf = _grow_verts(ws[0], ws[1], ws[2], 6 * pieces[first, 1] + 16)
-                    ws = (wx, wy, wf) + ws[3:]
-                    icx, icy = _irregular_centroid(sx, sy, sf, pieces[first, 0], pieces[first, 1], col, wx, wy, wf)
-                    if np.isnan(icy):
-                        icy = yc
-                n_frag = _emit(fi, ff, n_frag, pix, pieces[first, 2], cv, icx, icy)
-                rest = 1.0 - cv
-                if rest > 0.0:
-                    n_frag = _emit(fi, ff, n_frag, pix, behind, rest, (xc - cv * icx) / rest, (yc - cv * icy) / rest)
-                continue
+    ``colors[src]`` is a polygon's colour (row -1: the background). The current pixel's
+    fragments (``src, area``, pieces of one polygon merged, ``n`` of them) are summed
+    into the image when the next pixel starts (``flush``), in the order a bincount over
+    :class:`FragmentSink` fragments would add them, so both give the same bits.
+    """
 
-            # b. the pixel integrator; then one fragment per polygon (its pieces merged:
-            # one shade per polygon per pixel)
-            ws, n_out = _integrate(sx, sy, sf, pieces, plist, n_pl, solid, float(col), y_top, planes, eps_z, ws)
-            oi = ws[7]
-            of = ws[8]
-            fi = _grow(fi, n_frag + n_out)
-            ff = _grow(ff, n_frag + n_out)
-            first_frag = n_frag
-            for o in range(n_out):
-                g = first_frag
-                while g < n_frag and fi[g, 1] != oi[o]:
-                    g += 1
-                if g == n_frag:
-                    n_frag = _emit(fi, ff, n_frag, pix, oi[o], of[o, 0], of[o, 1], of[o, 2])
-                else:
-                    total = ff[g, 0] + of[o, 0]
-                    if total > 0.0:
-                        ff[g, 1] = (ff[g, 1] * ff[g, 0] + of[o, 1] * of[o, 0]) / total
-                        ff[g, 2] = (ff[g, 2] * ff[g, 0] + of[o, 2] * of[o, 0]) / total
-                    ff[g, 0] = total
-    return fi[:n_frag, 0], fi[:n_frag, 1], ff[:n_frag, 0], ff[:n_frag, 1], ff[:n_frag, 2]
+
+define_workspace(ColorSink, ColorSinkType, ["image", "colors", "pixel", "src", "area", "n"])
+
+
+@njit(cache=True)
+def new_color_sink(image, colors):
+    return ColorSink(image, colors, -1, np.empty(16, np.int64), np.empty(16), 0)
+
+
+@njit(cache=True)
+def flush(out):
+    """Write the pending pixel into the image."""
+    if out.n == 0:
+        return
+    image = out.image
+    colors = out.colors
+    pix = out.pixel
+    for ch in range(3):
+        acc = 0.0
+        for g in range(out.n):
+            acc += out.area[g] * colors[out.src[g], ch]
+        image[pix, ch] = acc
+    out.n = 0
+
+
+@njit(cache=True, inline="always")
+def _color_add(out, pix, src, area):
+    """Add ``area`` of polygon ``src`` to pixel ``pix`` (merged with the same polygon)."""
+    if pix != out.pixel:
+        flush(out)
+        out.pixel = pix
+    for g in range(out.n):
+        if out.src[g] == src:
+            out.area[g] = out.area[g] + area
+            return
+    if out.n >= out.src.shape[0]:
+        out.src = _grow(out.src, out.n + 1)
+        out.area = _grow(out.area, out.n + 1)
+    out.src[out.n] = src
+    out.area[out.n] = area
+    out.n += 1
+
+
+@overload_method(ColorSinkType, "emit_pixel", jit_options={"cache": True})
+def _color_pixel(out, pix, src, x0, y0):
+    def impl(out, pix, src, x0, y0):
+        if out.n > 0:
+            flush(out)
+        out.pixel = pix
+        for ch in range(3):
+            out.image[pix, ch] = 1.0 * out.colors[src, ch]
+    return impl
+
+
+@overload_method(ColorSinkType, "emit_piece", jit_options={"cache": True})
+def _color_piece(out, pix, src, xs, ys, start, n):
+    def impl(out, pix, src, xs, ys, start, n):
+        _color_add(out, pix, src, signed_area(xs, ys, start, n))
+    return impl
+
+
+@overload_method(ColorSinkType, "emit_strip_piece", jit_options={"cache": True})
+def _color_strip_piece(out, pix, src, area, xs, ys, start, n):
+    def impl(out, pix, src, area, xs, ys, start, n):
+        _color_add(out, pix, src, area)
+    return impl
+
+
+@overload_method(ColorSinkType, "emit_area", jit_options={"cache": True})
+def _color_area(out, pix, src, area, x0, y0):
+    def impl(out, pix, src, area, x0, y0):
+        _color_add(out, pix, src, area)
+    return impl
+
+
+@overload_method(ColorSinkType, "emit_rest", jit_options={"cache": True})
+def _color_rest(out, pix, src, x0, y0):
+    def impl(out, pix, src, x0, y0):
+        covered = 0.0
+        if pix == out.pixel:
+            for g in range(out.n):
+                covered += out.area[g]
+        rest = 1.0 - covered
+        if rest > 0.0:
+            _color_add(out, pix, src, rest)
+    return impl
+
+
+@njit(cache=True, nogil=True)
+def band_colors(polys, width, row0, row1, eps_z, jagged, colors, image):
+    """Write the flat-colour pixels of rows ``row0 .. row1-1`` into ``image`` (pixels x 3;
+    runs without the GIL)."""
+    out = new_color_sink(image, colors)
+    scanline(polys, width, row0, row1, eps_z, jagged, False, out)
+    flush(out)

@@ -111,6 +111,18 @@ def clip_side(xs, ys, fs, start, n, a, b, c, keep, oxs, oys, ofs, ostart):
 
 
 @njit(cache=True)
+def clip_to_column(xs, ys, fs, start, n, x0, oxs, oys, ofs, at, tmp):
+    """Write the part of a polygon inside the pixel column ``x0 <= x <= x0 + 1`` at ``at``.
+
+    The first clip (side B of ``x = x0``) goes to the scratch space at ``tmp``, which
+    must not overlap the result: leave ``2 n + 4`` entries from each. Returns the vertex
+    count (0 if nothing is left).
+    """
+    m1 = clip_side(xs, ys, fs, start, n, 1.0, 0.0, -x0, 1, oxs, oys, ofs, tmp)
+    return clip_side(oxs, oys, ofs, tmp, m1, 1.0, 0.0, -(x0 + 1.0), -1, oxs, oys, ofs, at)
+
+
+@njit(cache=True)
 def signed_area(xs, ys, start, n):
     """Shoelace area; positive for the orientation every polygon is normalised to."""
     s = 0.0

@@ -31,6 +31,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from aaeval.filters.evaluate import profile_at
+from aaeval.filters.registry import KIND_BOX
+
 NO_POLYGON = -1
 
 
@@ -199,12 +202,50 @@ def jitter_offsets(seed, row, width, k, out):
 
 
 @njit(cache=True)
-def sample_image(width, height, starts, lengths, xs, ys, planes, eps_z, colors, background, k, jitter, seed):
-    """Box-filtered image from ``k x k`` point samples per pixel.
+def splat_row(r, k, jitter, offsets, best_p, colors, background, fkind, fradius, fpieces, falpha, fbias, num, den):
+    """Add one pixel row's samples to every pixel whose filter reaches them (Mitsuba's film).
+
+    Sample ``(col, s)`` lies where :func:`sample_image` put it; it adds ``w * colour`` to
+    ``num`` and ``w`` to ``den`` of each pixel ``(j, i)`` with ``w = k(x - i - 1/2) k(y - j - 1/2)``
+    non-zero, inside the image.
+    """
+    height, width = den.shape
+    inv_k = 1.0 / k
+    reach = int(np.ceil(fradius)) + 1
+    for col in range(width):
+        for s in range(k * k):
+            j = s // k
+            i = s - j * k
+            u = offsets[col, s, 0] if jitter else 0.5
+            v = offsets[col, s, 1] if jitter else 0.5
+            x = (col * k + i + u) * inv_k
+            y = r + (j + v) * inv_k
+            p = best_p[col, s]
+            for py in range(max(0, r - reach), min(height, r + reach + 1)):
+                wy = profile_at(fkind, fradius, fpieces, falpha, fbias, y - py - 0.5)
+                if wy == 0.0:
+                    continue
+                for px in range(max(0, col - reach), min(width, col + reach + 1)):
+                    w = wy * profile_at(fkind, fradius, fpieces, falpha, fbias, x - px - 0.5)
+                    if w == 0.0:
+                        continue
+                    den[py, px] += w
+                    for ch in range(3):
+                        num[py, px, ch] += w * (background[ch] if p == NO_POLYGON else colors[p, ch])
+
+
+@njit(cache=True)
+def sample_image(width, height, starts, lengths, xs, ys, planes, eps_z, colors, background, k, jitter, seed,
+                 fkind, fradius, fpieces, falpha, fbias):
+    """Filtered image from ``k x k`` point samples per pixel.
 
     Sample ``(i, j)`` of pixel ``(row, col)`` lies at ``x = (col k + i + u) / k``,
     ``y = row + (j + v) / k``, with ``u = v = 1/2`` on the regular grid and ``u, v`` from
-    :func:`jitter_uniform` when ``jitter``. Returns ``(height, width, 3)``.
+    :func:`jitter_uniform` when ``jitter``. The box filter averages each
+    pixel's own samples; any other filter (``f*`` from
+    :func:`aaeval.filters.evaluate.profile_args`) weights every sample by the filter of
+    each pixel it reaches and divides by the weight collected (:func:`splat_row`).
+    Returns ``(height, width, 3)``.
     """
     row_start, polys = row_buckets(height, starts, lengths, ys)
     ns = k * k
@@ -213,6 +254,8 @@ def sample_image(width, height, starts, lengths, xs, ys, planes, eps_z, colors, 
     best_p = np.empty((width, ns), np.int64)
     offsets = np.empty((width, ns, 2))
     image = np.zeros((height, width, 3))
+    filtered = fkind != KIND_BOX
+    den = np.zeros((height, width) if filtered else (0, 0))
     inv_k = 1.0 / k
     for r in range(height):
         best_z[:] = np.inf
@@ -257,6 +300,10 @@ def sample_image(width, height, starts, lengths, xs, ys, planes, eps_z, colors, 
                             if z < best_z[col, s] + eps_z or best_p[col, s] == NO_POLYGON:
                                 best_z[col, s] = z
                                 best_p[col, s] = p
+        if filtered:
+            splat_row(r, k, jitter, offsets, best_p, colors, background, fkind, fradius, fpieces, falpha, fbias,
+                      image, den)
+            continue
         for col in range(width):
             for s in range(ns):
                 p = best_p[col, s]
@@ -264,4 +311,9 @@ def sample_image(width, height, starts, lengths, xs, ys, planes, eps_z, colors, 
                     image[r, col, ch] += background[ch] if p == NO_POLYGON else colors[p, ch]
             for ch in range(3):
                 image[r, col, ch] /= ns
+    if filtered:
+        for r in range(height):
+            for col in range(width):
+                for ch in range(3):
+                    image[r, col, ch] /= den[r, col]
     return image

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from aaeval.renderers._abuffer_kernel import abuffer_image
+from aaeval.renderers.catmull import BOX_ONLY
 from aaeval.renderers.registry import register_method
 from aaeval.renderers.sampling import kernel_scene, warmup_scene
 from aaeval.scenes import Scene
@@ -21,7 +22,8 @@ __all__ = ["render_abuffer"]
 @register_method(
     "abuffer",
     summary="Carpenter 1984 A-buffer: 4x8 coverage masks with z ranges, resolved front to back",
+    options=BOX_ONLY,
     warmup=lambda: render_abuffer(warmup_scene()),
 )
-def render_abuffer(scene: Scene) -> np.ndarray:
+def render_abuffer(scene: Scene, filter: str = "box") -> np.ndarray:
     return abuffer_image(*kernel_scene(scene))

@@ -1,19 +1,21 @@
-"""Method ``mitsuba``: the ground truth, Mitsuba 3 at high spp with a box pixel filter.
+"""Method ``mitsuba``: the ground truth of :mod:`aaeval.groundtruth` as a method.
 
 The scene's polygons become one triangle mesh seen by an orthographic camera that maps
 each pixel onto its unit square; the ``aov`` integrator returns the flat colour of the
-first hit; the box filter keeps every sample in its own pixel, so the image converges to
-the exact area average (``catmull``) as spp grows. Images are cached on disk (see
-:mod:`aaeval.groundtruth.cache`); ``cache=false`` renders every time, which is what
-timing Mitsuba needs.
+first hit (the Phong integrator of :mod:`aaeval.groundtruth.phong` shades ``[shaded]``
+scenes); the box filter keeps every sample in its own pixel, so the image converges to
+the exact area average (``catmull``) as spp grows. Images come from the one ground-truth
+cache (:mod:`aaeval.groundtruth.cache`); ``cache=false`` renders every time, which is
+what timing Mitsuba needs.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from aaeval.groundtruth.cache import groundtruth_image
-from aaeval.groundtruth.mitsuba import DEFAULT_SAMPLER, DEFAULT_SPP, SAMPLERS, render_mitsuba
+from aaeval.groundtruth.cache import groundtruth
+from aaeval.groundtruth.flat import DEFAULT_SAMPLER, DEFAULT_SPP, SAMPLERS, render_mitsuba
+from aaeval.renderers.catmull import FILTER_OPTION
 from aaeval.renderers.registry import Option, register_method
 from aaeval.scenes import Scene, parse_scene
 
@@ -42,18 +44,21 @@ def _warmup() -> None:
         "seed": Option(int, 0, "seed of the sampler", minimum=0),
         "variant": Option(str, "auto", "Mitsuba variant: auto (CUDA, else LLVM, else scalar) or an RGB variant name"),
         "cache": Option(bool, True, "reuse images cached in $AAEVAL_CACHE_DIR/groundtruth"),
+        **FILTER_OPTION,  # a filter other than box is Mitsuba's matching rfilter, rendered uncached
     },
+    samples=lambda o: o["spp"],
     warmup=_warmup,
 )
 def render_mitsuba_method(
-    scene: Scene, *, spp: int, sampler: str, seed: int, variant: str, cache: bool
+    scene: Scene, *, spp: int, sampler: str, seed: int, variant: str, cache: bool, filter: str = "box"
 ) -> np.ndarray:
     from aaeval.scenes.shaded import has_shaded
 
-    if has_shaded(scene):  # the same Phong formula at every sample (aaeval.specular)
-        from aaeval.specular.groundtruth import groundtruth_phong
+    if filter != "box":  # not cached: the ground-truth cache holds box-filtered images
+        from aaeval.filters import get_filter
 
-        image, _, _ = groundtruth_phong(scene, spp=spp, sampler=sampler, seed=seed, variant=variant, cache=cache)
-        return image
-    image, _ = groundtruth_image(scene, spp=spp, sampler=sampler, seed=seed, variant=variant, cache=cache)
-    return image
+        if has_shaded(scene):
+            raise ValueError(f"mitsuba: filter={filter} supports flat-coloured scenes only, not [shaded] objects")
+        return render_mitsuba(scene, spp=spp, sampler=sampler, seed=seed, variant=variant,
+                              rfilter=dict(get_filter(filter).mitsuba))
+    return groundtruth(scene, spp=spp, sampler=sampler, seed=seed, variant=variant, cache=cache).image

@@ -1,4 +1,4 @@
-"""Point sampling of a scene at ``k x k`` samples per pixel, box-averaged.
+"""Point sampling of a scene at ``k x k`` samples per pixel, box-averaged or through a filter.
 
 The one entry point behind the methods ``point``, ``supersample`` and ``jitter``; the
 numba kernel is :mod:`aaeval.renderers._sampling_kernel`.
@@ -8,11 +8,16 @@ from __future__ import annotations
 
 import numpy as np
 
+from aaeval.filters import DEFAULT_FILTER, get_filter
+from aaeval.filters.evaluate import profile_args
 from aaeval.renderers._sampling_kernel import sample_image
 from aaeval.renderers.catmull import kernel_inputs
 from aaeval.scenes import Scene, parse_scene
 
-__all__ = ["point_sampled", "kernel_scene", "warmup_scene"]
+__all__ = ["point_sampled", "kernel_scene", "warmup_scene", "SAMPLE_BYTES"]
+
+# The kernel keeps depth, polygon and offset (x, y) per sample of one image row.
+SAMPLE_BYTES = 8 + 8 + 16
 
 
 def kernel_scene(scene: Scene) -> tuple:
@@ -27,8 +32,8 @@ def kernel_scene(scene: Scene) -> tuple:
     return scene.width, scene.height, starts, lengths, x, y, planes, eps_z, colors, background
 
 
-def point_sampled(scene: Scene, k: int, *, seed: int | None = None) -> np.ndarray:
-    """Mean of ``k x k`` point samples per pixel: a regular grid, or jittered when ``seed`` is given.
+def point_sampled(scene: Scene, k: int, *, seed: int | None = None, filter: str = DEFAULT_FILTER) -> np.ndarray:
+    """``k x k`` point samples per pixel (a regular grid, or jittered when ``seed`` is given), filtered.
 
     Parameters
     ----------
@@ -38,6 +43,10 @@ def point_sampled(scene: Scene, k: int, *, seed: int | None = None) -> np.ndarra
     seed : int, optional
         Jitter seed: one uniform sample per stratum of the ``k x k`` grid. ``None`` puts
         each sample at its stratum's centre.
+    filter : str
+        A filter of :data:`aaeval.filters.FILTERS`. ``box`` is the plain mean of each
+        pixel's samples; any other weights every sample by the filter of each pixel it
+        reaches and divides by the weight collected, as Mitsuba's film does.
 
     Returns
     -------
@@ -45,7 +54,8 @@ def point_sampled(scene: Scene, k: int, *, seed: int | None = None) -> np.ndarra
     """
     if k < 1:
         raise ValueError(f"k must be >= 1, got {k}")
-    return sample_image(*kernel_scene(scene), int(k), seed is not None, 0 if seed is None else int(seed))
+    return sample_image(*kernel_scene(scene), int(k), seed is not None, 0 if seed is None else int(seed),
+                        *profile_args(get_filter(filter)))
 
 
 def warmup_scene() -> Scene:

@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 import skia
 
+from aaeval.renderers.catmull import BOX_ONLY
 from aaeval.renderers.registry import register_method
 from aaeval.renderers.sampling import warmup_scene
 from aaeval.scenes import Scene
@@ -40,18 +41,29 @@ def painter_order(scene: Scene) -> list[int]:
 @register_method(
     "skia",
     summary="Skia 2D rasterizer: anti-aliased polygons painted back to front (conflation at seams)",
+    options=BOX_ONLY,
     warmup=lambda: render_skia(warmup_scene()),
 )
-def render_skia(scene: Scene) -> np.ndarray:
+def render_skia(scene: Scene, filter: str = "box") -> np.ndarray:
     pixels = np.empty((scene.height, scene.width, 4), dtype=np.float32)
     pixels[..., :3] = scene.background
     pixels[..., 3] = 1.0
     surface = skia.Surface(pixels, colorType=skia.kRGBA_F32_ColorType, alphaType=skia.kPremul_AlphaType)
+    # a polygon with holes is one even-odd path, painted in its first piece's turn (its
+    # pieces painted one by one would show Skia's seams along their shared edges)
+    whole = {h.first: h for h in scene.holed}
+    skip = {i for h in scene.holed for i in h.pieces if i != h.first}
     with surface as canvas:
         for i in painter_order(scene):
+            if i in skip:
+                continue
             polygon = scene.polygons[i]
             r, g, b = (float(v) for v in polygon.color)
             paint = skia.Paint(AntiAlias=True, Color4f=skia.Color4f(r, g, b, 1.0))
-            points = [skia.Point(float(x), float(y)) for x, y in polygon.xy]
-            canvas.drawPath(skia.Path.Polygon(points, True), paint)
+            rings = [ring[:, :2] for ring in whole[i].rings] if i in whole else [polygon.xy]
+            path = skia.Path()
+            path.setFillType(skia.PathFillType.kEvenOdd)
+            for ring in rings:
+                path.addPoly([skia.Point(float(x), float(y)) for x, y in ring], True)
+            canvas.drawPath(path, paint)
     return pixels[..., :3].astype(np.float64)

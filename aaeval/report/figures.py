@@ -1,7 +1,14 @@
-"""The report's figures: one plain function per chart, ``(data, path, ...) -> path``.
+"""The report's figures: one plain function per chart, ``(data, path, ..., styles) -> path``.
 
-Errors are plotted on log axes; an exact method's error can be 0, which a log axis cannot
-show, so errors are drawn no lower than a floor that the caller states in the caption.
+Every figure is written three times beside each other: PNG (for the page), SVG and PDF
+(for a paper). Every method is drawn in the style :mod:`aaeval.report.style` gives it, and
+every artist of a spec carries ``gid="method=NAME;options=k=v,..."`` (kept in the SVG) so that tests can
+check that a method looks the same in every figure.
+
+Errors are drawn on log axes without an invented floor: the ground truth's measured noise
+is a grey band (an exact method's error against a noisy ground truth lands on it), and an
+error that is zero up to float rounding (below :data:`EXACT_BELOW`, possible only against
+an exact reference) is drawn on a marked "exact" strip under the axis' data range.
 """
 
 from __future__ import annotations
@@ -11,48 +18,163 @@ from pathlib import Path
 
 import matplotlib
 
+from aaeval.report.names import MATHTEXT_OFF
+
 matplotlib.use("Agg")
+matplotlib.rcParams.update(MATHTEXT_OFF)  # group names and labels are text: "$5" is no mathtext
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from aaeval.imageio import linear_to_srgb8  # noqa: E402
+from aaeval.report.style import Styles, ground_truth_style  # noqa: E402
 
-__all__ = ["ERROR_FLOOR", "speed_accuracy", "pareto_front", "intensity_sums", "temporal_bars", "stability",
-           "image_grid"]
+__all__ = ["EXACT_BELOW", "FORMATS", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
+           "intensity_sums", "flicker_bars", "space_time", "stability", "image_grid", "validation"]
 
-ERROR_FLOOR = 1e-12
-_MARKERS = "os^vD<>pP*Xhd"
-
-
-def _style(methods) -> dict[str, tuple]:
-    cmap = plt.get_cmap("tab10")
-    return {m: (cmap(i % 10), _MARKERS[i % len(_MARKERS)]) for i, m in enumerate(sorted(methods))}
-
-
-def _line_styles(rows: pd.DataFrame) -> dict[str, tuple]:
-    """Colour per spec label, marker per method: lines of one method's options stay apart."""
-    cmap = plt.get_cmap("tab20" if rows["label"].nunique() > 10 else "tab10")
-    markers = {m: _MARKERS[i % len(_MARKERS)] for i, m in enumerate(sorted(rows["method"].unique()))}
-    labels = list(dict.fromkeys(rows["label"]))
-    method_of = dict(zip(rows["label"], rows["method"]))
-    return {lab: (cmap(i % cmap.N), markers[method_of[lab]]) for i, lab in enumerate(labels)}
+# An error this small is float64 rounding of an exact render against an exact reference.
+EXACT_BELOW = 1e-10
+FORMATS = ("png", "svg", "pdf")
+_DPI = 110
+plt.rcParams.update({"svg.fonttype": "none", "pdf.fonttype": 42, "font.size": 9, "legend.fontsize": 7.5,
+                     "axes.titlesize": 9.5})
 
 
-def _is_ladder(rows: pd.DataFrame) -> bool:
-    """Whether a method's points differ only in numeric options (spp, k): a quality ladder."""
-    import json
+def _metric_label(name: str) -> str:
+    """A metric's axis label from the registry: its title and which way is better."""
+    from aaeval.metrics import METRICS
 
-    opts = [json.loads(o) for o in rows["options"]]
-    keys = {k for k in set().union(*opts) if len({json.dumps(o.get(k)) for o in opts}) > 1}
-    return bool(keys) and all(isinstance(o.get(k), (int, float)) and not isinstance(o.get(k), bool)
-                              for o in opts for k in keys)
+    m = METRICS.get(name)
+    return name if m is None else f"{m.title} ({m.direction})"
 
 
 def _save(fig, path: Path) -> Path:
-    fig.savefig(path, dpi=110, bbox_inches="tight")
+    """Write ``path`` (PNG) and its SVG and PDF twins; return the PNG path."""
+    path = Path(path).with_suffix(".png")
+    _plain_log_axes(fig)
+    for fmt in FORMATS:
+        fig.savefig(path.with_suffix(f".{fmt}"), dpi=_DPI, bbox_inches="tight", metadata=_metadata(fmt))
     plt.close(fig)
     return path
+
+
+def _metadata(fmt: str) -> dict:
+    # no creation dates: the same data gives the same files
+    return {"png": {"Software": None}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}[fmt]
+
+
+def _legend(ax, *, outside: bool = True, **kw) -> None:
+    handles, labels = ax.get_legend_handles_labels()
+    if not handles:
+        return
+    if outside:
+        ax.legend(handles, labels, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0, **kw)
+    else:
+        ax.legend(handles, labels, **kw)
+
+
+def _sorted_specs(rows: pd.DataFrame, styles: Styles) -> list[tuple[str, pd.DataFrame]]:
+    """(label, rows) per spec, in legend order (method, then option value)."""
+    out = [(spec, r) for spec, r in rows.groupby("spec", sort=False)]
+    out.sort(key=lambda item: styles.order(item[1]["method"].iloc[0], item[1]["options"].iloc[0]))
+    return [(r["label"].iloc[0], r) for _, r in out]
+
+
+def _spec_style(rows: pd.DataFrame, styles: Styles):
+    return styles.spec(rows["method"].iloc[0], rows["options"].iloc[0])
+
+
+def _noise_band(ax, noise, *, axis: str = "y", label: str = "ground-truth noise (measured)") -> None:
+    """Grey band from the smallest to the largest measured noise of the ground truth."""
+    noise = np.asarray(noise, dtype=float)
+    noise = noise[np.isfinite(noise) & (noise > 0)]
+    if noise.size == 0:
+        return
+    lo, hi = float(noise.min()), float(noise.max())
+    if hi <= lo * 1.05:
+        lo, hi = lo / 1.1, hi * 1.1
+    span = ax.axhspan if axis == "y" else ax.axvspan
+    span(lo, hi, color="0.55", alpha=0.25, lw=0, zorder=0, label=label)
+
+
+def _log_limits(values, noise=()) -> tuple[float, float, bool]:
+    """Log-axis limits from the data (no floor; at least two decades) and whether an
+    "exact" strip is needed."""
+    v = np.asarray(list(values), dtype=float)
+    n = np.asarray(list(noise), dtype=float)
+    pos = np.concatenate([v[np.isfinite(v) & (v >= EXACT_BELOW)], n[np.isfinite(n) & (n > 0)]])
+    exact = bool(np.any(np.isfinite(v) & (v < EXACT_BELOW)))
+    if pos.size == 0:
+        return 1e-3, 1.0, exact
+    lo, hi = float(pos.min()) / 2.0, float(pos.max()) * 2.0
+    lo = min(lo, hi / 100.0)
+    if exact:  # room under the data for the strip: a tenth of the axis
+        lo = lo / (hi / lo) ** (1 / 9)
+    return lo, hi, exact
+
+
+def _exact_strip(ax, lo: float, hi: float, orientation: str = "y") -> float:
+    """Mark the bottom tenth of a log axis as the "exact" strip; returns where exact points go."""
+    top = lo * (hi / lo) ** 0.1
+    at = math.sqrt(lo * top)
+    if orientation == "y":
+        ax.axhspan(lo, top, color="#cfe3f3", lw=0, zorder=0)
+        ax.text(0.995, at, f"exact (error < {EXACT_BELOW:g})", transform=ax.get_yaxis_transform(), ha="right",
+                va="center", fontsize=7, color="#23527c")
+    else:
+        ax.axvspan(lo, top, color="#cfe3f3", lw=0, zorder=0)
+        ax.text(at, 1.0, "exact", transform=ax.get_xaxis_transform(), ha="center", va="bottom", fontsize=7,
+                color="#23527c")
+    return at
+
+
+_SUPERSCRIPT = str.maketrans("-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079")
+
+
+def _tick_text(value: float, _pos=None) -> str:
+    """A log-axis tick as plain text (mathtext is off for user names): 0.5, 20, 10⁻⁴."""
+    if value <= 0 or not math.isfinite(value):
+        return ""
+    if 1e-2 <= value < 1e4:
+        return f"{value:g}"
+    exponent = math.floor(math.log10(value) + 1e-9)
+    mantissa = value / 10**exponent
+    head = "" if abs(mantissa - 1) < 1e-6 else f"{mantissa:g}\u00d7"
+    return f"{head}10{str(exponent).translate(_SUPERSCRIPT)}"
+
+
+def _log_ticks(axis) -> None:
+    """Plain-text labels on a log axis: decades, and 2 and 5 between them on short axes."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    lo, hi = sorted(axis.get_view_interval())
+    decades = math.log10(hi / lo) if lo > 0 and hi > 0 else 10
+    axis.set_major_locator(LogLocator(base=10))
+    axis.set_major_formatter(FuncFormatter(_tick_text))
+    if decades < 2.5:
+        axis.set_minor_locator(LogLocator(base=10, subs=(2.0, 5.0)))
+        axis.set_minor_formatter(FuncFormatter(_tick_text))
+    else:
+        axis.set_minor_formatter(NullFormatter())
+
+
+def _plain_log_axes(fig) -> None:
+    """Every log axis of ``fig`` with plain-text ticks (the default ones are mathtext)."""
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            if axis.get_scale() == "log":
+                _log_ticks(axis)
+
+
+def _frame_ticks(ax) -> None:
+    from matplotlib.ticker import MaxNLocator
+
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+
+
+def _on_axis(values, at: float) -> np.ndarray:
+    v = np.asarray(values, dtype=float)
+    return np.where(v < EXACT_BELOW, at, v)
 
 
 def pareto_front(times: np.ndarray, errors: np.ndarray) -> np.ndarray:
@@ -66,115 +188,256 @@ def pareto_front(times: np.ndarray, errors: np.ndarray) -> np.ndarray:
     return np.array(front, dtype=int)
 
 
-def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str) -> Path:
-    """Median render time against mean error per spec, log-log, with the Pareto front and
-    each method's option ladder (Mitsuba's spp, supersampling's k) joined as a curve."""
-    fig, ax = plt.subplots(figsize=(8.5, 5.5))
-    style = _style(summary["method"].unique())
-    t = summary["render_s"].to_numpy(float)
-    e = np.maximum(summary[metric].to_numpy(float), ERROR_FLOOR)
-    for method, rows in summary.groupby("method"):
-        colour, marker = style[method]
-        rows = rows.sort_values("render_s")
-        y = np.maximum(rows[metric].to_numpy(float), ERROR_FLOOR)
-        if len(rows) > 1 and _is_ladder(rows):
-            ax.plot(rows["render_s"], y, "-", color=colour, alpha=0.5, lw=1)
-        for (_, r), yy in zip(rows.iterrows(), y):
-            ax.plot(r["render_s"], yy, marker, color=colour, ms=8, mec="black", mew=0.5)
-            ax.annotate(r["label"], (r["render_s"], yy), textcoords="offset points", xytext=(5, 4), fontsize=7)
-        ax.plot([], [], marker, color=colour, label=method, mec="black", mew=0.5)
+def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles,
+                   noise=()) -> Path:
+    """Time per megapixel (median, bars from the fastest to the slowest repeat) against mean
+    error, log-log; one point per spec, option ladders joined, the Pareto front dashed.
+
+    ``summary``: one row per spec with ``ms_per_mpix``, ``ms_per_mpix_min``,
+    ``ms_per_mpix_max``, ``metric``, ``method``, ``options``, ``label``, ``spec``.
+    """
+    fig, ax = plt.subplots(figsize=(8.0, 4.8))
+    lo, hi, exact = _log_limits(summary[metric], noise)
+    at = _exact_strip(ax, lo, hi) if exact else None
+    _noise_band(ax, noise)
+    for method, rows in summary.groupby("method", sort=False):
+        rows = rows.sort_values("ms_per_mpix")
+        if len(rows) > 1:
+            st = _spec_style(rows, styles)
+            y = _on_axis(rows[metric], at) if exact else rows[metric]
+            ax.plot(rows["ms_per_mpix"], y, ls=(0, (2, 2)), color=st.colour, lw=0.8, alpha=0.6,
+                    gid=f"method={method}")
+    for label, r in _sorted_specs(summary, styles):
+        st = _spec_style(r, styles)
+        x = r["ms_per_mpix"].to_numpy(float)
+        y = r[metric].to_numpy(float)
+        y = _on_axis(y, at) if exact else y
+        err = np.vstack([x - r["ms_per_mpix_min"].to_numpy(float), r["ms_per_mpix_max"].to_numpy(float) - x])
+        kw = st.point()
+        gid = kw.pop("gid")
+        bars = ax.errorbar(x, y, xerr=np.clip(err, 0, None), capsize=2, elinewidth=0.8, ecolor=st.colour,
+                           label=label, **kw)
+        bars.lines[0].set_gid(gid)  # the point itself; caps and bars are not the method's marker
+    t = summary["ms_per_mpix"].to_numpy(float)
+    e = summary[metric].to_numpy(float)
     ok = np.isfinite(t) & np.isfinite(e) & (t > 0)
     if ok.sum() > 1:
         idx = np.flatnonzero(ok)[pareto_front(t[ok], e[ok])]
-        ax.step(t[idx], e[idx], where="post", color="black", ls="--", lw=1, label="Pareto front")
+        y = _on_axis(e[idx], at) if exact else e[idx]
+        ax.step(t[idx], y, where="post", color="0.2", ls="--", lw=0.8, label="Pareto front")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("render time per frame (s, median)")
-    ax.set_ylabel(f"{metric} (mean over cells, floor {ERROR_FLOOR:g})")
-    ax.set_title(title, fontsize=10)
-    ax.grid(True, which="both", alpha=0.25)
-    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.set_ylim(lo, hi)
+    _log_ticks(ax.yaxis)
+    ax.set_xlabel("render time per megapixel (ms; median of the repeats, bar: fastest to slowest)")
+    ax.set_ylabel(f"{_metric_label(metric)} against the ground truth (mean over cells)")
+    ax.set_title(title)
+    ax.grid(True, which="major", alpha=0.3)
+    _legend(ax, ncols=1 if len(summary) <= 22 else 2)
     return _save(fig, path)
 
 
-def intensity_sums(results: pd.DataFrame, path: Path, *, title: str) -> Path:
-    """Intensity sum per frame relative to the reference's frame 0, one panel per scene."""
+def accuracy_dots(summary: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles,
+                  noise=()) -> Path:
+    """Mean error per spec (dot, bar from the best to the worst cell) on a log axis, with the
+    ground truth's noise band: the accuracy view of groups whose times are overhead."""
+    specs = _sorted_specs(summary, styles)
+    fig, ax = plt.subplots(figsize=(7.0, 0.26 * len(specs) + 1.4))
+    lo, hi, exact = _log_limits(pd.concat([summary[metric], summary[f"{metric}_min"],
+                                           summary[f"{metric}_max"]]), noise)
+    if exact:
+        at = _exact_strip(ax, lo, hi, "x")
+    _noise_band(ax, noise, axis="x")
+    for i, (label, r) in enumerate(specs):
+        st = _spec_style(r, styles)
+        vals = [r[c].iloc[0] for c in (metric, f"{metric}_min", f"{metric}_max")]
+        if exact:
+            vals = list(_on_axis(vals, at))
+        ax.plot([vals[1], vals[2]], [i, i], color=st.colour, lw=1.2, gid=st.gid)
+        ax.plot([vals[0]], [i], **st.point())
+    ax.set_yticks(range(len(specs)), [label for label, _ in specs], fontsize=7.5)
+    ax.invert_yaxis()
+    ax.set_xscale("log")
+    ax.set_xlim(lo, hi)
+    _log_ticks(ax.xaxis)
+    ax.set_xlabel(f"{_metric_label(metric)} against the ground truth (dot: mean over cells; bar: best to worst cell)")
+    ax.set_title(title)
+    ax.grid(True, axis="x", which="major", alpha=0.3)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(loc="lower right", fontsize=7)
+    return _save(fig, path)
+
+
+def _scene_axes(scenes: list[str], entries: int, width: float = 7.6):
+    height = max(2.6, 0.17 * entries)  # room for the legend beside each panel
+    fig, axes = plt.subplots(len(scenes), 1, figsize=(width, height * len(scenes) + 0.4), squeeze=False,
+                             layout="constrained")
+    return fig, axes[:, 0]
+
+
+def error_per_frame(results: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles) -> Path:
+    """The error of every frame, one curve per spec, one panel per animated scene; the
+    ground truth's noise of each frame as a grey curve."""
     scenes = list(dict.fromkeys(results["scene"]))
-    fig, axes = plt.subplots(len(scenes), 1, figsize=(8.5, 3.2 * len(scenes)), squeeze=False)
-    style = _line_styles(results)
-    for ax, scene in zip(axes[:, 0], scenes):
-        rows = results[results["scene"] == scene].sort_values("frame")
-        base = rows["reference_intensity_sum"].iloc[0]
-        ref = rows.drop_duplicates("frame")
-        ax.plot(ref["frame"], ref["reference_intensity_sum"] / base, "k-", lw=2.5, alpha=0.35,
-                label=f"reference {rows['reference'].iloc[0]}")
-        for _, series in rows.groupby("spec", sort=False):
-            colour, marker = style[series["label"].iloc[0]]
-            ax.plot(series["frame"], series["intensity_sum"] / base, "-" + marker, color=colour, ms=4, lw=1,
-                    label=series["label"].iloc[0])
-        ax.set_title(f"{scene}", fontsize=9)
+    fig, axes = _scene_axes(scenes, results["spec"].nunique() + 1)
+    for ax, scene in zip(axes, scenes):
+        rows = results[results["scene"] == scene]
+        ref = rows.drop_duplicates("frame").sort_values("frame")
+        lo, hi, exact = _log_limits(rows[metric], ref["reference_noise_rmse"])
+        at = _exact_strip(ax, lo, hi) if exact else None
+        if ref["reference_noise_rmse"].fillna(0).gt(0).any():
+            ax.plot(ref["frame"], ref["reference_noise_rmse"], label="ground-truth noise", **ground_truth_style())
+        for label, series in _sorted_specs(rows, styles):
+            series = series.sort_values("frame")
+            y = _on_axis(series[metric], at) if exact else series[metric]
+            ax.plot(series["frame"], y, label=label, **_spec_style(series, styles).line())
+        ax.set_yscale("log")
+        ax.set_ylim(lo, hi)
+        _log_ticks(ax.yaxis)
+        _frame_ticks(ax)
+        ax.set_title(scene)
         ax.set_xlabel("frame")
-        ax.set_ylabel("intensity sum / reference frame 0")
-        ax.grid(True, alpha=0.25)
-        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    fig.suptitle(title, fontsize=10)
+        ax.set_ylabel(metric)
+        ax.grid(True, alpha=0.3)
+        _legend(ax)
+    fig.suptitle(title)
     return _save(fig, path)
 
 
-_TEMPORAL_LABELS = {"flicker": "flicker (frame-to-frame change of the error)",
-                    "sum_variation": "intensity-sum variation (max-min)/mean"}
-
-
-def temporal_bars(temporal: pd.DataFrame, path: Path, *, metrics: list[str], title: str) -> Path:
-    """One panel per temporal metric (flicker, sum variation): mean per spec, log scale."""
-    agg = temporal.groupby("label", sort=False)[metrics].mean().sort_values(metrics[0])
-    fig, axes = plt.subplots(1, len(metrics), figsize=(5.5 * len(metrics), 0.45 * len(agg) + 2), squeeze=False)
-    for i, (ax, col) in enumerate(zip(axes[0], metrics)):
-        ax.barh(agg.index, np.maximum(agg[col].to_numpy(float), ERROR_FLOOR), color="tab:blue")
-        ax.set_xscale("log")
-        ax.set_xlabel(f"{_TEMPORAL_LABELS.get(col, col)} (floor {ERROR_FLOOR:g})", fontsize=8)
-        ax.grid(True, axis="x", alpha=0.25)
-        ax.tick_params(axis="y", labelsize=7)
-        if i:
-            ax.set_yticklabels([])
-    fig.suptitle(title, fontsize=10)
+def intensity_sums(results: pd.DataFrame, path: Path, *, title: str, styles: Styles) -> Path:
+    """Intensity sum per frame relative to the ground truth's sum of the same frame, on a
+    linear axis: 1 is right, and area sampling stays at 1 while the scene moves."""
+    scenes = list(dict.fromkeys(results["scene"]))
+    fig, axes = _scene_axes(scenes, results["spec"].nunique() + 1)
+    for ax, scene in zip(axes, scenes):
+        rows = results[results["scene"] == scene]
+        ref = rows.drop_duplicates("frame").sort_values("frame")
+        base = ref["reference_intensity_sum"].to_numpy(float)
+        ax.plot(ref["frame"], base / base[0], label="ground truth (relative to its frame 0)",
+                **ground_truth_style())
+        for label, series in _sorted_specs(rows, styles):
+            series = series.sort_values("frame")
+            ax.plot(series["frame"], series["intensity_sum"] / series["reference_intensity_sum"], label=label,
+                    **_spec_style(series, styles).line())
+        ax.axhline(1.0, color="0.3", lw=0.6)
+        _frame_ticks(ax)
+        ax.set_title(scene)
+        ax.set_xlabel("frame")
+        ax.set_ylabel("intensity sum / ground truth's")
+        ax.grid(True, alpha=0.3)
+        _legend(ax)
+    fig.suptitle(title)
     return _save(fig, path)
 
 
-def stability(results: pd.DataFrame, path: Path, *, metric: str, fail_above: float | None, title: str) -> Path:
-    """Error and failures against difficulty, one line per spec."""
-    style = _line_styles(results)
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.5))
+def flicker_bars(temporal: pd.DataFrame, path: Path, *, title: str, styles: Styles) -> Path:
+    """Flicker per spec on a linear axis, next to the flicker the ground truth's own noise
+    puts into any method's error (sqrt(2) x its noise RMS between two independent frames,
+    here its mean noise); one row per spec, mean over the animated scenes."""
+    agg = temporal.groupby("spec", sort=False).agg(
+        flicker=("flicker", "mean"), method=("method", "first"), options=("options", "first"),
+        label=("label", "first"), noise=("reference_noise_rmse", "mean"))
+    rows = sorted(agg.itertuples(), key=lambda r: styles.order(r.method, r.options))
+    fig, ax = plt.subplots(figsize=(7.0, 0.26 * len(rows) + 1.4))
+    for i, r in enumerate(rows):
+        st = styles.spec(r.method, r.options)
+        ax.barh(i, r.flicker, color=st.colour, edgecolor="black", lw=0.5,
+                hatch=None if st.fillstyle == "full" else "///", gid=st.gid)
+    noise = agg["noise"].dropna()
+    if len(noise) and noise.max() > 0:
+        ax.axvline(float(noise.mean()), color="0.35", ls="--", lw=1,
+                   label="ground truth's own noise RMS (an exact method's flicker is near it)")
+        ax.legend(loc="lower right", fontsize=7)
+    ax.set_yticks(range(len(rows)), [r.label for r in rows], fontsize=7.5)
+    ax.invert_yaxis()
+    ax.set_xlim(0, None)
+    ax.set_xlabel("flicker: RMS over pixels of the error's standard deviation over frames (linear)")
+    ax.set_title(title)
+    ax.grid(True, axis="x", alpha=0.3)
+    return _save(fig, path)
+
+
+def space_time(reference: np.ndarray, series: list[tuple[str, np.ndarray]], path: Path, *, row: int,
+               title: str) -> Path:
+    """Space-time slices: image row ``row`` of every frame stacked downwards (x: column,
+    y: frame), the ground truth first. ``reference`` and each series: (F, H, W, 3)."""
+    panels = [("ground truth", reference)] + series
+    f, _, w, _ = reference.shape
+    cols = min(4, len(panels))
+    nrows = math.ceil(len(panels) / cols)
+    cell_w = 2.4
+    cell_h = max(0.5, cell_w * f / w) + 0.35
+    fig, axes = plt.subplots(nrows, cols, figsize=(cell_w * cols, cell_h * nrows), squeeze=False,
+                             layout="constrained")
+    for ax in axes.ravel():
+        ax.axis("off")
+    for ax, (name, frames) in zip(axes.ravel(), panels):
+        ax.imshow(linear_to_srgb8(frames[:, row]), interpolation="nearest", aspect="auto")
+        ax.set_title(name, fontsize=7)
+    fig.suptitle(f"{title} (row {row}; x: column, y: frame downwards)")
+    return _save(fig, path)
+
+
+def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: str, styles: Styles,
+              definition: str) -> Path:
+    """Error (left) and fraction of failed cells (right) against difficulty, one line per spec.
+    ``failed``: boolean Series over ``results``' index (the report's one definition)."""
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, max(4.2, 0.17 * results["spec"].nunique())),
+                                 layout="constrained")
     label = results["difficulty_label"].dropna().iloc[0] if results["difficulty_label"].notna().any() else "difficulty"
-    for _, rows in results.groupby("spec", sort=False):
-        spec = rows["label"].iloc[0]
-        colour, marker = style[spec]
+    lo, hi, exact = _log_limits(results[metric], results["reference_noise_rmse"])
+    at = _exact_strip(ax, lo, hi) if exact else None
+    noise = results.drop_duplicates(["scene", "frame"]).groupby("difficulty")["reference_noise_rmse"].mean()
+    if noise.fillna(0).gt(0).any():
+        ax.plot(noise.index, noise.to_numpy(float), label="ground-truth noise", **ground_truth_style())
+    for spec_label, rows in _sorted_specs(results, styles):
+        st = _spec_style(rows, styles)
         by = rows.groupby("difficulty")
-        err = by[metric].mean()
-        ax.plot(err.index, np.maximum(err.to_numpy(float), ERROR_FLOOR), "-" + marker, color=colour, label=spec)
-        failed = by.apply(lambda r: _failures(r, metric, fail_above) / len(r), include_groups=False)
-        bx.plot(failed.index, failed.to_numpy(float), "-" + marker, color=colour, label=spec)
+        err = by[metric].mean().to_numpy(float)
+        ax.plot(by[metric].mean().index, _on_axis(err, at) if exact else err, label=spec_label, **st.line())
+        frac = failed.loc[rows.index].groupby(rows["difficulty"]).mean()
+        bx.plot(frac.index, frac.to_numpy(float), label=spec_label, **st.line())
     ax.set_xscale("log")
     ax.set_yscale("log")
+    ax.set_ylim(lo, hi)
+    _log_ticks(ax.yaxis)
     ax.set_xlabel(label)
-    ax.set_ylabel(f"{metric} (mean, floor {ERROR_FLOOR:g})")
-    ax.grid(True, which="both", alpha=0.25)
+    ax.set_ylabel(f"{_metric_label(metric)} (mean over cells)")
+    ax.grid(True, alpha=0.3)
     bx.set_xscale("log")
     bx.set_xlabel(label)
-    crit = "raised an error" + (f" or {metric} > {fail_above:g}" if fail_above else "")
-    bx.set_ylabel(f"fraction of cells failed ({crit})", fontsize=8)
+    bx.set_ylabel("fraction of cells failed")
+    bx.set_title(definition, fontsize=7.5)
     bx.set_ylim(-0.05, 1.05)
-    bx.grid(True, alpha=0.25)
-    bx.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    fig.suptitle(title, fontsize=10)
+    bx.grid(True, alpha=0.3)
+    _legend(bx)
+    fig.suptitle(title)
     return _save(fig, path)
 
 
-def _failures(rows: pd.DataFrame, metric: str, fail_above: float | None) -> int:
-    bad = rows["error"].notna()
-    if fail_above:
-        bad |= rows[metric].to_numpy(float) > fail_above
-    return int(bad.sum())
+def validation(table: pd.DataFrame, path: Path, *, title: str, styles: Styles) -> Path:
+    """Exact method against the ground truth (y) over the ground truth's own noise (x), one
+    point per scene frame: on the diagonal, the exact method agrees within the noise."""
+    fig, ax = plt.subplots(figsize=(5.6, 4.6))
+    vals = pd.concat([table["noise_rmse"], table["rmse"]]).to_numpy(float)
+    vals = vals[np.isfinite(vals) & (vals > 0)]
+    lo, hi = (vals.min() / 2, vals.max() * 2) if vals.size else (1e-6, 1.0)
+    xs = np.geomspace(lo, hi, 10)
+    ax.fill_between(xs, xs / 1.5, xs * 1.5, color="0.85", lw=0, label="within 1.5x of the noise")
+    ax.plot(xs, xs, color="0.3", lw=0.8, label="error = ground-truth noise")
+    for (method, options), rows in table.groupby(["method", "options"], sort=False):
+        st = styles.spec(method, options)
+        ax.plot(rows["noise_rmse"], rows["rmse"], label=rows["label"].iloc[0], **st.point())
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlim(lo, hi)
+    ax.set_ylim(lo, hi)
+    ax.set_xlabel("ground truth's noise RMS (seed-to-seed RMSE / sqrt 2)")
+    ax.set_ylabel("exact method's RMSE against the ground truth")
+    ax.set_title(title)
+    ax.grid(True, alpha=0.3)
+    _legend(ax)
+    return _save(fig, path)
 
 
 def _crop_box(error: np.ndarray, size: int) -> tuple[int, int, int, int]:
@@ -188,37 +451,34 @@ def _crop_box(error: np.ndarray, size: int) -> tuple[int, int, int, int]:
 
 
 def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path: Path, *, title: str) -> Path:
-    """Rows: the reference, then each method; columns: image, zoomed crop, |error| map.
+    """Rows: the ground truth, then each method; columns: image, zoomed crop, signed error
+    (red: too bright, blue: too dark) on each row's own symmetric scale, stated per row.
 
-    The crop is the same square for every row (around the largest error of any method);
-    the error maps share one colour scale.
+    The crop is the same square for every row (around the largest error of any method).
     """
-    errors = [np.abs(img - reference).sum(axis=2) for _, img in images]
-    worst = np.max(np.stack(errors), axis=0) if errors else np.zeros(reference.shape[:2])
+    errors = [(img - reference).sum(axis=2) for _, img in images]
+    worst = np.max(np.abs(np.stack(errors)), axis=0) if errors else np.zeros(reference.shape[:2])
     r0, r1, c0, c1 = _crop_box(worst, max(4, min(reference.shape[:2]) // 3))
-    vmax = max(float(worst.max()), 1e-12)
-    rows = [("reference", reference, None)] + [(n, img, err) for (n, img), err in zip(images, errors)]
+    rows = [("ground truth", reference, None)] + [(n, img, err) for (n, img), err in zip(images, errors)]
     h, w = reference.shape[:2]
-    row_height = 9 / 3 * min(1.0, h / w) + 0.35  # image rows as tall as their aspect needs
+    row_height = 9 / 3 * min(1.0, h / w) + 0.35
     fig, axes = plt.subplots(len(rows), 3, figsize=(9, row_height * len(rows)), squeeze=False,
                              layout="constrained")
-    im = None
     for (name, img, err), ax in zip(rows, axes):
         srgb = linear_to_srgb8(img)
         ax[0].imshow(srgb, interpolation="nearest")
         ax[0].add_patch(plt.Rectangle((c0 - 0.5, r0 - 0.5), c1 - c0, r1 - r0, fill=False, ec="red", lw=1))
-        ax[0].set_ylabel(name.replace(":", ":\n").replace(",", ",\n"), fontsize=7)  # long specs wrap
+        ax[0].set_ylabel(name.replace(":", ":\n").replace(",", ",\n"), fontsize=7)
         ax[1].imshow(srgb[r0:r1, c0:c1], interpolation="nearest")
         if err is not None:
-            im = ax[2].imshow(err, cmap="magma", vmin=0, vmax=vmax, interpolation="nearest")
-            ax[2].set_title(f"max |err| {err.max():.3g}, mean {err.mean():.3g}", fontsize=7)
+            scale = max(float(np.abs(err).max()), np.finfo(float).tiny)
+            ax[2].imshow(err, cmap="RdBu_r", vmin=-scale, vmax=scale, interpolation="nearest")
+            ax[2].set_title(f"signed error, scale ±{scale:.2g}; mean |err| {np.abs(err).mean():.2g}", fontsize=7)
         for a in ax:
             a.set_xticks([])
             a.set_yticks([])
     axes[0, 0].set_title("image", fontsize=8)
     axes[0, 1].set_title(f"crop rows {r0}-{r1 - 1}, cols {c0}-{c1 - 1}", fontsize=8)
     axes[0, 2].axis("off")
-    if im is not None:
-        fig.colorbar(im, ax=axes[1:, 2].tolist(), shrink=0.6, label="|error| summed over RGB")
     fig.suptitle(title, fontsize=9)
     return _save(fig, path)

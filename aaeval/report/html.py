@@ -1,8 +1,13 @@
-"""The HTML report of a sweep folder: one self-contained ``index.html`` (inline CSS, no
-scripts, nothing fetched) with its figures as PNG files in ``DIR/figures/``.
+"""The HTML report of a sweep folder: ``index.html`` with inline CSS and the inline
+comparison viewer, its figures in ``DIR/figures/`` (PNG shown, SVG and PDF beside them),
+its tables in ``DIR/tables/`` (CSV and LaTeX) and the viewer's data in ``DIR/viewer/``.
+Nothing is fetched from the network; the page works from ``file://``.
 
-Every comparison says what it compares against: the reference spec, whether it is exact
-or how noisy it is (measured), and the spp and seed of sampled methods.
+Every comparison says what it compares against: the ground truth's spec, spp, seed and
+measured noise. The ground-truth policy: a group's reference is the Mitsuba high-spp
+render, or an exact renderer that the report has shown, on the group's own scenes, to
+agree with a Mitsuba ground truth within that ground truth's noise; anything else is
+flagged on the page as unvalidated.
 """
 
 from __future__ import annotations
@@ -17,41 +22,67 @@ import numpy as np
 import pandas as pd
 
 from aaeval.experiments.store import SweepStore
-from aaeval.experiments.table import load_results, short_label, varying_options
+from aaeval.experiments.table import load_results, short_label
 from aaeval.imageio import atomic_write
 from aaeval.report import figures
+from aaeval.report.names import figure_stem
+from aaeval.report.filters_section import filters_section
+from aaeval.report.specular_section import specular_section
+from aaeval.report.style import Styles
+from aaeval.report.tables import write_table
+from aaeval.report.viewer import VIEWER_CSS, viewer_div, viewer_payload, viewer_script, write_viewer_data
 
-__all__ = ["write_report", "reference_statement", "spec_summary"]
+__all__ = ["write_report", "reference_statement", "spec_summary", "failed_cells", "failure_definition",
+           "SPEED_MIN_PIXELS"]
+
+# Below 256 x 256 pixels a render's time is mostly call overhead: such groups report accuracy.
+SPEED_MIN_PIXELS = 256 * 256
+_VALIDATION_RATIO = 1.5  # an exact method "matches" when its error is within this factor of the noise
 
 _CSS = """
 body{font-family:system-ui,sans-serif;max-width:1250px;margin:1.5em auto;padding:0 1em;color:#222}
 h1{margin-bottom:.2em} h2{border-bottom:2px solid #ccc;padding-bottom:.2em;margin-top:2em}
-table{border-collapse:collapse;font-size:12px;margin:.6em 0;display:block;overflow-x:auto;max-width:100%} td,th{border:1px solid #ccc;padding:2px 6px}
-th{background:#f0f0f0} td.num{text-align:right;font-family:monospace}
+table{border-collapse:collapse;font-size:12px;margin:.6em 0;display:block;overflow-x:auto;max-width:100%}
+td,th{border:1px solid #ccc;padding:2px 6px} th{background:#f0f0f0} td.num{text-align:right;font-family:monospace}
 .note{background:#f6f8fa;border-left:4px solid #888;padding:.4em .8em;font-size:13px}
 .ref{background:#fff8e0;border-left:4px solid #d9a400;padding:.4em .8em;font-size:13px}
+.warn{background:#fdecea;border-left:4px solid #b00;padding:.4em .8em;font-size:13px}
 figure{margin:1em 0} figcaption{font-size:12px;color:#444;max-width:1000px} img{max-width:100%}
-.bad{color:#b00}
-"""
+.bad{color:#b00} .dl{font-size:11px;color:#555;margin-top:0} dl.prov{font-size:12px} dl.prov dt{font-weight:bold;float:left;clear:left;width:14em} dl.prov dd{margin-left:15em}
+""" + VIEWER_CSS
 
 
-def _fmt(value) -> str:
-    if value is None or (isinstance(value, float) and math.isnan(value)):
-        return ""
-    if isinstance(value, (float, np.floating)):
-        return f"{value:.4g}"
-    return html.escape(str(value))
+def _column(rows: pd.DataFrame, name: str, fallback) -> pd.Series:
+    """A results column that older sweep folders may lack."""
+    if name in rows and rows[name].notna().any():
+        return pd.to_numeric(rows[name], errors="coerce")
+    return pd.Series(fallback, index=rows.index, dtype=float)
 
 
-def _table(frame: pd.DataFrame) -> str:
-    head = "".join(f"<th>{html.escape(str(c))}</th>" for c in frame.columns)
-    body = []
-    for _, row in frame.iterrows():
-        cells = "".join(
-            f"<td class='num'>{_fmt(v)}</td>" if isinstance(v, (int, float, np.number)) and not isinstance(v, bool)
-            else f"<td>{_fmt(v)}</td>" for v in row)
-        body.append(f"<tr>{cells}</tr>")
-    return f"<table><tr>{head}</tr>{''.join(body)}</table>"
+def _megapixels(rows: pd.DataFrame) -> pd.Series:
+    size = pd.to_numeric(rows.get("width"), errors="coerce") * pd.to_numeric(rows.get("height"), errors="coerce")
+    return _column(rows, "megapixels", size / 1e6)
+
+
+def failure_definition(primary: str, fail_above) -> str:
+    """The one definition of a failed cell, as written on the page."""
+    crit = "its render raised an error or gave non-finite pixels"
+    if fail_above:
+        crit += f", or its {primary} against the ground truth is above {fail_above:g}"
+    return f"A cell fails when {crit}."
+
+
+def failed_cells(rows: pd.DataFrame, primary: str, fail_above) -> pd.Series:
+    """Boolean per cell, by :func:`failure_definition` (a metric that could not be computed
+    is listed apart and is not a failure)."""
+    bad = rows["error"].notna()
+    if fail_above and primary in rows:
+        bad |= pd.to_numeric(rows[primary], errors="coerce") > fail_above
+    return bad
+
+
+def _is_ground_truth(spec: str) -> bool:
+    return spec.split(":", 1)[0] == "mitsuba"
 
 
 def reference_statement(rows: pd.DataFrame) -> str:
@@ -60,184 +91,418 @@ def reference_statement(rows: pd.DataFrame) -> str:
     for spec, refs in rows.groupby("reference", sort=False):
         kind = refs["reference_kind"].iloc[0]
         spp, seed = refs["reference_spp"].iloc[0], refs["reference_seed"].iloc[0]
-        noise = refs["reference_noise_rmse"].astype(float)
+        noise = refs.drop_duplicates(["scene", "frame"])["reference_noise_rmse"].astype(float)
         if kind == "exact":
             level = "noise 0"
         elif noise.notna().any():
-            level = (f"noise RMS {noise.mean():.3g} per pixel channel (measured against a second render with "
-                     f"the next seed; mean over {noise.notna().sum()} frames)")
+            level = (f"measured noise RMS {noise.mean():.3g} per pixel channel, range {noise.min():.3g} to "
+                     f"{noise.max():.3g} (seed-to-seed RMSE / sqrt 2 over {noise.notna().sum()} frames)")
         else:
             level = "deterministic but not exact: its own error is unknown"
+        what = "Mitsuba ground truth" if _is_ground_truth(spec) else "NOT the Mitsuba ground truth"
         extra = ", ".join(f"{k} {int(v)}" for k, v in (("spp", spp), ("seed", seed)) if pd.notna(v))
-        parts.append(f"<b>{html.escape(short_label(spec))}</b> ({kind}{'; ' + extra if extra else ''}; {level})")
+        parts.append(f"<b>{html.escape(short_label(spec))}</b> ({what}; {kind}{'; ' + extra if extra else ''}; "
+                     f"{level})")
     return "Reference: " + "; ".join(parts) + "."
 
 
-def _ladder_labels(summary: pd.DataFrame) -> pd.Series:
-    """Point labels for a chart whose legend names the method: the options that vary."""
-    labels = pd.Series("", index=summary.index, dtype=object)
-    for _, rows in summary.groupby("method"):
-        keys = varying_options(rows["options"])
-        for idx, options in zip(rows.index, rows["options"]):
-            o = json.loads(options)
-            labels[idx] = ",".join(f"{k}={o[k]}" for k in keys)
-    return labels
+def _noise(rows: pd.DataFrame) -> np.ndarray:
+    return rows.drop_duplicates(["scene", "frame"])["reference_noise_rmse"].to_numpy(float)
 
 
-def spec_summary(rows: pd.DataFrame, metrics: list[str], primary: str) -> pd.DataFrame:
-    """One row per spec: cells, failures, median time, mean (and worst) error, noise context."""
+def spec_summary(rows: pd.DataFrame, metrics: list[str], primary: str, failed: pd.Series) -> pd.DataFrame:
+    """One row per spec: cells, failures, times (per frame and per megapixel, with the spread
+    of the repeats), mean / best / worst primary error, mean of the other metrics."""
     out = []
+    mpix = _megapixels(rows)
     for spec, r in rows.groupby("spec", sort=False):
         ok = r[r["error"].isna()]
-        row = {"label": r["label"].iloc[0], "method": r["method"].iloc[0], "options": r["options"].iloc[0],
-               "cells": len(r), "failed": int(r["error"].notna().sum()),
-               "render_s (median)": ok["render_s"].median(),
-               "spp": r["spp"].iloc[0], "seed": r["seed"].iloc[0]}
+        t = _column(ok, "render_s", math.nan)
+        tmin, tmax = _column(ok, "render_s_min", t), _column(ok, "render_s_max", t)
+        mp = mpix.loc[ok.index]
+        per = _column(ok, "ms_per_mpix", t * 1e3 / mp)
+        row = {"spec": spec, "label": r["label"].iloc[0], "method": r["method"].iloc[0],
+               "options": r["options"].iloc[0], "cells": len(r), "failed": int(failed.loc[r.index].sum()),
+               "repeats": int(_column(ok, "repeats", 1).min()) if len(ok) else 0,
+               "render ms (median)": float(t.median() * 1e3) if len(ok) else math.nan,
+               "ms_per_mpix": float(per.median()) if len(ok) else math.nan,
+               "ms_per_mpix_min": float((tmin * 1e3 / mp).min()) if len(ok) else math.nan,
+               "ms_per_mpix_max": float((tmax * 1e3 / mp).max()) if len(ok) else math.nan}
+        if primary in ok:
+            vals = pd.to_numeric(ok[primary], errors="coerce")
+            row.update({primary: vals.mean(), f"{primary}_min": vals.min(), f"{primary}_max": vals.max()})
         for m in metrics:
-            row[f"{m} (mean)"] = ok[m].mean() if m in ok else math.nan
-        row[f"{primary} (worst)"] = ok[primary].max() if primary in ok else math.nan
-        noise = r["reference_noise_rmse"].astype(float).mean()
-        row["reference"] = short_label(r["reference"].iloc[0])
-        row["ref noise RMS"] = noise
-        if primary == "rmse" and noise > 0:
-            # an error this close to the reference's own noise is not a measured difference
-            row["rmse / ref noise"] = row["rmse (mean)"] / noise
+            if m != primary and m in ok:
+                row[m] = pd.to_numeric(ok[m], errors="coerce").mean()
         out.append(row)
     return pd.DataFrame(out)
 
 
 def _figure(path: Path, root: Path, caption: str) -> str:
     rel = path.relative_to(root).as_posix()
-    return f"<figure><img src='{html.escape(rel)}' alt='{html.escape(path.stem)}'><figcaption>{caption}</figcaption></figure>"
+    twins = " · ".join(f"<a href='{html.escape(Path(rel).with_suffix('.' + f).as_posix())}'>{f.upper()}</a>"
+                       for f in figures.FORMATS if f != "png")
+    return (f"<figure><img src='{html.escape(rel)}' alt='{html.escape(caption[:120])}'>"
+            f"<figcaption>{caption} <span class='dl'>(also as {twins})</span></figcaption></figure>")
 
 
-def _metric_columns(results: pd.DataFrame, manifest: dict) -> list[str]:
-    return [m for m in manifest.get("metrics", []) if m in results.columns]
+def _with_options(temporal: pd.DataFrame, results: pd.DataFrame) -> pd.DataFrame:
+    if temporal.empty or "options" in temporal:
+        return temporal
+    options = results.drop_duplicates("spec").set_index("spec")["options"]
+    return temporal.assign(options=temporal["spec"].map(options))
 
 
-def _timing_note(results: pd.DataFrame) -> str:
-    execs = sorted({str(e) for e in results.get("executor", pd.Series(dtype=str)).dropna()})
-    hosts = sorted({str(h) for h in results["host"].dropna()})
-    return (f"Render times are per frame, JIT compilation excluded (each worker warms a method up before "
-            f"timing it), measured on {', '.join(map(html.escape, hosts)) or 'unknown host'} with "
-            f"{', '.join(map(html.escape, execs)) or 'unknown executor'}; workers running side by side share "
-            f"the machine, so compare times within one sweep, not across machines.")
+class _Page:
+    """What one report build shares: folders, styles, the failure definition."""
+
+    def __init__(self, store: SweepStore, results: pd.DataFrame, manifest: dict):
+        self.store, self.root = store, store.root
+        self.figdir, self.tabdir, self.viewdir = (store.root / d for d in ("figures", "tables", "viewer"))
+        for d in (self.figdir, self.tabdir, self.viewdir):
+            d.mkdir(parents=True, exist_ok=True)
+        self.primary = manifest.get("primary", "rmse")
+        self.fail_above = manifest.get("fail_above")
+        self.styles = Styles(zip(results.get("method", []), results.get("options", [])))
+        self.definition = failure_definition(self.primary, self.fail_above)
+        self.viewer_scripts: list[str] = []
+        self.shaded = {digest for digest, scene in manifest.get("scenes", {}).items()
+                       if isinstance(scene, dict) and "shaded" in scene.get("document", {})}
+
+    def table(self, frame: pd.DataFrame, name: str, caption: str = "") -> str:
+        return write_table(frame, self.tabdir, name, self.root, caption)  # names: fixed words and figure stems
 
 
-def _group_section(group: str, rows: pd.DataFrame, temporal: pd.DataFrame, store: SweepStore, figdir: Path,
-                   metrics: list[str], temporal_names: list[str], primary: str, fail_above) -> str:
-    out = [f"<h2 id='{html.escape(group)}'>{html.escape(group)}</h2>"]
-    ref = reference_statement(rows)
-    out.append(f"<p class='ref'>{ref} Methods' spp and seed are in their specs and in the table.</p>")
-    slug = "".join(ch if ch.isalnum() else "_" for ch in group)
+def _timing_block(page: _Page, group: str, slug: str, summary: pd.DataFrame, rows: pd.DataFrame,
+                  ref: str) -> str:
     ok = rows[rows["error"].isna()]
-    summary = spec_summary(rows, metrics, primary)
+    pixels = (_megapixels(ok) * 1e6).round()
+    primary = page.primary
+    noise = _noise(rows)
+    data = summary.dropna(subset=[primary])
+    if data.empty:
+        return ""
+    if len(ok) and pixels.min() >= SPEED_MIN_PIXELS:
+        reps = int(summary["repeats"].min())
+        p = figures.speed_accuracy(data.dropna(subset=["ms_per_mpix"]), page.figdir / f"{slug}_speed_accuracy",
+                                   metric=primary, title=f"{group}: speed against accuracy", styles=page.styles,
+                                   noise=noise)
+        spread = (f"median of {reps} timed renders after one untimed warm-up, bars from the fastest to the "
+                  "slowest" if reps > 1 else "ONE timed render per cell (this sweep predates repeats): no spread")
+        return _figure(p, page.root, f"Render time per megapixel ({spread}; images of at least "
+                       f"{int(pixels.min())} pixels) against mean {primary}. {ref} Dotted lines join one method's "
+                       "option ladder (light: smallest value, dark: largest); the dashed step is the Pareto front; "
+                       "the grey band is the ground truth's measured noise, where an exact method's error lands.")
+    p = figures.accuracy_dots(data, page.figdir / f"{slug}_accuracy", metric=primary,
+                              title=f"{group}: accuracy", styles=page.styles, noise=noise)
+    return _figure(p, page.root, f"Mean {primary} per method and option (bar: best to worst cell). {ref} "
+                   f"The grey band is the ground truth's measured noise. No speed is shown: the images are "
+                   f"{int(pixels.max()) if len(ok) else 0} pixels or fewer, so their render times are call "
+                   "overhead, not rendering.")
 
-    speed = summary.dropna(subset=["render_s (median)", f"{primary} (mean)"]).reset_index(drop=True)
-    if len(speed) >= 2:
-        speed = speed.rename(columns={"render_s (median)": "render_s", f"{primary} (mean)": primary})
-        speed["label"] = _ladder_labels(speed)
-        p = figures.speed_accuracy(speed, figdir / f"{slug}_speed_accuracy.png", metric=primary,
-                                   title=f"{group}: speed against accuracy")
-        out.append(_figure(p, store.root, f"Speed against accuracy over {len(ok)} cells. {ref} Lines join the "
-                   "option ladder of one method (Mitsuba's spp, supersampling's k); the dashed step is the Pareto "
-                   f"front. Errors below {figures.ERROR_FLOOR:g} (exact methods) are drawn at that floor."))
 
+def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp: pd.DataFrame,
+                    ref: str) -> list[str]:
+    out = []
+    ok = rows[rows["error"].isna()]
     animated = ok[ok.groupby(["scene", "spec"])["frame"].transform("nunique") > 1]
-    if not animated.empty:
-        p = figures.intensity_sums(animated, figdir / f"{slug}_intensity_sum.png",
-                                   title=f"{group}: intensity sum per frame")
-        out.append(_figure(p, store.root, f"Intensity sum of every frame, divided by the reference's frame 0. "
-                   f"{ref} Area sampling keeps the sum constant while the scene moves inside the frame."))
-    temp = temporal[temporal["group"] == group] if not temporal.empty else temporal
-    names = [m for m in temporal_names if m in temp.columns]
-    if not temp.empty and names:
-        p = figures.temporal_bars(temp, figdir / f"{slug}_temporal.png", metrics=names,
-                                  title=f"{group}: {' and '.join(names)} per method")
-        out.append(_figure(p, store.root, f"{', '.join(names)} per method, mean over "
-                   f"{temp['scene'].nunique()} animated scene(s). {ref} Reference's own sum variation: "
-                   f"{temp['reference_sum_variation'].max():.3g} (max over scenes)."))
-        cols = ["scene", "label", "frames", "failed_frames", *names, "reference_sum_variation", "reference",
-                "reference_noise_rmse"]
-        shown = temp.assign(reference=temp["reference"].map(short_label))
-        out.append(_table(shown[[c for c in cols if c in shown.columns]]))
+    if animated.empty:
+        return out
+    out.append("<h3>Over the frames of the animations</h3>")
+    if page.primary in animated:
+        p = figures.error_per_frame(animated, page.figdir / f"{slug}_error_per_frame", metric=page.primary,
+                                    title=f"{group}: {page.primary} per frame", styles=page.styles)
+        out.append(_figure(p, page.root, f"{page.primary} of every frame, one curve per method and option; the "
+                   f"thick grey curve is the ground truth's own noise in that frame. {ref}"))
+    p = figures.intensity_sums(animated, page.figdir / f"{slug}_intensity_sum",
+                               title=f"{group}: intensity sum per frame", styles=page.styles)
+    out.append(_figure(p, page.root, "Intensity sum of every frame divided by the ground truth's sum of the same "
+               "frame (linear axis; 1 is right); the thick grey curve is the ground truth's own sum relative to "
+               f"its frame 0. Area sampling keeps the sum while the scene moves inside the frame. {ref}"))
+    if not temp.empty and "flicker" in temp and temp["flicker"].notna().any():
+        p = figures.flicker_bars(temp, page.figdir / f"{slug}_flicker", title=f"{group}: flicker",
+                                 styles=page.styles)
+        out.append(_figure(p, page.root, "Flicker per method and option (mean over the animated scenes) on a "
+                   "linear axis: the RMS over pixels of the error's standard deviation over frames. The dashed "
+                   "line is the ground truth's own noise RMS: an exact method's flicker against a noisy ground "
+                   f"truth sits near it, anything far beyond it is the method's own. {ref}"))
+    scene = animated["scene"].iloc[0]
+    from aaeval.report.viewer import _interesting_row, scene_series
 
-    if rows["difficulty"].nunique() >= 3:  # a trend needs a few levels
-        p = figures.stability(rows, figdir / f"{slug}_stability.png", metric=primary, fail_above=fail_above,
-                              title=f"{group}: error and failures as difficulty grows")
-        crit = "raised an error" + (f" or had {primary} above {fail_above:g}" if fail_above else "")
-        out.append(_figure(p, store.root, f"Mean {primary} and fraction of failed cells (a cell fails when it "
-                   f"{crit}) against difficulty. {ref}"))
+    reference, series, frames = scene_series(animated, page.store, scene, page.styles)
+    if reference is not None and series:
+        row = _interesting_row(reference)
+        p = figures.space_time(reference, [(r["label"].iloc[0], imgs) for r, imgs in series[:15]],
+                               page.figdir / f"{slug}_space_time", row=row, title=f"{group}: {scene}")
+        out.append(_figure(p, page.root, f"Space-time slices of {html.escape(scene)}: row {row} (the row that "
+                   "changes most) of every frame stacked downwards, per method. Crawling edges show as "
+                   "staircases, flicker as horizontal streaks; the viewer below shows any row (its space-time "
+                   f"checkbox). The first panel is the ground truth. {ref}"))
+    return out
 
-    grid = _grid(rows, ok, store, figdir / f"{slug}_images.png", group, ref)
-    if grid:
-        out.append(grid)
 
-    out.append("<h3>Numbers per method</h3>")
-    out.append(_table(summary.drop(columns=["method", "options"]).rename(
-        columns={"label": "method (non-default options)"})))
-    spoiled = rows[rows["metric_errors"].notna()] if "metric_errors" in rows else rows.iloc[:0]
-    if not spoiled.empty:
-        out.append(f"<h3 class='bad'>Metrics that could not be computed ({len(spoiled)} cells)</h3>")
-        out.append(_table(spoiled[["scene", "label", "frame", "metric_errors"]]))
-    failed = rows[rows["error"].notna()]
-    if not failed.empty:
-        out.append(f"<h3 class='bad'>Failed cells ({len(failed)})</h3>")
-        out.append(_table(failed[["scene", "label", "frame", "error", "host"]]))
+def _validation_rows(rows: pd.DataFrame, shaded: set[str]) -> pd.DataFrame:
+    """Exact methods against a Mitsuba ground truth: one row per scene frame and spec, on
+    flat scenes only (``shaded``: digests of scenes with smooth-shaded objects, where an
+    exact method's coverage is exact but its shading is one Phong shade per visible piece)."""
+    from aaeval.renderers import METHODS
+
+    ok = rows[rows["error"].isna() & rows["reference"].map(_is_ground_truth)]
+    if "scene_digest" in ok:
+        ok = ok[~ok["scene_digest"].isin(shaded)]
+    exact = ok[ok["method"].map(lambda m: getattr(METHODS.get(m), "exact", False))]
+    if exact.empty or "rmse" not in exact:
+        return pd.DataFrame()
+    return pd.DataFrame({"group": exact["group"], "scene": exact["scene"], "frame": exact["frame"],
+                         "method": exact["method"], "options": exact["options"], "label": exact["label"],
+                         "rmse": pd.to_numeric(exact["rmse"], errors="coerce"),
+                         "noise_rmse": exact["reference_noise_rmse"].astype(float)})
+
+
+def _policy_section(page: _Page, results: pd.DataFrame) -> str:
+    """Which ground truth every group uses, and the check that exact renderers agree with it."""
+    out = ["<h2 id='ground-truth'>Ground truth</h2>",
+           "<p>Policy: every method is judged against the <b>Mitsuba 3</b> render of the same scene frame at "
+           "high spp (box pixel filter, which converges to the exact area average), whose own noise is measured "
+           "by rendering it a second time with the next seed (noise RMS = RMSE between the two / sqrt 2). An "
+           "exact renderer may stand in for it only where the check below shows that, on that group's scenes, "
+           "it agrees with the Mitsuba ground truth within the ground truth's noise.</p>"]
+    per_group = []
+    for group, rows in results.groupby("group", sort=False):
+        for spec, refs in rows.groupby("reference", sort=False):
+            noise = refs.drop_duplicates(["scene", "frame"])["reference_noise_rmse"].astype(float)
+            per_group.append({"group": group, "reference": short_label(spec),
+                              "Mitsuba ground truth": "yes" if _is_ground_truth(spec) else "NO (unvalidated)",
+                              "spp": refs["reference_spp"].iloc[0], "seed": refs["reference_seed"].iloc[0],
+                              "noise RMS (mean)": noise.mean(), "noise RMS (max)": noise.max()})
+    out.append(page.table(pd.DataFrame(per_group), "ground_truth_per_group", "Ground truth of every group"))
+    bad = [g["group"] for g in per_group if g["Mitsuba ground truth"] != "yes"]
+    if bad:
+        out.append(f"<p class='warn'>Groups {html.escape(', '.join(bad))} compare against a reference that is not "
+                   "the Mitsuba ground truth and has not been validated here: read their errors as agreement with "
+                   "that reference only.</p>")
+    check = _validation_rows(results, page.shaded)
+    if check.empty:
+        out.append("<p>No exact method was compared with a Mitsuba ground truth in this sweep.</p>")
+        return "\n".join(out)
+    ratio = check["rmse"] / check["noise_rmse"]
+    table = (check.assign(ratio=ratio)
+             .groupby(["group", "label"], sort=False)
+             .agg(frames=("frame", "size"), rmse_mean=("rmse", "mean"), noise_mean=("noise_rmse", "mean"),
+                  ratio_max=("ratio", "max")).reset_index())
+    table["agrees within noise"] = np.where(table["ratio_max"] <= _VALIDATION_RATIO, "yes", "no")
+    table = table.rename(columns={"label": "exact method", "rmse_mean": "RMSE vs ground truth (mean)",
+                                  "noise_mean": "ground truth noise RMS (mean)",
+                                  "ratio_max": "RMSE / noise (worst frame)"})
+    p = figures.validation(check, page.figdir / "ground_truth_validation",
+                           title="exact renderers against the Mitsuba ground truth", styles=page.styles)
+    out.append(_figure(p, page.root, "Each exact method's RMSE against the Mitsuba ground truth (one point per "
+                       "scene frame) over that ground truth's own measured noise. On the diagonal the exact "
+                       "method agrees with the ground truth as well as two Mitsuba renders agree with each other "
+                       "(RMSE between an exact image and a noisy one is the noise RMS)."))
+    out.append(page.table(table, "ground_truth_validation",
+                          "Exact renderers against the Mitsuba ground truth, with its seed-to-seed noise"))
+    if page.shaded:
+        out.append("<p class='note'>Scenes with smooth-shaded objects are left out of this check: there the exact "
+                   "methods' coverage is exact but their shading is one Phong shade per visible piece (or a "
+                   "specular clamp), which the groups' own charts compare with the Mitsuba Phong ground truth.</p>")
     return "\n".join(out)
 
 
-def _grid(rows, ok, store, path: Path, group: str, ref: str) -> str:
-    """Image grid of the hardest scene's middle frame (largest mean error)."""
+def _how_to_read(page: _Page) -> str:
+    return f"""<h2 id='how-to-read'>How to read this report</h2><ul>
+<li><b>Ground truth.</b> Every error is measured against the reference named at the top of each group (normally
+the Mitsuba high-spp render); its measured noise is stated with it. The section <a href='#ground-truth'>Ground
+truth</a> shows that the exact renderers agree with it within that noise.</li>
+<li><b>Errors near the noise.</b> Against a noisy ground truth nothing can score below its noise: the grey band in
+the charts marks it. An exact method lands on the band; a method above it is wrong by more than the ground truth's
+own uncertainty. An error that is zero up to float rounding (below {figures.EXACT_BELOW:g}, possible only against
+an exact reference) is drawn on a marked "exact" strip at the bottom of the axis.</li>
+<li><b>Styles.</b> A method keeps one colour, marker and dash pattern in every figure; the shades of that colour
+(light to dark) and growing markers are its option ladder (k, spp) from smallest to largest; marker fills (full,
+empty, half) are categorical options. Legends list methods in one order, options by value.</li>
+<li><b>Times.</b> Speed is charted only for groups whose images have at least {SPEED_MIN_PIXELS} pixels (256 x 256),
+as time per megapixel: the median of the repeated renders after an untimed warm-up (JIT compilation and first-call
+costs excluded), bars from the fastest to the slowest repeat. Smaller groups show accuracy only; their times in the
+tables are call overhead.</li>
+<li><b>Failed.</b> {html.escape(page.definition)} The same definition is used by every table and chart; a metric
+that could not be computed for a cell is listed separately and does not make the cell fail.</li>
+<li><b>The viewer.</b> Each group ends with an interactive viewer: pick a scene, scrub or play the frames, choose
+image, |error|, signed error (red: too bright, blue: too dark) or FLIP, on each panel's own scale or one shared
+scale; the wheel zooms (nearest-neighbour pixels) and dragging pans every panel together; the cursor reads linear
+RGB values. Keys: 0-9 show a panel alone (0: ground truth), f or space flips between the last two (A/B),
+n / p next / previous, [ ] frames, k play, m display, +/- exposure, s space-time slice of the row under the cursor,
+z resets the zoom.</li>
+<li><b>Files.</b> Every figure is also an SVG and a PDF (links under it), every table a CSV and a LaTeX file.</li>
+</ul>"""
+
+
+def _overview(page: _Page, results: pd.DataFrame, failed: pd.Series) -> str:
+    """Mean primary error and failed cells per method AND option (rows) and group (columns)."""
+    primary = page.primary
+    frame = results.assign(failed=failed)
+    varying: dict[str, set] = {}
+    for method, rows in frame.groupby("method"):
+        opts = [json.loads(o) for o in rows["options"].drop_duplicates()]
+        varying[method] = {k for k in set().union(*opts) if len({json.dumps(o.get(k)) for o in opts}) > 1}
+    frame["method and option"] = [short_label(s, varying.get(m, set())) for s, m in zip(frame["spec"], frame["method"])]
+    first = frame.drop_duplicates("spec")
+    order = sorted(zip(first["method"], first["options"], first["method and option"]),
+                   key=lambda r: page.styles.order(r[0], r[1]))
+    labels = list(dict.fromkeys(label for _, _, label in order))
+    errors = frame.pivot_table(index="method and option", columns="group", values=primary, aggfunc="mean",
+                               sort=False).reindex(labels)
+    fails = frame.pivot_table(index="method and option", columns="group", values="failed", aggfunc="sum",
+                              sort=False).reindex(labels)
+    cells = frame.pivot_table(index="method and option", columns="group", values="key", aggfunc="count",
+                              sort=False).reindex(labels)
+    groups = list(dict.fromkeys(frame["group"]))
+    errors, fails, cells = (t.reindex(columns=groups) for t in (errors, fails, cells))
+    fail_text = fails.fillna(0).astype(int).astype(str) + " / " + cells.fillna(0).astype(int).astype(str)
+    fail_text = fail_text.where(cells.notna(), "")
+    return ("<h2 id='overview'>Overview</h2>"
+            f"<p>Mean {html.escape(primary)} against each group's ground truth, per method and option (one row "
+            "each: options are never averaged together). An empty cell: the method did not run in that group.</p>"
+            + page.table(errors.reset_index(), "overview_error", f"Mean {primary} per method and option and group")
+            + f"<p>Failed cells / cells per method and option and group. {html.escape(page.definition)}</p>"
+            + page.table(fail_text.reset_index(), "overview_failed", "Failed cells per method and option and group"))
+
+
+def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.DataFrame, metrics: list[str],
+                   failed: pd.Series) -> str:
+    slug = figure_stem(group)  # unique per name: "fence a" and "fence-a" must not share files
+    out = [f"<h2 id='{html.escape(slug)}'>{html.escape(group)}</h2>"]
+    ref = reference_statement(rows)
+    out.append(f"<p class='ref'>{ref} Methods' spp and seed are in their specs and in the table.</p>")
+    if not rows["reference"].map(_is_ground_truth).all():
+        out.append("<p class='warn'>This group's reference is not the Mitsuba ground truth and is not validated "
+                   "in this report.</p>")
+    ok = rows[rows["error"].isna()]
+    summary = spec_summary(rows, metrics, page.primary, failed)
+    out.append(_timing_block(page, group, slug, summary, rows, ref))
+    temp = temporal[temporal["group"] == group] if not temporal.empty else temporal
+    out.extend(_temporal_block(page, group, slug, rows, temp, ref))
+    if rows["difficulty"].nunique() >= 3:  # a trend needs a few levels
+        p = figures.stability(rows, page.figdir / f"{slug}_stability", metric=page.primary,
+                              failed=failed.loc[rows.index], title=f"{group}: error and failures as difficulty grows",
+                              styles=page.styles, definition=page.definition)
+        out.append(_figure(p, page.root, f"Mean {page.primary} (left; thick grey: the ground truth's noise) and "
+                   f"fraction of failed cells (right) against difficulty. {html.escape(page.definition)} {ref}"))
+    grid = _grid(page, ok, slug, group, ref)
+    if grid:
+        out.append(grid)
+    payload, left_out = viewer_payload(ok, page.store, page.styles)
+    if payload["scenes"]:
+        out.append("<h3>Compare the images</h3>")
+        write_viewer_data(page.viewdir, slug, payload)
+        page.viewer_scripts.append(f"viewer/{slug}.js")
+        out.append(viewer_div(slug))
+        if left_out:
+            out.append(f"<p class='note'>Left out of the viewer to keep the page small: "
+                       f"{html.escape(', '.join(left_out))} (their images are in images/ as .npy).</p>")
+    out.append("<h3>Numbers per method and option</h3>")
+    pixels = int((_megapixels(ok) * 1e6).min()) if len(ok) else 0
+    shown = summary.drop(columns=["spec", "method", "options", f"{page.primary}_min", f"{page.primary}_max"],
+                         errors="ignore").rename(columns={"label": "method (options)"})
+    if pixels < SPEED_MIN_PIXELS:
+        shown = shown.drop(columns=["ms_per_mpix", "ms_per_mpix_min", "ms_per_mpix_max"]).rename(
+            columns={"render ms (median)": "render ms (overhead: tiny images)"})
+    else:
+        shown = shown.rename(columns={"ms_per_mpix": "ms per megapixel (median)",
+                                      "ms_per_mpix_min": "ms/Mpix fastest", "ms_per_mpix_max": "ms/Mpix slowest"})
+    out.append(page.table(shown, f"{slug}_numbers", f"{group}: numbers per method and option"))
+    out.append(f"<p class='dl'>{html.escape(page.definition)}</p>")
+    if not temp.empty:
+        names = [c for c in ("flicker", "sum_variation") if c in temp]
+        cols = ["scene", "label", "frames", "failed_frames", *names, "reference_sum_variation",
+                "reference_noise_rmse"]
+        out.append(page.table(temp[[c for c in cols if c in temp.columns]], f"{slug}_temporal",
+                              f"{group}: temporal metrics per animation"))
+    spoiled = rows[rows["metric_errors"].notna()] if "metric_errors" in rows else rows.iloc[:0]
+    if not spoiled.empty:
+        out.append(f"<h3>Metrics that could not be computed ({len(spoiled)} cells; not failures)</h3>")
+        out.append(page.table(spoiled[["scene", "label", "frame", "metric_errors"]], f"{slug}_metric_errors"))
+    bad = rows[failed.loc[rows.index]]
+    if not bad.empty:
+        out.append(f"<h3 class='bad'>Failed cells ({len(bad)})</h3>")
+        out.append(page.table(bad.assign(**{page.primary: bad.get(page.primary)})[
+            ["scene", "label", "frame", page.primary, "error", "host"]] if page.primary in bad else
+            bad[["scene", "label", "frame", "error", "host"]], f"{slug}_failed"))
+    return "\n".join(out)
+
+
+def _grid(page: _Page, ok: pd.DataFrame, slug: str, group: str, ref: str) -> str:
+    """Static image grid of the hardest scene's middle frame, for a paper figure."""
     if ok.empty:
         return ""
-    by_scene = ok.groupby("scene")["render_s"].size()
-    scene = by_scene.index[0]
+    scene = ok["scene"].iloc[0]
     if ok["difficulty"].notna().any():
         scene = ok.loc[ok["difficulty"].idxmax(), "scene"]
     frames = sorted(ok[ok["scene"] == scene]["frame"].unique())
     frame = frames[len(frames) // 2]
-    cells = ok[(ok["scene"] == scene) & (ok["frame"] == frame)].drop_duplicates("spec").head(12)
-    reference = store.load_reference(store.read_cell(cells["key"].iloc[0])["reference_key"])
-    images = [(label, store.load_image(key)) for label, key in zip(cells["label"], cells["key"])]
+    cells = ok[(ok["scene"] == scene) & (ok["frame"] == frame)].drop_duplicates("spec")
+    cells = cells.iloc[sorted(range(len(cells)), key=lambda i: page.styles.order(cells["method"].iloc[i],
+                                                                              cells["options"].iloc[i]))].head(12)
+    reference = page.store.load_reference(page.store.read_cell(cells["key"].iloc[0])["reference_key"])
+    images = [(label, page.store.load_image(key)) for label, key in zip(cells["label"], cells["key"])]
     images = [(s, im) for s, im in images if im is not None]
     if reference is None or not images:
         return ""
-    p = figures.image_grid(reference, images, path, title=f"{group}: {scene}, frame {frame}")
-    return _figure(p, store.root, f"{html.escape(scene)}, frame {frame}: each method's image, the same zoomed "
-                   f"crop (red box, around the largest error) and its |error| map on one colour scale. {ref}")
+    p = figures.image_grid(reference, images, page.figdir / f"{slug}_images", title=f"{group}: {scene}, frame {frame}")
+    return _figure(p, page.root, f"{html.escape(scene)}, frame {frame}: each method's image, the same zoomed crop "
+                   "(red box, around the largest error) and its signed error on its own symmetric scale (stated "
+                   f"per row; red: too bright, blue: too dark). {ref}")
 
 
-def _overview(results: pd.DataFrame, primary: str, fail_above) -> str:
-    """Where each method fails: failed cells and mean error per method (rows) and group."""
-    frame = results.assign(method_=results["method"])
-    bad = frame["error"].notna()
-    if fail_above:
-        bad |= frame[primary].astype(float) > fail_above
-    failures = frame.assign(bad=bad).pivot_table(index="method_", columns="group", values="bad", aggfunc="sum",
-                                                 sort=False)
-    errors = frame.pivot_table(index="method_", columns="group", values=primary, aggfunc="mean", sort=False)
-    crit = "raised an error" + (f" or {primary} > {fail_above:g}" if fail_above else "")
-    return (f"<h2>Overview</h2><p>Mean {html.escape(primary)} per method (all its options) and group; each "
-            f"group's reference is stated in its section.</p>"
-            + _table(errors.reset_index().rename(columns={"method_": "method"}))
-            + f"<p>Failed cells per method and group (a cell fails when it {html.escape(crit)}).</p>"
-            + _table(failures.fillna(0).astype(int).reset_index().rename(columns={"method_": "method"})))
+def _provenance(root: Path, results: pd.DataFrame) -> str:
+    """Machine, cores, threads and library versions of the run (``DIR/provenance.json``,
+    written once per sweep run; older folders lack it)."""
+    path = root / "provenance.json"
+    try:
+        found = json.loads(path.read_text()) if path.is_file() else None
+    except (OSError, ValueError):
+        found = None
+    if not isinstance(found, dict):
+        hosts = ", ".join(sorted(map(str, results["host"].dropna().unique()))) if "host" in results else ""
+        return (f"<p class='note'>Machine: {html.escape(hosts or 'unknown')}. This sweep folder records no "
+                "cores, threads or library versions (no provenance.json: it predates them).</p>")
+    items = []
+
+    def walk(prefix, value):
+        if isinstance(value, dict):
+            for k, v in value.items():
+                walk(f"{prefix}.{k}" if prefix else str(k), v)
+        else:
+            items.append(f"<dt>{html.escape(prefix)}</dt><dd>{html.escape(str(value))}</dd>")
+
+    walk("", found)
+    return ("<h3>Where this ran (<a href='provenance.json'>provenance.json</a>)</h3><dl class='prov'>"
+            + "".join(items) + "</dl>")
+
+
+def _metric_columns(results: pd.DataFrame, manifest: dict) -> list[str]:
+    names = list(manifest.get("metrics", []))  # the experiment's metrics, in config order
+    return [m for m in names if m in results.columns]
+
+
+def _timing_note(results: pd.DataFrame) -> str:
+    hosts = results["host"].dropna().unique() if "host" in results else []
+    return (f"Rendered on {len(hosts)} host(s): {html.escape(', '.join(map(str, hosts)))}. " if len(hosts) else "")
 
 
 def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
-    """Write ``DIR/index.html`` (and ``DIR/figures/*.png``) for the sweep folder ``DIR``."""
+    """Write ``DIR/index.html`` with ``DIR/figures/``, ``DIR/tables/`` and ``DIR/viewer/``."""
     from aaeval.experiments.runner import progress_bar
 
     store = SweepStore(directory)
     manifest = store.read_manifest()
     results, temporal = load_results(store)
-    figdir = store.root / "figures"
-    figdir.mkdir(parents=True, exist_ok=True)
-    primary = manifest.get("primary", "rmse")
+    temporal = _with_options(temporal, results)
+    page = _Page(store, results, manifest)
     metrics = _metric_columns(results, manifest)
     distinct = {c["key"] for c in manifest["cells"]}
-    n_failed = int(results.drop_duplicates("key")["error"].notna().sum()) if not results.empty else 0
+    failed = failed_cells(results, page.primary, page.fail_above) if not results.empty else pd.Series(dtype=bool)
+    n_failed = int(failed[~results["key"].duplicated()].sum()) if not results.empty else 0
     done = results["key"].nunique() if not results.empty else 0
 
     parts = [f"<h1>{html.escape(manifest['experiment'])}</h1>",
@@ -246,30 +511,37 @@ def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
              f"{len(distinct) - done} pending). Code version {html.escape(manifest.get('code_version', '?'))}. "
              f"Generated {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. "
              + (_timing_note(results) if not results.empty else "") + "</p>",
+             _provenance(store.root, results),
              "<p>Data: <a href='results.parquet'>results.parquet</a> (one row per cell), "
              "<a href='temporal.parquet'>temporal.parquet</a> (one row per animation), "
              "<a href='experiment.toml'>experiment.toml</a> (the config as run), "
              "<a href='manifest.json'>manifest.json</a>.</p>"]
     groups = list(dict.fromkeys(c["group"] for c in manifest["cells"]))
-    parts.append("<p>Groups: " + ", ".join(f"<a href='#{html.escape(g)}'>{html.escape(g)}</a>" for g in groups)
-                 + "</p>")
+    parts.append("<p>Sections: <a href='#how-to-read'>how to read this report</a>, <a href='#ground-truth'>ground "
+                 "truth</a>, <a href='#overview'>overview</a>; groups: "
+                 + ", ".join(f"<a href='#{html.escape(figure_stem(g))}'>{html.escape(g)}</a>" for g in groups) + "</p>")
+    parts.append(_how_to_read(page))
     if not results.empty:
-        parts.append(_overview(results, primary, manifest.get("fail_above")))
+        parts.append(_policy_section(page, results))
+        parts.append(_overview(page, results, failed))
     with progress_bar(quiet) as progress:
         task = progress.add_task("report", total=len(groups)) if progress else None
         for group in groups:
             rows = results[results["group"] == group] if not results.empty else results
             if rows.empty:
-                parts.append(f"<h2 id='{html.escape(group)}'>{html.escape(group)}</h2><p>No finished cells yet.</p>")
+                parts.append(f"<h2 id='{html.escape(figure_stem(group))}'>{html.escape(group)}</h2>"
+                             "<p>No finished cells yet.</p>")
             else:
-                parts.append(_group_section(group, rows, temporal, store, figdir, metrics,
-                                            manifest.get("temporal", []), primary,
-                                            manifest.get("fail_above")))
+                parts.append(_group_section(page, group, rows, temporal, metrics, failed))
             if task is not None:
                 progress.advance(task)
-    page = ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"
-            f"<title>{html.escape(manifest['experiment'])} — aaeval report</title><style>{_CSS}</style></head>"
-            f"<body>{''.join(parts)}</body></html>\n")
+    parts.append(specular_section(store.root, page.figdir))
+    parts.append(filters_section(store.root, page.figdir))
+    scripts = "".join(f"<script src='{html.escape(s)}'></script>" for s in page.viewer_scripts)
+    page_text = ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"
+                 f"<title>{html.escape(manifest['experiment'])} — aaeval report</title><style>{_CSS}</style>"
+                 f"<script>{viewer_script()}</script></head>"
+                 f"<body>{''.join(parts)}{scripts}<script>AAV.init();</script></body></html>\n")
     index = store.root / "index.html"
-    atomic_write(index, lambda tmp: Path(tmp).write_text(page))
+    atomic_write(index, lambda tmp: Path(tmp).write_text(page_text))
     return index

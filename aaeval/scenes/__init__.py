@@ -11,10 +11,14 @@ from aaeval.scenes.format import (
     register_section,
 )
 
+from aaeval.scenes.holes import HoledPolygon  # noqa: E402
+
 # extensions of the scene format register their tables on import
 from aaeval.scenes import shaded  # noqa: E402,F401
+from aaeval.scenes import sources  # noqa: E402,F401
 
 __all__ = [
+    "HoledPolygon",
     "Polygon",
     "PolygonArrays",
     "Scene",

@@ -1,18 +1,28 @@
-"""Scene generators and a writer for the core keys of the scene format.
+"""Every generated scene: the builders, the one registry of generators, and a writer.
 
-Every generator builds the scene as the dictionary a TOML file would parse to and hands
-it to :func:`~aaeval.scenes.format.parse_scene`, so what it returns has passed the same
-validation as a file. :func:`write_scene` writes a scene back as TOML in the core keys
-only; reading the file again gives the same numbers bit for bit (floats are written with
-``repr``, which round-trips).
+- Builders (:func:`fan`, :func:`slivers`, :func:`picket_fence`, :func:`random_triangles`,
+  :func:`random_polygons`) build a scene as the dictionary a TOML file would parse to and
+  hand it to :func:`~aaeval.scenes.format.parse_scene`, so what they return has passed
+  the same validation as a file.
+- Generators (:data:`GENERATORS`, :func:`register_generator`, :func:`generate_scene`):
+  scenes built from one *difficulty* value, which sweeps (``generator = "fan"`` in an
+  experiment config) raise to find where each method starts to fail. Every generator
+  declares the range of its difficulty and each parameter's type, default (given once,
+  here) and range; :func:`generate_scene` checks them all, and the size of what would be
+  built (:data:`MAX_POLYGONS`, :data:`MAX_PIXEL_FRAMES`), before building anything, and
+  refuses bad input with a one-line :class:`GeneratorError` naming the generator, the
+  parameter and the rule.
+- :func:`write_scene` writes a scene back as TOML in the core keys only; reading the file
+  again gives the same numbers bit for bit (floats are written with ``repr``).
 """
 
 from __future__ import annotations
 
 import colorsys
 import math
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
 import numpy as np
 
@@ -20,6 +30,14 @@ from aaeval.imageio import atomic_write
 from aaeval.scenes.format import Scene, SceneError, parse_scene
 
 __all__ = [
+    "GENERATORS",
+    "Generator",
+    "GeneratorError",
+    "Param",
+    "MAX_POLYGONS",
+    "MAX_PIXEL_FRAMES",
+    "register_generator",
+    "generate_scene",
     "fan",
     "picket_fence",
     "random_polygons",
@@ -312,3 +330,306 @@ def _hue(h: float) -> list[float]:
 def _check_count(n: Any, name: str) -> None:
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ValueError(f"{name} must be a positive integer, got {n!r}")
+
+
+# --- the generator registry ----------------------------------------------------------
+
+# A generated scene holds at most this many polygons: validating 100k triangles takes
+# about 30 s and 0.5 GB on one core, and every method renders each of them per frame.
+MAX_POLYGONS = 100_000
+# ... and at most this many pixels over all its frames (the scene format's pixel limit).
+MAX_PIXEL_FRAMES = 1 << 28
+
+
+class GeneratorError(SceneError):
+    """A generator name, difficulty or parameter that is unknown, of the wrong type or
+    out of range, or a scene too large to build; the message is one line."""
+
+
+@dataclass(frozen=True)
+class Param:
+    """A generator parameter (or its difficulty): type, default, meaning and range.
+
+    ``low`` / ``high`` bound the value (inclusive; ``low_open=True`` makes the lower bound
+    strict). Every value must be finite; an ``int`` parameter takes integers only.
+    """
+
+    type: type
+    default: Any
+    doc: str
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = False
+
+    def rule(self) -> str:
+        kind = "an integer" if self.type is int else "a finite number"
+        if self.low is not None and self.high is not None:
+            return f"{kind} in {'(' if self.low_open else '['}{self.low:g}, {self.high:g}]"
+        if self.low is not None:
+            return f"{kind} {'>' if self.low_open else '>='} {self.low:g}"
+        if self.high is not None:
+            return f"{kind} <= {self.high:g}"
+        return kind
+
+    def check(self, value: Any, where: str) -> Any:
+        """``value`` converted to the parameter's type, or GeneratorError naming ``where``."""
+        if not self._fits(value):
+            raise GeneratorError(f"{where}: must be {self.rule()}, got {value!r}")
+        return self.type(value)
+
+    def _fits(self, value: Any) -> bool:
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+            return False
+        if not math.isfinite(value) or (self.type is int and not float(value).is_integer()):
+            return False
+        if self.low is not None and not (value > self.low if self.low_open else value >= self.low):
+            return False
+        return self.high is None or value <= self.high
+
+
+@dataclass(frozen=True)
+class Generator:
+    """A registered generator: ``make(difficulty, **params) -> scene document``.
+
+    ``difficulty`` is what the difficulty value measures (for axis labels);
+    ``difficulty_param`` its type and range; ``params`` the other parameters;
+    ``size(difficulty, params) -> (polygons, pixels x frames)`` what the scene would hold,
+    checked against the limits before ``make`` runs.
+    """
+
+    name: str
+    make: Callable[..., dict]
+    difficulty: str
+    difficulty_param: Param
+    params: Mapping[str, Param]
+    size: Callable[[float, Mapping[str, Any]], tuple[int, int]]
+
+
+GENERATORS: dict[str, Generator] = {}
+
+
+def register_generator(
+    name: str,
+    *,
+    difficulty: str,
+    difficulty_param: Param,
+    params: Mapping[str, Param],
+    size: Callable[[float, Mapping[str, Any]], tuple[int, int]],
+):
+    """Decorator registering ``make(difficulty, **params) -> scene document`` under ``name``."""
+
+    def decorate(func):
+        if name in GENERATORS:
+            raise ValueError(f"generator {name!r} is registered twice")
+        GENERATORS[name] = Generator(name, func, difficulty, difficulty_param, dict(params), size)
+        return func
+
+    return decorate
+
+
+def generate_scene(name: str, difficulty: float, **params: Any) -> dict:
+    """The scene document generator ``name`` builds at ``difficulty``.
+
+    Every parameter not given takes its declared default. Raises :class:`GeneratorError`
+    (one line) for an unknown generator or parameter, a value of the wrong type or out of
+    range, or a scene over :data:`MAX_POLYGONS` polygons or :data:`MAX_PIXEL_FRAMES`
+    pixels x frames (with the estimate), before building anything.
+    """
+    if name not in GENERATORS:
+        raise GeneratorError(f"unknown scene generator {name!r}; available: {', '.join(sorted(GENERATORS))}")
+    gen = GENERATORS[name]
+    unknown = sorted(set(params) - set(gen.params))
+    if unknown:
+        raise GeneratorError(f"generator {name!r}: unknown parameter(s) {unknown}; parameters: {sorted(gen.params)}")
+    d = gen.difficulty_param.check(difficulty, f"generator {name!r}: difficulty ({gen.difficulty_param.doc})")
+    values = {key: p.default for key, p in gen.params.items()}
+    for key, value in params.items():
+        values[key] = gen.params[key].check(value, f"generator {name!r}: parameter {key}")
+    polygons, pixel_frames = gen.size(d, values)
+    if polygons > MAX_POLYGONS:
+        raise GeneratorError(f"generator {name!r} at difficulty {d:g} would build {polygons} polygons; "
+                             f"the limit is {MAX_POLYGONS}")
+    if pixel_frames > MAX_PIXEL_FRAMES:
+        raise GeneratorError(f"generator {name!r} would render {pixel_frames} pixels over all frames; "
+                             f"the limit is {MAX_PIXEL_FRAMES}")
+    try:
+        return gen.make(d, **values)
+    except GeneratorError:
+        raise
+    except (SceneError, ValueError) as exc:  # a combination the builder cannot lay out
+        raise GeneratorError(f"generator {name!r} at difficulty {d:g}: {exc}") from None
+
+
+def _animation(frames: int, step: float) -> dict:
+    # an irrational-looking direction so edges cross sample positions at many phases
+    return {"frames": int(frames), "translate": [step, step * 0.61803398875]}
+
+
+def _animated(scene: Scene, frames: int, step: float) -> dict:
+    document = scene_to_dict(scene)
+    if frames > 1:
+        document["animation"] = _animation(frames, step)
+    return document
+
+
+# Parameters shared by several generators (declared once)
+MAX_SIDE = 16384  # the scene format's largest image side
+_FRAMES = Param(int, 1, "frames of the animation (1 = a still scene)", 1, 100_000)
+_STEP = Param(float, 0.125, "sub-pixel translation per frame (px)", -64.0, 64.0)
+
+
+def _size(default: int, doc: str = "image width and height (px)") -> Param:
+    return Param(int, default, doc, 4, MAX_SIDE)
+
+
+def _square(size_key: str = "size", polygons: Callable[[float, Mapping[str, Any]], int] = lambda d, p: 0):
+    def size(d: float, p: Mapping[str, Any]) -> tuple[int, int]:
+        return polygons(d, p), p[size_key] ** 2 * p["frames"]
+
+    return size
+
+
+@register_generator(
+    "fan",
+    difficulty="polygons meeting in one pixel",
+    difficulty_param=Param(float, None, "number of wedges, rounded", 3),
+    params={"size": _size(9), "frames": _FRAMES, "step": _STEP},
+    size=_square(polygons=lambda d, p: int(round(d))),
+)
+def _fan(difficulty: float, *, size: int, frames: int, step: float) -> dict:
+    """:func:`fan`: ``N = difficulty`` wedges meeting inside one pixel."""
+    return _animated(fan(int(round(difficulty)), size, size), frames, step)
+
+
+@register_generator(
+    "sliver",
+    difficulty="1 / sliver width (1/px)",
+    difficulty_param=Param(float, None, "1 / width of each bar, 1/px", 0, 1e6, low_open=True),
+    params={"size": _size(16), "frames": _FRAMES, "step": _STEP,
+            "count": Param(int, 4, "number of bars", 1, MAX_POLYGONS)},
+    size=_square(polygons=lambda d, p: p["count"]),
+)
+def _sliver(difficulty: float, *, size: int, frames: int, step: float, count: int) -> dict:
+    """:func:`slivers`: ``count`` bars ``1 / difficulty`` pixels wide.
+
+    Thinner than a pixel, a sliver falls between point samples on some rows and frames
+    and is hit on others; its exact coverage is its width times its length.
+    """
+    # shorter than the image by the animation's drift, so the true sum stays constant
+    length = 0.9 * size - 2 * frames * abs(step)
+    if length <= 0:
+        raise GeneratorError(f"generator 'sliver': {frames} frames of step {step} drift further than the "
+                             f"image of size {size} is wide")
+    return _animated(slivers(1.0 / difficulty, size, size, n=count, length=length), frames, step)
+
+
+@register_generator(
+    "picket",
+    difficulty="bars per pixel",
+    difficulty_param=Param(float, None, "bars per pixel, 1 / period", 0, 1e6, low_open=True),
+    params={"bar_width": Param(float, 0.3, "bar width as a fraction of the period", 0, 1, low_open=True),
+            "bars": Param(int, 12, "number of bars", 1, MAX_POLYGONS),
+            "width": _size(24, "image width (px)"), "height": _size(6, "image height (px)"),
+            "frames": Param(int, 8, "frames (the fence moves one period over all of them)", 1, 100_000)},
+    size=lambda d, p: (p["bars"], p["width"] * p["height"] * p["frames"]),
+)
+def _picket(difficulty: float, *, bar_width: float, bars: int, width: int, height: int, frames: int) -> dict:
+    """:func:`picket_fence` with period ``1 / difficulty`` pixels."""
+    if bar_width >= 1:
+        raise GeneratorError(f"generator 'picket': parameter bar_width must be < 1 (a fraction of the period), "
+                             f"got {bar_width!r}")
+    period = 1.0 / difficulty
+    return scene_to_dict(picket_fence(bar_width * period, period, bars=bars, width=width, height=height,
+                                      frames=frames))
+
+
+@register_generator(
+    "random",
+    difficulty="number of random triangles",
+    difficulty_param=Param(float, None, "number of triangles, rounded", 1),
+    params={"size": _size(128), "frames": _FRAMES, "step": _STEP,
+            "seed": Param(int, 0, "seed of the random scene", 0, 2**63 - 1)},
+    size=_square(polygons=lambda d, p: int(round(d))),
+)
+def _random(difficulty: float, *, size: int, frames: int, step: float, seed: int) -> dict:
+    """:func:`random_triangles`: interpenetrating triangles, for timing."""
+    n = int(round(difficulty))
+    return _animated(random_triangles(n, size, size, size=max(4.0, size / 8), seed=seed), frames, step)
+
+
+@register_generator(
+    "edges",
+    difficulty="edge slope (rise per pixel run)",
+    difficulty_param=Param(float, None, "slope of the near-horizontal edges", 0, 0.3),
+    params={"size": _size(24), "frames": Param(int, 8, _FRAMES.doc, 1, 100_000), "step": _STEP},
+    size=_square(polygons=lambda d, p: 2),
+)
+def _edges(difficulty: float, *, size: int, frames: int, step: float) -> dict:
+    """Nearly axis-aligned edges (slope ``difficulty``, at most 0.3 so the scene stays
+    inside the frame) moving by sub-pixel steps.
+
+    Small slopes make the long staircases and crawling edges of point sampling; the
+    occluding quad in front exercises hidden-surface removal inside pixels.
+    """
+    s = float(difficulty)
+    lo, hi = 0.12 * size, 0.8 * size  # room for the drift of the animation inside the frame
+    back = [[lo + 0.3, 0.2 * size, 2.0], [hi, 0.2 * size + s * (hi - lo), 2.0],
+            [hi - 0.2, 0.7 * size + s * (hi - lo), 2.0], [lo + 0.1, 0.7 * size, 2.0]]
+    front = [[0.3 * size + 0.07, 0.1 * size + 0.4, 1.0], [0.62 * size, 0.1 * size + 0.77, 1.0],
+             [0.62 * size - s * 0.6 * size, 0.85 * size, 1.0]]
+    return {"image": {"width": size, "height": size, "background": [0.02, 0.02, 0.02]},
+            "animation": _animation(frames, step),
+            "polygons": [{"color": [0.95, 0.9, 0.3], "vertices": back},
+                         {"color": [0.2, 0.45, 0.95], "vertices": front}]}
+
+
+def _shiny_cylinder(size: int, radius: float, n: float, frames: int, step: float, segments: int) -> dict:
+    # one cylinder of the [shaded] extension (docs/shaded_scenes.md), lit from behind the
+    # viewer, so the highlight runs along the axis where the normal faces the viewer
+    c = size / 2
+    return {
+        "image": {"width": size, "height": size, "background": [0.02, 0.02, 0.03]},
+        "animation": _animation(frames, step),
+        "shaded": {
+            "light": {"type": "directional", "direction": [0.3, 0.0, -1.0]},
+            "cylinders": [{
+                "centre": [c + 0.173, c + 0.291, 200.0], "axis": [0.12, 1.0, 0.0], "radius": float(radius),
+                "length": 0.8 * size, "segments": int(segments),
+                "spin": {"axis": [0.0, 0.0, 1.0], "degrees": 0.2},
+                "material": {"color": [0.75, 0.12, 0.10], "ka": 0.15, "kd": 0.55, "ks": 0.8, "n": float(n)},
+            }],
+        },
+    }
+
+
+_SEGMENTS = Param(int, 48, "facets around the cylinder", 3, MAX_POLYGONS // 4)
+
+
+def _cylinder_polygons(d: float, p: Mapping[str, Any]) -> int:
+    return 4 * p["segments"]  # two side triangles and two cap triangles per facet
+
+
+@register_generator(
+    "shininess",
+    difficulty="Phong exponent n",
+    difficulty_param=Param(float, None, "Phong exponent of the cylinder", 1, 1e6),
+    params={"size": _size(32), "radius": Param(float, 9.0, "cylinder radius (px)", 0, 1e6, low_open=True),
+            "frames": _FRAMES, "step": _STEP, "segments": _SEGMENTS},
+    size=_square(polygons=_cylinder_polygons),
+)
+def _shininess(difficulty: float, *, size: int, radius: float, frames: int, step: float, segments: int) -> dict:
+    """A shiny cylinder whose Phong exponent is ``difficulty``: the highlight narrows as it grows."""
+    return _shiny_cylinder(size, radius, difficulty, frames, step, segments)
+
+
+@register_generator(
+    "curvature",
+    difficulty="curvature 1 / radius (1/px)",
+    difficulty_param=Param(float, None, "1 / cylinder radius, 1/px", 0, 2, low_open=True),
+    params={"size": _size(32), "n": Param(float, 200.0, "Phong exponent of the cylinder", 1, 1e6),
+            "frames": _FRAMES, "step": _STEP, "segments": _SEGMENTS},
+    size=_square(polygons=_cylinder_polygons),
+)
+def _curvature(difficulty: float, *, size: int, n: float, frames: int, step: float, segments: int) -> dict:
+    """A shiny cylinder of radius ``1 / difficulty``: the normal turns faster across a pixel as it grows."""
+    return _shiny_cylinder(size, min(1.0 / difficulty, 0.4 * size), n, frames, step, segments)

@@ -20,15 +20,8 @@ import numpy as np
 from aaeval.renderers.catmull import Fragments, visible_fragments
 from aaeval.scenes import Scene
 from aaeval.scenes.shaded import ShadedScene, ShadingField, expand_shaded
-from aaeval.specular.shading import (
-    MODERN_CLAMPS,
-    amanatides_rate,
-    clamp_amanatides,
-    corner_offsets,
-    min_corner_dot,
-    phong,
-    rescale_ks,
-)
+from aaeval.specular.methods import SPECULAR_METHODS, specular_options
+from aaeval.specular.shading import amanatides_rate, corner_offsets, min_corner_dot, phong, rescale_ks
 from aaeval.specular.tables import min_dot
 
 __all__ = [
@@ -39,9 +32,6 @@ __all__ = [
     "fragment_parameters",
     "scaled_scene",
 ]
-
-SPECULAR_METHODS = ("none", "amanatides", "crow", *MODERN_CLAMPS)
-
 
 class AliasingMap(NamedTuple):
     """Amanatides' detection per pixel.
@@ -108,65 +98,49 @@ def specular_aliasing_map(scene: Scene, *, power: float = 1.0) -> AliasingMap:
     return AliasingMap(flag_img.reshape(shape), rate_img.reshape(shape), dot_img.reshape(shape))
 
 
-def fragment_parameters(
-    field: ShadingField, pieces: _Pieces, method: str, *, power: float = 1.0, energy: str = "amanatides"
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Per shaded piece: ``(n', ks', flagged)`` for a specular method.
+def fragment_parameters(field: ShadingField, pieces: _Pieces, **options) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per shaded piece: ``(n', ks', flagged)`` for the specular method ``options`` name.
 
-    ``flagged`` is Amanatides' detection (conservative, or at ``power``); ``none`` and
-    ``crow`` keep n and ks everywhere (crow acts on flagged pieces by supersampling).
+    ``flagged`` is Amanatides' detection (conservative, or at ``power``). A method with a
+    clamp (:mod:`aaeval.specular.methods`) gets ``n' = min(clamp(corners, n), n)`` and, with
+    ``energy="amanatides"``, ``ks' = ks Maximum[n] / Maximum[n']``; the others keep n and
+    ks (crow acts on flagged pieces by supersampling).
     """
+    options = specular_options(**options)
     n = field.n[pieces.polygon]
     ks = field.ks[pieces.polygon]
-    n_clamped, ks_clamped, flagged = clamp_amanatides(pieces.dot, n, ks, power=power)
-    if method == "amanatides":
-        return n_clamped, ks_clamped, flagged
-    if method in ("none", "crow"):
+    flagged = pieces.dot < min_dot(n, options["power"])
+    clamp = SPECULAR_METHODS[options["specular"]].clamp
+    if clamp is None:
         return n, ks, flagged
-    n_modern = np.minimum(MODERN_CLAMPS[method](pieces.corners, n), n)
-    ks_modern = rescale_ks(ks, n, n_modern) if energy == "amanatides" else ks
-    return n_modern, ks_modern, flagged
+    n_new = np.minimum(clamp(pieces.corners, n, **{k: v for k, v in options.items() if k != "specular"}), n)
+    ks_new = rescale_ks(ks, n, n_new) if options["energy"] == "amanatides" else ks
+    return n_new, ks_new, flagged
 
 
-def render_shaded(
-    scene: Scene,
-    *,
-    specular: str = "none",
-    power: float = 1.0,
-    k: int = 4,
-    region: str = "flagged",
-    energy: str = "amanatides",
-    return_specular: bool = False,
-):
+def render_shaded(scene: Scene, *, return_specular: bool = False, **options):
     """Render a scene with ``[shaded]`` objects by Catmull's exact visibility.
 
     Parameters
     ----------
     scene : Scene
-    specular : {"none", "amanatides", "crow", "toksvig", "vlachos", "tokuyoshi"}
-    power : float
-        Amanatides: fraction of the power of cos^n kept (1 = conservative). Detection for
-        ``crow`` uses the same table.
-    k : int
-        Crow: K x K shading samples in a supersampled piece.
-    region : {"flagged", "all"}
-        Crow: supersample only flagged pieces, or every shaded piece.
-    energy : {"amanatides", "none"}
-        Modern methods: rescale ks by Maximum[n] / Maximum[n'], or keep ks.
     return_specular : bool
         Also return the specular term alone (H, W), box filtered.
+    **options
+        ``specular`` (the method), ``power``, ``k``, ``region``, ``energy``: the
+        parameters of :data:`aaeval.specular.methods.PARAMETERS`, which documents them and
+        gives their defaults.
 
     Returns
     -------
     ndarray (H, W, 3), and the specular image if ``return_specular``.
     """
-    if specular not in SPECULAR_METHODS:
-        raise ValueError(f"specular method {specular!r} is not one of {list(SPECULAR_METHODS)}")
+    options = specular_options(**options)
     expanded = expand_shaded(scene)
     fragments = visible_fragments(expanded.scene)
     field = expanded.field
     pieces = _shaded_pieces(field, fragments, scene.width)
-    n_new, ks_new, flagged = fragment_parameters(field, pieces, specular, power=power, energy=energy)
+    n_new, ks_new, flagged = fragment_parameters(field, pieces, **options)
 
     size = scene.width * scene.height
     weights = fragments.area.copy()
@@ -177,13 +151,13 @@ def render_shaded(
     spec[pieces.rows] = shaded_spec
 
     image = _accumulate(fragments.pixel, weights, rgb, spec, size)
-    if specular == "crow":
-        chosen = flagged if region == "flagged" else np.ones(len(pieces.rows), bool)
+    if SPECULAR_METHODS[options["specular"]].supersample:
+        chosen = flagged if options["region"] == "flagged" else np.ones(len(pieces.rows), bool)
         if chosen.any():
             rows = pieces.rows[chosen]
             # remove the single shade of each supersampled piece, add its K x K shades
             image -= _accumulate(fragments.pixel[rows], weights[rows], rgb[rows], spec[rows], size)
-            image += _supersampled(expanded, fragments, rows, k, size)
+            image += _supersampled(expanded, fragments, rows, options["k"], size)
     rgb_img = image[:, :3].reshape(scene.height, scene.width, 3)
     if return_specular:
         return rgb_img, image[:, 3].reshape(scene.height, scene.width)

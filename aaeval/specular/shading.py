@@ -21,8 +21,6 @@ Clamps (``n' <= n``, applied per visible piece of a polygon in a pixel):
 
 from __future__ import annotations
 
-from typing import Callable
-
 import numpy as np
 
 from aaeval.scenes.shaded import EYE
@@ -39,7 +37,6 @@ __all__ = [
     "clamp_toksvig",
     "clamp_vlachos",
     "clamp_tokuyoshi",
-    "MODERN_CLAMPS",
     "exponent_to_alpha2",
     "alpha2_to_exponent",
     "rescale_ks",
@@ -139,7 +136,7 @@ def alpha2_to_exponent(alpha2) -> np.ndarray:
     return np.maximum((2.0 / np.asarray(alpha2, dtype=np.float64) - 2.0) / 4.0, 0.0)
 
 
-def clamp_toksvig(corners: np.ndarray, n: np.ndarray) -> np.ndarray:
+def clamp_toksvig(corners: np.ndarray, n: np.ndarray, **_options) -> np.ndarray:
     """Toksvig 2005: s' = s / (1 + s sigma^2), sigma^2 = (1 - |Na|) / |Na|, s = 4 n."""
     length = np.linalg.norm(corners.mean(axis=1), axis=1)
     sigma2 = (1.0 - length) / np.maximum(length, 1e-12)
@@ -147,7 +144,7 @@ def clamp_toksvig(corners: np.ndarray, n: np.ndarray) -> np.ndarray:
     return s / (1.0 + s * sigma2) / 4.0
 
 
-def clamp_vlachos(corners: np.ndarray, n: np.ndarray) -> np.ndarray:
+def clamp_vlachos(corners: np.ndarray, n: np.ndarray, **_options) -> np.ndarray:
     """Vlachos 2015: alpha' = max(alpha, max(|dn/dx|^2, |dn/dy|^2)^(1/3))."""
     dx, dy = normal_derivatives(corners)
     geometric = np.maximum(np.einsum("ij,ij->i", dx, dx), np.einsum("ij,ij->i", dy, dy)) ** (1.0 / 3.0)
@@ -155,7 +152,7 @@ def clamp_vlachos(corners: np.ndarray, n: np.ndarray) -> np.ndarray:
     return alpha2_to_exponent(alpha**2)
 
 
-def clamp_tokuyoshi(corners: np.ndarray, n: np.ndarray) -> np.ndarray:
+def clamp_tokuyoshi(corners: np.ndarray, n: np.ndarray, **_options) -> np.ndarray:
     """Tokuyoshi & Kaplanyan 2021: alpha'^2 = sat(alpha^2 + min(k (|dn/dx|^2 + |dn/dy|^2), kappa))."""
     dx, dy = normal_derivatives(corners)
     variance = TOKUYOSHI_K * (np.einsum("ij,ij->i", dx, dx) + np.einsum("ij,ij->i", dy, dy))
@@ -163,8 +160,3 @@ def clamp_tokuyoshi(corners: np.ndarray, n: np.ndarray) -> np.ndarray:
     return alpha2_to_exponent(alpha2)
 
 
-MODERN_CLAMPS: dict[str, Callable[[np.ndarray, np.ndarray], np.ndarray]] = {
-    "toksvig": clamp_toksvig,
-    "vlachos": clamp_vlachos,
-    "tokuyoshi": clamp_tokuyoshi,
-}

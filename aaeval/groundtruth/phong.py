@@ -12,7 +12,7 @@ return their colour. A second output channel (AOV ``specular``) carries the spec
 term alone, for highlight metrics.
 
 Camera, variant choice and depth mapping are the flat-colour ground truth's
-(:mod:`aaeval.groundtruth.mitsuba`): pixel (col i, row j) is world [i, i+1] x [j, j+1],
+(:mod:`aaeval.groundtruth.flat`): pixel (col i, row j) is world [i, i+1] x [j, j+1],
 the view runs along +z, scene depths are mapped affinely onto camera depths. Under that
 map the scene's x, y and the direction of +z are kept, so E and the light direction are
 the same vectors in Mitsuba's world; a point light's depth is mapped like the geometry's.
@@ -22,21 +22,26 @@ from __future__ import annotations
 
 import numpy as np
 
+from aaeval.groundtruth.flat import (
+    DEFAULT_SAMPLER,
+    DEFAULT_SPP,
+    DEPTH_SPAN,
+    NEAR,
+    SAMPLERS,
+    orthographic_sensor,
+    render_in_bands,
+    triangulate_scene,
+)
+from aaeval.groundtruth.variant import import_mitsuba
 from aaeval.scenes import Scene
 from aaeval.scenes.shaded import expand_shaded
 
 __all__ = [
     "INTEGRATOR",
-    "PHONG_VERSION",
     "phong_integrator",
     "phong_scene_dict",
     "render_mitsuba_phong",
-    "shading_digest",
-    "groundtruth_phong",
 ]
-
-# bumped whenever the Phong conversion to Mitsuba changes (part of the cache key)
-PHONG_VERSION = 1
 
 INTEGRATOR = "aaeval_phong"
 _REGISTERED: set[str] = set()
@@ -97,8 +102,6 @@ def phong_integrator(mi):
 
 def _mesh(mi, expanded):
     """One Mitsuba mesh: every drawable polygon (ear-cut, unclipped) with vertex normals."""
-    from aaeval.groundtruth.mitsuba import NEAR, DEPTH_SPAN, triangulate_scene
-
     scene, field = expanded.scene, expanded.field
     # a margin wider than any vertex: no clipping, so every triangle keeps its vertices
     # and their unit normals (clipped vertices would need blended, non-unit normals)
@@ -140,8 +143,6 @@ def _mesh(mi, expanded):
 
 def _depth_map(scene: Scene) -> tuple[float, float, float]:
     """(z0, d0, dz): the affine camera-depth -> scene-depth map of triangulate_scene."""
-    from aaeval.groundtruth.mitsuba import DEPTH_SPAN, NEAR
-
     finite = [p for p in scene.polygons if np.isfinite(p.plane).all()]
     if not finite:
         return 0.0, NEAR, 1.0
@@ -152,10 +153,8 @@ def _depth_map(scene: Scene) -> tuple[float, float, float]:
     return zmin, NEAR, (zmax - zmin) / DEPTH_SPAN
 
 
-def phong_scene_dict(scene: Scene, *, spp: int, sampler: str = "stratified", rows=None, mi=None, mesh=None) -> dict:
+def phong_scene_dict(scene: Scene, *, spp: int, sampler: str = DEFAULT_SAMPLER, rows=None, mi=None, mesh=None) -> dict:
     """The ``mi.load_dict`` dictionary of a shaded scene with the Phong integrator."""
-    from aaeval.groundtruth.mitsuba import orthographic_sensor
-
     expanded = expand_shaded(scene)
     phong_integrator(mi)
     if mesh is None:
@@ -178,9 +177,9 @@ def phong_scene_dict(scene: Scene, *, spp: int, sampler: str = "stratified", row
 
 
 def render_mitsuba_phong(
-    scene: Scene, *, spp: int = 1024, sampler: str = "stratified", seed: int = 0, variant: str = "auto"
+    scene: Scene, *, spp: int = DEFAULT_SPP, sampler: str = DEFAULT_SAMPLER, seed: int = 0, variant: str = "auto"
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Render a shaded scene with Mitsuba's Phong integrator.
+    """Render a shaded scene with Mitsuba's Phong integrator (not cached: see :mod:`.cache`).
 
     Returns
     -------
@@ -189,76 +188,13 @@ def render_mitsuba_phong(
     specular : ndarray (H, W) float64
         Box-filtered specular term alone.
     """
-    from aaeval.groundtruth.mitsuba import band_seed, row_bands
-    from aaeval.groundtruth.variant import import_mitsuba
-
+    if sampler not in SAMPLERS:
+        raise ValueError(f"unknown sampler {sampler!r}; use one of {', '.join(SAMPLERS)}")
     mi = import_mitsuba(variant)
     phong_integrator(mi)
     mesh, _ = _mesh(mi, expand_shaded(scene))
-    rgb = np.empty(scene.shape)
-    specular = np.empty(scene.shape[:2])
-    for band, (r0, r1) in enumerate(row_bands(scene.width, scene.height, spp)):
-        rows = None if (r0, r1) == (0, scene.height) else (r0, r1)
-        loaded = mi.load_dict(phong_scene_dict(scene, spp=spp, sampler=sampler, rows=rows, mi=mi, mesh=mesh))
-        out = np.array(mi.render(loaded, spp=spp, seed=band_seed(seed, band)), dtype=np.float64)
-        rgb[r0:r1] = out[..., :3]
-        specular[r0:r1] = out[..., -1]
-    return rgb, specular
-
-
-def shading_digest(scene: Scene) -> str:
-    """SHA-256 of a shaded scene at its frame: the expanded geometry and all shading data."""
-    import hashlib
-
-    from aaeval.groundtruth.cache import scene_digest
-
-    expanded = expand_shaded(scene)
-    field = expanded.field
-    h = hashlib.sha256(scene_digest(expanded.scene).encode())
-    for array in (field.shaded, field.G, field.ka, field.kd, field.ks, field.n):
-        h.update(np.ascontiguousarray(array, dtype="<f8").tobytes())
-    if field.light is not None:
-        h.update(field.light.kind.encode())
-        h.update(np.ascontiguousarray(field.light.vector, dtype="<f8").tobytes())
-    return h.hexdigest()
-
-
-def groundtruth_phong(
-    scene: Scene,
-    *,
-    spp: int = 1024,
-    sampler: str = "stratified",
-    seed: int = 0,
-    variant: str = "auto",
-    cache: bool = True,
-) -> tuple[np.ndarray, np.ndarray, bool]:
-    """:func:`render_mitsuba_phong`, cached on disk beside the flat ground truths.
-
-    Returns ``(rgb, specular, hit)``; ``hit`` is True when read from the cache. The key
-    covers the expanded scene and shading (:func:`shading_digest`), spp, sampler, seed,
-    the Mitsuba version and :data:`PHONG_VERSION`; files are written atomically.
-    """
-    import hashlib
-    import json
-
-    from importlib.metadata import version
-
-    from aaeval.groundtruth.cache import cache_dir
-    from aaeval.imageio import atomic_write
-
-    if not cache:
-        return (*render_mitsuba_phong(scene, spp=spp, sampler=sampler, seed=seed, variant=variant), False)
-    config = {"scene": shading_digest(scene), "spp": int(spp), "sampler": sampler, "seed": int(seed),
-              "mitsuba": version("mitsuba"), "phong": PHONG_VERSION}
-    key = hashlib.sha256(json.dumps(config, sort_keys=True).encode()).hexdigest()[:32]
-    path = cache_dir() / f"phong-{key}.npz"
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            rgb, specular = data["rgb"], data["specular"]
-        if rgb.shape == scene.shape and specular.shape == scene.shape[:2]:
-            return rgb, specular, True
-    except (OSError, ValueError, EOFError, KeyError):  # missing or unreadable: render again
-        pass
-    rgb, specular = render_mitsuba_phong(scene, spp=spp, sampler=sampler, seed=seed, variant=variant)
-    atomic_write(path, lambda tmp: np.savez(tmp, rgb=rgb, specular=specular))
-    return rgb, specular, False
+    out = render_in_bands(
+        mi, scene, spp=spp, seed=seed,
+        scene_dict=lambda rows: phong_scene_dict(scene, spp=spp, sampler=sampler, rows=rows, mi=mi, mesh=mesh),
+    )
+    return out[..., :3], out[..., -1]

@@ -1,7 +1,7 @@
-"""Rendering an aaeval scene with Mitsuba 3: the independent ground truth.
+"""The flat-colour ground truth: an aaeval scene rendered by Mitsuba 3.
 
-The conversion is split into small public steps so other Mitsuba-based methods (a Phong
-integrator, say) can reuse them:
+The conversion is split into small public steps so the Phong ground truth
+(:mod:`aaeval.groundtruth.phong`) reuses them:
 
 - :func:`triangulate_scene`: every visible polygon, clipped to a margin around the image
   and ear-cut into triangles (concave outlines included), with camera depths;
@@ -12,7 +12,9 @@ integrator, say) can reuse them:
 - :func:`orthographic_sensor`: the camera that maps pixel (col i, row j) onto world
   [i, i+1] x [j, j+1], box pixel filter, float32 ``hdrfilm``;
 - :func:`mitsuba_scene_dict`: all of it as a ``mi.load_dict`` dictionary;
-- :func:`render_mitsuba`: the (H, W, 3) float64 image, row 0 at the top.
+- :func:`render_in_bands`: large films rendered in row bands, one seed each;
+- :func:`render_mitsuba`: the (H, W, 3) float64 image, row 0 at the top (not cached:
+  :mod:`aaeval.groundtruth.cache` caches it).
 
 Mitsuba computes in float32. Vertices are clipped to at most :data:`MARGIN` pixels
 outside the image so far-away vertices cannot cost precision, and scene depths are mapped
@@ -47,6 +49,7 @@ __all__ = [
     "orthographic_sensor",
     "mitsuba_scene_dict",
     "render_mitsuba",
+    "render_in_bands",
     "MAX_SAMPLES_PER_PASS",
     "row_bands",
     "band_seed",
@@ -133,8 +136,12 @@ def coplanar_ranks(scene: Scene, *, rtol: float = 1e-11) -> np.ndarray:
         return ranks
     xy = arrays.vertices[:, :2]
     lo, hi = np.minimum.reduceat(xy, arrays.start), np.maximum.reduceat(xy, arrays.start)
+    group = np.arange(len(depth))
+    for h in scene.holed:  # a polygon with holes ranks as one: its pieces share plane, box, rank
+        group[h.pieces] = h.first
+        lo[h.pieces], hi[h.pieces] = lo[h.pieces].min(axis=0), hi[h.pieces].max(axis=0)
     for j in range(1, len(depth)):
-        below = np.all(np.abs(depth[:j] - depth[j]) <= eps, axis=1)
+        below = np.all(np.abs(depth[:j] - depth[j]) <= eps, axis=1) & (group[:j] != group[j])
         below &= np.all((lo[:j] <= hi[j]) & (hi[:j] >= lo[j]), axis=1)
         if below.any():
             ranks[j] = 1 + ranks[:j][below].max()
@@ -235,14 +242,16 @@ def orthographic_sensor(
     sampler: str = DEFAULT_SAMPLER,
     spp: int = DEFAULT_SPP,
     rows: tuple[int, int] | None = None,
+    rfilter: dict | None = None,
 ) -> dict:
     """The ``load_dict`` dictionary of a camera showing pixel (col i, row j) as world [i, i+1] x [j, j+1].
 
     Orthographic, looking along +z from depth 0 with y down (``up = -y``); Mitsuba's
     orthographic camera spans 2 world units across the film's width and keeps the pixel
     aspect, so x and y are both scaled by ``width / 2`` (also when width != height).
-    Box pixel filter, float32 RGB ``hdrfilm``. ``rows = (r0, r1)`` renders only rows
-    r0..r1-1 (a crop of the same film).
+    Box pixel filter unless ``rfilter`` (an ``rfilter`` dictionary, see
+    :data:`aaeval.filters.FILTERS`) says otherwise; float32 RGB ``hdrfilm``.
+    ``rows = (r0, r1)`` renders only rows r0..r1-1 (a crop of the same film).
     """
     import mitsuba as mi
 
@@ -254,7 +263,7 @@ def orthographic_sensor(
         "type": "hdrfilm",
         "width": width,
         "height": height,
-        "rfilter": {"type": "box"},
+        "rfilter": dict(rfilter or {"type": "box"}),
         "pixel_format": "rgb",
         "component_format": "float32",
     }
@@ -278,6 +287,7 @@ def mitsuba_scene_dict(
     integrator: dict | None = None,
     mesh=None,
     rows: tuple[int, int] | None = None,
+    rfilter: dict | None = None,
 ) -> dict:
     """The whole scene as a ``mi.load_dict`` dictionary (variant must be set).
 
@@ -287,7 +297,7 @@ def mitsuba_scene_dict(
     return {
         "type": "scene",
         "integrator": integrator or {"type": "aov", "aovs": "albedo:albedo"},
-        "sensor": orthographic_sensor(scene.width, scene.height, sampler=sampler, spp=spp, rows=rows),
+        "sensor": orthographic_sensor(scene.width, scene.height, sampler=sampler, spp=spp, rows=rows, rfilter=rfilter),
         "polygons": scene_mesh(scene) if mesh is None else mesh,
     }
 
@@ -313,27 +323,51 @@ def render_mitsuba(
     sampler: str = DEFAULT_SAMPLER,
     seed: int = 0,
     variant: str = "auto",
+    rfilter: dict | None = None,
 ) -> np.ndarray:
     """Render ``scene`` with Mitsuba: (H, W, 3) float64 linear RGB, row 0 at the top.
 
     Each pixel is the mean of ``spp`` samples of the flat colour visible at a point of
     the pixel square (box filter), so the image converges to the exact area average that
-    ``catmull`` computes. Core polygon scenes only: a scene with extension tables raises
-    ``ValueError``, since this renderer would silently ignore them.
+    ``catmull`` computes. With ``rfilter`` (a wider filter) the film weights each sample
+    by the filter of every pixel it reaches and divides by the weight collected, and the
+    image is rendered in one pass (row bands would cut the filter at their edges).
+    Core polygon scenes only: a scene with extension tables raises ``ValueError``, since
+    this renderer would silently ignore them.
     """
-    if scene.extensions:
+    from aaeval.scenes.sources import SOURCE_TABLES  # where imported polygons came from: nothing to draw
+
+    if set(scene.extensions) - SOURCE_TABLES:
         raise ValueError(
             f"{scene.source}: the mitsuba ground truth renders core polygon scenes only; "
-            f"extension table(s) {sorted(scene.extensions)} are not supported"
+            f"extension table(s) {sorted(set(scene.extensions) - SOURCE_TABLES)} are not supported"
         )
     if sampler not in SAMPLERS:
         raise ValueError(f"unknown sampler {sampler!r}; use one of {', '.join(SAMPLERS)}")
     mi = import_mitsuba(variant)
     mesh = scene_mesh(scene)
-    image = np.empty(scene.shape, dtype=np.float64)
-    for band, (r0, r1) in enumerate(row_bands(scene.width, scene.height, spp)):
+    out = render_in_bands(
+        mi, scene, spp=spp, seed=seed, whole=rfilter is not None,
+        scene_dict=lambda rows: mitsuba_scene_dict(scene, spp=spp, sampler=sampler, mesh=mesh, rows=rows,
+                                                   rfilter=rfilter),
+    )
+    return out[..., :3]
+
+
+def render_in_bands(mi, scene: Scene, *, spp: int, seed: int, scene_dict, whole: bool = False) -> np.ndarray:
+    """Render the whole film in row bands (:func:`row_bands`), each with its own seed.
+
+    ``whole=True`` renders one pass: a filter wider than a pixel would be cut at band edges.
+
+    ``scene_dict(rows)`` gives the ``load_dict`` dictionary of rows ``(r0, r1)`` (None for
+    the whole film). Returns every film channel, (H, W, C) float64.
+    """
+    image = None
+    bands = [(0, scene.height)] if whole else row_bands(scene.width, scene.height, spp)
+    for band, (r0, r1) in enumerate(bands):
         rows = None if (r0, r1) == (0, scene.height) else (r0, r1)
-        loaded = mi.load_dict(mitsuba_scene_dict(scene, spp=spp, sampler=sampler, mesh=mesh, rows=rows))
-        out = np.array(mi.render(loaded, spp=spp, seed=band_seed(seed, band)), dtype=np.float64)
-        image[r0:r1] = out[..., :3]
+        out = np.array(mi.render(mi.load_dict(scene_dict(rows)), spp=spp, seed=band_seed(seed, band)), dtype=np.float64)
+        if image is None:
+            image = np.empty((scene.height, scene.width, out.shape[-1]))
+        image[r0:r1] = out
     return image

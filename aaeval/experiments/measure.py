@@ -1,0 +1,262 @@
+"""The measuring engine: from a scene and a method spec to the numbers of one record.
+
+``aaeval compare``, every sweep cell (:mod:`aaeval.experiments.tasks`), the sweep's
+temporal table (:mod:`aaeval.experiments.table`) and the specular study all measure
+through these functions, so the same scene, method and frame give the same numbers
+wherever they are measured:
+
+- :func:`render_measured`: one untimed warm-up render of the method at this image size
+  (once per process: JIT compilation and first-call costs), then ``repeats`` timed renders;
+- :func:`render_reference`: the reference image and, for a seeded reference, its noise;
+- :func:`frame_metrics`: every per-frame metric asked, each with the mask it declares;
+- :func:`series_metrics`: every temporal metric asked over all frames of an animation;
+- :func:`measure_frame`: render + intensity sum + per-frame metrics, failures recorded.
+
+Metric values come only from the registered metric functions (:mod:`aaeval.metrics`);
+masks only from :mod:`aaeval.metrics.masks`.
+"""
+
+from __future__ import annotations
+
+import math
+import statistics
+import traceback
+from dataclasses import dataclass, field
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from aaeval.metrics import (
+    METRICS,
+    build_mask,
+    check_metric_names,
+    compute_metric,
+    compute_temporal_metric,
+    intensity_sum,
+    rmse,
+    sum_variation,
+)
+
+__all__ = ["Timing", "FrameMeasurement", "SceneCache", "render_measured", "render_reference",
+           "reference_kind", "noise_spec", "frame_metrics", "series_metrics", "measure_frame",
+           "check_image_metrics", "check_temporal_metrics", "reference_sum_variation"]
+
+
+@dataclass(frozen=True)
+class Timing:
+    """Render time of one image: median, min and max over ``repeats`` timed renders (seconds)."""
+
+    render_s: float
+    render_s_min: float
+    render_s_max: float
+    repeats: int
+
+    @classmethod
+    def of(cls, seconds: Sequence[float]) -> "Timing":
+        return cls(float(statistics.median(seconds)), float(min(seconds)), float(max(seconds)), len(seconds))
+
+    @classmethod
+    def missing(cls, repeats: int) -> "Timing":
+        return cls(math.nan, math.nan, math.nan, int(repeats))
+
+    def fields(self, width: int, height: int) -> dict[str, float]:
+        """The record's timing fields: these four plus ``megapixels`` and ``ms_per_mpix``."""
+        megapixels = width * height / 1e6
+        return {"render_s": self.render_s, "render_s_min": self.render_s_min, "render_s_max": self.render_s_max,
+                "repeats": self.repeats, "megapixels": megapixels, "ms_per_mpix": self.render_s * 1e3 / megapixels}
+
+
+class SceneCache:
+    """Parsed scenes by content digest: each worker parses a scene document once.
+
+    Sweep payloads carry the scene document (workers need not share a disk); the parsed
+    :class:`~aaeval.scenes.Scene` and the masks built on its frames are kept here.
+    """
+
+    def __init__(self):
+        self._scenes: dict[str, Any] = {}
+        self._masks: dict[tuple[str, int, str], np.ndarray] = {}
+
+    def scene(self, digest: str, document: Mapping[str, Any], source: str):
+        scene = self._scenes.get(digest)
+        if scene is None:
+            from aaeval.scenes import parse_scene
+
+            scene = self._scenes[digest] = parse_scene(document, source=source)
+        return scene
+
+    def mask(self, digest: str, scene, frame: int, name: str) -> np.ndarray:
+        key = (digest, frame, name)
+        if key not in self._masks:
+            self._masks[key] = build_mask(name, scene.at_frame(frame))
+        return self._masks[key]
+
+    def series_mask(self, digest: str, scene, frames: Sequence[int], name: str) -> np.ndarray:
+        """The mask ``name`` on each of ``frames``, stacked (F, H, W)."""
+        return np.stack([self.mask(digest, scene, k, name) for k in frames])
+
+
+#: This process's scene cache (each worker process has its own).
+SCENES = SceneCache()
+
+_WARMED: set[tuple] = set()
+
+
+def render_measured(scene, spec: str, frame: int, repeats: int = 1) -> tuple[np.ndarray, Timing]:
+    """Render ``scene`` at ``frame`` with ``spec``: warm-up once, then ``repeats`` timed renders.
+
+    The warm-up is one untimed render the first time this process meets (spec, width,
+    height): a JIT such as numba or Dr.Jit compiles per method and, for Dr.Jit, per sample
+    count and image size. The image returned is the last timed render's.
+    """
+    from aaeval.renderers import render, render_timed
+
+    if not (isinstance(repeats, int) and repeats >= 1):
+        raise ValueError(f"repeats must be a whole number >= 1, got {repeats!r}")
+    key = (spec, scene.width, scene.height)
+    if key not in _WARMED:
+        render(scene, spec, frame=frame)
+        _WARMED.add(key)
+    seconds = []
+    for _ in range(repeats):
+        image, s = render_timed(scene, spec, frame=frame)
+        seconds.append(s)
+    return image, Timing.of(seconds)
+
+
+def reference_kind(spec: str) -> str:
+    """``exact`` (no noise), ``stochastic`` (has a seed: noise is measured) or ``deterministic``."""
+    from aaeval.renderers import resolve
+
+    method, options = resolve(spec)
+    if method.exact:
+        return "exact"
+    return "stochastic" if "seed" in options else "deterministic"
+
+
+def noise_spec(spec: str) -> str | None:
+    """The same reference with the next seed, to measure its noise; None if it has no seed."""
+    from aaeval.renderers import format_spec, resolve
+
+    method, options = resolve(spec)
+    if method.exact or "seed" not in options:
+        return None
+    return format_spec(method.name, {**options, "seed": int(options["seed"]) + 1})
+
+
+def render_reference(scene, spec: str, frame: int, *, estimate_noise: bool) -> dict:
+    """The reference image of one frame, its render time and noise level.
+
+    ``noise_rmse`` is 0 for an exact reference; for a seeded one (with ``estimate_noise``)
+    the RMS per-pixel noise of one render, ``rmse(a, b) / sqrt(2)`` against a second render
+    with the next seed; NaN when not measured.
+    """
+    from aaeval.renderers import render_timed
+
+    image, seconds = render_timed(scene, spec, frame=frame)
+    noise = 0.0 if reference_kind(spec) == "exact" else math.nan
+    twin = noise_spec(spec) if estimate_noise else None
+    if twin is not None:
+        other, _ = render_timed(scene, twin, frame=frame)
+        noise = rmse(image, other) / math.sqrt(2.0)
+    return {"image": image, "render_s": seconds, "noise_rmse": noise, "noise_spec": twin,
+            "intensity_sum": intensity_sum(image)}
+
+
+def check_image_metrics(names: Sequence[str]) -> tuple[str, ...]:
+    """The per-frame metric names, checked against the registry (:class:`MetricError`)."""
+    return check_metric_names(names, "image")
+
+
+def check_temporal_metrics(names: Sequence[str]) -> tuple[str, ...]:
+    """The temporal metric names, checked against the registry (:class:`MetricError`)."""
+    return check_metric_names(names, "temporal")
+
+
+def _context(metric, mask_of) -> dict:
+    return {"mask": mask_of(metric.mask)} if metric.mask else {}
+
+
+def frame_metrics(names: Sequence[str], reference: np.ndarray, image: np.ndarray,
+                  mask_of) -> tuple[dict[str, float], dict[str, str]]:
+    """Every per-frame metric in ``names`` of ``image`` against ``reference``.
+
+    ``mask_of(name)`` returns the mask ``name`` of the scene at this frame. A metric that
+    cannot judge the image is NaN with its error in the second dict; it spoils no other.
+    """
+    values, errors = {}, {}
+    for name in names:
+        metric = METRICS[name]
+        try:
+            values[name] = compute_metric(name, reference, image, **_context(metric, mask_of))
+        except Exception as exc:  # noqa: BLE001 - one metric's failure is that metric's result
+            values[name] = math.nan
+            errors[name] = f"{type(exc).__name__}: {exc}"
+    return values, errors
+
+
+def series_metrics(names: Sequence[str], references: Sequence[np.ndarray], images: Sequence[np.ndarray],
+                   mask_of) -> tuple[dict[str, float], dict[str, str]]:
+    """Every temporal metric in ``names`` over all frames, in frame order.
+
+    ``mask_of(name)`` returns the mask ``name`` stacked over the frames, (F, H, W).
+    """
+    values, errors = {}, {}
+    frames_true, frames_test = np.stack(references), np.stack(images)
+    for name in names:
+        metric = METRICS[name]
+        try:
+            values[name] = compute_temporal_metric(name, frames_true, frames_test, **_context(metric, mask_of))
+        except Exception as exc:  # noqa: BLE001
+            values[name] = math.nan
+            errors[name] = f"{type(exc).__name__}: {exc}"
+    return values, errors
+
+
+def reference_sum_variation(reference_sums: Sequence[float]) -> float:
+    """``sum_variation`` of the reference's intensity sums (its own change over the frames)."""
+    return sum_variation(reference_sums)
+
+
+@dataclass
+class FrameMeasurement:
+    """What :func:`measure_frame` returns: the record's measured fields and the image."""
+
+    image: np.ndarray | None
+    timing: Timing
+    intensity_sum: float = math.nan
+    metrics: dict[str, float] = field(default_factory=dict)
+    metric_errors: dict[str, str] = field(default_factory=dict)
+    error: str | None = None
+    traceback: str | None = None
+
+    def fields(self, width: int, height: int) -> dict[str, Any]:
+        return {**self.timing.fields(width, height), "intensity_sum": self.intensity_sum, "metrics": self.metrics,
+                "metric_errors": self.metric_errors, "error": self.error, "traceback": self.traceback}
+
+
+def measure_frame(scene, spec: str, frame: int, reference: np.ndarray | None, metrics: Sequence[str], *,
+                  repeats: int = 1, digest: str | None = None, cache: SceneCache | None = None,
+                  reference_error: str | None = None) -> FrameMeasurement:
+    """Render one frame (timed), then measure it against ``reference``; never raises for the
+    cell's own failures: they come back as ``error`` (and every metric NaN).
+
+    ``reference_error``: why there is no reference (the cell fails with this message).
+    """
+    cache = cache or SCENES
+    digest = digest or f"id{id(scene)}"
+    out = FrameMeasurement(None, Timing.missing(repeats), metrics={m: math.nan for m in metrics})
+    try:
+        if reference_error:
+            raise RuntimeError(reference_error)
+        image, out.timing = render_measured(scene, spec, frame, repeats)
+        out.image = image
+        if not np.all(np.isfinite(image)):
+            raise FloatingPointError("the image has non-finite pixels")
+        out.intensity_sum = intensity_sum(image)
+        out.metrics, out.metric_errors = frame_metrics(
+            metrics, reference, image, lambda name: cache.mask(digest, scene, frame, name))
+    except Exception as exc:  # noqa: BLE001 - a failing cell is a result, not the end of the run
+        out.error = f"{type(exc).__name__}: {exc}"
+        out.traceback = traceback.format_exc(limit=6)
+    return out

@@ -1,0 +1,21 @@
+"""Pixel reconstruction filters beyond the box, integrated exactly over visible pieces.
+
+- :mod:`.registry`: the one registry of filters (Mitsuba 3's definitions);
+- :mod:`.integrate`: numba stages: a visible piece's integrals against the filter per
+  knot cell (Green's theorem), cells combined into pixels;
+- :mod:`.catmull_sink`: the Catmull kernel's visible pieces on the knot grid, through a
+  moment-accumulating sink;
+- :mod:`.evaluate`: point evaluation of a profile (numba), for samplers that splat;
+- :mod:`.exact`: the exactly filtered image of a scene.
+"""
+
+from aaeval.filters.registry import (
+    DEFAULT_FILTER,
+    FILTERS,
+    PixelFilter,
+    axis_weights,
+    filter_names,
+    get_filter,
+)
+
+__all__ = ["DEFAULT_FILTER", "FILTERS", "PixelFilter", "axis_weights", "filter_names", "get_filter"]

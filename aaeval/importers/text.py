@@ -1,0 +1,195 @@
+"""Text to scenes: ``aaeval import text "STRING" --font FONT.ttf --size PX -o SCENE.toml``.
+
+A glyph is its outline: fontTools reads the font, each glyph's quadratic (TrueType) or
+cubic (CFF) outline is scaled to pixels, placed at its exact sub-pixel pen position and
+flattened to the tolerance like every other curve (:mod:`aaeval.importers.flatten`);
+Skia resolves the nonzero fill of its contours into polygons with holes. Pen positions
+are never rounded: the advance widths and the font's ``kern`` table pairs (no GPOS
+shaping; that would need HarfBuzz), scaled by size / units-per-em. :func:`layout` is the
+one layout both the importer and the ``freetype`` method use, so FreeType draws the same
+glyphs at the same places.
+
+The default font is DejaVu Sans as matplotlib ships it (``matplotlib:DejaVuSans.ttf``),
+so a text scene needs nothing from the network or the system.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from aaeval.importers.flatten import DEFAULT_TOLERANCE, bezier_points
+from aaeval.importers.scene import ImportResult, Layer, scene_document
+from aaeval.importers.shapes import Subpath, fill_regions
+from aaeval.scenes.sources import font_path
+
+__all__ = ["import_text", "layout", "glyph_subpaths", "PlacedGlyph", "DEFAULT_FONT", "TextError"]
+
+DEFAULT_FONT = "matplotlib:DejaVuSans.ttf"
+
+
+class TextError(ValueError):
+    """A font that cannot be read, or text it cannot set."""
+
+
+class PlacedGlyph(NamedTuple):
+    char: str
+    glyph: str  # the font's glyph name
+    gid: int  # glyph index (FreeType's)
+    x: float  # pen position on the baseline, image pixels (y down)
+    y: float
+    scale: float  # pixels per font unit
+
+
+@lru_cache(maxsize=8)
+def _font(path: str):
+    from fontTools.ttLib import TTFont, TTLibError
+
+    try:
+        font = TTFont(path, lazy=True)
+        font.getGlyphOrder()
+        font["head"], font["hmtx"], font["hhea"]  # noqa: B018  (the tables layout needs)
+    except (OSError, TTLibError, KeyError) as exc:
+        raise TextError(f"{path}: not a readable TrueType/OpenType font ({exc})") from None
+    return font
+
+
+def _kerning(font) -> dict:
+    if "kern" not in font:
+        return {}
+    pairs: dict = {}
+    for table in font["kern"].kernTables:
+        if getattr(table, "format", 0) == 0 and hasattr(table, "kernTable"):
+            for key, value in table.kernTable.items():
+                pairs.setdefault(key, value)
+    return pairs
+
+
+def layout(font_file: str | Path, string: str, size: float, origin) -> list[PlacedGlyph]:
+    """Glyphs of one line of text at their sub-pixel pen positions (no rounding).
+
+    ``origin`` is the pen's start on the baseline (image pixels, y down); ``size`` is
+    pixels per em. Characters the font lacks raise :class:`TextError`.
+    """
+    font = _font(str(font_file))
+    scale = float(size) / font["head"].unitsPerEm
+    cmap = font.getBestCmap() or {}
+    kern = _kerning(font)
+    order = {name: i for i, name in enumerate(font.getGlyphOrder())}
+    hmtx = font["hmtx"]
+    x, y = float(origin[0]), float(origin[1])
+    placed, previous = [], None
+    for char in string:
+        if ord(char) not in cmap:
+            raise TextError(f"{font_file}: the font has no glyph for {char!r} (U+{ord(char):04X})")
+        name = cmap[ord(char)]
+        if previous is not None:
+            x += kern.get((previous, name), 0) * scale
+        placed.append(PlacedGlyph(char, name, order[name], x, y, scale))
+        x += hmtx[name][0] * scale
+        previous = name
+    return placed
+
+
+def glyph_subpaths(font_file: str | Path, glyph: PlacedGlyph, tol: float) -> list[Subpath]:
+    """A placed glyph's outline in image pixels, flattened to ``tol``."""
+    from fontTools.pens.basePen import BasePen
+    from fontTools.pens.transformPen import TransformPen
+
+    class FlattenPen(BasePen):
+        def __init__(self):
+            super().__init__(None)
+            self.subpaths: list[Subpath] = []
+            self.points: list = []
+
+        def _moveTo(self, pt):
+            self._finish()
+            self.points = [pt]
+
+        def _lineTo(self, pt):
+            self.points.append(pt)
+
+        def _qCurveToOne(self, pt1, pt2):
+            self.points.extend(bezier_points([self._getCurrentPoint(), pt1, pt2], tol))
+
+        def _curveToOne(self, pt1, pt2, pt3):
+            self.points.extend(bezier_points([self._getCurrentPoint(), pt1, pt2, pt3], tol))
+
+        def _closePath(self):
+            self._finish()
+
+        _endPath = _closePath
+
+        def _finish(self):
+            if len(self.points) >= 3:
+                self.subpaths.append(Subpath(np.array(self.points, dtype=np.float64), True))
+            self.points = []
+
+    pen = FlattenPen()
+    s = glyph.scale
+    # font units (y up) to image pixels (y down) at the glyph's pen position
+    _font(str(font_file)).getGlyphSet()[glyph.glyph].draw(TransformPen(pen, (s, 0, 0, -s, glyph.x, glyph.y)))
+    pen._finish()
+    return pen.subpaths
+
+
+def line_metrics(font_file: str | Path, size: float) -> tuple[float, float, float]:
+    """(ascent, descent, line gap) in pixels at ``size`` (descent positive, below the baseline)."""
+    font = _font(str(font_file))
+    hhea, scale = font["hhea"], float(size) / font["head"].unitsPerEm
+    return hhea.ascent * scale, -hhea.descent * scale, hhea.lineGap * scale
+
+
+def import_text(
+    string: str, *, font: str | None = None, sizes=(12.0,), color=(0.0, 0.0, 0.0), background=(1.0, 1.0, 1.0),
+    origin=None, margin: float = 2.0, tolerance: float = DEFAULT_TOLERANCE, frames: int = 1,
+    translate=(0.0, 0.0), font_ref: str | None = None,
+) -> ImportResult:
+    """Import ``string`` set once per size (one line each) as a scene dictionary.
+
+    The first line's pen starts at ``origin`` (default: ``margin`` from the left, its
+    ascent plus ``margin`` down); each next line starts one line height below. The
+    image is just large enough for every line plus ``margin``. ``font_ref`` is how the
+    scene's ``[text].font`` names the font (default: ``font`` as given, or DejaVu Sans).
+    """
+    if not string:
+        raise TextError("nothing to import: the string is empty")
+    sizes = [float(s) for s in sizes]
+    if not sizes or any(not (math.isfinite(s) and s > 0) for s in sizes):
+        raise TextError(f"sizes must be positive numbers of pixels, got {sizes}")
+    reference = font_ref if font_ref is not None else (DEFAULT_FONT if font is None else str(font))
+    file = font_path(".", font or DEFAULT_FONT)
+    if not file.is_file():
+        raise TextError(f"{file}: no such font file")
+    ascent0 = line_metrics(file, sizes[0])[0]
+    x0, y = (margin, margin + ascent0) if origin is None else (float(origin[0]), float(origin[1]))
+    layers, origins, right, bottom = [], [], 0.0, 0.0
+    for k, size in enumerate(sizes):
+        ascent, descent, gap = line_metrics(file, size)
+        if k > 0:
+            y += previous_descent + gap + ascent
+        origins.append([x0, y])
+        for glyph in layout(file, string, size, (x0, y)):
+            regions = fill_regions(glyph_subpaths(file, glyph, tolerance), "nonzero")
+            if regions:
+                layers.append(Layer(np.asarray(color, dtype=np.float64), regions, f"{glyph.char!r} at {size:g} px"))
+        right = max(right, x0 + _advance(file, string, size))
+        bottom = y + descent
+        previous_descent = descent
+    source = {"font": reference, "color": [float(c) for c in color], "tolerance": float(tolerance),
+              "strings": [string] * len(sizes), "sizes": sizes, "origins": origins}
+    document, cut = scene_document(
+        math.ceil(right + margin), math.ceil(bottom + margin), background, layers,
+        extension=("text", source), frames=frames, translate=translate,
+    )
+    return ImportResult(document, [], cut)
+
+
+def _advance(font_file, string: str, size: float) -> float:
+    glyphs = layout(font_file, string, size, (0.0, 0.0))
+    font = _font(str(font_file))
+    return glyphs[-1].x + font["hmtx"][glyphs[-1].glyph][0] * glyphs[-1].scale

@@ -1,0 +1,87 @@
+"""Masks the masked metrics are computed over, built from the scene by name.
+
+A metric declares the mask it needs by name (``register_metric(..., mask="edge")``); the
+measuring engine (:mod:`aaeval.experiments.measure`) builds it from the scene at the
+frame being measured with :func:`build_mask`, once per scene frame, and passes it as the
+metric's ``mask`` option. This is the only place that knows how a mask is made.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+__all__ = ["MASKS", "Mask", "register_mask", "build_mask", "HIGHLIGHT_THRESHOLD", "HIGHLIGHT_SPP"]
+
+#: A pixel is in the highlight when the ground truth's box-filtered specular term exceeds this.
+HIGHLIGHT_THRESHOLD = 0.02
+#: Samples per pixel of the Mitsuba Phong ground truth the highlight mask is read from.
+HIGHLIGHT_SPP = 1024
+
+
+@dataclass(frozen=True)
+class Mask:
+    name: str
+    build: Callable[..., np.ndarray]  # build(scene_at_frame) -> bool (H, W)
+    summary: str
+    applies: Callable[..., bool] = lambda scene: True  # False: the mask is empty on this scene
+
+    def applies_to(self, scene) -> bool:
+        return bool(self.applies(scene))
+
+
+MASKS: dict[str, Mask] = {}
+
+
+def register_mask(name: str, build: Callable[..., np.ndarray], summary: str,
+                  applies: Callable[..., bool] | None = None) -> None:
+    """Register ``build(scene) -> bool (H, W)``; ``applies(scene)`` is False where it is always empty."""
+    if name in MASKS:
+        raise ValueError(f"mask {name!r} is registered twice")
+    MASKS[name] = Mask(name, build, summary, applies or (lambda scene: True))
+
+
+def build_mask(name: str, scene) -> np.ndarray:
+    """The mask ``name`` of ``scene`` (at the frame wanted), bool (H, W)."""
+    if name not in MASKS:
+        raise ValueError(f"unknown mask {name!r}; masks: {', '.join(MASKS)}")
+    mask = np.asarray(MASKS[name].build(scene), dtype=bool)
+    if mask.shape != (scene.height, scene.width):
+        raise ValueError(f"mask {name!r} has shape {mask.shape}, expected {(scene.height, scene.width)}")
+    return mask
+
+
+def _edge(scene) -> np.ndarray:
+    from aaeval.metrics.edges import edge_mask
+
+    return edge_mask(scene)
+
+
+def _highlight(scene) -> np.ndarray:
+    """Pixels where the Mitsuba Phong ground truth's specular term exceeds the threshold.
+
+    Read from the independent ground truth (cached on disk), not from a method under test,
+    so no method defines where it is judged. A scene without shaded objects has no highlight.
+    """
+    from aaeval.metrics.specular import highlight_mask
+
+    if not _has_shaded(scene):
+        return np.zeros((scene.height, scene.width), bool)
+    from aaeval.groundtruth import groundtruth_phong
+
+    _, specular, _ = groundtruth_phong(scene, spp=HIGHLIGHT_SPP)
+    return highlight_mask(specular, threshold=HIGHLIGHT_THRESHOLD)
+
+
+register_mask("edge", _edge, "pixels a visible edge crosses (exact coverage, aaeval.metrics.edges.edge_mask)")
+def _has_shaded(scene) -> bool:
+    from aaeval.scenes.shaded import has_shaded
+
+    return has_shaded(scene)
+
+
+register_mask("highlight", _highlight,
+              f"pixels where the Mitsuba Phong ground truth ({HIGHLIGHT_SPP} spp) specular term > {HIGHLIGHT_THRESHOLD}",
+              applies=_has_shaded)

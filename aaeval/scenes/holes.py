@@ -1,0 +1,265 @@
+"""Polygons with holes (the ``holes`` key of the scene format): checks and pieces.
+
+A polygon with holes is checked ring by ring (each ring with the format's own
+simplicity check), then the rings against each other: every hole strictly inside the
+outer ring, holes disjoint, all in the polygon's plane. It is then cut by ear clipping
+(mapbox-earcut, which takes holes) into triangles that share the rings' own vertices,
+and the triangles are merged back into convex pieces across every shared edge that can go
+(Hertel & Mehlhorn), so the pieces abut exactly, their union is exactly the polygon, and
+there are about half as many of them as triangles. Those pieces stand in
+``Scene.polygons`` in the polygon's place, which is how every exact method renders holes
+without seams and without knowing about them; :class:`HoledPolygon` keeps the rings for
+methods that fill whole shapes (Skia's paths, Mitsuba's meshes), where pieces would
+show seams or stack coplanar nudges.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Any, Mapping
+
+import numpy as np
+
+from aaeval.scenes.simplicity import rings_contact
+from aaeval.scenes.format import (
+    MAX_COORDINATE,
+    PLANARITY_RTOL,
+    Polygon,
+    SceneError,
+    _check_no_repeats,
+    _check_simple,
+    _polygon,
+    _vector,
+)
+
+__all__ = ["HoledPolygon", "polygons_with_holes", "ring_area", "points_inside"]
+
+# Triangles smaller than this (relative to the polygon's size squared) are rounding
+# leftovers of collinear vertices: they cover nothing and only burden the clippers.
+SLIVER_RTOL = 1e-13
+# The pieces must cover the polygon's area to this relative tolerance, or the cut failed.
+CUT_RTOL = 1e-9
+
+
+@dataclass(frozen=True)
+class HoledPolygon:
+    """A polygon of the file that has holes.
+
+    Attributes
+    ----------
+    rings : tuple of ndarray, each (n, 3)
+        The outer ring first, then every hole, as in the file (x, y, z).
+    color : ndarray, shape (3,)
+    plane : ndarray, shape (3,)
+        The outer ring's depth plane (NaN when seen edge-on); every piece has it.
+    file_index : int
+        Position in the file's ``[[polygons]]``.
+    first, count : int
+        Its pieces are ``scene.polygons[first : first + count]``.
+    """
+
+    rings: tuple[np.ndarray, ...]
+    color: np.ndarray
+    plane: np.ndarray
+    file_index: int
+    first: int
+    count: int
+
+    @property
+    def pieces(self) -> range:
+        return range(self.first, self.first + self.count)
+
+    def translated(self, shift: np.ndarray) -> "HoledPolygon":
+        rings = tuple(np.column_stack([r[:, :2] + shift, r[:, 2]]) for r in self.rings)
+        a, b, c = self.plane
+        return replace(self, rings=rings, plane=np.array([a, b, c - a * shift[0] - b * shift[1]]))
+
+
+def ring_area(xy: np.ndarray) -> float:
+    """Signed area of a closed ring (shoelace; positive counter-clockwise in y-up axes)."""
+    x, y = xy[:, 0], xy[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def polygons_with_holes(raw_polygons: list, source: str) -> tuple[tuple[Polygon, ...], tuple[HoledPolygon, ...]]:
+    """Every ``[[polygons]]`` entry checked; polygons with holes replaced by their pieces.
+
+    A file without ``holes`` gives exactly the polygons it always gave (index = file
+    position) and no :class:`HoledPolygon`.
+    """
+    polygons: list[Polygon] = []
+    holed: list[HoledPolygon] = []
+    for i, raw in enumerate(raw_polygons):
+        polygon = _polygon(raw, i, source)  # every rule of the outer ring and the other keys
+        first = len(polygons)
+        if "holes" not in raw:
+            polygons.append(polygon if polygon.index == first else replace(polygon, index=first))
+            continue
+        where = f"{source}: polygons[{i}]"
+        holes = _hole_rings(raw["holes"], polygon.vertices, where)
+        pieces = _cut_into_pieces(polygon, holes, where) if holes else [polygon.vertices]
+        polygons.extend(
+            Polygon(vertices=v, color=polygon.color, index=first + k, plane=polygon.plane)
+            for k, v in enumerate(pieces)
+        )
+        holed.append(HoledPolygon((polygon.vertices, *holes), polygon.color, polygon.plane, i, first, len(pieces)))
+    return tuple(polygons), tuple(holed)
+
+
+# --- checks -------------------------------------------------------------------------
+
+
+def _hole_rings(raw: Any, outer: np.ndarray, where: str) -> list[np.ndarray]:
+    """The holes as (n, 3) arrays, after every rule of the format's ``holes`` key."""
+    if not isinstance(raw, list):
+        raise SceneError(f"{where}.holes: expected a list of rings, each a list of [x, y, z] points")
+    centre = outer.mean(axis=0)
+    _, _, axes = np.linalg.svd(outer - centre, full_matrices=False)
+    size = float(np.ptp(outer, axis=0).max())
+    flat = [(outer - centre) @ axes[:2].T]  # every ring in the outer ring's own plane
+    rings = []
+    for h, ring_raw in enumerate(raw):
+        here = f"{where}.holes[{h}]"
+        ring = _ring(ring_raw, here)
+        distance = np.abs((ring - centre) @ axes[2])
+        if distance.max() > PLANARITY_RTOL * size:
+            j = int(distance.argmax())
+            raise SceneError(f"{here}: hole is not in the polygon's plane (vertex {j} lies {distance.max():.3g} from it)")
+        xy = (ring - centre) @ axes[:2].T
+        _check_simple(xy, here)
+        if abs(ring_area(xy)) <= SLIVER_RTOL * size * size:
+            raise SceneError(f"{here}: degenerate hole (no area)")
+        rings.append(ring)
+        flat.append(xy)
+    _check_rings_apart(flat, where)
+    return rings
+
+
+def _ring(raw: Any, where: str) -> np.ndarray:
+    if not isinstance(raw, list):
+        raise SceneError(f"{where}: expected a list of [x, y, z] points")
+    if len(raw) < 3:
+        raise SceneError(f"{where}: a hole needs at least 3 vertices, got {len(raw)}")
+    ring = np.array([_vector(v, 3, f"{where}[{j}]") for j, v in enumerate(raw)])
+    if np.abs(ring).max() > MAX_COORDINATE:
+        raise SceneError(f"{where}: coordinates beyond +-{MAX_COORDINATE:g} are not supported")
+    _check_no_repeats(ring, where)
+    return ring
+
+
+def _check_rings_apart(flat: list[np.ndarray], where: str) -> None:
+    """Holes strictly inside the outer ring (``flat[0]``), and holes apart from each other.
+
+    Rings that neither cross nor touch are nested or disjoint, so one vertex decides:
+    a hole's first vertex must lie inside the outer ring and outside every other hole.
+    """
+    names = ["the outer ring"] + [f"holes[{h}]" for h in range(len(flat) - 1)]
+    for a in range(1, len(flat)):
+        for b in range(a):
+            meet = _rings_meet(flat[a], flat[b])
+            if meet is not None:
+                raise SceneError(
+                    f"{where}.{names[a]}: hole crosses or touches {names[b]} (its edge {meet[0]} meets edge {meet[1]})"
+                )
+            inside = _inside(flat[a][0], flat[b])
+            if b == 0 and not inside:
+                raise SceneError(f"{where}.{names[a]}: hole lies outside the outer ring")
+            if b > 0 and (inside or _inside(flat[b][0], flat[a])):
+                raise SceneError(f"{where}.{names[a]}: hole overlaps {names[b]} (one lies inside the other)")
+
+
+def _rings_meet(p: np.ndarray, q: np.ndarray) -> tuple[int, int] | None:
+    """The first (edge of p, edge of q) pair that shares a point, or None (both rings simple)."""
+    if (p.min(axis=0) > q.max(axis=0)).any() or (q.min(axis=0) > p.max(axis=0)).any():
+        return None
+    hit = rings_contact([p, q])  # O(n log n) sweep line, shared with the format's simplicity check
+    if hit is None:
+        return None
+    ring_a, edge_a, _, edge_b = hit
+    return (edge_a, edge_b) if ring_a == 0 else (edge_b, edge_a)
+
+
+def _inside(point: np.ndarray, ring: np.ndarray) -> bool:
+    """Even-odd test of a point not on the ring's boundary."""
+    return bool(points_inside(np.asarray(point)[None, :2], ring)[0])
+
+
+def points_inside(points: np.ndarray, ring: np.ndarray) -> np.ndarray:
+    """Even-odd test of many points (m, 2) against a ring (n, 2); a point on the
+    boundary may come out either way."""
+    x, y = points[:, 0, None], points[:, 1, None]
+    a, b = ring[None, :, :2], np.roll(ring, -1, axis=0)[None, :, :2]
+    straddle = (a[..., 1] > y) != (b[..., 1] > y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cross_x = a[..., 0] + (y - a[..., 1]) * (b[..., 0] - a[..., 0]) / (b[..., 1] - a[..., 1])
+    return (np.count_nonzero(straddle & (cross_x > x), axis=1) % 2).astype(bool)
+
+
+# --- pieces -------------------------------------------------------------------------
+
+
+def _cut_into_pieces(polygon: Polygon, holes: list[np.ndarray], where: str) -> list[np.ndarray]:
+    """Convex pieces (each (k, 3), x y z) sharing the rings' vertices, covering exactly the polygon."""
+    import mapbox_earcut
+
+    rings = [polygon.vertices, *holes]
+    if not np.isfinite(polygon.plane).all():
+        return [polygon.vertices]  # seen edge-on: covers nothing, one piece keeps it listed
+    points = np.concatenate(rings)
+    ends = np.cumsum([len(r) for r in rings]).astype(np.uint32)
+    faces = mapbox_earcut.triangulate_float64(np.ascontiguousarray(points[:, :2]), ends).reshape(-1, 3)
+    tri = points[faces]  # (m, 3, 3)
+    e1, e2 = tri[:, 1, :2] - tri[:, 0, :2], tri[:, 2, :2] - tri[:, 0, :2]
+    area = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    size = float(np.ptp(polygon.xy, axis=0).max())
+    expected = abs(ring_area(polygon.xy)) - sum(abs(ring_area(h[:, :2])) for h in holes)
+    if abs(area.sum() - expected) > CUT_RTOL * max(expected, size * size):
+        raise SceneError(
+            f"{where}: could not be cut into pieces (triangles cover {area.sum():.12g}, the polygon {expected:.12g})"
+        )
+    keep = area > SLIVER_RTOL * size * size
+    return [points[cycle] for cycle in convex_pieces(points[:, :2], faces[keep])]
+
+
+def convex_pieces(xy: np.ndarray, faces: np.ndarray) -> list[list[int]]:
+    """Triangles merged across their shared edges into convex pieces (Hertel & Mehlhorn).
+
+    A shared edge is removed when both of its end points stay convex in the merged piece,
+    so every piece stays convex, and there are at most four times as many pieces as the
+    fewest convex pieces could be: far fewer polygons and edges for the renderers than
+    the triangles, with the same vertices, so the pieces still abut exactly.
+    Returns each piece as a counter-clockwise (y up) cycle of indices into ``xy``.
+    """
+
+    def cross(o, a, b):
+        return (xy[a, 0] - xy[o, 0]) * (xy[b, 1] - xy[o, 1]) - (xy[a, 1] - xy[o, 1]) * (xy[b, 0] - xy[o, 0])
+
+    pieces: dict[int, list[int]] = {}
+    owner: dict[tuple[int, int], int] = {}  # directed edge -> piece
+    for k, (a, b, c) in enumerate(faces.tolist()):
+        cycle = [a, b, c] if cross(a, b, c) > 0 else [a, c, b]
+        pieces[k] = cycle
+        for i in range(3):
+            owner[(cycle[i], cycle[(i + 1) % 3])] = k
+    for a, b in list(owner):
+        p, q = owner.get((a, b)), owner.get((b, a))
+        if p is None or q is None or p == q:
+            continue
+        P, Q = pieces[p], pieces[q]
+        i, j = P.index(a), Q.index(b)
+        ring_p = P[i + 1 :] + P[: i + 1]  # b ... a
+        ring_q = Q[j + 1 :] + Q[: j + 1]  # a ... b
+        merged = ring_p + ring_q[1:-1]
+        n = len(merged)
+        if len(set(merged)) != n:
+            continue
+        ia = len(ring_p) - 1  # a; b is at 0
+        if cross(merged[ia - 1], a, merged[(ia + 1) % n]) < 0 or cross(merged[-1], b, merged[1]) < 0:
+            continue
+        pieces[p] = merged
+        del pieces[q]
+        owner.pop((a, b))
+        owner.pop((b, a))
+        for k in range(n):
+            owner[(merged[k], merged[(k + 1) % n])] = p
+    return list(pieces.values())

@@ -1,0 +1,232 @@
+"""Whether polygon outlines cross or touch themselves or each other, in O(n log n).
+
+A scene polygon must be simple: no two of its edges meet except consecutive edges at
+their shared vertex. Comparing every pair of edges costs n^2 / 2 tests and as much
+memory (37 GiB at 100000 vertices), so outlines beyond a few hundred edges are checked
+with the Shamos-Hoey sweep line: edges enter an ordered list at their left end and leave
+it at their right end, and only edges that become neighbours in that list are tested.
+The leftmost meeting point of any two edges is always between two neighbours, so the
+sweep finds a meeting whenever there is one, in O(n log n) time and O(n) memory
+(M. I. Shamos and D. Hoey, "Geometric intersection problems", FOCS 1976).
+
+The functions take *rings*: closed outlines given as ``(n, 2)`` arrays of their vertices,
+without the closing vertex, edge ``k`` running from vertex ``k`` to vertex ``k + 1``. One
+ring is one polygon outline; several rings (an outline and its holes) are checked together,
+where no edge of one ring may meet any edge of another.
+
+Orientation signs are computed in float64 the way the pairwise test computes them, so the
+two agree wherever the signs are exact (integer coordinates, tests/test_simplicity.py);
+a meeting or a miss within rounding error of a tie may be judged either way by either.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+from numba import njit
+
+__all__ = ["ring_contact", "rings_contact", "BRUTE_FORCE_EDGES"]
+
+# Up to this many edges in all, every pair is tested (vectorised; no JIT compilation).
+BRUTE_FORCE_EDGES = 256
+
+
+def ring_contact(xy: np.ndarray) -> tuple[int, int] | None:
+    """Two edges ``(i, j)``, ``i < j``, of the closed ring ``xy`` that meet other than
+    consecutive edges at their shared vertex; None when the ring is simple."""
+    hit = rings_contact([xy])
+    return None if hit is None else (hit[1], hit[3])
+
+
+def rings_contact(rings: Sequence[np.ndarray]) -> tuple[int, int, int, int] | None:
+    """``(ring_a, edge_i, ring_b, edge_j)`` of two edges that meet, ``(ring_a, edge_i) <
+    (ring_b, edge_j)``, or None when every ring is simple and no two rings meet.
+
+    Edges meet when the closed segments share a point; consecutive edges of a ring may
+    share only their common vertex (folding back along each other is a meeting).
+    """
+    rings = [np.ascontiguousarray(np.asarray(r, dtype=np.float64)[:, :2]) for r in rings]
+    sizes = np.array([len(r) for r in rings], dtype=np.int64)
+    if not len(rings) or sizes.sum() == 0:
+        return None
+    pts = np.concatenate(rings)
+    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    # edge e runs from vertex a[e] to vertex b[e] (global vertex indices)
+    a = np.arange(len(pts), dtype=np.int64)
+    ring_of = np.repeat(np.arange(len(rings)), sizes)
+    b = a + 1
+    last = first + sizes - 1
+    b[last] = first
+    if len(pts) <= BRUTE_FORCE_EDGES:
+        hit = _brute_force(pts, a, b)
+    else:
+        hit = _duplicate_vertices(pts)
+        if hit is None:
+            order = np.lexsort((pts[:, 1], pts[:, 0]))
+            incoming = np.empty(len(pts), dtype=np.int64)
+            incoming[b] = a  # edge ending at vertex v; edge e starts at vertex e
+            e, f = _sweep(pts, a, b, order, incoming)
+            hit = None if e < 0 else (int(e), int(f))
+    if hit is None:
+        return None
+    e, f = sorted(hit)
+    return int(ring_of[e]), int(e - first[ring_of[e]]), int(ring_of[f]), int(f - first[ring_of[f]])
+
+
+def _duplicate_vertices(pts: np.ndarray) -> tuple[int, int] | None:
+    """Edges starting at two vertices at the same place: they touch there."""
+    order = np.lexsort((pts[:, 1], pts[:, 0]))
+    s = pts[order]
+    same = np.flatnonzero(np.all(s[1:] == s[:-1], axis=1))
+    if not len(same):
+        return None
+    return int(order[same[0]]), int(order[same[0] + 1])
+
+
+def _brute_force(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[int, int] | None:
+    i, j = np.triu_indices(len(a), k=1)
+    shared = (a[i] == a[j]) | (a[i] == b[j]) | (b[i] == a[j]) | (b[i] == b[j])
+    p, q, r, s = pts[a[i]], pts[b[i]], pts[a[j]], pts[b[j]]
+    o1, o2, o3, o4 = _orient(p, q, r), _orient(p, q, s), _orient(r, s, p), _orient(r, s, q)
+    proper = (o1 * o2 < 0) & (o3 * o4 < 0)
+    touching = ((o1 == 0) & _within(p, q, r)) | ((o2 == 0) & _within(p, q, s)) | (
+        (o3 == 0) & _within(r, s, p)) | ((o4 == 0) & _within(r, s, q))
+    # consecutive edges meet at their vertex; they may not also run along each other
+    far_i = np.where((a[i] == a[j]) | (a[i] == b[j]), b[i], a[i])
+    far_j = np.where((a[j] == a[i]) | (a[j] == b[i]), b[j], a[j])
+    near = np.where((a[i] == a[j]) | (a[i] == b[j]), a[i], b[i])
+    fp, fq, nv = pts[far_i], pts[far_j], pts[near]
+    fold = (_orient(nv, fp, fq) == 0) & (_within(nv, fp, fq) | _within(nv, fq, fp))
+    hit = np.where(shared, fold, proper | touching)
+    if not hit.any():
+        return None
+    k = int(np.flatnonzero(hit)[0])
+    return int(i[k]), int(j[k])
+
+
+def _orient(p, q, r):
+    return np.sign((q[:, 0] - p[:, 0]) * (r[:, 1] - p[:, 1]) - (q[:, 1] - p[:, 1]) * (r[:, 0] - p[:, 0]))
+
+
+def _within(p, q, r):  # r on segment pq, given collinear
+    return ((np.minimum(p[:, 0], q[:, 0]) <= r[:, 0]) & (r[:, 0] <= np.maximum(p[:, 0], q[:, 0]))
+            & (np.minimum(p[:, 1], q[:, 1]) <= r[:, 1]) & (r[:, 1] <= np.maximum(p[:, 1], q[:, 1])))
+
+
+# --- the sweep line (numba) ----------------------------------------------------------
+
+
+@njit(cache=True)
+def _orient1(pts, u, v, w):
+    value = (pts[v, 0] - pts[u, 0]) * (pts[w, 1] - pts[u, 1]) - (pts[v, 1] - pts[u, 1]) * (pts[w, 0] - pts[u, 0])
+    return 1 if value > 0 else (-1 if value < 0 else 0)
+
+
+@njit(cache=True)
+def _within1(pts, u, v, w):
+    return (min(pts[u, 0], pts[v, 0]) <= pts[w, 0] <= max(pts[u, 0], pts[v, 0])
+            and min(pts[u, 1], pts[v, 1]) <= pts[w, 1] <= max(pts[u, 1], pts[v, 1]))
+
+
+@njit(cache=True)
+def _meet(pts, a, b, e, f):
+    """Whether edges e and f meet (consecutive ones: whether they fold along each other)."""
+    p, q, r, s = a[e], b[e], a[f], b[f]
+    if p == r or p == s or q == r or q == s:
+        near = p if (p == r or p == s) else q
+        far_e = q if near == p else p
+        far_f = s if near == r else r
+        return _orient1(pts, near, far_e, far_f) == 0 and (
+            _within1(pts, near, far_e, far_f) or _within1(pts, near, far_f, far_e))
+    o1, o2 = _orient1(pts, p, q, r), _orient1(pts, p, q, s)
+    o3, o4 = _orient1(pts, r, s, p), _orient1(pts, r, s, q)
+    if o1 * o2 < 0 and o3 * o4 < 0:
+        return True
+    return ((o1 == 0 and _within1(pts, p, q, r)) or (o2 == 0 and _within1(pts, p, q, s))
+            or (o3 == 0 and _within1(pts, r, s, p)) or (o4 == 0 and _within1(pts, r, s, q)))
+
+
+@njit(cache=True)
+def _side(pts, a, b, left, right, e, t, v):
+    """Edge e against edge t (in the list) at the sweep point v, a vertex of e:
+    +1 above, -1 below, 2 when v lies on t (a meeting, unless t shares v)."""
+    o = _orient1(pts, left[t], right[t], v)
+    if o != 0:
+        return o
+    if a[t] == v or b[t] == v:  # both edges leave (or both reach) v: order them by e's far end
+        far = b[e] if a[e] == v else a[e]
+        o = _orient1(pts, left[t], right[t], far)
+        return 2 if o == 0 else o
+    return 2
+
+
+@njit(cache=True)
+def _locate(pts, a, b, left, right, active, size, e, v):
+    """Binary search of the list at the sweep point v for edge e: ``(position, -1)``, where
+    e is (when listed) or goes, or ``(position, t)`` for an edge t that v lies on."""
+    lo, hi = 0, size
+    while lo < hi:
+        mid = (lo + hi) // 2
+        t = active[mid]
+        if t == e:
+            return mid, -1
+        c = _side(pts, a, b, left, right, e, t, v)
+        if c == 2:
+            return mid, t
+        if c > 0:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo, -1
+
+
+@njit(cache=True)
+def _sweep(pts, a, b, order, incoming):
+    n = len(a)
+    rank = np.empty(n, dtype=np.int64)
+    for i in range(n):
+        rank[order[i]] = i
+    left = np.empty(n, dtype=np.int64)
+    right = np.empty(n, dtype=np.int64)
+    for e in range(n):
+        if rank[a[e]] < rank[b[e]]:
+            left[e], right[e] = a[e], b[e]
+        else:
+            left[e], right[e] = b[e], a[e]
+    active = np.empty(n, dtype=np.int64)  # edges crossing the sweep line, bottom to top
+    size = 0
+    for i in range(n):
+        v = order[i]
+        for k in range(2):  # edges ending at v leave first
+            e = incoming[v] if k == 0 else v
+            if right[e] != v:
+                continue
+            pos, hit = _locate(pts, a, b, left, right, active, size, e, v)
+            if hit >= 0:
+                return e, hit
+            if pos >= size or active[pos] != e:  # rounding left the list unordered: look it up
+                pos = 0
+                while active[pos] != e:
+                    pos += 1
+            for m in range(pos, size - 1):
+                active[m] = active[m + 1]
+            size -= 1
+            if 0 < pos < size and _meet(pts, a, b, active[pos - 1], active[pos]):
+                return active[pos - 1], active[pos]
+        for k in range(2):  # then edges starting at v enter
+            e = incoming[v] if k == 0 else v
+            if left[e] != v:
+                continue
+            lo, hit = _locate(pts, a, b, left, right, active, size, e, v)
+            if hit >= 0:
+                return e, hit
+            for m in range(size, lo, -1):
+                active[m] = active[m - 1]
+            active[lo] = e
+            size += 1
+            if lo > 0 and _meet(pts, a, b, active[lo - 1], e):
+                return active[lo - 1], e
+            if lo + 1 < size and _meet(pts, a, b, e, active[lo + 1]):
+                return e, active[lo + 1]
+    return -1, -1
