@@ -41,26 +41,27 @@ def ring_area_of(xs, ys, a, b):
 
 
 @njit(cache=True)
+def _winds(px, py, x0, y0, x1, y1):
+    """What edge (x0, y0)-(x1, y1) adds to the winding number of the point: +1 crossing
+    its horizontal line upwards with the point on the left, -1 downwards on the right."""
+    if y0 <= py:
+        if y1 > py and (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0) > 0:
+            return 1
+    elif y1 <= py and (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0) < 0:
+        return -1
+    return 0
+
+
+@njit(cache=True)
 def winding(px, py, xs, ys, starts):
     """Winding number of the point about the oriented contours (1 inside a shape)."""
     w = 0
     for r in range(len(starts) - 1):
         a = starts[r]
         b = starts[r + 1]
-        if b == a:
-            continue
-        x0 = xs[b - 1]
-        y0 = ys[b - 1]
         for i in range(a, b):
-            x1 = xs[i]
-            y1 = ys[i]
-            if y0 <= py:
-                if y1 > py and (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0) > 0:
-                    w += 1
-            elif y1 <= py and (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0) < 0:
-                w -= 1
-            x0 = x1
-            y0 = y1
+            j = b - 1 if i == a else i - 1
+            w += _winds(px, py, xs[j], ys[j], xs[i], ys[i])
     return w
 
 
@@ -173,10 +174,11 @@ def first_crossing(xs, ys, starts, eps):
 
 
 @njit(cache=True)
-def _grow_f(a, n):
-    if n < len(a):
+def grown(a, need):
+    """The 1-D array itself if it holds ``need`` items, else a copy at least twice as long."""
+    if need <= len(a):
         return a
-    b = np.empty(2 * len(a) + 8, a.dtype)
+    b = np.empty(max(2 * len(a) + 8, need), a.dtype)
     b[: len(a)] = a
     return b
 
@@ -304,8 +306,8 @@ def _points(sx, sy, ss, cx, cy, cs, eps):
                         continue
                     hit, x, y = proper_crossing(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, eps)
                     if hit:
-                        px = _grow_f(px, n)
-                        py = _grow_f(py, n)
+                        px = grown(px, n + 1)
+                        py = grown(py, n + 1)
                         px[n] = x
                         py[n] = y
                         n += 1
@@ -355,8 +357,8 @@ def _split(vid, labels, starts, ux, uy, eps):
         for v in range(a, b):
             i0 = vid[v]
             i1 = vid[_next_in_ring(v, a, b)]
-            out = _grow_i(out, m)
-            lab = _grow_i(lab, m)
+            out = grown(out, m + 1)
+            lab = grown(lab, m + 1)
             out[m] = i0
             lab[m] = labels[v]
             m += 1
@@ -377,8 +379,8 @@ def _split(vid, labels, starts, ux, uy, eps):
                 t = on_segment(ux[j], uy[j], p0x, p0y, p1x, p1y, eps)
                 if t < 0.0:
                     continue
-                ts = _grow_f(ts, k)
-                qs = _grow_i(qs, k)
+                ts = grown(ts, k + 1)
+                qs = grown(qs, k + 1)
                 # insertion by (t, id): ordered along the edge
                 z = k
                 while z > 0 and (ts[z - 1] > t or (ts[z - 1] == t and qs[z - 1] > j)):
@@ -391,8 +393,8 @@ def _split(vid, labels, starts, ux, uy, eps):
             inserted += k
             for z in range(k):
                 if qs[z] != out[m - 1]:
-                    out = _grow_i(out, m)
-                    lab = _grow_i(lab, m)
+                    out = grown(out, m + 1)
+                    lab = grown(lab, m + 1)
                     out[m] = qs[z]
                     lab[m] = labels[v]
                     m += 1
@@ -401,15 +403,6 @@ def _split(vid, labels, starts, ux, uy, eps):
             m -= 1
     ost[len(starts) - 1] = m
     return out[:m], lab[:m], ost, inserted
-
-
-@njit(cache=True)
-def _grow_i(a, n):
-    if n < len(a):
-        return a
-    b = np.empty(2 * len(a) + 8, a.dtype)
-    b[: len(a)] = a
-    return b
 
 
 # -- step 3-4: tracing the inside and outside contours -------------------------------------
@@ -615,20 +608,9 @@ def _winding_ids(px, py, ids, starts, ux, uy):
     for r in range(len(starts) - 1):
         a = starts[r]
         b = starts[r + 1]
-        if b == a:
-            continue
-        x0 = ux[ids[b - 1]]
-        y0 = uy[ids[b - 1]]
         for i in range(a, b):
-            x1 = ux[ids[i]]
-            y1 = uy[ids[i]]
-            if y0 <= py:
-                if y1 > py and (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0) > 0:
-                    w += 1
-            elif y1 <= py and (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0) < 0:
-                w -= 1
-            x0 = x1
-            y0 = y1
+            j = ids[b - 1] if i == a else ids[i - 1]
+            w += _winds(px, py, ux[j], uy[j], ux[ids[i]], uy[ids[i]])
     return w
 
 

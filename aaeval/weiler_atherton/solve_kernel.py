@@ -17,7 +17,7 @@ import numpy as np
 from numba import njit, types
 from numba.typed import List
 
-from aaeval.weiler_atherton.clip_kernel import clip_arrays, ring_area_of, shape_bbox
+from aaeval.weiler_atherton.clip_kernel import clip_arrays, grown, ring_area_of, shape_bbox
 
 EDGE_CUT = 0
 EDGE_OWN = 1
@@ -56,24 +56,6 @@ def _new_arena():
 
 
 @njit(cache=True)
-def _grown_f(a, need):
-    if need <= len(a):
-        return a
-    b = np.empty(max(2 * len(a), need))
-    b[: len(a)] = a
-    return b
-
-
-@njit(cache=True)
-def _grown_i(a, need):
-    if need <= len(a):
-        return a
-    b = np.empty(max(2 * len(a), need), np.int64)
-    b[: len(a)] = a
-    return b
-
-
-@njit(cache=True)
 def _grown_rows(a, need):
     if need <= a.shape[0]:
         return a
@@ -91,10 +73,10 @@ def _add_piece(arena, xs, ys, labels, starts, source):
     r0 = counts[2]
     n = len(xs)
     nr = len(starts)
-    floats[0] = _grown_f(floats[0], v0 + n)
-    floats[1] = _grown_f(floats[1], v0 + n)
-    ints[0] = _grown_i(ints[0], v0 + n)
-    ints[1] = _grown_i(ints[1], r0 + nr)
+    floats[0] = grown(floats[0], v0 + n)
+    floats[1] = grown(floats[1], v0 + n)
+    ints[0] = grown(ints[0], v0 + n)
+    ints[1] = grown(ints[1], r0 + nr)
     meta[0] = _grown_rows(meta[0], k + 1)
     boxes[0] = _grown_rows(boxes[0], k + 1)
     floats[0][v0 : v0 + n] = xs
