@@ -170,7 +170,7 @@ def _emit_rest(sink, pix, src, x0, y0):
 def _knot_grid_sums(start, length, x, y, planes, eps_z, colors, width, height, kind, radius, k, alpha, bias):
     polys = sort_polygons(start, length, x, y, planes)
     sink = new_moment_sink(width, height, colors, kind, radius, k, alpha, bias)
-    scanline(polys, width + 1, 0, height + 1, eps_z, False, True, sink)
+    scanline(polys, width + 1, height + 1, eps_z, False, True, sink)
     return sink.acc
 
 
