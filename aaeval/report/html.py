@@ -431,6 +431,20 @@ def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.Dat
     return "\n".join(out)
 
 
+def _ladder_tops(cells: pd.DataFrame) -> pd.Series:
+    """Which rows to keep for a static figure: of a method's numeric ladder (k, spp) only
+    the last row given (the caller sorts by value: the largest); every categorical option."""
+    keep = pd.Series(True, index=cells.index)
+    for _, rows in cells.groupby("method", sort=False):
+        options = [json.loads(o) for o in rows["options"]]
+        varying = {k for k in set().union(*options) if len({json.dumps(o.get(k)) for o in options}) > 1}
+        numeric = varying and all(isinstance(o.get(k), (int, float)) and not isinstance(o.get(k), bool)
+                                  for o in options for k in varying)
+        if numeric:
+            keep[rows.index[:-1]] = False
+    return keep
+
+
 def _grid(page: _Page, ok: pd.DataFrame, slug: str, group: str, ref: str) -> str:
     """Static image grid of the hardest scene's middle frame, for a paper figure."""
     if ok.empty:
@@ -442,14 +456,17 @@ def _grid(page: _Page, ok: pd.DataFrame, slug: str, group: str, ref: str) -> str
     frame = frames[len(frames) // 2]
     cells = ok[(ok["scene"] == scene) & (ok["frame"] == frame)].drop_duplicates("spec")
     cells = cells.iloc[sorted(range(len(cells)), key=lambda i: page.styles.order(cells["method"].iloc[i],
-                                                                              cells["options"].iloc[i]))].head(12)
+                                                                              cells["options"].iloc[i]))]
+    cells = cells[_ladder_tops(cells)]
+    cells = cells.head(10)
     reference = page.store.load_reference(page.store.read_cell(cells["key"].iloc[0])["reference_key"])
     images = [(label, page.store.load_image(key)) for label, key in zip(cells["label"], cells["key"])]
     images = [(s, im) for s, im in images if im is not None]
     if reference is None or not images:
         return ""
     p = figures.image_grid(reference, images, page.figdir / f"{slug}_images", title=f"{group}: {scene}, frame {frame}")
-    return _figure(p, page.root, f"{html.escape(scene)}, frame {frame}: each method's image, the same zoomed crop "
+    return _figure(p, page.root, f"{html.escape(scene)}, frame {frame}: each method (a ladder at its largest k or "
+                   "spp; the viewer below has every option) with its image, the same zoomed crop "
                    "(red box, around the largest error) and its signed error on its own symmetric scale (stated "
                    f"per row; red: too bright, blue: too dark). {ref}")
 
