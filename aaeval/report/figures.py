@@ -41,9 +41,10 @@ plt.rcParams.update({"svg.fonttype": "none", "pdf.fonttype": 42, "font.size": 9,
 
 
 def _suptitle(fig, text: str, fontsize: float = 10) -> None:
-    """A figure title a third of an inch above the top row (figures use no layout engine:
+    """A figure title just above the top row's titles (figures use no layout engine:
     constrained layout cost most of the report's time; the tight bounding box keeps it)."""
-    fig.suptitle(text, y=1.0 + 0.33 / fig.get_figheight(), fontsize=fontsize)
+    top = max((ax.get_position().y1 for ax in fig.axes), default=1.0)
+    fig.suptitle(text, y=top + 0.42 / fig.get_figheight(), va="bottom", fontsize=fontsize)
 
 
 def _metric_label(name: str) -> str:
@@ -479,7 +480,8 @@ def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path
         if err is not None:
             scale = max(float(np.abs(err).max()), np.finfo(float).tiny)
             ax[2].imshow(err, cmap="RdBu_r", vmin=-scale, vmax=scale, interpolation="nearest")
-            ax[2].set_title(f"signed error, scale ±{scale:.2g}; mean |err| {np.abs(err).mean():.2g}", fontsize=7)
+            ax[2].set_title(f"signed error, scale ±{scale:.2g}; mean |err| {np.abs(err).mean():.2g}"
+                            if np.abs(err).max() > 0 else "no error: identical to the ground truth", fontsize=7)
         for a in ax:
             a.set_xticks([])
             a.set_yticks([])
