@@ -30,13 +30,17 @@ from aaeval.report.filters_section import filters_section
 from aaeval.report.specular_section import specular_section
 from aaeval.report.style import Styles
 from aaeval.report.tables import write_table
-from aaeval.report.viewer import VIEWER_CSS, viewer_div, viewer_payload, viewer_script, write_viewer_data
+from aaeval.report.viewer import (GROUP_BUDGET, VIEWER_CSS, viewer_div, viewer_payload, viewer_script,
+                                  write_viewer_data)
 
 __all__ = ["write_report", "reference_statement", "spec_summary", "failed_cells", "failure_definition",
            "SPEED_MIN_PIXELS"]
 
 # Below 256 x 256 pixels a render's time is mostly call overhead: such groups report accuracy.
 SPEED_MIN_PIXELS = 256 * 256
+# The page must stay small (figures' PNG, SVG and PDF, tables and this, under 20 MB): past
+# this many bytes of viewer data, a group's viewer keeps its first scene only.
+VIEWER_BUDGET = 9_000_000
 _VALIDATION_RATIO = 1.5  # an exact method "matches" when its error is within this factor of the noise
 
 _CSS = """
@@ -166,6 +170,7 @@ class _Page:
         self.styles = Styles(zip(results.get("method", []), results.get("options", [])))
         self.definition = failure_definition(self.primary, self.fail_above)
         self.viewer_scripts: list[str] = []
+        self.viewer_left = VIEWER_BUDGET  # bytes of viewer data the page may still load
         self.shaded = {digest for digest, scene in manifest.get("scenes", {}).items()
                        if isinstance(scene, dict) and "shaded" in scene.get("document", {})}
 
@@ -391,10 +396,10 @@ def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.Dat
     grid = _grid(page, ok, slug, group, ref)
     if grid:
         out.append(grid)
-    payload, left_out = viewer_payload(ok, page.store, page.styles)
+    payload, left_out = viewer_payload(ok, page.store, page.styles, budget=min(GROUP_BUDGET, page.viewer_left))
     if payload["scenes"]:
         out.append("<h3>Compare the images</h3>")
-        write_viewer_data(page.viewdir, slug, payload)
+        page.viewer_left -= write_viewer_data(page.viewdir, slug, payload).stat().st_size
         page.viewer_scripts.append(f"viewer/{slug}.js")
         out.append(viewer_div(slug))
         if left_out:
