@@ -14,7 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["save_image", "load_image", "linear_to_srgb8", "srgb_to_linear", "atomic_write", "SUFFIXES"]
+__all__ = ["save_image", "load_image", "linear_to_srgb8", "srgb_to_linear", "atomic_write", "check_outputs",
+           "OutputError", "SUFFIXES"]
 
 SUFFIXES = (".npy", ".exr", ".png")
 
@@ -24,6 +25,48 @@ def linear_to_srgb8(image: np.ndarray) -> np.ndarray:
     x = np.clip(np.asarray(image, dtype=np.float64), 0.0, 1.0)
     srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
     return np.round(srgb * 255.0).astype(np.uint8)
+
+
+class OutputError(ValueError):
+    """An output path that cannot be written: a folder, a clash, no permission."""
+
+
+def check_outputs(outputs: dict[str, str | Path | None], *, folders: bool = False) -> None:
+    """Refuse, before any work, outputs that cannot be written: ``{option: path}``.
+
+    Each path must not be a folder (or, with ``folders``, must be one or not exist yet),
+    no two options may name the same file, and the nearest existing folder above each must
+    let us create files (probed by creating one, so read-only file systems and permissions
+    are both seen, also for root).
+    """
+    seen: dict[Path, str] = {}
+    for option, raw in outputs.items():
+        if raw is None:
+            continue
+        path = Path(raw)
+        resolved = path.resolve()
+        if resolved in seen:
+            raise OutputError(f"{seen[resolved]} and {option} both name {path}; give each its own file")
+        seen[resolved] = option
+        if folders:
+            if path.exists() and not path.is_dir():
+                raise OutputError(f"{option} {path}: not a directory")
+        elif path.is_dir():
+            raise OutputError(f"{option} {path}: is a directory; give a file name")
+        _check_creatable(path if folders and path.is_dir() else path.parent, option, path)
+
+
+def _check_creatable(folder: Path, option: str, path: Path) -> None:
+    existing = folder
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    if not existing.is_dir():
+        raise OutputError(f"{option} {path}: {existing} is not a directory")
+    try:
+        with tempfile.TemporaryFile(dir=existing, prefix=".aaeval-probe-"):
+            pass
+    except OSError as exc:
+        raise OutputError(f"{option} {path}: cannot write in {existing} ({exc.strerror})") from None
 
 
 def _umask() -> int:

@@ -6,7 +6,7 @@ For each scene, every spec is warmed up (numba JIT), then the specs are timed in
 (box, tent, ..., box, tent, ...) ``--repeats`` times, so load from other processes falls
 on all of them alike; the median per spec and its ratio to the box of the same method
 are printed. ``catmull:filter=F`` (F != box) includes finding the visible pieces
-(the Weiler-Atherton solver in this version) and integrating them on the knot grid.
+(the Catmull kernel run on the half-pixel-shifted knot grid) and integrating them.
 """
 
 from __future__ import annotations

@@ -1,15 +1,19 @@
-"""Benchmark: Weiler-Atherton 1977 time against polygon count, with and without screen
-subdivision, next to ``catmull`` on the same scenes.
+"""Benchmark: Weiler-Atherton 1977 against ``catmull`` on the same scenes, interleaved.
 
-Random interpenetrating triangles (``random_triangles``) in a 256x256 image; the median
-wall-clock milliseconds per frame over repeated renders after a warm-up render (JIT
-compilation excluded). W-A is object-space Python: its cost grows with the number of
-polygon pairs that overlap, which screen subdivision (``window=N``: at most N polygons per
-window) is meant to cut down, at the price of clipping every polygon to the window
-borders it crosses (measured: the price is the larger one here); Catmull's cost grows
-with the pixels each polygon covers.
+Random interpenetrating triangles (``random_triangles``, 40 px boxes, depth 0..100) in a
+512x512 image, at several polygon counts. After one warm-up render per method (JIT
+compilation excluded), the methods are rendered in turn, round after round (A B A B ...),
+so that load from other processes falls on both alike; the table gives the median
+wall-clock and process-CPU milliseconds per frame with the spread (smallest-largest wall
+time) and the W-A / catmull ratio of the medians (wall and CPU). Issue 11's goal: at 2000
+triangles W-A within 3x of catmull. One core (both kernels are single-threaded).
 
-    PYTHONPATH=. python3 benchmarks/bench_weiler_atherton.py [--counts 10 30 100 300 1000]
+W-A's object-space cost grows with the number of overlapping polygon pairs it clips
+(compiled: :mod:`aaeval.weiler_atherton.clip_kernel`, ``solve_kernel``); catmull's with
+the pixels each polygon covers. ``--windows`` adds W-A with screen subdivision
+(``window=N``: at most N polygons per window).
+
+    PYTHONPATH=. python3 benchmarks/bench_weiler_atherton.py [--counts 300 2000] [--rounds 7]
 """
 
 from __future__ import annotations
@@ -21,48 +25,51 @@ import numpy as np
 
 from aaeval.renderers import render
 from aaeval.scenes.generate import random_triangles
-from aaeval.weiler_atherton import visible_pieces
+from aaeval.weiler_atherton import visible_arrays
 
 
-def median_seconds(scene, spec, repeats, budget):
-    """Median wall time of ``render(scene, spec)`` after one warm-up render; fewer repeats
-    when one render takes long (at least one, at most ``budget`` seconds in all)."""
-    t0 = time.perf_counter()
-    render(scene, spec)  # warm-up: JIT compilation, caches
-    first = time.perf_counter() - t0
-    n = max(1, min(repeats, int(budget / max(first, 1e-9))))
-    times = []
-    for _ in range(n):
-        t0 = time.perf_counter()
-        render(scene, spec)
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times)), n
+def interleaved(scene, specs, rounds):
+    """{spec: (wall seconds, cpu seconds) per round}, the specs rendered in turn."""
+    for spec in specs:
+        render(scene, spec)  # warm-up: JIT compilation and caches
+    times = {spec: ([], []) for spec in specs}
+    for _ in range(rounds):
+        for spec in specs:
+            w0, c0 = time.perf_counter(), time.process_time()
+            render(scene, spec)
+            times[spec][0].append(time.perf_counter() - w0)
+            times[spec][1].append(time.process_time() - c0)
+    return times
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--counts", type=int, nargs="+", default=[10, 30, 100, 300, 1000])
-    parser.add_argument("--windows", type=int, nargs="+", default=[0, 8, 32],
-                        help="W-A screen subdivision settings (0: none)")
-    parser.add_argument("--size", type=float, default=20.0, help="triangle extent in pixels")
-    parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--budget", type=float, default=20.0, help="seconds per measurement at most (roughly)")
+    parser.add_argument("--counts", type=int, nargs="+", default=[300, 2000])
+    parser.add_argument("--windows", type=int, nargs="*", default=[],
+                        help="also W-A with screen subdivision at these settings (0: none)")
+    parser.add_argument("--size", type=float, default=40.0, help="triangle extent in pixels")
+    parser.add_argument("--image", type=int, default=512, help="image side in pixels")
+    parser.add_argument("--rounds", type=int, default=7)
     parser.add_argument("--seed", type=int, default=1)
     args = parser.parse_args()
-    width = height = 256
-    specs = ["catmull"] + [f"weiler-atherton:window={w}" if w else "weiler-atherton" for w in args.windows]
-    print(f"random triangles of extent {args.size:g} px in {width}x{height}, depth 0..100 (interpenetrating); "
-          f"median wall ms after warm-up (runs in brackets), one core")
-    header = f"{'n':>5} {'pieces':>7} " + " ".join(f"{s.replace('weiler-atherton', 'W-A'):>18}" for s in specs)
-    print(header)
+    side = args.image
+    specs = ["catmull", "weiler-atherton"] + [f"weiler-atherton:window={w}" for w in args.windows if w]
+    print(f"random interpenetrating triangles of extent {args.size:g} px in {side}x{side}, depth 0..100, "
+          f"seed {args.seed}; {args.rounds} interleaved rounds after a warm-up; one core")
+    print(f"{'n':>6} {'pieces':>7} {'method':>28} {'wall ms':>8} {'(min-max)':>15} {'cpu ms':>8} "
+          f"{'x catmull wall':>14} {'cpu':>6}")
     for n in args.counts:
-        scene = random_triangles(n, width, height, size=args.size, seed=args.seed)
-        pieces = len(visible_pieces(scene))
-        cells = []
+        scene = random_triangles(n, side, side, size=args.size, seed=args.seed)
+        pieces = len(visible_arrays(scene).sources)
+        times = interleaved(scene, specs, args.rounds)
+        base_wall = np.median(times["catmull"][0])
+        base_cpu = np.median(times["catmull"][1])
         for spec in specs:
-            sec, runs = median_seconds(scene, spec, args.repeats, args.budget)
-            cells.append(f"{sec * 1e3:12.1f} ({runs:>2})")
-        print(f"{n:5d} {pieces:7d} " + " ".join(f"{c:>18}" for c in cells), flush=True)
+            wall, cpu = np.array(times[spec][0]), np.array(times[spec][1])
+            spread = f"({wall.min() * 1e3:.1f}-{wall.max() * 1e3:.1f})"
+            print(f"{n:6d} {pieces:7d} {spec:>28} {np.median(wall) * 1e3:8.1f} {spread:>15} "
+                  f"{np.median(cpu) * 1e3:8.1f} {np.median(wall) / base_wall:14.2f} "
+                  f"{np.median(cpu) / base_cpu:6.2f}", flush=True)
 
 
 if __name__ == "__main__":

@@ -18,7 +18,7 @@ from aaeval.scenes import parse_scene
 from randomscenes import random_scene
 
 resolve("catmull")  # registers every built-in method
-ALL_METHODS = sorted(METHODS)
+ALL_METHODS = sorted(m for m in METHODS if METHODS[m].requires is None)  # the others draw a scene's source
 
 
 def scene_of(polygons, width=8, height=6, background=(0.0, 0.0, 0.0)):

@@ -9,9 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from numba import njit, types
-from numba.experimental import structref
-from numba.extending import overload_method
+from numba import njit
 
 from aaeval.renderers import _catmull_kernel as K
 
@@ -191,6 +189,23 @@ def _emit_then_rest(out, xs, ys, n, rest_src):
     out.emit_rest(0, rest_src, 0.0, 0.0)
 
 
+@njit
+def _emit_strip_piece(out, area, xs, ys, n):
+    out.emit_strip_piece(5, 2, area, xs, ys, 0, n)
+
+
+def test_emit_strip_piece_keeps_the_coverage_area_and_finds_the_centroid():
+    # the strip coverage's area is kept as given (it may differ from the clipped
+    # polygon's by rounding); the centroid comes from the vertices
+    xs = np.array([0.0, 1.0, 0.0])
+    ys = np.array([0.0, 0.0, 1.0])
+    out = K.new_fragment_sink(1)
+    _emit_strip_piece(out, 0.5 + 1e-16, xs, ys, 3)
+    pix, src, area, cx, cy = _sink_arrays(out)
+    assert (pix[0], src[0], area[0]) == (5, 2, 0.5 + 1e-16)
+    np.testing.assert_allclose([cx[0], cy[0]], [1 / 3, 1 / 3])
+
+
 def _sink_arrays(out):
     n = out.n
     return out.pix[:n], out.src[:n], out.area[:n], out.cx[:n], out.cy[:n]
@@ -323,66 +338,30 @@ def test_jagged_kernel_gives_each_pixel_to_its_nearest_piece():
     np.testing.assert_array_equal(fragment_image(frags, 9, 0), np.ones(9))
 
 
-# --- another sink through the same stages ----------------------------------------------
+# --- solid runs ---------------------------------------------------------------------
 
 
-@structref.register
-class CoverageSinkType(types.StructRef):
-    def preprocess_fields(self, fields):
-        return tuple((name, types.unliteral(typ)) for name, typ in fields)
+def test_hidden_until_is_the_last_column_where_the_plane_stays_in_front():
+    # z_p = x against z_q = 2.5: p is nearer on the whole square [x0, x0+1] while x0 + 1 < 2.5
+    planes = np.array([(1.0, 0.0, 0.0), (0.0, 0.0, 2.5)])
+    assert K._hidden_until(planes, 0, 1, 0, 5, 0, 6) == 1
+    assert K._hidden_until(planes, 0, 1, 2, 5, 0, 6) == 1  # not even at column 2
+    assert K._hidden_until(planes, 1, 0, 0, 5, 0, 6) == -1  # q in front at column 0
+    assert K._hidden_until(planes, 1, 0, 3, 5, 0, 6) == 5  # ... and hidden from column 3 on
 
 
-class CoverageSink(structref.StructRefProxy):
-    """A toy sink: total visible polygon area per pixel (background left out)."""
-
-
-K.define_workspace(CoverageSink, CoverageSinkType, ["image"])
-
-
-@overload_method(CoverageSinkType, "emit_pixel")
-def _cov_pixel(out, pix, src, x0, y0):
-    def impl(out, pix, src, x0, y0):
-        if src != K.BACKGROUND:
-            out.image[pix] += 1.0
-    return impl
-
-
-@overload_method(CoverageSinkType, "emit_piece")
-def _cov_piece(out, pix, src, xs, ys, start, n):
-    def impl(out, pix, src, xs, ys, start, n):
-        if src != K.BACKGROUND:
-            s = 0.0
-            for i in range(start, start + n):
-                j = i + 1 if i + 1 < start + n else start
-                s += xs[i] * ys[j] - xs[j] * ys[i]
-            out.image[pix] += 0.5 * s
-    return impl
-
-
-@overload_method(CoverageSinkType, "emit_area")
-def _cov_area(out, pix, src, area, x0, y0):
-    def impl(out, pix, src, area, x0, y0):
-        if src != K.BACKGROUND:
-            out.image[pix] += area
-    return impl
-
-
-@overload_method(CoverageSinkType, "emit_rest")
-def _cov_rest(out, pix, src, x0, y0):
-    def impl(out, pix, src, x0, y0):
-        if src != K.BACKGROUND:
-            out.image[pix] = 1.0
-    return impl
-
-
-@pytest.mark.parametrize("centroids", [False, True])
-def test_a_second_sink_type_runs_through_the_same_stages(centroids):
-    # two overlapping triangles make irregular-over-solid pixels and integrator pixels
-    tri_a = [(0.2, 0.1), (2.9, 0.4), (0.6, 2.8)]
-    tri_b = [(2.8, 0.2), (2.6, 2.9), (0.1, 1.3)]
-    polys = polygons(tri_a, tri_b, planes=[(0.3, -0.2, 1.0), (-0.4, 0.1, 1.2)])
-    sink = CoverageSink(np.zeros(9))
-    K.scanline(polys, 3, 3, 1e-11, False, centroids, sink)
-    frags = K.catmull_fragments(3, 3, polys.start, polys.length, polys.x, polys.y, polys.planes, 1e-11, False, True)
-    expected = 1.0 - fragment_image(frags, 9, K.BACKGROUND)
-    np.testing.assert_allclose(sink.image, expected, atol=1e-12)
+def test_solid_run_stops_before_a_piece_entering_in_front_and_takes_in_those_behind():
+    solid = [(-1.0, 0.0), (7.0, 0.0), (7.0, 1.0), (-1.0, 1.0)]  # z = 5, whole row
+    behind = [(2.2, 0.1), (2.8, 0.1), (2.8, 0.9)]  # enters at column 2, z = 9
+    front = [(4.2, 0.1), (4.8, 0.1), (4.8, 0.9)]  # enters at column 4, z = 1
+    polys = polygons(solid, behind, front, planes=[(0, 0, 5), (0, 0, 9), (0, 0, 1)])
+    _, strip = strip_of(polys, [0], width=6)
+    K.bucket_by_x(strip, 6)
+    zl = np.empty(3, np.int64)
+    n = K.update_zlist(zl, np.empty(3), 0, strip.bucket_head, strip.bucket_items, strip.span, strip.pieces,
+                       polys.planes, 0, 0)
+    k = zl[0]
+    end, n = K.solid_run(k, zl, n, strip.bucket_head, strip.bucket_items, strip.span, strip.pieces, strip.cov,
+                         polys.planes, 0, 0, 6)
+    assert end == 3
+    assert sorted(strip.pieces[zl[:n], 2]) == [0, 1]  # `behind` joined the z-list, `front` waits

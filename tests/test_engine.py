@@ -68,8 +68,10 @@ def test_every_cell_of_every_shipped_config_is_one_row_with_its_own_label(config
     assert len(keys) == len(set(keys)), "two cells share a key"
     store = SweepStore(tmp_path)
     store.write_manifest(experiment.text, manifest(experiment, planned))
+    tiny = np.zeros((1, 1, 3))  # the store checks that every finished cell has its image and reference
     for p in planned:
-        store.write_cell(_fake_record(p), None)
+        store.write_reference(p.reference_key, tiny)
+        store.write_cell(_fake_record(p), tiny)
     table = results_frame(store)
     assert len(table) == len(planned) == len(store.read_manifest()["cells"])
     assert not table["key"].duplicated().any()
@@ -299,7 +301,7 @@ methods = ["catmull:specular=none", "catmull:specular=amanatides"]
 
 def test_highlight_metrics_run_in_a_sweep_over_the_ground_truth_highlight(tmp_path):
     from aaeval.metrics.masks import HIGHLIGHT_SPP, HIGHLIGHT_THRESHOLD
-    from aaeval.specular.groundtruth import groundtruth_phong
+    from aaeval.groundtruth import groundtruth_phong
 
     exp = load_experiment(write_config(tmp_path, SHINY))
     run_sweep(exp, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache")

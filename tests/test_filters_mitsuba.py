@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from aaeval.filters import FILTERS
-from aaeval.groundtruth import mitsuba as gt
+from aaeval.groundtruth import flat as gt
 from aaeval.renderers import render
 from test_mitsuba import FLOAT32_FLOOR, mixed_scene, noise_statistics
 

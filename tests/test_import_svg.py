@@ -18,6 +18,7 @@ import svgelements as se
 from shapely.geometry import LineString, Point
 from shapely.geometry import Polygon as ShapelyPolygon
 
+from aaeval.cli import main
 from aaeval.importers.flatten import arc_points, bezier_points, bezier_steps
 from aaeval.importers.svg import import_svg
 from aaeval.renderers import render
@@ -89,7 +90,7 @@ def reference_layers(path):
     for e in svg.elements():
         if not isinstance(e, se.Shape):
             continue
-        subpaths = fine_subpaths(se.Path(e))
+        subpaths = fine_subpaths(abs(se.Path(e)))
         if e.fill is not None and e.fill.value is not None:
             layers.append((e.id + " fill", fill_reference(subpaths, e.values.get("fill-rule", "nonzero"))))
         if e.stroke is not None and e.stroke.value is not None and e.implicit_stroke_width > 0:
@@ -177,31 +178,34 @@ def test_every_ignored_element_is_listed_by_id(tmp_path):
     assert parse_scene(result.document).extensions["svg"].ignored == tuple(result.ignored)
 
 
-def _cli(*args, cwd):
+def test_one_subprocess_run_exits_2_with_one_line(tmp_path):
+    (tmp_path / "bad.svg").write_text("<svg")
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    return subprocess.run([sys.executable, "-m", "aaeval", *args], capture_output=True, text=True, env=env, cwd=cwd)
+    done = subprocess.run([sys.executable, "-m", "aaeval", "import", "svg", "bad.svg", "-o", "out.toml"],
+                          capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert done.returncode == 2 and len(done.stderr.strip().splitlines()) == 1 and "bad.svg" in done.stderr
 
 
 @pytest.mark.parametrize("content", ["<svg", "not xml at all", '<svg xmlns="http://www.w3.org/2000/svg" width="0" height="5"/>'])
-def test_bad_svg_is_refused_with_one_line(tmp_path, content):
+def test_bad_svg_is_refused_with_one_line(tmp_path, monkeypatch, capsys, content):
+    monkeypatch.chdir(tmp_path)
     (tmp_path / "bad.svg").write_text(content)
     (tmp_path / "out.toml").write_text("kept")
-    done = _cli("import", "svg", "bad.svg", "-o", "out.toml", cwd=tmp_path)
-    assert done.returncode == 2
-    assert len(done.stderr.strip().splitlines()) == 1 and "bad.svg" in done.stderr
+    assert main(["import", "svg", "bad.svg", "-o", "out.toml"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "bad.svg" in err
     assert (tmp_path / "out.toml").read_text() == "kept"
 
 
-def test_cli_writes_a_scene_every_method_reads(tmp_path):
-    done = _cli("import", "svg", str(DATA / "strokes.svg"), "-o", "s.toml", "--frames", "3", "--translate", "0.125", "0",
-                cwd=tmp_path)
-    assert done.returncode == 0, done.stderr
+def test_cli_writes_a_scene_every_method_reads(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["import", "svg", str(DATA / "strokes.svg"), "-o", "s.toml", "--frames", "3", "--translate", "0.125", "0"]) == 0
     scene = load_scene(tmp_path / "s.toml")
     assert scene.frames == 3 and scene.extensions["svg"].file.endswith("strokes.svg")
     exact = render(scene.at_frame(1), "catmull")
     np.testing.assert_allclose(render(scene.at_frame(1), "weiler-atherton"), exact, atol=1e-9)
-    strict = _cli("import", "svg", str(DATA / "shapes.svg"), "-o", "t.toml", "--strict", cwd=tmp_path)
-    assert strict.returncode == 0, strict.stderr
+    assert main(["import", "svg", str(DATA / "shapes.svg"), "-o", "t.toml", "--strict"]) == 0
+    assert main(["import", "svg", str(DATA / "shapes.svg").replace("shapes", "missing"), "-o", "t.toml"]) == 2
 
 
 def test_resvg_draws_the_source_in_place_at_every_frame(tmp_path):
@@ -234,3 +238,28 @@ def test_resvg_refuses_scenes_that_ignored_something(tmp_path):
     scene = parse_scene(import_svg(svg, file_ref="o.svg").document, source=str(tmp_path / "o.toml"))
     with pytest.raises(ValueError, match="#half: opacity"):
         render(scene, "resvg")
+
+
+@pytest.mark.parametrize("name", ["transforms", "fill_rules", "arcs"])
+def test_layers_stand_where_svgelements_puts_the_shapes(name):
+    """Bounds of each imported fill against svgelements' own transformed bounding box
+    (computed from the element and its transform, not from the reified points)."""
+    svg = se.SVG.parse(str(DATA / f"{name}.svg"))
+    boxes = [e.bbox() for e in svg.elements() if isinstance(e, se.Shape) and e.fill is not None and e.fill.value is not None]
+    fills = imported_layers(import_svg(DATA / f"{name}.svg").document)  # these files have fills only
+    assert len(fills) == len(boxes)
+    for box, g in zip(boxes, fills):
+        np.testing.assert_allclose(g.bounds, box, atol=1 / 16 + 1e-5)
+
+
+def test_use_is_placed_and_nested_svg_refused(tmp_path):
+    svg = tmp_path / "use.svg"
+    body = ('<defs><path id="tri" d="M 0 0 L 6 0 L 3 5 Z"/></defs>'
+            '<use href="#tri" x="2" y="3" fill="red"/><use href="#tri" transform="translate(15 8) scale(2)" fill="blue"/>')
+    svg.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" width="30" height="20">{body}</svg>')
+    layers = imported_layers(import_svg(svg).document)
+    np.testing.assert_allclose([g.bounds for g in layers], [(2, 3, 8, 8), (15, 8, 27, 18)], atol=1e-6)
+    svg.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" width="30" height="20">{body}'
+                   '<svg x="10" width="10" height="10" viewBox="0 0 20 20"><rect width="20" height="20"/></svg></svg>')
+    with pytest.raises(ValueError, match="nested <svg>"):
+        import_svg(svg)

@@ -7,15 +7,13 @@ intensity sum unchanged under the exact method."""
 from __future__ import annotations
 
 import math
-import os
-import subprocess
-import sys
 from pathlib import Path
 
 import freetype
 import numpy as np
 import pytest
 
+from aaeval.cli import main
 from aaeval.importers.text import DEFAULT_FONT, import_text, layout
 from aaeval.renderers import render
 from aaeval.scenes import parse_scene
@@ -121,14 +119,9 @@ def test_scrolling_text_keeps_its_intensity_sum_under_the_exact_method():
     assert not np.array_equal(ft[0], ft[1])
 
 
-def _cli(*args, cwd):
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    return subprocess.run([sys.executable, "-m", "aaeval", *args], capture_output=True, text=True, env=env, cwd=cwd)
-
-
-def test_cli_text_and_refusals(tmp_path):
-    done = _cli("import", "text", "Ag", "--size", "10", "-o", "t.toml", cwd=tmp_path)
-    assert done.returncode == 0, done.stderr
+def test_cli_text_and_refusals(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert main(["import", "text", "Ag", "--size", "10", "-o", "t.toml"]) == 0
     assert 'font = "matplotlib:DejaVuSans.ttf"' in (tmp_path / "t.toml").read_text()
     bad_font = tmp_path / "bad.ttf"
     bad_font.write_bytes(b"not a font")
@@ -137,7 +130,8 @@ def test_cli_text_and_refusals(tmp_path):
                  ["import", "text", "\u4e2d", "-o", "u.toml"],
                  ["render", str(ROOT / "configs" / "scenes" / "abutting.toml"), "-m", "freetype", "-o", "x.npy"],
                  ["render", "t.toml", "-m", "resvg", "-o", "x.npy"]):
-        failed = _cli(*args, cwd=tmp_path)
-        assert failed.returncode == 2, (args, failed.stderr)
-        assert len(failed.stderr.strip().splitlines()) == 1, failed.stderr
+        capsys.readouterr()
+        assert main(args) == 2, args
+        err = capsys.readouterr().err
+        assert len(err.strip().splitlines()) == 1, err
     assert not (tmp_path / "u.toml").exists()

@@ -359,7 +359,7 @@ ROUND_TRIP = {
     "picket_fence": lambda: picket_fence(),
     "background_and_odd_floats": lambda: parse_scene(
         {
-            "image": {"width": 5, "height": 7, "background": [0.1, 1e-300, 2.5e10]},
+            "image": {"width": 5, "height": 7, "background": [0.1, 1e-300, 1 / 3]},
             "animation": {"frames": 3, "translate": [1 / 3, -1e-17]},
             "polygons": [{"color": [0.1, 0.2, 0.3], "vertices": [[0.1, 0.2, -0.0], [1e-7, 3, 4], [2, 0, 5e-324]]}],
         }

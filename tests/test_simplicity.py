@@ -63,11 +63,14 @@ def test_random_grid_rings_agree_with_every_pair(sweep_only, points):
 @given(st.lists(st.tuples(st.floats(0, 2 * math.pi), st.floats(0.1, 1.0)), min_size=3, max_size=14, unique_by=lambda t: t[0]),
        st.lists(st.tuples(st.integers(-3, 3), st.integers(-3, 3)), min_size=3, max_size=5))
 def test_star_rings_and_a_second_ring_agree_with_every_pair(sweep_only, star, other):
+    # integer coordinates: orientation signs are exact, so ties (touching, collinear) are
+    # decided the same way by both tests; near-ties within rounding may go either way
     star = sorted(star)
-    ring = np.array([[r * math.cos(t), r * math.sin(t)] for t, r in star])  # simple unless angles tie
-    second = np.array(other, dtype=float) / 3.0
-    if np.any(np.all(second == np.roll(second, -1, axis=0), axis=1)):
-        return
+    ring = np.round([[1000 * r * math.cos(t), 1000 * r * math.sin(t)] for t, r in star])
+    second = np.array(other, dtype=float) * 333
+    for r in (ring, second):
+        if np.any(np.all(r == np.roll(r, -1, axis=0), axis=1)):
+            return
     _check([ring])
     _check([ring, second])
 

@@ -50,12 +50,31 @@ def test_no_section_for_a_sweep_without_shaded_scenes(tmp_path):
     assert not (tmp_path / "figures").exists()
 
 
-def test_section_draws_every_method_against_the_stated_truth(tmp_path, monkeypatch):
-    monkeypatch.setenv("AAEVAL_CACHE_DIR", str(tmp_path / "cache"))
-    scene = tmp_path / "tiny_cylinder.toml"
+def test_a_sweep_with_shaded_scenes_gets_the_section(tmp_path):
+    from aaeval.report.specular_section import _sweep_has_shaded_scenes
+    from aaeval.scenes.generate import generate_scene
+
+    documents = {"a": {"source": "fan", "document": generate_scene("fan", 6)},
+                 "b": {"source": "shininess", "document": generate_scene("shininess", 50)}}
+    (tmp_path / "manifest.json").write_text(json.dumps({"scenes": documents}))
+    assert _sweep_has_shaded_scenes(tmp_path)
+
+
+@pytest.fixture(scope="module")
+def section(tmp_path_factory):
+    """The section of a tiny animated cylinder, built once (figures cost seconds each)."""
+    tmp = tmp_path_factory.mktemp("specular_section")
+    scene = tmp / "tiny_cylinder.toml"
     scene.write_text(SCENE)
-    out = tmp_path / "report"
-    text = specular_section(out, out / "figures", force=True, scenes=[scene], spp=16, frames=3)
+    out = tmp / "report"
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("AAEVAL_CACHE_DIR", str(tmp / "cache"))
+        text = specular_section(out, out / "figures", force=True, scenes=[scene], spp=16, frames=3)
+    return out, text
+
+
+def test_section_draws_every_method_against_the_stated_truth(section):
+    out, text = section
     assert "16 spp" in text and "seed 0" in text and "seed 1" in text and str(HIGHLIGHT_THRESHOLD) in text
     for name in SPECULAR_METHODS:
         assert f"catmull:specular={name}" in text
@@ -63,5 +82,13 @@ def test_section_draws_every_method_against_the_stated_truth(tmp_path, monkeypat
     assert len(sources) == 6  # two tables, one plate, detection, highlight error, energy
     for src in sources:
         png = out / src
-        assert png.stat().st_size > 1000 and png.with_suffix(".svg").stat().st_size > 1000
+        for fmt in (".png", ".svg", ".pdf"):
+            assert png.with_suffix(fmt).stat().st_size > 1000, (src, fmt)
     assert text.count("<tr>") == 1 + len(SPECULAR_METHODS) + 1  # header, each method, amanatides P=0.999
+
+
+def test_section_curves_carry_the_reports_method_tags(section):
+    """Every curve of a method is tagged like the report's own figures (same style table)."""
+    out, _ = section
+    svg = next((out / "figures").glob("specular_energy_*.svg")).read_text()
+    assert svg.count("id='method=catmull;options=") == len(SPECULAR_METHODS) + 1  # and amanatides P=0.999

@@ -18,8 +18,22 @@ from shapely.geometry import Polygon as GeosPolygon
 from aaeval.cli import main as cli_main
 from aaeval.renderers import render
 from aaeval.scenes import load_scene, parse_scene
-from aaeval.weiler_atherton import clip, coverage, oriented, polygons, ring_area, shape_area, visible_pieces
+from aaeval.scenes.generate import random_triangles
+from aaeval.weiler_atherton import (
+    InvalidShapeError,
+    Shape,
+    clip,
+    coverage,
+    oriented,
+    polygons,
+    ring_area,
+    shape_area,
+    visible_pieces,
+)
+from aaeval.weiler_atherton.clip_kernel import clip_arrays, first_crossing
+from aaeval.weiler_atherton.clipper import to_arrays
 from aaeval.weiler_atherton.lines import visible_edges
+from aaeval.weiler_atherton.solve_kernel import INSIDE, OUTSIDE, _separation
 from randomscenes import degenerate_scene, random_scene
 
 DATA = Path(__file__).parent / "data"
@@ -129,6 +143,76 @@ def test_clip_hole_cut_and_holding_lists():
     far = oriented([[(20, 0), (30, 0), (30, 5)]])
     inside, outside = clip(far, square)
     assert not inside.rings and shape_area(outside) == shape_area(far)
+
+
+SQUARE = [(0, 0), (10, 0), (10, 10), (0, 10)]
+
+
+@pytest.mark.parametrize(
+    "rings, rule",
+    [
+        ([[(0, 0), (4, 4), (4, 0), (0, 4)]], "self-crossing"),  # a bow tie
+        ([SQUARE, [(2, 2), (12, 3), (3, 4)]], "self-crossing"),  # a hole poking out of its main contour
+        ([SQUARE, [(2, 2), (6, 2), (2, 6)], [(3, 1), (3, 8), (1, 8)]], "self-crossing"),  # two holes crossing
+        ([[(0, 0), (4, 0), (math.nan, 4)]], "finite"),
+        ([[(0, 0), (4, 0), (math.inf, 4)]], "finite"),
+    ],
+)
+@pytest.mark.parametrize("role", ["subject", "clip shape"])
+def test_clip_refuses_invalid_input_naming_the_rule(rings, rule, role):
+    """No fill rule makes a crossing contour a region: the clipper says so instead of
+    returning an answer that is inside the input under none."""
+    bad = Shape.of(rings)
+    good = oriented([[(1, 1), (3, 1), (2, 5)]])
+    with pytest.raises(InvalidShapeError, match=rule) as err:
+        clip(bad, good) if role == "subject" else clip(good, bad)
+    assert isinstance(err.value, ValueError)
+    assert str(err.value).startswith(role) and "\n" not in str(err.value)
+
+
+def test_clip_refuses_short_contours():
+    with pytest.raises(InvalidShapeError, match="at least 3"):
+        clip(Shape.of([[(0, 0), (1, 1)]]), oriented([SQUARE]))
+
+
+def test_clip_accepts_touching_contours():
+    """A hole touching its main contour at a vertex, or a contour touching itself, is a
+    region (the clipper's own output is like that) and is accepted."""
+    touching = oriented([SQUARE, [(0, 5), (4, 3), (4, 7)]])
+    inside, outside = clip(touching, oriented([[(-1, -1), (5, -1), (5, 11), (-1, 11)]]))
+    assert shape_area(inside) == pytest.approx(5 * 10 - 8) and shape_area(outside) == pytest.approx(50)
+    xs, ys, _, starts = to_arrays(touching)
+    assert first_crossing(xs, ys, starts, 1e-12) == (-1, -1)
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=list(HealthCheck))
+@given(st.data())
+def test_separation_shortcut_agrees_with_the_clipper(data):
+    """The solver hands a piece whole to one side when it lies clear of a convex clip
+    polygon, or clear inside it; the clipper must say the same."""
+    a = data.draw(polygon_with_holes())
+    tri = data.draw(st.lists(st.tuples(st.floats(-2, 10), st.floats(-2, 10)), min_size=3, max_size=3))
+    assume_area = abs(ring_area(tri))
+    if assume_area < 1e-3:
+        return
+    subject, clipper = oriented(a), oriented([tri])
+    sx, sy, sl, ss = to_arrays(subject)
+    cx, cy, cl, cs = to_arrays(clipper)
+    eps = 1e-12
+    side = _separation(sx, sy, cx, cy, eps)
+    ix, iy, il, ist, ox, oy, ol, ost = clip_arrays(sx, sy, sl, ss, cx, cy, cl, cs, eps)
+    if side == OUTSIDE:
+        assert len(ist) == 1 and np.array_equal(ox, sx) and np.array_equal(ol, sl) and np.array_equal(ost, ss)
+    elif side == INSIDE:
+        assert len(ost) == 1 and np.array_equal(ix, sx) and np.array_equal(il, sl) and np.array_equal(ist, ss)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_agrees_with_catmull_on_many_triangles(seed):
+    """Hundreds of interpenetrating triangles (the benchmark's scene, smaller): every
+    path of the compiled solver, shortcuts included, against catmull."""
+    scene = random_triangles(150, 64, 48, size=16.0, seed=seed)
+    np.testing.assert_allclose(render(scene, "weiler-atherton"), render(scene, "catmull"), rtol=0, atol=1e-9)
 
 
 def test_coverage_matches_geos_per_pixel():

@@ -79,6 +79,10 @@ def _signals_interrupt():
             signal.signal(s, handler)
 
 
+def _one_line(message) -> str:
+    return " ".join(str(message).split("\n")).strip()
+
+
 def main(argv: list[str] | None = None) -> int:
     from aaeval.experiments.config import ConfigError
     from aaeval.renderers.registry import MethodError
@@ -89,8 +93,16 @@ def main(argv: list[str] | None = None) -> int:
     try:
         with _signals_interrupt():
             return int(args.run(args) or 0)
-    except (SceneError, MethodError, ConfigError, ValueError, FileNotFoundError) as exc:
-        print(f"aaeval {args.command}: error: {exc}", file=sys.stderr)
+    except (SceneError, MethodError, ConfigError, ValueError) as exc:
+        print(f"aaeval {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # a full disk, a vanished folder, permissions: named, no traceback
+        detail = f"{exc.strerror}: {exc.filename}" if exc.strerror and exc.filename else str(exc)
+        print(f"aaeval {args.command}: error: {_one_line(detail)}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print(f"aaeval {args.command}: error: out of memory (a smaller image, fewer samples or "
+              "AAEVAL_MAX_MEMORY to refuse such requests up front)", file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:
         signum = exc.signum if isinstance(exc, Interrupted) else signal.SIGINT

@@ -24,7 +24,9 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    from aaeval.imageio import atomic_write
+    import math
+
+    from aaeval.imageio import atomic_write, check_outputs
     from aaeval.scenes import load_scene
     from aaeval.weiler_atherton.lines import hidden_line_svg
 
@@ -33,6 +35,9 @@ def run(args) -> int:
         raise ValueError(f"{out}: hidden-line drawings are written as .svg")
     if args.window < 0:
         raise ValueError(f"--window must be >= 0, got {args.window}")
+    if not (math.isfinite(args.stroke) and args.stroke > 0):
+        raise ValueError(f"--stroke must be a positive line width in pixels, got {args.stroke}")
+    check_outputs({"-o": out})
     scene = load_scene(args.scene).at_frame(args.frame)
     svg = hidden_line_svg(scene, window=args.window, stroke=args.stroke)
     atomic_write(out, lambda tmp: Path(tmp).write_text(svg))

@@ -28,7 +28,7 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    from aaeval.imageio import SUFFIXES, atomic_write, save_image
+    from aaeval.imageio import SUFFIXES, atomic_write, check_outputs, save_image
     from aaeval.renderers import render_timed, resolve
     from aaeval.scenes import load_scene
 
@@ -42,8 +42,10 @@ def run(args) -> int:
     for path in filter(None, (out, Path(args.stats) if args.stats else None)):
         if not path.parent.is_dir() and not args.mkdir:
             raise ValueError(f"{path.parent}: no such folder; create it or pass --mkdir")
+    check_outputs({"-o": out, "--stats": args.stats})  # before any work: a refusal costs nothing
     method, options = resolve(args.method)  # fail on a bad spec before any work
     scene = load_scene(args.scene)
+    _check_enlargement(scene, args.scale)
     image, seconds = render_timed(scene, args.method, frame=args.frame)
     save_image(out, _enlarged(image, args.scale))
     if args.stats:
@@ -60,6 +62,17 @@ def run(args) -> int:
     size = f"{scene.width}x{scene.height}" + (f" shown {args.scale}x" if args.scale > 1 else "")
     print(f"wrote {out} ({size}, {method.name}, frame {args.frame}, {seconds * 1e3:.1f} ms)")
     return 0
+
+
+def _check_enlargement(scene, scale: int) -> None:
+    from aaeval.renderers.registry import available_memory
+
+    # the enlarged float64 image and its 8-bit copy, on top of the render itself
+    need = scene.width * scene.height * scale * scale * 3 * (8 + 1)
+    have = available_memory()
+    if scale > 1 and need > have:
+        raise ValueError(f"--scale {scale}: a {scene.width * scale}x{scene.height * scale} PNG needs about "
+                         f"{need / 2**30:.3g} GiB of memory, {have / 2**30:.3g} GiB available")
 
 
 def _enlarged(image, scale: int):

@@ -32,9 +32,12 @@ def run(args) -> int:
 
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
+    from aaeval.imageio import check_outputs
+
     experiment = load_experiment(args.config)
     if args.dry_run:
         return dry_run(experiment, args.out)
+    check_outputs({"--out": args.out, "--cache": args.cache}, folders=True)
     try:
         summary = run_sweep(experiment, args.out, workers=args.workers, scheduler=args.scheduler, quiet=args.quiet,
                             retry_failed=args.retry_failed, cache_dir=args.cache, force=args.force)

@@ -40,7 +40,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from aaeval._toml import read_toml, refuse_unknown_keys
-from aaeval.experiments.generators import GENERATORS, generate_scene
+from aaeval.scenes.generate import GENERATORS, generate_scene
 from aaeval.metrics import MetricError, check_metric_names
 from aaeval.renderers import MethodError, format_spec, parse_spec, resolve
 from aaeval.scenes import Scene, SceneError, parse_scene

@@ -48,7 +48,7 @@ __all__ = ["code_version", "cell_key", "reference_key", "SweepStore", "Reference
            "StoreError", "npy_problem"]
 
 # Packages whose source cannot change a cell's result: editing them keeps old results.
-_PRESENTATION = ("cli", "reports")
+_PRESENTATION = ("cli", "report")
 
 
 def _package_digest() -> str:

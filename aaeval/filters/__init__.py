@@ -3,6 +3,9 @@
 - :mod:`.registry`: the one registry of filters (Mitsuba 3's definitions);
 - :mod:`.integrate`: numba stages: a visible piece's integrals against the filter per
   knot cell (Green's theorem), cells combined into pixels;
+- :mod:`.catmull_sink`: the Catmull kernel's visible pieces on the knot grid, through a
+  moment-accumulating sink;
+- :mod:`.evaluate`: point evaluation of a profile (numba), for samplers that splat;
 - :mod:`.exact`: the exactly filtered image of a scene.
 """
 

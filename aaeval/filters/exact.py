@@ -10,7 +10,10 @@ which is what Mitsuba's film converges to (samples only inside the image, each p
 divided by the filter weight it collected; see ``docs/filters.md``). The background fills
 whatever no piece covers: its share is the denominator minus the pieces' coverage.
 
-Visible pieces are exact polygons; where they come from is a parameter (:class:`Rings`).
+The visible pieces come from the Catmull kernel run on the knot grid
+(:mod:`aaeval.filters.catmull_sink`); any other exact source of visible polygons can be
+passed as :class:`Rings` (the Weiler-Atherton solver's, :func:`weiler_atherton_rings`, is
+the cross-check in the tests).
 """
 
 from __future__ import annotations
@@ -23,7 +26,7 @@ from aaeval.filters.integrate import accumulate_rings, combine_cells, filter_ker
 from aaeval.filters.registry import PixelFilter, axis_weights
 from aaeval.scenes import Scene
 
-__all__ = ["Rings", "rings_from_pieces", "weiler_atherton_rings", "filtered_image", "normalise"]
+__all__ = ["Rings", "rings_from_pieces", "weiler_atherton_rings", "filtered_image", "divide_by_weight"]
 
 
 class Rings(NamedTuple):
@@ -64,11 +67,10 @@ def weiler_atherton_rings(scene: Scene) -> Rings:
     return rings_from_pieces(rings, colors)
 
 
-def normalise(sums: np.ndarray, scene: Scene, filt: PixelFilter) -> np.ndarray:
-    """Pixel values from filtered sums ``(H, W, 4)`` = (colour, coverage): background, then the film's division."""
+def divide_by_weight(sums: np.ndarray, scene: Scene, filt: PixelFilter) -> np.ndarray:
+    """Pixel values from filtered sums ``(H, W, 3)``: the film's division by the weight collected in the image."""
     denom = axis_weights(filt, scene.height)[:, None] * axis_weights(filt, scene.width)[None, :]
-    background = (denom - sums[..., 3])[..., None] * np.asarray(scene.background, dtype=np.float64)
-    return (sums[..., :3] + background) / denom[..., None]
+    return sums / denom[..., None]
 
 
 def filtered_image(scene: Scene, filt: PixelFilter, rings: Rings | None = None) -> np.ndarray:
@@ -81,12 +83,19 @@ def filtered_image(scene: Scene, filt: PixelFilter, rings: Rings | None = None) 
         A polynomial or Gaussian filter from :data:`aaeval.filters.FILTERS` (the box has
         its own exact path, ``catmull``).
     rings : Rings, optional
-        The visible pieces; by default from :func:`weiler_atherton_rings`.
+        Visible pieces from another exact source; by default the Catmull kernel's.
     """
     kind, radius, k, alpha, bias = filter_kernel_args(filt)
     if rings is None:
-        rings = weiler_atherton_rings(scene)
+        from aaeval.filters.catmull_sink import knot_grid_sums
+
+        return divide_by_weight(combine_cells(knot_grid_sums(scene, filt), filt, scene.width, scene.height),
+                                scene, filt)
     acc = np.zeros((scene.height + 1, scene.width + 1, k, k, 4))
     accumulate_rings(rings.x, rings.y, rings.start, rings.length, rings.weights,
                      scene.width, scene.height, kind, radius, k, alpha, bias, acc)
-    return normalise(combine_cells(acc, filt, scene.width, scene.height), scene, filt)
+    sums = combine_cells(acc, filt, scene.width, scene.height)
+    # what no ring covers is background: the filter's whole weight minus the coverage
+    denom = axis_weights(filt, scene.height)[:, None] * axis_weights(filt, scene.width)[None, :]
+    background = (denom - sums[..., 3])[..., None] * np.asarray(scene.background, dtype=np.float64)
+    return divide_by_weight(sums[..., :3] + background, scene, filt)

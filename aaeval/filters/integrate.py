@@ -49,7 +49,7 @@ __all__ = [
 # exact for the degree-7 edge polynomials of cubic filters
 _POLY_T, _POLY_W = np.polynomial.legendre.leggauss(4)
 # Gaussian edges (erf times Gaussian along a segment of length <= sqrt(2))
-GAUSS_NODES = 24
+GAUSS_NODES = 12
 _GAUSS_T, _GAUSS_W = np.polynomial.legendre.leggauss(GAUSS_NODES)
 # nodes on [0, 1]
 _POLY_T = 0.5 * (_POLY_T + 1.0)

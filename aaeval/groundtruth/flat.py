@@ -335,10 +335,12 @@ def render_mitsuba(
     Core polygon scenes only: a scene with extension tables raises ``ValueError``, since
     this renderer would silently ignore them.
     """
-    if scene.extensions:
+    from aaeval.scenes.sources import SOURCE_TABLES  # where imported polygons came from: nothing to draw
+
+    if set(scene.extensions) - SOURCE_TABLES:
         raise ValueError(
             f"{scene.source}: the mitsuba ground truth renders core polygon scenes only; "
-            f"extension table(s) {sorted(scene.extensions)} are not supported"
+            f"extension table(s) {sorted(set(scene.extensions) - SOURCE_TABLES)} are not supported"
         )
     if sampler not in SAMPLERS:
         raise ValueError(f"unknown sampler {sampler!r}; use one of {', '.join(SAMPLERS)}")

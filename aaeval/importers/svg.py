@@ -6,6 +6,7 @@ resolve the fill rule and stroke the outline (:mod:`aaeval.importers.shapes`). E
 element paints its fill, then its stroke, each a layer in document order (later
 nearer). Colours are sRGB in the file and linear in the scene.
 
+A nested ``<svg>`` (a new viewport, which places and clips its content) is refused.
 What the scene format cannot hold is never dropped silently: text, images, gradient
 and pattern paints, clip paths, masks, filters and dashes are left out, and opacity is
 drawn opaque; each is listed by element (``#id``, or ``tag[n]``: the n-th drawn element
@@ -76,6 +77,9 @@ def import_svg(
             tag = element.values.get("tag", type(element).__name__.lower()) if hasattr(element, "values") else "?"
             counts[tag] = counts.get(tag, 0) + 1
             name = f"#{element.id}" if getattr(element, "id", None) else f"{tag}[{counts[tag] - 1}]"
+            if isinstance(element, se.SVG) and element is not svg:
+                raise SvgError(f"{path}: nested <svg> {name} is not supported (its viewport would place and "
+                               "clip its content); make it a <g> with a transform")
             layers.extend(_element_layers(se, element, name, tolerance, ignored))
     except SvgError:
         raise
@@ -113,7 +117,7 @@ def _element_layers(se, element, name: str, tol: float, ignored: list[str]) -> l
         if _number(values.get(attr), 1.0) < 1.0:
             ignored.append(f"{name}: {attr} {values.get(attr)} ignored (drawn opaque)")
 
-    subpaths = shape_subpaths(se.Path(element), tol)
+    subpaths = shape_subpaths(abs(se.Path(element)), tol)  # abs: the transform applied to the points
     layers = []
     fill = _paint(values.get("fill"), element.fill, name, "fill", ignored)
     if fill is not None and subpaths:

@@ -69,7 +69,7 @@ def _highlight(scene) -> np.ndarray:
 
     if not _has_shaded(scene):
         return np.zeros((scene.height, scene.width), bool)
-    from aaeval.specular.groundtruth import groundtruth_phong
+    from aaeval.groundtruth import groundtruth_phong
 
     _, specular, _ = groundtruth_phong(scene, spp=HIGHLIGHT_SPP)
     return highlight_mask(specular, threshold=HIGHLIGHT_THRESHOLD)

@@ -19,9 +19,10 @@ strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm
                        stay sorted front to back at the pixel centre -> :class:`ZList`
     ``pixel_list``     the pixel's polygon list: front to back up to the first solid
                        piece, and what behind it is not hidden everywhere in the pixel
-    ``resolve_pixel``  a solid piece in front: the whole pixel (``emit_pixel``); one
+    ``resolve_pixel``  a solid piece in front: the whole pixel (``emit_pixel``), and
+                       while it stays alone in front, its whole run (``solid_run``); one
                        irregular piece in front of a solid one or of the background: that
-                       piece (``emit_piece``, or ``emit_area`` without centroids) and the
+                       piece (``emit_strip_piece``, or ``emit_area`` without centroids) and the
                        rest of the pixel (``emit_rest``); otherwise ``integrate``
 ``integrate``       the pixel integrator: ``pixel_polygons`` clips the listed pieces to
     the pixel (a solid piece becomes the pixel square, the background square goes last),
@@ -29,15 +30,22 @@ strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm
     unclipped edges and along the lines where depth planes cross), then every visible
     piece goes to ``emit_piece`` with its vertices -> :class:`PixelWork`
 
-Every result leaves through a *sink*: a structref with four methods, ``emit_pixel``
+Every result leaves through a *sink*: a structref with five methods, ``emit_pixel``
 (the whole pixel square), ``emit_piece`` (a visible piece inside a pixel, as its polygon
-vertices), ``emit_area`` (an area without its shape, only with ``centroids=False``) and
-``emit_rest`` (the pixel square minus what was already emitted for that pixel).
+vertices), ``emit_strip_piece`` (optional: the same for a strip piece alone in front, with
+the exact area the strip coverage already gave; sinks without it get ``emit_piece``), ``emit_area`` (an area without its shape, only with
+``centroids=False``) and ``emit_rest`` (the pixel square minus what was already emitted for
+that pixel).
 :class:`FragmentSink` turns them into fragments: per pixel, each visible polygon's area and
 area centroid (its pieces merged), so flat colours and per-piece shading are resolved
 outside. Another sink type (for instance one accumulating polynomial moments of each
 piece for an exact filter) runs through the same stages via :func:`scanline`, which is
 compiled once per sink type.
+
+The rows are run in fixed bands of ``BAND_ROWS`` (``scan_rows(polys, width, row0, row1,
+...)``; ``scanline`` runs them all in turn), each started at its top row, so bands are independent: ``band_fragments`` and
+``band_colors`` (flat colours straight into the image through :class:`ColorSink`) run
+without the GIL on any number of threads, with the same result.
 
 Workspaces grow by doubling; the integrator reports a too-small workspace with -1 and is
 rerun after growing it.
@@ -48,7 +56,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, types
 from numba.experimental import structref
-from numba.extending import overload_method
+from numba.extending import overload, overload_method
 
 from aaeval.renderers._clip import EPS_LINE, area_centroid, clip_side, clip_split, clip_to_column, signed_area
 
@@ -253,17 +261,22 @@ def new_fragment_sink(capacity):
 def _append(out, pix, src, area, cx, cy):
     n = out.n
     if n >= out.pix.shape[0]:
-        out.pix = _grow(out.pix, n + 1)
-        out.src = _grow(out.src, n + 1)
-        out.area = _grow(out.area, n + 1)
-        out.cx = _grow(out.cx, n + 1)
-        out.cy = _grow(out.cy, n + 1)
+        _grow_sink(out, n + 1)
     out.pix[n] = pix
     out.src[n] = src
     out.area[n] = area
     out.cx[n] = cx
     out.cy[n] = cy
     out.n = n + 1
+
+
+@njit(cache=True)
+def _grow_sink(out, n):
+    out.pix = _grow(out.pix, n)
+    out.src = _grow(out.src, n)
+    out.area = _grow(out.area, n)
+    out.cx = _grow(out.cx, n)
+    out.cy = _grow(out.cy, n)
 
 
 @overload_method(FragmentSinkType, "emit_pixel", jit_options={"cache": True})
@@ -304,6 +317,19 @@ def _emit_piece(out, pix, src, xs, ys, start, n):
     return impl
 
 
+@overload_method(FragmentSinkType, "emit_strip_piece", jit_options={"cache": True})
+def _emit_strip_piece(out, pix, src, area, xs, ys, start, n):
+    """Strip piece of polygon ``src`` clipped to the pixel, ``xs, ys[start:start+n]``, whose
+    exact area ``area`` is known from the strip coverage (the first fragment of its pixel).
+
+    The coverage's area is kept, so fragments with and without centroids agree exactly.
+    """
+    def impl(out, pix, src, area, xs, ys, start, n):
+        _, cx, cy = area_centroid(xs, ys, start, n)
+        _append(out, pix, src, area, cx, cy)
+    return impl
+
+
 @overload_method(FragmentSinkType, "emit_rest", jit_options={"cache": True})
 def _emit_rest(out, pix, src, x0, y0):
     """Polygon ``src`` covers the rest of the pixel: the square minus what was emitted
@@ -322,6 +348,26 @@ def _emit_rest(out, pix, src, x0, y0):
         rest = 1.0 - covered
         if rest > 0.0:
             _append(out, pix, src, rest, (x0 + 0.5 - mx) / rest, (y0 + 0.5 - my) / rest)
+    return impl
+
+
+def emit_strip_piece(out, pix, src, area, xs, ys, start, n):
+    """``out.emit_strip_piece(...)`` where the sink has that method, else ``out.emit_piece``
+    with the vertices (the method is optional: it only lets a sink keep the strip
+    coverage's area)."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(emit_strip_piece, jit_options={"cache": True})
+def _emit_strip_piece_or_piece(out, pix, src, area, xs, ys, start, n):
+    from numba.core.registry import cpu_target
+
+    if cpu_target.typing_context.resolve_getattr(out, "emit_strip_piece") is not None:
+        def impl(out, pix, src, area, xs, ys, start, n):
+            out.emit_strip_piece(pix, src, area, xs, ys, start, n)
+    else:
+        def impl(out, pix, src, area, xs, ys, start, n):
+            out.emit_piece(pix, src, xs, ys, start, n)
     return impl
 
 
@@ -559,7 +605,7 @@ def bucket_by_x(strip, width):
 # --- III.D/E: sweeping the row ----------------------------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def update_zlist(zl, zdepth, n_zl, bucket_head, bucket_items, span, pieces, planes, col, row):
     """Move the z-list to column ``col``; returns its new length.
 
@@ -593,7 +639,7 @@ def update_zlist(zl, zdepth, n_zl, bucket_head, bucket_items, span, pieces, plan
     return n_zl
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def pixel_list(zl, n_zl, plist, pieces, span, cov, planes, col, row, eps_z):
     """The pixel's polygon list ``plist``: front to back up to the first solid piece, and
     anything behind that piece not hidden by it everywhere in the pixel.
@@ -629,12 +675,12 @@ def emit_front_piece(strip, k, pix, col, row, work, out, centroids):
         m = clip_to_column(strip.x, strip.y, strip.f, strip.pieces[k, 0], n, float(col),
                            work.x, work.y, work.f, 0, 4 * n + 8)
         if m > 0:
-            out.emit_piece(pix, src, work.x, work.y, 0, m)
+            emit_strip_piece(out, pix, src, cv, work.x, work.y, 0, m)
             return
     out.emit_area(pix, src, cv, float(col), float(row))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def resolve_pixel(strip, plist, n_pl, solid, planes, eps_z, pix, col, row, work, out, jagged, centroids):
     """Emit the visible pieces of one pixel, by the cheapest case that applies."""
     x0 = float(col)
@@ -662,9 +708,76 @@ def resolve_pixel(strip, plist, n_pl, solid, planes, eps_z, pix, col, row, work,
     integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out)
 
 
+@njit(cache=True, inline="always")
+def _hidden_until(planes, p, q, col, end, row, width):
+    """The last column in ``col .. end`` up to which polygon p hides polygon q over every
+    pixel square by a safe margin (``col - 1`` if it does not at ``col``).
+
+    z_p - z_q = da x + db y + dc is linear, so its largest corner value on the square
+    [x0, x0+1] x [y0, y0+1] is linear in x0: the bound is found in closed form, then
+    checked. The margin is far above the rounding of any depth evaluation, so where this
+    holds the per-pixel tests (``update_zlist``, ``in_front_on_square``) agree.
+    """
+    da = planes[p, 0] - planes[q, 0]
+    db = planes[p, 1] - planes[q, 1]
+    dc = planes[p, 2] - planes[q, 2]
+    y0 = float(row)
+    margin = 1e-9 * ((abs(planes[p, 0]) + abs(planes[q, 0]) + abs(planes[p, 1]) + abs(planes[q, 1]))
+                     * (width + y0 + 2.0) + abs(planes[p, 2]) + abs(planes[q, 2]) + 1.0)
+    rest = max(da, 0.0) + db * y0 + max(db, 0.0) + dc
+    if da * col + rest >= -margin:
+        return col - 1
+    if da <= 0.0 or da * end + rest < -margin:
+        return end
+    last = min(int(np.floor((-margin - rest) / da)), end)
+    while last >= col and da * last + rest >= -margin:
+        last -= 1
+    return last
+
+
+@njit(cache=True)
+def solid_run(k, zl, n_zl, bucket_head, bucket_items, span, pieces, cov, planes, col, row, width):
+    """How far strip piece k, alone and solid in front at ``col``, stays so without any
+    per-pixel work: returns ``(last column, z-list length)``.
+
+    The run goes on while k covers whole pixels and hides every other piece of the
+    z-list over the whole pixel square; pieces entering the z-list inside the run are
+    added to it (the run stops before one that k does not hide), so the z-list is as
+    the per-pixel sweep would have it. Within the run every pixel is k's.
+    """
+    p = pieces[k, 2]
+    end = min(span[k, 1], width - 1)
+    c = col + 1
+    while c <= end and cov[span[k, 2] + c - span[k, 0]] >= COV_SOLID:
+        c += 1
+    end = c - 1
+    for t in range(n_zl):
+        if end <= col:
+            return col, n_zl
+        if zl[t] != k:
+            end = min(end, _hidden_until(planes, p, pieces[zl[t], 2], col + 1, end, row, width))
+    c = col + 1
+    while c <= end:
+        for t in range(bucket_head[c], bucket_head[c + 1]):
+            q = bucket_items[t]
+            last = _hidden_until(planes, p, pieces[q, 2], c, end, row, width)
+            if last < c:
+                return c - 1, n_zl  # q enters at c visible: the per-pixel sweep takes over
+            end = min(end, last)
+        for t in range(bucket_head[c], bucket_head[c + 1]):
+            zl[n_zl] = bucket_items[t]
+            n_zl += 1
+        c += 1
+    return end, n_zl
+
+
 @njit(cache=True)
 def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centroids):
-    """Sweep the pixels of ``row`` left to right, emitting each pixel's visible pieces."""
+    """Sweep the pixels of ``row`` left to right, emitting each pixel's visible pieces.
+
+    Where a solid piece is alone in front, its whole solid run is filled at once
+    (``solid_run``): the per-pixel z-list and pixel-list work is skipped there.
+    """
     zl = zlist.items
     zdepth = zlist.depth
     plist = zlist.pixel
@@ -674,11 +787,19 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
     head = strip.bucket_head
     items = strip.bucket_items
     n_zl = 0
-    for col in range(width):
+    col = 0
+    while col < width:
         n_zl = update_zlist(zl, zdepth, n_zl, head, items, span, pieces, planes, col, row)
         n_pl, solid = pixel_list(zl, n_zl, plist, pieces, span, cov, planes, col, row, eps_z)
         resolve_pixel(strip, plist, n_pl, solid, planes, eps_z, row * width + col, col, row, work, out,
                       jagged, centroids)
+        if n_pl == 1 and plist[0] == solid:
+            end, n_zl = solid_run(solid, zl, n_zl, head, items, span, pieces, cov, planes, col, row, width)
+            src = pieces[solid, 2]
+            for c in range(col + 1, end + 1):
+                out.emit_pixel(row * width + c, src, float(c), float(row))
+            col = end
+        col += 1
 
 
 # --- III.E.b: the pixel integrator ------------------------------------------------
@@ -904,19 +1025,24 @@ def integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out):
         out.emit_piece(pix, recs[r, 2], work.x, work.y, recs[r, 0], recs[r, 1])
 
 
-# --- the whole image --------------------------------------------------------------
+# --- the whole image ---------------------------------------------------------------
+# The image is cut into bands of BAND_ROWS rows, each run from its own first row (the
+# polygons reaching into it cut at its top), so bands are independent: they can run on
+# any number of threads and the result is the same, bit for bit.
+
+BAND_ROWS = 32
 
 
 @njit(cache=True)
-def scanline(polys, width, height, eps_z, jagged, centroids, out):
-    """Run the scanline algorithm over every row, emitting every pixel's visible pieces
-    into the sink ``out`` (compiled once per sink type)."""
+def scan_rows(polys, width, row0, row1, eps_z, jagged, centroids, out):
+    """Run the scanline algorithm over the band of rows ``row0 .. row1-1``, emitting every
+    pixel's visible pieces into the sink ``out`` (compiled once per sink type)."""
     n_polys = polys.order.size
     active = new_active_list(n_polys)
     strip = new_strip(n_polys, width)
     zlist = new_zlist(n_polys)
     work = new_pixel_work()
-    for row in range(height):
+    for row in range(row0, row1):
         enter_polygons(polys, active, row)
         if active.n == 0 and active.next_in >= n_polys:
             for col in range(width):
@@ -928,8 +1054,25 @@ def scanline(polys, width, height, eps_z, jagged, centroids, out):
 
 
 @njit(cache=True)
+def scanline(polys, width, height, eps_z, jagged, centroids, out):
+    """The whole image into the sink ``out``, band after band (the same pieces as
+    running the bands on threads)."""
+    for row0 in range(0, height, BAND_ROWS):
+        scan_rows(polys, width, row0, min(row0 + BAND_ROWS, height), eps_z, jagged, centroids, out)
+
+
+@njit(cache=True, nogil=True)
+def band_fragments(polys, width, row0, row1, eps_z, jagged, centroids):
+    """Fragments ``(pix, src, area, cx, cy)`` of rows ``row0 .. row1-1`` (runs without the GIL)."""
+    out = new_fragment_sink((row1 - row0) * width + 16)
+    scan_rows(polys, width, row0, row1, eps_z, jagged, centroids, out)
+    n = out.n
+    return out.pix[:n], out.src[:n], out.area[:n], out.cx[:n], out.cy[:n]
+
+
+@njit(cache=True)
 def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, jagged, centroids):
-    """Visible fragments of every pixel.
+    """Visible fragments of every pixel, band after band.
 
     Returns ``(pix, src, area, cx, cy)``: pixel index ``row * width + col``, source
     polygon (-1 for background), visible area, and its area centroid. With
@@ -941,3 +1084,117 @@ def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, ja
     scanline(polys, width, height, eps_z, jagged, centroids, out)
     n = out.n
     return out.pix[:n], out.src[:n], out.area[:n], out.cx[:n], out.cy[:n]
+
+
+# --- flat colours straight into the image ---------------------------------------------
+
+
+@structref.register
+class ColorSinkType(_Workspace):
+    pass
+
+
+class ColorSink(structref.StructRefProxy):
+    """Box-filtered flat colours written straight into ``image`` (pixels x 3).
+
+    ``colors[src]`` is a polygon's colour (row -1: the background). The current pixel's
+    fragments (``src, area``, pieces of one polygon merged, ``n`` of them) are summed
+    into the image when the next pixel starts (``flush``), in the order a bincount over
+    :class:`FragmentSink` fragments would add them, so both give the same bits.
+    """
+
+
+define_workspace(ColorSink, ColorSinkType, ["image", "colors", "pixel", "src", "area", "n"])
+
+
+@njit(cache=True)
+def new_color_sink(image, colors):
+    return ColorSink(image, colors, -1, np.empty(16, np.int64), np.empty(16), 0)
+
+
+@njit(cache=True)
+def flush(out):
+    """Write the pending pixel into the image."""
+    if out.n == 0:
+        return
+    image = out.image
+    colors = out.colors
+    pix = out.pixel
+    for ch in range(3):
+        acc = 0.0
+        for g in range(out.n):
+            acc += out.area[g] * colors[out.src[g], ch]
+        image[pix, ch] = acc
+    out.n = 0
+
+
+@njit(cache=True, inline="always")
+def _color_add(out, pix, src, area):
+    """Add ``area`` of polygon ``src`` to pixel ``pix`` (merged with the same polygon)."""
+    if pix != out.pixel:
+        flush(out)
+        out.pixel = pix
+    for g in range(out.n):
+        if out.src[g] == src:
+            out.area[g] = out.area[g] + area
+            return
+    if out.n >= out.src.shape[0]:
+        out.src = _grow(out.src, out.n + 1)
+        out.area = _grow(out.area, out.n + 1)
+    out.src[out.n] = src
+    out.area[out.n] = area
+    out.n += 1
+
+
+@overload_method(ColorSinkType, "emit_pixel", jit_options={"cache": True})
+def _color_pixel(out, pix, src, x0, y0):
+    def impl(out, pix, src, x0, y0):
+        if out.n > 0:
+            flush(out)
+        out.pixel = pix
+        for ch in range(3):
+            out.image[pix, ch] = 1.0 * out.colors[src, ch]
+    return impl
+
+
+@overload_method(ColorSinkType, "emit_piece", jit_options={"cache": True})
+def _color_piece(out, pix, src, xs, ys, start, n):
+    def impl(out, pix, src, xs, ys, start, n):
+        _color_add(out, pix, src, signed_area(xs, ys, start, n))
+    return impl
+
+
+@overload_method(ColorSinkType, "emit_strip_piece", jit_options={"cache": True})
+def _color_strip_piece(out, pix, src, area, xs, ys, start, n):
+    def impl(out, pix, src, area, xs, ys, start, n):
+        _color_add(out, pix, src, area)
+    return impl
+
+
+@overload_method(ColorSinkType, "emit_area", jit_options={"cache": True})
+def _color_area(out, pix, src, area, x0, y0):
+    def impl(out, pix, src, area, x0, y0):
+        _color_add(out, pix, src, area)
+    return impl
+
+
+@overload_method(ColorSinkType, "emit_rest", jit_options={"cache": True})
+def _color_rest(out, pix, src, x0, y0):
+    def impl(out, pix, src, x0, y0):
+        covered = 0.0
+        if pix == out.pixel:
+            for g in range(out.n):
+                covered += out.area[g]
+        rest = 1.0 - covered
+        if rest > 0.0:
+            _color_add(out, pix, src, rest)
+    return impl
+
+
+@njit(cache=True, nogil=True)
+def band_colors(polys, width, row0, row1, eps_z, jagged, colors, image):
+    """Write the flat-colour pixels of rows ``row0 .. row1-1`` into ``image`` (pixels x 3;
+    runs without the GIL)."""
+    out = new_color_sink(image, colors)
+    scan_rows(polys, width, row0, row1, eps_z, jagged, False, out)
+    flush(out)

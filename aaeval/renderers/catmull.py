@@ -8,17 +8,20 @@ nearest piece in the pixel's z-list colours the whole pixel.
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
+from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
 
 from aaeval.filters.registry import DEFAULT_FILTER, FILTERS
-from aaeval.renderers._catmull_kernel import BACKGROUND, catmull_fragments
+from aaeval.renderers._catmull_kernel import BACKGROUND, BAND_ROWS, band_colors, band_fragments, sort_polygons
 from aaeval.renderers.registry import Option, register_method
 from aaeval.scenes import Scene, parse_scene
 from aaeval.specular.methods import PARAMETERS as SPECULAR_PARAMETERS
 
-__all__ = ["Fragments", "visible_fragments", "resolve_flat", "render_catmull", "render_catmull_jagged"]
+__all__ = ["Fragments", "visible_fragments", "resolve_flat", "render_flat", "render_catmull", "render_catmull_jagged"]
 
 
 class Fragments(NamedTuple):
@@ -71,17 +74,42 @@ def _next_in_polygon(values, start, length, owner, local):
     return values[start[owner] + (local + 1) % length[owner]]
 
 
-def visible_fragments(scene: Scene, *, jagged: bool = False, centroids: bool = True) -> Fragments:
+def available_cores() -> int:
+    """Cores this process may run on."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
+@lru_cache(maxsize=None)
+def _pool(threads: int) -> ThreadPoolExecutor:
+    return ThreadPoolExecutor(max_workers=threads, thread_name_prefix="catmull")
+
+
+def run_bands(height: int, threads: int, band):
+    """``band(row0, row1)`` for every band of rows, on ``threads`` threads (0: all cores);
+    results in band order. The kernel releases the GIL, and the bands do not depend on
+    the thread count, so neither does the result."""
+    bands = [(r, min(r + BAND_ROWS, height)) for r in range(0, height, BAND_ROWS)]
+    threads = min(threads or available_cores(), len(bands))
+    if threads <= 1:
+        return [band(r0, r1) for r0, r1 in bands]
+    return list(_pool(threads).map(lambda b: band(*b), bands))
+
+
+def visible_fragments(scene: Scene, *, jagged: bool = False, centroids: bool = True, threads: int = 0) -> Fragments:
     """Run the Catmull scanline algorithm and return every pixel's visible fragments.
 
     With ``centroids=False`` the cheap paths (a solid piece; one irregular piece over a
     solid one) skip locating the visible pieces' centroids and report pixel centres;
-    areas are exact either way.
+    areas are exact either way. ``threads``: bands of rows run in parallel (0: all
+    cores); the result does not depend on it.
     """
     starts, lengths, x, y, planes, source, eps_z = kernel_inputs(scene)
-    pix, src, area, cx, cy = catmull_fragments(
-        scene.width, scene.height, starts, lengths, x, y, planes, eps_z, jagged, centroids
-    )
+    polys = sort_polygons(starts, lengths, x, y, planes)
+    parts = run_bands(scene.height, threads,
+                       lambda r0, r1: band_fragments(polys, scene.width, r0, r1, eps_z, jagged, centroids))
+    pix, src, area, cx, cy = (np.concatenate([p[i] for p in parts]) if parts else np.zeros(0) for i in range(5))
+    pix = pix.astype(np.int64)
+    src = src.astype(np.int64)
     polygon = np.where(src == BACKGROUND, BACKGROUND, source[np.maximum(src, 0)] if len(source) else src)
     return Fragments(pix, polygon, area, cx, cy)
 
@@ -94,6 +122,18 @@ def resolve_flat(scene: Scene, fragments: Fragments) -> np.ndarray:
     image = np.empty((n, 3))
     for ch in range(3):
         image[:, ch] = np.bincount(fragments.pixel, weights=fragments.area * rgb[:, ch], minlength=n)
+    return image.reshape(scene.height, scene.width, 3)
+
+
+def render_flat(scene: Scene, *, jagged: bool = False, threads: int = 0) -> np.ndarray:
+    """The box-filtered flat-colour image (H, W, 3), written by the kernel straight into
+    the image (no fragment list): the same bits as ``resolve_flat(visible_fragments())``."""
+    starts, lengths, x, y, planes, source, eps_z = kernel_inputs(scene)
+    polys = sort_polygons(starts, lengths, x, y, planes)
+    colors = np.ascontiguousarray(np.vstack([scene.arrays.colors[source], scene.background]), dtype=float)
+    image = np.empty((scene.width * scene.height, 3))
+    run_bands(scene.height, threads,
+               lambda r0, r1: band_colors(polys, scene.width, r0, r1, eps_z, jagged, colors, image))
     return image.reshape(scene.height, scene.width, 3)
 
 
@@ -126,8 +166,7 @@ FILTER_OPTION = {
     "filter": Option(
         str,
         DEFAULT_FILTER,
-        "pixel filter, as Mitsuba 3 defines it and normalises its film (aaeval.filters): "
-        + ", ".join(FILTERS),
+        "pixel filter, as Mitsuba 3 defines it and normalises its film (aaeval.filters, docs/filters.md)",
         choices=tuple(FILTERS),
     ),
 }
@@ -138,14 +177,18 @@ BOX_ONLY = {"filter": Option(str, DEFAULT_FILTER, "pixel filter: box only (cover
                              choices=(DEFAULT_FILTER,))}
 
 
+THREADS = Option(int, 0, "bands of rows rendered in parallel on this many threads (0: all cores); "
+                 "the image does not depend on it", minimum=0)
+
+
 @register_method(
     "catmull",
     summary="Catmull 1978: exact box filter (or another filter=), hidden surfaces solved inside each pixel",
-    options={**SPECULAR_OPTIONS, **FILTER_OPTION},
+    options={**SPECULAR_OPTIONS, **FILTER_OPTION, "threads": THREADS},
     exact=True,
     warmup=_warmup,
 )
-def render_catmull(scene: Scene, filter: str = DEFAULT_FILTER, **specular_options) -> np.ndarray:
+def render_catmull(scene: Scene, filter: str = DEFAULT_FILTER, threads: int = 0, **specular_options) -> np.ndarray:
     from aaeval.scenes.shaded import has_shaded
 
     if filter != DEFAULT_FILTER:
@@ -159,13 +202,14 @@ def render_catmull(scene: Scene, filter: str = DEFAULT_FILTER, **specular_option
         from aaeval.specular.render import render_shaded
 
         return render_shaded(scene, **specular_options)
-    return resolve_flat(scene, visible_fragments(scene, centroids=False))
+    return render_flat(scene, threads=threads)
 
 
 @register_method(
     "catmull-jagged",
     summary="Catmull 1978 with the pixel integrator off: nearest piece fills the pixel",
+    options={"threads": THREADS},
     warmup=_warmup,
 )
-def render_catmull_jagged(scene: Scene) -> np.ndarray:
-    return resolve_flat(scene, visible_fragments(scene, jagged=True, centroids=False))
+def render_catmull_jagged(scene: Scene, threads: int = 0) -> np.ndarray:
+    return render_flat(scene, jagged=True, threads=threads)

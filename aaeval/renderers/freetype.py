@@ -21,7 +21,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from aaeval.renderers.registry import MethodError, register_method
+from aaeval.renderers.registry import register_method, required_table
 from aaeval.scenes import Scene
 
 __all__ = ["render_freetype"]
@@ -66,17 +66,13 @@ def _warmup() -> None:
     "freetype",
     summary="FreeType's smooth rasterizer on text scenes: exact coverage per glyph, 8-bit, blended glyph by glyph",
     warmup=_warmup,
+    requires="text",
 )
 def render_freetype(scene: Scene) -> np.ndarray:
     from aaeval.importers.text import layout
     from aaeval.scenes.sources import font_path
 
-    text = scene.extensions.get("text")
-    if text is None:
-        raise MethodError(
-            f"{scene.source}: method 'freetype' renders text scenes only (a [text] table, "
-            "written by 'aaeval import text'); this scene has none"
-        )
+    text = required_table(scene, "freetype")
     font = str(font_path(scene.source, text.font))
     face = _face(font)
     image = np.empty((scene.height, scene.width, 3))

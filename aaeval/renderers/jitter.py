@@ -13,7 +13,7 @@ import numpy as np
 
 from aaeval.renderers.catmull import FILTER_OPTION
 from aaeval.renderers.registry import Option, register_method
-from aaeval.renderers.sampling import point_sampled, warmup_scene
+from aaeval.renderers.sampling import SAMPLE_BYTES, point_sampled, warmup_scene
 from aaeval.scenes import Scene
 
 __all__ = ["render_jitter"]
@@ -28,6 +28,8 @@ __all__ = ["render_jitter"]
         **FILTER_OPTION,
     },
     warmup=lambda: render_jitter(warmup_scene(), k=2, seed=0),
+    samples=lambda o: o["k"] ** 2,
+    memory=lambda scene, o: SAMPLE_BYTES * scene.width * o["k"] ** 2,
 )
 def render_jitter(scene: Scene, k: int = 4, seed: int = 0, filter: str = "box") -> np.ndarray:
     return point_sampled(scene, k, seed=seed, filter=filter)

@@ -46,6 +46,7 @@ def _warmup() -> None:
         "cache": Option(bool, True, "reuse images cached in $AAEVAL_CACHE_DIR/groundtruth"),
         **FILTER_OPTION,  # a filter other than box is Mitsuba's matching rfilter, rendered uncached
     },
+    samples=lambda o: o["spp"],
     warmup=_warmup,
 )
 def render_mitsuba_method(

@@ -3,11 +3,16 @@
 A method is a plain function ``render(scene, **options) -> ndarray (H, W, 3)`` registered
 under a name with its declared options (Mitsuba-plugin style). A *spec* names a method
 and sets options: ``"catmull"``, ``"supersample:k=4"``, ``"mitsuba:spp=4096,seed=1"``.
-:func:`resolve` validates the name and every option and fails loudly on anything unknown.
+:func:`resolve` validates the name and every option (type, range, rule) and fails loudly on
+anything unknown. Before any render, :func:`check_budget` refuses a request whose point
+samples or memory cannot fit (see ``MAX_SAMPLES`` and :func:`available_memory`), with its
+estimate, instead of running out of memory or time half-way.
 """
 
 from __future__ import annotations
 
+import math
+import os
 import time
 from dataclasses import dataclass, field
 from typing import Any, Callable, Mapping
@@ -27,7 +32,18 @@ __all__ = [
     "resolve",
     "render",
     "render_timed",
+    "required_table",
+    "check_budget",
+    "available_memory",
+    "MAX_SAMPLES",
 ]
+
+# Point samples (pixels x samples per pixel) one render may take: 2^36, about ten minutes
+# of point sampling at ~10 ns per sample; AAEVAL_MAX_SAMPLES raises or lowers it.
+MAX_SAMPLES = 1 << 36
+# A float64 RGB image is held about this many times over by a render and its writing
+# (the result, accumulators, the conversion for the file); measured methods add their own.
+IMAGE_COPIES = 4
 
 
 class MethodError(ValueError):
@@ -36,20 +52,33 @@ class MethodError(ValueError):
 
 @dataclass(frozen=True)
 class Option:
-    """A declared option of a method: its type, default and meaning."""
+    """A declared option of a method: its type, default and meaning, and the values it takes.
+
+    ``minimum`` and ``maximum`` bound numbers (inclusive); ``check(value)`` returns why a
+    value is refused, or None. Float options are always finite.
+    """
 
     type: type
     default: Any
     doc: str = ""
     choices: tuple | None = None
     minimum: float | None = None
+    maximum: float | None = None
+    check: Callable[[Any], str | None] | None = None
 
     def convert(self, raw: Any, where: str) -> Any:
         value = _coerce(raw, self.type, where)
+        if self.type is float and not math.isfinite(value):
+            raise MethodError(f"{where}: must be a finite number, got {raw!r}")
         if self.choices is not None and value not in self.choices:
             raise MethodError(f"{where}: {value!r} is not one of {list(self.choices)}")
         if self.minimum is not None and value < self.minimum:
             raise MethodError(f"{where}: must be >= {self.minimum}, got {value!r}")
+        if self.maximum is not None and value > self.maximum:
+            raise MethodError(f"{where}: must be <= {self.maximum}, got {value!r}")
+        problem = self.check(value) if self.check is not None else None
+        if problem:
+            raise MethodError(f"{where}: {problem}, got {value!r}")
         return value
 
 
@@ -82,6 +111,12 @@ class Method:
     summary: str = ""
     exact: bool = False
     warmup: Callable[[], None] | None = None
+    # the scene extension table the method draws from (e.g. "text"); it refuses scenes without it
+    requires: str | None = None
+    # point samples per pixel for these options (None: one pass per pixel, no sampling)
+    samples: Callable[[Mapping[str, Any]], int] | None = None
+    # bytes the method holds besides IMAGE_COPIES images, for a scene and options
+    memory: Callable[[Scene, Mapping[str, Any]], int] | None = None
 
 
 METHODS: dict[str, Method] = {}
@@ -94,16 +129,39 @@ def register_method(
     options: Mapping[str, Option] | None = None,
     exact: bool = False,
     warmup: Callable[[], None] | None = None,
+    requires: str | None = None,
+    samples: Callable[[Mapping[str, Any]], int] | None = None,
+    memory: Callable[[Scene, Mapping[str, Any]], int] | None = None,
 ):
-    """Decorator registering ``render(scene, **options)`` under ``name``."""
+    """Decorator registering ``render(scene, **options)`` under ``name``.
+
+    ``samples(options)`` (point samples per pixel) and ``memory(scene, options)`` (bytes
+    beyond the image) let :func:`check_budget` refuse requests that cannot fit.
+    """
 
     def decorate(func):
         if name in METHODS:
             raise ValueError(f"method {name!r} is registered twice")
-        METHODS[name] = Method(name, func, dict(options or {}), summary, exact, warmup)
+        METHODS[name] = Method(name, func, dict(options or {}), summary, exact, warmup, requires, samples, memory)
         return func
 
     return decorate
+
+
+def required_table(scene: Scene, name: str) -> Any:
+    """The scene's extension table that method ``name`` draws from (``Method.requires``).
+
+    A scene without it is refused in one line: such a method draws the scene's source
+    (the text, the SVG), not its polygons.
+    """
+    table = METHODS[name].requires
+    value = scene.extensions.get(table)
+    if value is None:
+        raise MethodError(
+            f"{scene.source}: method {name!r} draws a scene's [{table}] table (written by "
+            f"'aaeval import {table}'); this scene has none"
+        )
+    return value
 
 
 def parse_spec(spec: str) -> tuple[str, dict[str, str]]:
@@ -154,11 +212,71 @@ def format_spec(name: str, options: Mapping[str, Any]) -> str:
     return name + ":" + ",".join(f"{k}={changed[k]}" for k in sorted(changed))
 
 
+def available_memory() -> int:
+    """Bytes a render may use: MemAvailable, or ``AAEVAL_MAX_MEMORY`` (e.g. ``8G``) if lower."""
+    avail = None
+    try:
+        with open("/proc/meminfo") as meminfo:
+            for line in meminfo:
+                if line.startswith("MemAvailable:"):
+                    avail = int(line.split()[1]) * 1024
+    except (OSError, ValueError):
+        pass
+    if avail is None:
+        try:
+            avail = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+        except (ValueError, OSError, AttributeError):
+            avail = 1 << 62  # unknown: only AAEVAL_MAX_MEMORY limits
+    limit = os.environ.get("AAEVAL_MAX_MEMORY")
+    if limit:
+        avail = min(avail, _bytes(limit, "AAEVAL_MAX_MEMORY"))
+    return avail
+
+
+def _bytes(text: str, where: str) -> int:
+    units = {"": 1, "K": 1 << 10, "M": 1 << 20, "G": 1 << 30, "T": 1 << 40}
+    number, unit = text.strip().upper().rstrip("IB"), ""
+    if number and number[-1] in units:
+        number, unit = number[:-1], number[-1]
+    try:
+        return int(float(number) * units[unit])
+    except ValueError:
+        raise MethodError(f"{where}={text!r}: expected bytes such as 8G or 512M") from None
+
+
+def _max_samples() -> int:
+    text = os.environ.get("AAEVAL_MAX_SAMPLES")
+    if not text:
+        return MAX_SAMPLES
+    try:
+        return int(float(text))
+    except ValueError:
+        raise MethodError(f"AAEVAL_MAX_SAMPLES={text!r}: expected a number") from None
+
+
+def check_budget(scene: Scene, method: Method, options: Mapping[str, Any]) -> None:
+    """Refuse, with the estimate, a render whose samples or memory cannot fit."""
+    pixels = scene.width * scene.height
+    where = f"{scene.source}: method {method.name!r} on a {scene.width}x{scene.height} image"
+    if method.samples is not None:
+        per_pixel = int(method.samples(options))
+        limit = _max_samples()
+        if pixels * per_pixel > limit:
+            raise MethodError(f"{where} at {per_pixel:.4g} samples per pixel takes {pixels * per_pixel:.3g} point "
+                              f"samples, over the limit of {limit:.3g} (AAEVAL_MAX_SAMPLES)")
+    need = pixels * 3 * 8 * IMAGE_COPIES + (int(method.memory(scene, options)) if method.memory else 0)
+    have = available_memory()
+    if need > have:
+        raise MethodError(f"{where} needs about {need / 2**30:.3g} GiB of memory, {have / 2**30:.3g} GiB "
+                          "available (AAEVAL_MAX_MEMORY may lower it)")
+
+
 def render(scene: Scene, spec: str, *, frame: int | None = None) -> np.ndarray:
     """Render ``scene`` (at ``frame`` if given) with the method ``spec`` names."""
     method, options = resolve(spec)
     if frame is not None:
         scene = scene.at_frame(frame)
+    check_budget(scene, method, options)
     image = method.render(scene, **options)
     expected = scene.shape
     if image.shape != expected:
@@ -171,7 +289,8 @@ _warmed: set[str] = set()
 
 def render_timed(scene: Scene, spec: str, *, frame: int | None = None) -> tuple[np.ndarray, float]:
     """Render and return ``(image, seconds)``; JIT compilation is done before the clock starts."""
-    method, _ = resolve(spec)
+    method, options = resolve(spec)
+    check_budget(scene, method, options)  # before the warm-up: a refusal costs nothing
     if method.name not in _warmed:
         if method.warmup is not None:
             method.warmup()

@@ -19,7 +19,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-from aaeval.renderers.registry import MethodError, register_method
+from aaeval.renderers.registry import MethodError, register_method, required_table
 from aaeval.scenes import Scene
 
 __all__ = ["render_resvg", "placed_svg"]
@@ -57,6 +57,7 @@ def _warmup() -> None:
     "resvg",
     summary="resvg SVG renderer on scenes imported from SVG: per-shape analytic AA, sRGB 8-bit blending",
     warmup=_warmup,
+    requires="svg",
 )
 def render_resvg(scene: Scene) -> np.ndarray:
     import resvg_py
@@ -65,10 +66,7 @@ def render_resvg(scene: Scene) -> np.ndarray:
     from aaeval.imageio import srgb_to_linear
     from aaeval.scenes.sources import source_path
 
-    svg = scene.extensions.get("svg")
-    if svg is None:
-        raise MethodError(f"{scene.source}: method 'resvg' renders SVG scenes only (an [svg] table, "
-                          "written by 'aaeval import svg'); this scene has none")
+    svg = required_table(scene, "resvg")
     if svg.ignored:
         raise MethodError(f"{scene.source}: method 'resvg' would draw what the import ignored "
                           f"({len(svg.ignored)} item(s), first: {svg.ignored[0]}); it renders faithfully imported SVGs only")

@@ -14,7 +14,10 @@ from aaeval.renderers._sampling_kernel import sample_image
 from aaeval.renderers.catmull import kernel_inputs
 from aaeval.scenes import Scene, parse_scene
 
-__all__ = ["point_sampled", "kernel_scene", "warmup_scene"]
+__all__ = ["point_sampled", "kernel_scene", "warmup_scene", "SAMPLE_BYTES"]
+
+# The kernel keeps depth, polygon and offset (x, y) per sample of one image row.
+SAMPLE_BYTES = 8 + 8 + 16
 
 
 def kernel_scene(scene: Scene) -> tuple:

@@ -12,7 +12,7 @@ import numpy as np
 
 from aaeval.renderers.catmull import FILTER_OPTION
 from aaeval.renderers.registry import Option, register_method
-from aaeval.renderers.sampling import point_sampled, warmup_scene
+from aaeval.renderers.sampling import SAMPLE_BYTES, point_sampled, warmup_scene
 from aaeval.scenes import Scene
 
 __all__ = ["render_supersample"]
@@ -23,6 +23,8 @@ __all__ = ["render_supersample"]
     summary="Crow 1981: regular k x k grid of point samples per pixel, box-averaged or filtered",
     options={"k": Option(int, 4, "samples per pixel side", minimum=1), **FILTER_OPTION},
     warmup=lambda: render_supersample(warmup_scene(), k=2),
+    samples=lambda o: o["k"] ** 2,
+    memory=lambda scene, o: SAMPLE_BYTES * scene.width * o["k"] ** 2,
 )
 def render_supersample(scene: Scene, k: int = 4, filter: str = "box") -> np.ndarray:
     return point_sampled(scene, k, filter=filter)

@@ -9,14 +9,17 @@ from __future__ import annotations
 
 from aaeval.renderers.registry import Option, register_method
 from aaeval.scenes import Scene
-from aaeval.weiler_atherton import box_filter, coverage, visible_pieces
+from aaeval.weiler_atherton import box_filter, visible_arrays
 
 __all__ = ["render_weiler_atherton"]
 
 
 def _warmup() -> None:
-    # compiles the coverage kernel; the clipper is plain Python
-    coverage([[(0.2, 0.3), (3.7, 0.6), (1.5, 2.9)]], [1.0], 4, 3)
+    # compiles (or loads from numba's cache) the clipper, the solver and the box filter:
+    # a few interpenetrating triangles reach every stage
+    from aaeval.scenes.generate import random_triangles
+
+    render_weiler_atherton(random_triangles(6, 8, 8, size=6.0, seed=1))
 
 
 @register_method(
@@ -29,4 +32,4 @@ def _warmup() -> None:
     warmup=_warmup,
 )
 def render_weiler_atherton(scene: Scene, window: int = 0) -> "np.ndarray":  # noqa: F821
-    return box_filter(scene, visible_pieces(scene, window=window))
+    return box_filter(scene, visible_arrays(scene, window=window))

@@ -122,13 +122,11 @@ def _sampler_label(row) -> str:
     return row["method"]
 
 
-def _frames(out_dir: Path, keys) -> np.ndarray | None:
-    images = []
-    for key in keys:
-        path = out_dir / "images" / f"{key}.npy"
-        if not path.exists():
-            return None
-        images.append(np.load(path))
+def _frames(store, keys) -> np.ndarray | None:
+    """The stored images of ``keys`` stacked, or None if one is missing."""
+    images = [store.load_image(key) if key is not None else None for key in keys]
+    if any(image is None for image in images):
+        return None
     return np.stack(images)
 
 
@@ -146,8 +144,8 @@ def filter_measures(out_dir: Path) -> pd.DataFrame:
     from aaeval.experiments.store import SweepStore
     from aaeval.experiments.table import load_results
 
-    out_dir = Path(out_dir)
-    results, _ = load_results(SweepStore(out_dir))
+    store = SweepStore(Path(out_dir))
+    results, _ = load_results(store)
     if results.empty:
         return pd.DataFrame()
     rows = results[results["group"].astype(str).str.startswith(GROUP_PREFIX) & results["error"].isna()].copy()
@@ -161,7 +159,7 @@ def filter_measures(out_dir: Path) -> pd.DataFrame:
     box_time = rows[(rows["sampler"] == "exact") & (rows["filter"] == "box")].groupby("scene")["render_s"].mean()
     out = []
     for (scene, spec), cells in rows.groupby(["scene", "spec"]):
-        frames = _frames(out_dir, cells["key"])
+        frames = _frames(store, cells["key"])
         if frames is None:
             continue
         first = cells.iloc[0]
@@ -169,28 +167,31 @@ def filter_measures(out_dir: Path) -> pd.DataFrame:
                   "frames": len(cells), "render_s": float(cells["render_s"].mean()),
                   "time_vs_box": float(cells["render_s"].mean() / box_time.get(scene, np.nan))}
         if "picket" in scene:
-            box = _frames(out_dir, [exact_box.get((scene, f)) for f in cells["frame"]]) \
-                if all((scene, f) in exact_box for f in cells["frame"]) else None
+            box = _frames(store, [exact_box.get((scene, f)) for f in cells["frame"]])
             if box is None:
                 continue
             record["flicker"] = picket_flicker(frames, fence_interior(box))
         else:
             rws, cls = _edge_window(frames.shape[2], frames.shape[1])
             record["edge_width"] = edge_width_10_90(frames, rows=rws, cols=cls)
-        refs = _frames(out_dir, [exact.get((scene, first["filter"], f)) for f in cells["frame"]]) \
-            if all((scene, first["filter"], f) in exact for f in cells["frame"]) else None
+        refs = _frames(store, [exact.get((scene, first["filter"], f)) for f in cells["frame"]])
         record["rmse_vs_exact"] = float(np.sqrt(np.mean((frames - refs) ** 2))) if refs is not None else np.nan
         out.append(record)
     return pd.DataFrame(out)
 
 
 def _summary(measures: pd.DataFrame) -> pd.DataFrame:
-    """Per filter and sampler: mean flicker over picket scenes, mean edge width over edge scenes."""
-    agg = measures.groupby(["filter", "sampler"]).agg(
+    """Per filter and sampler: flicker per picket scene and their mean, mean edge width, error, time."""
+    keys = ["filter", "sampler"]
+    agg = measures.groupby(keys).agg(
         flicker=("flicker", "mean"), edge_width=("edge_width", "mean"),
         rmse_vs_exact=("rmse_vs_exact", "mean"), time_vs_box=("time_vs_box", "mean")).reset_index()
+    pickets = measures.dropna(subset=["flicker"]) if "flicker" in measures else measures.iloc[:0]
+    if not pickets.empty:
+        per_scene = pickets.pivot_table(index=keys, columns="scene", values="flicker").add_prefix("flicker ")
+        agg = agg.merge(per_scene.reset_index(), on=keys, how="left")
     agg["order"] = agg["filter"].map({f: i for i, f in enumerate(FILTER_ORDER)})
-    return agg.sort_values(["order", "sampler"]).drop(columns="order")
+    return agg.sort_values(["order", "sampler"]).drop(columns="order").reset_index(drop=True)
 
 
 def _chart(summary: pd.DataFrame, path: Path) -> Path:
@@ -210,7 +211,7 @@ def _chart(summary: pd.DataFrame, path: Path) -> Path:
                    color=colours.get(row.filter, "k"), label=f"{row.filter}" if kind == "exact" else None,
                    facecolors=None if kind in ("exact", "mitsuba") else "none")
     ax.set_xlabel("blur: 10-90% edge width (px), edges scenes")
-    ax.set_ylabel("flicker: RMS temporal std in the fence (picket scenes)")
+    ax.set_ylabel("flicker: RMS temporal std in the fence (mean of picket scenes)")
     ax.set_title("Pixel filters: flicker against blur (o exact, ^ supersample, s jitter, x Mitsuba)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
@@ -220,15 +221,18 @@ def _chart(summary: pd.DataFrame, path: Path) -> Path:
 
 
 def _table(summary: pd.DataFrame) -> str:
-    cols = [("filter", "filter"), ("sampler", "sampler"), ("flicker", "flicker"), ("edge_width", "edge width (px)"),
-            ("rmse_vs_exact", "RMSE vs exact"), ("time_vs_box", "time / box time")]
-    head = "".join(f"<th>{html.escape(t)}</th>" for _, t in cols)
+    named = {"filter": "filter", "sampler": "sampler", "edge_width": "edge width (px)",
+             "rmse_vs_exact": "RMSE vs exact", "time_vs_box": "time / exact box"}
+    cols = ["filter", "sampler"] + [c for c in summary.columns if c.startswith("flicker ")] \
+        + ["edge_width", "rmse_vs_exact", "time_vs_box"]
+    head = "".join(f"<th>{html.escape(named.get(c, c))}</th>" for c in cols)
     body = []
-    for row in summary.itertuples():
+    for _, row in summary.iterrows():
         cells = []
-        for c, _ in cols:
-            v = getattr(row, c)
-            cells.append(f"<td>{html.escape(v) if isinstance(v, str) else ('' if not np.isfinite(v) else f'{v:.4g}')}</td>")
+        for c in cols:
+            v = row[c]
+            text = v if isinstance(v, str) else ("" if not np.isfinite(v) else f"{v:.4g}")
+            cells.append(f"<td>{html.escape(text)}</td>")
         body.append("<tr>" + "".join(cells) + "</tr>")
     return f"<table><tr>{head}</tr>{''.join(body)}</table>"
 

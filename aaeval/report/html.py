@@ -503,9 +503,7 @@ def _provenance(root: Path, results: pd.DataFrame) -> str:
 
 
 def _metric_columns(results: pd.DataFrame, manifest: dict) -> list[str]:
-    names = []
-    for cell in manifest["cells"]:
-        names.extend(m for m in cell.get("metrics", []) if m not in names)
+    names = list(manifest.get("metrics", []))  # the experiment's metrics, in config order
     return [m for m in names if m in results.columns]
 
 

@@ -13,7 +13,8 @@ spp, sampler and seed are stated with its noise (seed 1 against seed 0):
 - detection maps: where Amanatides' test flags a pixel, and its oversampling rate;
 - highlight error and flicker over the first frames of the animated plate: per-frame
   RMSE over the highlight (truth specular term above :data:`HIGHLIGHT_THRESHOLD`), the
-  specular energy per frame against the truth's, and a table.
+  specular energy of a cross-section of the brightest highlight per frame against the
+  truth's (where a highlight that breaks up under sub-pixel motion flickers), and a table.
 
 The section appears when the sweep in ``out_dir`` has scenes with ``[shaded]`` objects
 (its manifest's scene documents say so) or when asked (``force=True``); otherwise it is
@@ -33,11 +34,15 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.colors import SymLogNorm  # noqa: E402
 from scipy.special import gammaln  # noqa: E402
 
 import aaeval  # noqa: E402
 from aaeval.groundtruth import DEFAULT_SAMPLER, groundtruth  # noqa: E402
 from aaeval.imageio import linear_to_srgb8  # noqa: E402
+from aaeval.renderers import resolve  # noqa: E402
+from aaeval.report.figures import _save  # noqa: E402  (PNG + SVG + PDF, as every report figure)
+from aaeval.report.style import SpecStyle, Styles, ground_truth_style  # noqa: E402
 from aaeval.scenes import Scene, load_scene  # noqa: E402
 from aaeval.specular.methods import SPECULAR_METHODS  # noqa: E402
 from aaeval.specular.render import render_shaded, specular_aliasing_map  # noqa: E402
@@ -45,18 +50,26 @@ from aaeval.specular.tables import cutoff_table, maximum  # noqa: E402
 
 __all__ = ["specular_section", "SECTION_SPP", "SECTION_FRAMES", "HIGHLIGHT_THRESHOLD", "plate_scenes"]
 
-# Ground-truth samples per pixel: the measured noise (seed 1 vs 0) is printed beside it.
-SECTION_SPP = 512
+# Ground-truth samples per pixel (a square, which every sampler keeps as is); the measured
+# noise (seed 1 vs 0) is printed beside it.
+SECTION_SPP = 256
 # Frames of the animated plate over which highlight error and flicker are measured.
 SECTION_FRAMES = 8
 # A pixel belongs to the highlight where the truth's specular term exceeds this.
 HIGHLIGHT_THRESHOLD = 0.02
-_DPI = 110
 
 
 class _Method(NamedTuple):
     label: str
-    options: dict
+    options: dict  # render_shaded's keywords
+
+    def style(self, styles: Styles) -> SpecStyle:
+        return styles.spec("catmull", _full_options(self.label))
+
+
+def _full_options(label: str) -> dict:
+    # the options the results table records for this spec: every declared one, defaults filled in
+    return resolve(label)[1]
 
 
 def _methods() -> list[_Method]:
@@ -69,15 +82,18 @@ def _methods() -> list[_Method]:
     return out
 
 
-def _colours(methods: list[_Method]) -> dict[str, tuple]:
-    palette = plt.get_cmap("tab10").colors
-    return {m.label: palette[i % len(palette)] for i, m in enumerate(methods)}
+def _styles(methods: list[_Method]) -> dict[str, SpecStyle]:
+    """Each method's look from the report's one style table (same as in the group figures)."""
+    styles = Styles(("catmull", _full_options(m.label)) for m in methods)
+    return {m.label: m.style(styles) for m in methods}
 
 
 def plate_scenes() -> list[Path]:
-    """The shipped plates (``configs/scenes/shaded/*.toml`` of the source tree), if present."""
+    """The shipped plates (``configs/scenes/shaded/*.toml`` of the source tree), if present;
+    the cylinders first (Amanatides' plates 2-4, the animated scene of the measurements)."""
     folder = Path(aaeval.__file__).parents[1] / "configs" / "scenes" / "shaded"
-    return sorted(folder.glob("*.toml")) if folder.is_dir() else []
+    found = sorted(folder.glob("*.toml")) if folder.is_dir() else []
+    return sorted(found, key=lambda p: (p.stem != "cylinders", p.stem))
 
 
 def specular_section(
@@ -91,7 +107,7 @@ def specular_section(
 ) -> str:
     """HTML fragment of the specular study for the report of the sweep in ``out_dir``.
 
-    Figures are written into ``figures_dir`` as PNG and SVG; the fragment refers to them
+    Figures are written into ``figures_dir`` as PNG, SVG and PDF (as every report figure); the fragment refers to them
     relative to ``out_dir`` (where the report's ``index.html`` lives). Empty when the
     sweep has no ``[shaded]`` scenes, unless ``force``. ``scenes`` replaces the shipped
     plates (the first one is also the animated scene of the flicker measurement).
@@ -105,9 +121,11 @@ def specular_section(
                 "in this installation; nothing to show.</p>")
     figures_dir.mkdir(parents=True, exist_ok=True)
     methods = _methods()
-    colours = _colours(methods)
+    colours = _styles(methods)
     truth_of = _TruthCache(spp)
-    noise = truth_of.noise(load_scene(paths[0]).at_frame(0))
+    first = load_scene(paths[0]).at_frame(0)
+    section = _cross_section(truth_of(first).specular)
+    noise = truth_of.noise(first, section)
 
     parts = [
         "<h2 id='specular'>Specular aliasing (Amanatides 1992)</h2>",
@@ -138,15 +156,17 @@ def specular_section(
                          f"{paths[0].stem}, frame 0: Amanatides' detection (conservative and P = 0.999) and the "
                          f"largest normal turn per pixel."))
     animated = load_scene(paths[0])
-    series = _over_frames(animated, min(frames, animated.frames), methods, truth_of)
+    series = _over_frames(animated, min(frames, animated.frames), methods, truth_of, section)
     slug = _slug(paths[0].stem)
     parts.append(_figure(rel, _fig_highlight_error(figures_dir / f"specular_highlight_error_{slug}", series,
                                                    colours, noise),
                          f"{paths[0].stem}: highlight RMSE per frame against the truth; the band is the truth's own "
                          f"noise."))
-    parts.append(_figure(rel, _fig_energy(figures_dir / f"specular_energy_{slug}", series, colours, spp),
-                         f"{paths[0].stem}: specular energy per frame; flicker is what a method's curve does that "
-                         f"the truth's does not."))
+    parts.append(_figure(rel, _fig_energy(figures_dir / f"specular_energy_{slug}", series, colours, spp, noise,
+                                          section),
+                         f"{paths[0].stem}: specular energy of a cross-section of the brightest highlight "
+                         f"({section.describe()}) per frame; flicker is what a method's curve does that the truth's "
+                         f"does not (grey: the truth's noise, seed 1 vs 0)."))
     parts.append(_summary_table(series, noise))
     return "\n".join(parts)
 
@@ -170,8 +190,35 @@ def _sweep_has_shaded_scenes(out_dir: Path) -> bool:
 
 
 class _Noise(NamedTuple):
-    image: float
-    highlight: float
+    image: float  # RMSE of the truth's seed 1 against seed 0
+    highlight: float  # the same over the highlight pixels
+    energy: float  # |difference| of the cross-section's specular energy
+
+
+class _Section(NamedTuple):
+    """A one-pixel-wide cut across the brightest highlight: ``rows`` x ``cols`` slices."""
+
+    rows: slice
+    cols: slice
+
+    def describe(self) -> str:
+        if self.rows.stop - self.rows.start == 1:
+            return f"row {self.rows.start}, columns {self.cols.start}-{self.cols.stop - 1}"
+        return f"column {self.cols.start}, rows {self.rows.start}-{self.rows.stop - 1}"
+
+    def energy(self, specular: np.ndarray) -> float:
+        return float(specular[self.rows, self.cols].sum())
+
+
+def _cross_section(specular: np.ndarray, half: int = 24) -> _Section:
+    """The row or column segment through the brightest pixel that crosses the highlight
+    (the one with fewer highlight pixels: across it, not along it)."""
+    h, w = specular.shape
+    r, c = np.unravel_index(int(np.argmax(specular)), specular.shape)
+    row = _Section(slice(r, r + 1), slice(max(c - half, 0), min(c + half + 1, w)))
+    col = _Section(slice(max(r - half, 0), min(r + half + 1, h)), slice(c, c + 1))
+    lit = [int((specular[s.rows, s.cols] > HIGHLIGHT_THRESHOLD).sum()) for s in (row, col)]
+    return row if lit[0] <= lit[1] else col
 
 
 class _TruthCache:
@@ -179,7 +226,7 @@ class _TruthCache:
 
     def __init__(self, spp: int):
         self.spp = spp
-        self._seen: dict[tuple[str, int], object] = {}
+        self._seen: dict[tuple[str, int, int], object] = {}
 
     def __call__(self, scene: Scene, seed: int = 0):
         key = (scene.source, scene.frame, seed)
@@ -187,10 +234,11 @@ class _TruthCache:
             self._seen[key] = groundtruth(scene, spp=self.spp, seed=seed)
         return self._seen[key]
 
-    def noise(self, scene: Scene) -> _Noise:
+    def noise(self, scene: Scene, section: _Section) -> _Noise:
         a, b = self(scene, 0), self(scene, 1)
         mask = a.specular > HIGHLIGHT_THRESHOLD
-        return _Noise(_rmse(a.image, b.image), _rmse(a.image[mask], b.image[mask]))
+        return _Noise(_rmse(a.image, b.image), _rmse(a.image[mask], b.image[mask]),
+                      abs(section.energy(a.specular) - section.energy(b.specular)))
 
 
 def _rmse(a: np.ndarray, b: np.ndarray) -> float:
@@ -199,12 +247,13 @@ def _rmse(a: np.ndarray, b: np.ndarray) -> float:
 
 class _Series(NamedTuple):
     frames: list[int]
-    truth_energy: np.ndarray  # (F,)
+    truth_energy: np.ndarray  # (F,) specular energy of the cross-section
     energy: dict[str, np.ndarray]  # label -> (F,)
     highlight_rmse: dict[str, np.ndarray]  # label -> (F,)
 
 
-def _over_frames(scene: Scene, count: int, methods: list[_Method], truth_of: _TruthCache) -> _Series:
+def _over_frames(scene: Scene, count: int, methods: list[_Method], truth_of: _TruthCache,
+                 section: _Section) -> _Series:
     frames = list(range(count))
     truth_energy = np.zeros(count)
     energy = {m.label: np.zeros(count) for m in methods}
@@ -213,10 +262,10 @@ def _over_frames(scene: Scene, count: int, methods: list[_Method], truth_of: _Tr
         at = scene.at_frame(k)
         truth = truth_of(at)
         mask = truth.specular > HIGHLIGHT_THRESHOLD
-        truth_energy[k] = truth.specular.sum()
+        truth_energy[k] = section.energy(truth.specular)
         for m in methods:
             image, specular = render_shaded(at, return_specular=True, **m.options)
-            energy[m.label][k] = specular.sum()
+            energy[m.label][k] = section.energy(specular)
             error[m.label][k] = _rmse(image[mask], truth.image[mask])
     return _Series(frames, truth_energy, energy, error)
 
@@ -232,15 +281,6 @@ def flicker(energy: np.ndarray, truth_energy: np.ndarray) -> float:
 
 
 # --- figures --------------------------------------------------------------------------
-
-
-def _save(fig, stem: Path) -> Path:
-    """Write ``stem``.png and ``stem``.svg (no dates: same data, same files); return the PNG."""
-    png = Path(stem).with_suffix(".png")
-    fig.savefig(png, dpi=_DPI, bbox_inches="tight", metadata={"Software": None})
-    fig.savefig(png.with_suffix(".svg"), bbox_inches="tight", metadata={"Date": None})
-    plt.close(fig)
-    return png
 
 
 def _fig_power_cutoff(figures_dir: Path) -> Path:
@@ -299,6 +339,8 @@ def _fig_plate(stem: Path, name: str, truth: np.ndarray, truth_specular: np.ndar
     panels = [("Mitsuba Phong (truth)", truth)] + list(images)
     errors = [np.abs((image - truth)[rows, cols].mean(axis=2)).max() for _, image in images]
     limit = max(max(errors, default=0.0), 1e-6)
+    # one scale for all, logarithmic beyond the truth's noise: small errors stay visible
+    norm = SymLogNorm(linthresh=min(max(noise.image, 1e-4), limit), vmin=-limit, vmax=limit)
     fig, axes = plt.subplots(3, len(panels), figsize=(2.0 * len(panels), 6.6), layout="constrained", squeeze=False)
     im = None
     for j, (label, image) in enumerate(panels):
@@ -306,14 +348,15 @@ def _fig_plate(stem: Path, name: str, truth: np.ndarray, truth_specular: np.ndar
         axes[0, j].set_title(label.replace("catmull:", "").replace(",", ",\n"), fontsize=7)
         axes[1, j].imshow(linear_to_srgb8(image[rows, cols]), interpolation="nearest")
         error = (image - truth)[rows, cols].mean(axis=2)
-        im = axes[2, j].imshow(error, cmap="RdBu_r", vmin=-limit, vmax=limit, interpolation="nearest")
+        im = axes[2, j].imshow(error, cmap="RdBu_r", norm=norm, interpolation="nearest")
         axes[2, j].set_title(f"image RMSE {_rmse(image, truth):.2e}" if j else "truth (error 0)", fontsize=7)
     for ax in axes.ravel():
         ax.set_xticks([])
         ax.set_yticks([])
     axes[1, 0].set_ylabel(f"zoom rows {rows.start}-{rows.stop}, cols {cols.start}-{cols.stop}", fontsize=7)
-    axes[2, 0].set_ylabel("signed error, mean of RGB", fontsize=7)
-    fig.colorbar(im, ax=axes[2, :], shrink=0.8, fraction=0.02)
+    axes[2, 0].set_ylabel("signed error, mean of RGB\n(log beyond the truth noise)", fontsize=7)
+    ticks = [-limit, -norm.linthresh, 0.0, norm.linthresh, limit]
+    fig.colorbar(im, ax=axes[2, :], shrink=0.8, fraction=0.02, ticks=ticks, format="%.0e")
     fig.suptitle(f"{name}, frame 0, against Mitsuba Phong at {spp} spp {DEFAULT_SAMPLER}, seed 0 "
                  f"(its noise: image RMSE {noise.image:.1e})", fontsize=9)
     return _save(fig, stem)
@@ -340,23 +383,29 @@ def _fig_detection(stem: Path, scene: Scene) -> Path:
 
 def _fig_highlight_error(stem: Path, series: _Series, colours, noise: _Noise) -> Path:
     fig, ax = plt.subplots(figsize=(7.2, 4.0))
-    ax.axhspan(0, noise.highlight, color="0.85", label="truth noise (seed 1 vs 0)")
+    values = np.concatenate([v for v in series.highlight_rmse.values()] + [[noise.highlight]])
+    positive = values[values > 0]
+    floor = float(positive.min()) / 2 if positive.size else 1e-9
+    ax.axhspan(floor, max(noise.highlight, floor), color="0.85", label="truth noise (seed 1 vs 0)")
     for label, values in series.highlight_rmse.items():
-        ax.plot(series.frames, values, marker="o", ms=3, color=colours[label], label=label.replace("catmull:", ""))
-    ax.set(xlabel="frame", ylabel="highlight RMSE (linear RGB)", ylim=(0, None),
+        ax.plot(series.frames, values, label=label.replace("catmull:", ""), **colours[label].line())
+    ax.set_yscale("log")
+    ax.set(xlabel="frame", ylabel="highlight RMSE (linear RGB, log scale)", ylim=(floor, None),
            title="Highlight error per frame against Mitsuba Phong")
     ax.set_xticks(series.frames)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return _save(fig, stem)
 
 
-def _fig_energy(stem: Path, series: _Series, colours, spp: int) -> Path:
+def _fig_energy(stem: Path, series: _Series, colours, spp: int, noise: _Noise, section: _Section) -> Path:
     fig, ax = plt.subplots(figsize=(7.2, 4.0))
-    ax.plot(series.frames, series.truth_energy, "k-", lw=2.5, label=f"Mitsuba Phong (truth, {spp} spp)")
+    ax.fill_between(series.frames, series.truth_energy - noise.energy, series.truth_energy + noise.energy,
+                    color="0.8", lw=0)
+    ax.plot(series.frames, series.truth_energy, label=f"Mitsuba Phong (truth, {spp} spp)", **ground_truth_style())
     for label, values in series.energy.items():
-        ax.plot(series.frames, values, marker="o", ms=3, color=colours[label], label=label.replace("catmull:", ""))
-    ax.set(xlabel="frame", ylabel="specular energy (sum over the image)",
-           title="Specular energy per frame (a steady highlight keeps its truth's curve)")
+        ax.plot(series.frames, values, label=label.replace("catmull:", ""), **colours[label].line())
+    ax.set(xlabel="frame", ylabel="specular energy of the cross-section",
+           title=f"Highlight cross-section ({section.describe()}) per frame")
     ax.set_xticks(series.frames)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return _save(fig, stem)
@@ -367,7 +416,7 @@ def _fig_energy(stem: Path, series: _Series, colours, spp: int) -> Path:
 
 def _summary_table(series: _Series, noise: _Noise) -> str:
     head = ("<table><tr><th>method</th><th>highlight RMSE, mean over frames</th>"
-            "<th>energy bias (mean, relative)</th><th>flicker (relative)</th></tr>")
+            "<th>cross-section energy bias (relative)</th><th>flicker (relative)</th></tr>")
     mean_truth = float(np.mean(series.truth_energy))
     rows = []
     for label in series.energy:
@@ -375,9 +424,10 @@ def _summary_table(series: _Series, noise: _Noise) -> str:
         rows.append(f"<tr><td>{html.escape(label)}</td><td class='num'>{np.mean(series.highlight_rmse[label]):.3e}</td>"
                     f"<td class='num'>{bias:+.3f}</td>"
                     f"<td class='num'>{flicker(series.energy[label], series.truth_energy):.3e}</td></tr>")
-    note = (f"<p>Over frames {series.frames[0]}-{series.frames[-1]}. Flicker: RMS over frames of the energy "
-            f"error with its mean removed, over the truth's mean energy (a steady bias is not flicker). The truth's "
-            f"own highlight RMSE noise is {noise.highlight:.2e}.</p>")
+    note = (f"<p>Over frames {series.frames[0]}-{series.frames[-1]}. Energy: the specular term summed over the "
+            f"highlight's cross-section. Flicker: RMS over frames of the energy error with its mean removed, over "
+            f"the truth's mean energy (a steady bias is not flicker). The truth's own noise: highlight RMSE "
+            f"{noise.highlight:.2e}, cross-section energy {noise.energy / mean_truth:.1e} relative.</p>")
     return head + "".join(rows) + "</table>" + note
 
 

@@ -221,6 +221,7 @@ def parse_scene(document: Mapping[str, Any], *, source: str = "<scene>") -> Scen
     from aaeval.scenes.holes import polygons_with_holes  # builds on this module's checks
 
     polygons, holed = polygons_with_holes(raw_polygons, source)
+    _check_animation_range(polygons, frames, translate, f"{source}: [animation]")
 
     extensions = {
         name: _SECTIONS[name].parse(document[name], f"{source}: [{name}]", dict(document))
@@ -284,7 +285,23 @@ def _vector(value: Any, n: int, where: str) -> np.ndarray:
 
 
 def _rgb(value: Any, where: str) -> np.ndarray:
-    return _vector(value, 3, where)
+    rgb = _vector(value, 3, where)
+    if np.any((rgb < 0.0) | (rgb > 1.0)):
+        raise SceneError(f"{where}: colour components must be in [0, 1] (linear RGB), got {value!r}")
+    return rgb
+
+
+def _check_animation_range(polygons, frames: int, translate: np.ndarray, where: str) -> None:
+    """Refuse an animation that moves a vertex beyond the coordinate limit (or to infinity)."""
+    if frames < 2 or not translate.any() or not polygons:
+        return
+    reach = max(float(np.abs(p.vertices[:, :2]).max()) for p in polygons)
+    last = frames - 1
+    with np.errstate(over="ignore"):
+        moved = reach + last * float(np.abs(translate).max())
+    if not moved <= MAX_COORDINATE:  # also catches inf
+        raise SceneError(f"{where}: frame {last} moves vertices to {moved:.3g}, beyond +-{MAX_COORDINATE:g} "
+                         "(translate x frames too large)")
 
 
 def _polygon(raw: Any, i: int, source: str) -> Polygon:

@@ -3,8 +3,10 @@
 A polygon with holes is checked ring by ring (each ring with the format's own
 simplicity check), then the rings against each other: every hole strictly inside the
 outer ring, holes disjoint, all in the polygon's plane. It is then cut by ear clipping
-(mapbox-earcut, which takes holes) into triangles that share the rings' own vertices, so
-the pieces abut exactly and their union is exactly the polygon. Those pieces stand in
+(mapbox-earcut, which takes holes) into triangles that share the rings' own vertices,
+and the triangles are merged back into convex pieces across every shared edge that can go
+(Hertel & Mehlhorn), so the pieces abut exactly, their union is exactly the polygon, and
+there are about half as many of them as triangles. Those pieces stand in
 ``Scene.polygons`` in the polygon's place, which is how every exact method renders holes
 without seams and without knowing about them; :class:`HoledPolygon` keeps the rings for
 methods that fill whole shapes (Skia's paths, Mitsuba's meshes), where pieces would
@@ -197,7 +199,7 @@ def points_inside(points: np.ndarray, ring: np.ndarray) -> np.ndarray:
 
 
 def _cut_into_pieces(polygon: Polygon, holes: list[np.ndarray], where: str) -> list[np.ndarray]:
-    """Triangles (each (3, 3), x y z) sharing the rings' vertices, covering exactly the polygon."""
+    """Convex pieces (each (k, 3), x y z) sharing the rings' vertices, covering exactly the polygon."""
     import mapbox_earcut
 
     rings = [polygon.vertices, *holes]
@@ -215,4 +217,49 @@ def _cut_into_pieces(polygon: Polygon, holes: list[np.ndarray], where: str) -> l
         raise SceneError(
             f"{where}: could not be cut into pieces (triangles cover {area.sum():.12g}, the polygon {expected:.12g})"
         )
-    return list(tri[area > SLIVER_RTOL * size * size])
+    keep = area > SLIVER_RTOL * size * size
+    return [points[cycle] for cycle in convex_pieces(points[:, :2], faces[keep])]
+
+
+def convex_pieces(xy: np.ndarray, faces: np.ndarray) -> list[list[int]]:
+    """Triangles merged across their shared edges into convex pieces (Hertel & Mehlhorn).
+
+    A shared edge is removed when both of its end points stay convex in the merged piece,
+    so every piece stays convex, and there are at most four times as many pieces as the
+    fewest convex pieces could be: far fewer polygons and edges for the renderers than
+    the triangles, with the same vertices, so the pieces still abut exactly.
+    Returns each piece as a counter-clockwise (y up) cycle of indices into ``xy``.
+    """
+
+    def cross(o, a, b):
+        return (xy[a, 0] - xy[o, 0]) * (xy[b, 1] - xy[o, 1]) - (xy[a, 1] - xy[o, 1]) * (xy[b, 0] - xy[o, 0])
+
+    pieces: dict[int, list[int]] = {}
+    owner: dict[tuple[int, int], int] = {}  # directed edge -> piece
+    for k, (a, b, c) in enumerate(faces.tolist()):
+        cycle = [a, b, c] if cross(a, b, c) > 0 else [a, c, b]
+        pieces[k] = cycle
+        for i in range(3):
+            owner[(cycle[i], cycle[(i + 1) % 3])] = k
+    for a, b in list(owner):
+        p, q = owner.get((a, b)), owner.get((b, a))
+        if p is None or q is None or p == q:
+            continue
+        P, Q = pieces[p], pieces[q]
+        i, j = P.index(a), Q.index(b)
+        ring_p = P[i + 1 :] + P[: i + 1]  # b ... a
+        ring_q = Q[j + 1 :] + Q[: j + 1]  # a ... b
+        merged = ring_p + ring_q[1:-1]
+        n = len(merged)
+        if len(set(merged)) != n:
+            continue
+        ia = len(ring_p) - 1  # a; b is at 0
+        if cross(merged[ia - 1], a, merged[(ia + 1) % n]) < 0 or cross(merged[-1], b, merged[1]) < 0:
+            continue
+        pieces[p] = merged
+        del pieces[q]
+        owner.pop((a, b))
+        owner.pop((b, a))
+        for k in range(n):
+            owner[(merged[k], merged[(k + 1) % n])] = p
+    return list(pieces.values())

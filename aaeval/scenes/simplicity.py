@@ -14,8 +14,9 @@ without the closing vertex, edge ``k`` running from vertex ``k`` to vertex ``k +
 ring is one polygon outline; several rings (an outline and its holes) are checked together,
 where no edge of one ring may meet any edge of another.
 
-Orientation signs are computed exactly as the pairwise test computes them, so both give
-the same answer on every input (tests/test_simplicity.py compares them).
+Orientation signs are computed in float64 the way the pairwise test computes them, so the
+two agree wherever the signs are exact (integer coordinates, tests/test_simplicity.py);
+a meeting or a miss within rounding error of a tie may be judged either way by either.
 """
 
 from __future__ import annotations
@@ -161,6 +162,26 @@ def _side(pts, a, b, left, right, e, t, v):
 
 
 @njit(cache=True)
+def _locate(pts, a, b, left, right, active, size, e, v):
+    """Binary search of the list at the sweep point v for edge e: ``(position, -1)``, where
+    e is (when listed) or goes, or ``(position, t)`` for an edge t that v lies on."""
+    lo, hi = 0, size
+    while lo < hi:
+        mid = (lo + hi) // 2
+        t = active[mid]
+        if t == e:
+            return mid, -1
+        c = _side(pts, a, b, left, right, e, t, v)
+        if c == 2:
+            return mid, t
+        if c > 0:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo, -1
+
+
+@njit(cache=True)
 def _sweep(pts, a, b, order, incoming):
     n = len(a)
     rank = np.empty(n, dtype=np.int64)
@@ -181,21 +202,9 @@ def _sweep(pts, a, b, order, incoming):
             e = incoming[v] if k == 0 else v
             if right[e] != v:
                 continue
-            lo, hi = 0, size
-            while lo < hi:
-                mid = (lo + hi) // 2
-                t = active[mid]
-                if t == e:
-                    lo = hi = mid
-                    break
-                c = _side(pts, a, b, left, right, e, t, v)
-                if c == 2:
-                    return e, t
-                if c > 0:
-                    lo = mid + 1
-                else:
-                    hi = mid
-            pos = lo
+            pos, hit = _locate(pts, a, b, left, right, active, size, e, v)
+            if hit >= 0:
+                return e, hit
             if pos >= size or active[pos] != e:  # rounding left the list unordered: look it up
                 pos = 0
                 while active[pos] != e:
@@ -209,17 +218,9 @@ def _sweep(pts, a, b, order, incoming):
             e = incoming[v] if k == 0 else v
             if left[e] != v:
                 continue
-            lo, hi = 0, size
-            while lo < hi:
-                mid = (lo + hi) // 2
-                t = active[mid]
-                c = _side(pts, a, b, left, right, e, t, v)
-                if c == 2:
-                    return e, t
-                if c > 0:
-                    lo = mid + 1
-                else:
-                    hi = mid
+            lo, hit = _locate(pts, a, b, left, right, active, size, e, v)
+            if hit >= 0:
+                return e, hit
             for m in range(size, lo, -1):
                 active[m] = active[m - 1]
             active[lo] = e

@@ -1,7 +1,8 @@
 """Scene-format extensions ``[svg]`` and ``[text]``: where an imported scene came from.
 
 They let a renderer that draws the source itself (``resvg`` for SVG, ``freetype`` for
-text) draw exactly what was imported; every other method reads only the polygons. Both
+text) draw exactly what was imported; every other method reads only the polygons, which
+are the whole scene (:data:`SOURCE_TABLES`). Both
 move with the scene's animation (an offset added to the source's placement).
 
 ``[svg]``: ``file`` (the SVG, relative to the scene file's folder unless absolute),
@@ -26,7 +27,11 @@ import numpy as np
 from aaeval._toml import refuse_unknown_keys
 from aaeval.scenes.format import SceneError, _number, _rgb, _vector, register_section
 
-__all__ = ["SvgSource", "TextSource", "font_path", "source_path"]
+__all__ = ["SvgSource", "TextSource", "SOURCE_TABLES", "font_path", "source_path"]
+
+# Tables that only record where the polygons came from: a method that draws the polygons
+# draws the whole scene, and may ignore them.
+SOURCE_TABLES = frozenset({"svg", "text"})
 
 
 @dataclass(frozen=True)

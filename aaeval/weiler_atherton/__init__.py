@@ -8,12 +8,13 @@ polygon clipper; the output is the visible polygons themselves.
 - :mod:`.lines`: visible edges (hidden-line drawings).
 """
 
-from aaeval.weiler_atherton.clipper import Shape, clip, oriented, polygons, ring_area, shape_area
-from aaeval.weiler_atherton.hidden_surface import Piece, visible_pieces
+from aaeval.weiler_atherton.clipper import InvalidShapeError, Shape, clip, oriented, polygons, ring_area, shape_area
+from aaeval.weiler_atherton.hidden_surface import Piece, VisibleArrays, visible_arrays, visible_pieces
 from aaeval.weiler_atherton.raster import box_filter, coverage
 
 __all__ = [
     "Shape",
+    "InvalidShapeError",
     "clip",
     "oriented",
     "polygons",
@@ -21,6 +22,8 @@ __all__ = [
     "shape_area",
     "Piece",
     "visible_pieces",
+    "VisibleArrays",
+    "visible_arrays",
     "box_filter",
     "coverage",
 ]

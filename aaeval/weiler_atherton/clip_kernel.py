@@ -41,26 +41,27 @@ def ring_area_of(xs, ys, a, b):
 
 
 @njit(cache=True)
+def _winds(px, py, x0, y0, x1, y1):
+    """What edge (x0, y0)-(x1, y1) adds to the winding number of the point: +1 crossing
+    its horizontal line upwards with the point on the left, -1 downwards on the right."""
+    if y0 <= py:
+        if y1 > py and (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0) > 0:
+            return 1
+    elif y1 <= py and (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0) < 0:
+        return -1
+    return 0
+
+
+@njit(cache=True)
 def winding(px, py, xs, ys, starts):
     """Winding number of the point about the oriented contours (1 inside a shape)."""
     w = 0
     for r in range(len(starts) - 1):
         a = starts[r]
         b = starts[r + 1]
-        if b == a:
-            continue
-        x0 = xs[b - 1]
-        y0 = ys[b - 1]
         for i in range(a, b):
-            x1 = xs[i]
-            y1 = ys[i]
-            if y0 <= py:
-                if y1 > py and (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0) > 0:
-                    w += 1
-            elif y1 <= py and (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0) < 0:
-                w -= 1
-            x0 = x1
-            y0 = y1
+            j = b - 1 if i == a else i - 1
+            w += _winds(px, py, xs[j], ys[j], xs[i], ys[i])
     return w
 
 
@@ -83,14 +84,18 @@ def proper_crossing(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, eps):
     dpy = p1y - p0y
     dqx = q1x - q0x
     dqy = q1y - q0y
-    lp = math.hypot(dpx, dpy)
-    lq = math.hypot(dqx, dqy)
     d0 = dpx * (q0y - p0y) - dpy * (q0x - p0x)
     d1 = dpx * (q1y - p0y) - dpy * (q1x - p0x)
-    if not ((d0 > eps * lp and d1 < -eps * lp) or (d0 < -eps * lp and d1 > eps * lp)):
+    if (d0 >= 0.0 and d1 >= 0.0) or (d0 <= 0.0 and d1 <= 0.0):  # fails below too: skip hypot
         return False, 0.0, 0.0
     e0 = dqx * (p0y - q0y) - dqy * (p0x - q0x)
     e1 = dqx * (p1y - q0y) - dqy * (p1x - q0x)
+    if (e0 >= 0.0 and e1 >= 0.0) or (e0 <= 0.0 and e1 <= 0.0):
+        return False, 0.0, 0.0
+    lp = math.hypot(dpx, dpy)
+    lq = math.hypot(dqx, dqy)
+    if not ((d0 > eps * lp and d1 < -eps * lp) or (d0 < -eps * lp and d1 > eps * lp)):
+        return False, 0.0, 0.0
     if not ((e0 > eps * lq and e1 < -eps * lq) or (e0 < -eps * lq and e1 > eps * lq)):
         return False, 0.0, 0.0
     tp = e0 / (e0 - e1)
@@ -169,10 +174,11 @@ def first_crossing(xs, ys, starts, eps):
 
 
 @njit(cache=True)
-def _grow_f(a, n):
-    if n < len(a):
+def grown(a, need):
+    """The 1-D array itself if it holds ``need`` items, else a copy at least twice as long."""
+    if need <= len(a):
         return a
-    b = np.empty(2 * len(a) + 8, a.dtype)
+    b = np.empty(max(2 * len(a) + 8, need), a.dtype)
     b[: len(a)] = a
     return b
 
@@ -196,8 +202,37 @@ def _lex_order(px, py, n):
 
 
 @njit(cache=True)
+def _lower_bound(a, v):
+    """First index i with a[i] >= v in a sorted array (np.searchsorted allocates on
+    numba's scalar path, which cost more than the rest of a small clip)."""
+    lo = 0
+    hi = len(a)
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if a[mid] < v:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+@njit(cache=True)
+def _upper_bound(a, v):
+    """First index i with a[i] > v in a sorted array."""
+    lo = 0
+    hi = len(a)
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if a[mid] <= v:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+@njit(cache=True)
 def _contains(sorted_keys, key):
-    i = np.searchsorted(sorted_keys, key)
+    i = _lower_bound(sorted_keys, key)
     return i < len(sorted_keys) and sorted_keys[i] == key
 
 
@@ -271,8 +306,8 @@ def _points(sx, sy, ss, cx, cy, cs, eps):
                         continue
                     hit, x, y = proper_crossing(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, eps)
                     if hit:
-                        px = _grow_f(px, n)
-                        py = _grow_f(py, n)
+                        px = grown(px, n + 1)
+                        py = grown(py, n + 1)
                         px[n] = x
                         py[n] = y
                         n += 1
@@ -322,8 +357,8 @@ def _split(vid, labels, starts, ux, uy, eps):
         for v in range(a, b):
             i0 = vid[v]
             i1 = vid[_next_in_ring(v, a, b)]
-            out = _grow_i(out, m)
-            lab = _grow_i(lab, m)
+            out = grown(out, m + 1)
+            lab = grown(lab, m + 1)
             out[m] = i0
             lab[m] = labels[v]
             m += 1
@@ -335,8 +370,8 @@ def _split(vid, labels, starts, ux, uy, eps):
             x1 = max(p0x, p1x)
             y0 = min(p0y, p1y)
             y1 = max(p0y, p1y)
-            lo = np.searchsorted(ux, x0 - eps)
-            hi = np.searchsorted(ux, x1 + eps, side="right")
+            lo = _lower_bound(ux, x0 - eps)
+            hi = _upper_bound(ux, x1 + eps)
             k = 0
             for j in range(lo, min(hi, nu)):
                 if uy[j] < y0 - eps or uy[j] > y1 + eps or j == i0 or j == i1:
@@ -344,8 +379,8 @@ def _split(vid, labels, starts, ux, uy, eps):
                 t = on_segment(ux[j], uy[j], p0x, p0y, p1x, p1y, eps)
                 if t < 0.0:
                     continue
-                ts = _grow_f(ts, k)
-                qs = _grow_i(qs, k)
+                ts = grown(ts, k + 1)
+                qs = grown(qs, k + 1)
                 # insertion by (t, id): ordered along the edge
                 z = k
                 while z > 0 and (ts[z - 1] > t or (ts[z - 1] == t and qs[z - 1] > j)):
@@ -358,8 +393,8 @@ def _split(vid, labels, starts, ux, uy, eps):
             inserted += k
             for z in range(k):
                 if qs[z] != out[m - 1]:
-                    out = _grow_i(out, m)
-                    lab = _grow_i(lab, m)
+                    out = grown(out, m + 1)
+                    lab = grown(lab, m + 1)
                     out[m] = qs[z]
                     lab[m] = labels[v]
                     m += 1
@@ -370,45 +405,18 @@ def _split(vid, labels, starts, ux, uy, eps):
     return out[:m], lab[:m], ost, inserted
 
 
-@njit(cache=True)
-def _grow_i(a, n):
-    if n < len(a):
-        return a
-    b = np.empty(2 * len(a) + 8, a.dtype)
-    b[: len(a)] = a
-    return b
-
-
-@njit(cache=True)
-def _directed_edges(ids, labels, starts):
-    """(from, to, label) of every edge of positive length."""
-    n = len(ids)
-    ea = np.empty(n, np.int64)
-    eb = np.empty(n, np.int64)
-    el = np.empty(n, np.int64)
-    m = 0
-    for r in range(len(starts) - 1):
-        a = starts[r]
-        b = starts[r + 1]
-        for v in range(a, b):
-            w = ids[_next_in_ring(v, a, b)]
-            if ids[v] != w:
-                ea[m] = ids[v]
-                eb[m] = w
-                el[m] = labels[v]
-                m += 1
-    return ea[:m], eb[:m], el[:m]
-
-
 # -- step 3-4: tracing the inside and outside contours -------------------------------------
 
 
 @njit(cache=True)
-def _trace(ea, eb, el, ux, uy, eps):
-    """Link directed edges into closed contours, turning at shared vertices onto the first
-    edge clockwise from the way the walk came (keeps contours free of crossings); drop the
-    zero-area leftovers of degenerate contact. Returns a shape (xs, ys, labels, starts)."""
-    m = len(ea)
+def _trace(edges, ux, uy, eps):
+    """Link directed edges (rows from, to, label) into closed contours, turning at shared
+    vertices onto the first edge clockwise from the way the walk came (keeps contours free
+    of crossings); drop the zero-area leftovers of degenerate contact. Returns a shape
+    (xs, ys, labels, starts)."""
+    ea = edges[0]
+    eb = edges[1]
+    m = edges.shape[1]
     nu = len(ux)
     # outgoing edges of each point, in edge order (a counting sort keeps the order)
     head = np.zeros(nu + 1, np.int64)
@@ -422,9 +430,10 @@ def _trace(ea, eb, el, ux, uy, eps):
         out_edges[fill[ea[e]]] = e
         fill[ea[e]] += 1
     used = np.zeros(m, np.bool_)
-    rid = np.empty(m, np.int64)
-    rlab = np.empty(m, np.int64)
-    rst = np.empty(m + 1, np.int64)
+    xs = np.empty(m)
+    ys = np.empty(m)
+    labels = np.empty(m, np.int64)
+    starts = np.empty(m + 1, np.int64)
     nr = 0
     n = 0
     for e0 in range(m):
@@ -434,8 +443,9 @@ def _trace(ea, eb, el, ux, uy, eps):
         e = e0
         while True:
             used[e] = True
-            rid[n] = ea[e]
-            rlab[n] = el[e]
+            xs[n] = ux[ea[e]]
+            ys[n] = uy[ea[e]]
+            labels[n] = edges[2, e]
             n += 1
             v = eb[e]
             best = -1
@@ -460,16 +470,13 @@ def _trace(ea, eb, el, ux, uy, eps):
             if best < 0:
                 break
             e = best
-        if n - first >= 3:
-            rx = ux[rid[first:n]]
-            ry = uy[rid[first:n]]
-            if abs(ring_area_of(rx, ry, 0, n - first)) > eps * eps:
-                rst[nr] = first
-                nr += 1
-                continue
-        n = first  # too short or zero area: dropped
-    rst[nr] = n
-    return ux[rid[:n]], uy[rid[:n]], rlab[:n].copy(), rst[: nr + 1].copy()
+        if n - first >= 3 and abs(ring_area_of(xs, ys, first, n)) > eps * eps:
+            starts[nr] = first
+            nr += 1
+        else:
+            n = first  # too short or zero area: dropped
+    starts[nr] = n
+    return xs[:n], ys[:n], labels[:n], starts[: nr + 1]
 
 
 @njit(cache=True)
@@ -568,69 +575,101 @@ def _empty_shape():
 
 
 @njit(cache=True)
-def _edge_keys(ea, eb, nu):
-    k = ea * nu + eb
-    k.sort()
-    return k
+def _edge_keys(ids, starts, nu):
+    """Sorted keys ``from * nu + to`` of the contours' edges of positive length."""
+    keys = np.empty(len(ids), np.int64)
+    m = 0
+    for r in range(len(starts) - 1):
+        a = starts[r]
+        b = starts[r + 1]
+        for v in range(a, b):
+            w = ids[_next_in_ring(v, a, b)]
+            if ids[v] != w:
+                keys[m] = ids[v] * nu + w
+                m += 1
+    keys = keys[:m]
+    if m <= SMALL_SORT:
+        for i in range(1, m):  # insertion sort: numpy's sort costs more on a few keys
+            k = keys[i]
+            j = i - 1
+            while j >= 0 and keys[j] > k:
+                keys[j + 1] = keys[j]
+                j -= 1
+            keys[j + 1] = k
+    else:
+        keys.sort()
+    return keys
+
+
+@njit(cache=True)
+def _winding_ids(px, py, ids, starts, ux, uy):
+    """:func:`winding` about contours given as point ids."""
+    w = 0
+    for r in range(len(starts) - 1):
+        a = starts[r]
+        b = starts[r + 1]
+        for i in range(a, b):
+            j = ids[b - 1] if i == a else ids[i - 1]
+            w += _winds(px, py, ux[j], uy[j], ux[ids[i]], uy[ids[i]])
+    return w
 
 
 @njit(cache=True)
 def _classify(s_ids, s_lab, s_st, c_ids, c_lab, c_st, ux, uy):
-    """The directed edges of the inside and outside contours: subject edges by where they
-    lie (shared edges by the side the clip shape's interior is on), clip edges inside the
-    subject to both, walked backwards for the outside."""
+    """The directed edges (from, to, label) of the inside and outside contours, as rows of
+    two (3, m) arrays: subject edges by where they lie (shared edges by the side the clip
+    shape's interior is on), clip edges inside the subject to both, walked backwards for
+    the outside."""
     nu = len(ux)
-    sa, sb, sl = _directed_edges(s_ids, s_lab, s_st)
-    ca, cb, cl = _directed_edges(c_ids, c_lab, c_st)
-    s_keys = _edge_keys(sa, sb, nu)
-    c_keys = _edge_keys(ca, cb, nu)
-    cxs = ux[c_ids]
-    cys = uy[c_ids]
-    sxs = ux[s_ids]
-    sys_ = uy[s_ids]
-    cap = len(sa) + len(ca)
-    ia = np.empty(cap, np.int64)
-    ib = np.empty(cap, np.int64)
-    il = np.empty(cap, np.int64)
-    oa = np.empty(cap, np.int64)
-    ob = np.empty(cap, np.int64)
-    ol = np.empty(cap, np.int64)
+    s_keys = _edge_keys(s_ids, s_st, nu)
+    c_keys = _edge_keys(c_ids, c_st, nu)
+    cap = len(s_ids) + len(c_ids)
+    ins = np.empty((3, cap), np.int64)
+    outs = np.empty((3, cap), np.int64)
     ni = 0
     no = 0
-    for e in range(len(sa)):
-        a = sa[e]
-        b = sb[e]
-        if _contains(c_keys, a * nu + b):
-            inside = True  # shared, same side: interior of both on the same side
-        elif _contains(c_keys, b * nu + a):
-            inside = False  # shared, opposite sides: boundary of the outside part
-        else:
-            inside = winding(0.5 * (ux[a] + ux[b]), 0.5 * (uy[a] + uy[b]), cxs, cys, c_st) > 0
-        if inside:
-            ia[ni] = a
-            ib[ni] = b
-            il[ni] = sl[e]
-            ni += 1
-        else:
-            oa[no] = a
-            ob[no] = b
-            ol[no] = sl[e]
-            no += 1
-    for e in range(len(ca)):
-        a = ca[e]
-        b = cb[e]
-        if _contains(s_keys, a * nu + b) or _contains(s_keys, b * nu + a):
-            continue
-        if winding(0.5 * (ux[a] + ux[b]), 0.5 * (uy[a] + uy[b]), sxs, sys_, s_st) > 0:
-            ia[ni] = a
-            ib[ni] = b
-            il[ni] = cl[e]
-            ni += 1
-            oa[no] = b  # walked backwards: it bounds the outside part
-            ob[no] = a
-            ol[no] = cl[e]
-            no += 1
-    return ia[:ni], ib[:ni], il[:ni], oa[:no], ob[:no], ol[:no]
+    for r in range(len(s_st) - 1):
+        ra = s_st[r]
+        rb = s_st[r + 1]
+        for v in range(ra, rb):
+            a = s_ids[v]
+            b = s_ids[_next_in_ring(v, ra, rb)]
+            if a == b:
+                continue
+            if _contains(c_keys, a * nu + b):
+                inside = True  # shared, same side: interior of both on the same side
+            elif _contains(c_keys, b * nu + a):
+                inside = False  # shared, opposite sides: boundary of the outside part
+            else:
+                inside = _winding_ids(0.5 * (ux[a] + ux[b]), 0.5 * (uy[a] + uy[b]), c_ids, c_st, ux, uy) > 0
+            if inside:
+                ins[0, ni] = a
+                ins[1, ni] = b
+                ins[2, ni] = s_lab[v]
+                ni += 1
+            else:
+                outs[0, no] = a
+                outs[1, no] = b
+                outs[2, no] = s_lab[v]
+                no += 1
+    for r in range(len(c_st) - 1):
+        ra = c_st[r]
+        rb = c_st[r + 1]
+        for v in range(ra, rb):
+            a = c_ids[v]
+            b = c_ids[_next_in_ring(v, ra, rb)]
+            if a == b or _contains(s_keys, a * nu + b) or _contains(s_keys, b * nu + a):
+                continue
+            if _winding_ids(0.5 * (ux[a] + ux[b]), 0.5 * (uy[a] + uy[b]), s_ids, s_st, ux, uy) > 0:
+                ins[0, ni] = a
+                ins[1, ni] = b
+                ins[2, ni] = c_lab[v]
+                ni += 1
+                outs[0, no] = b  # walked backwards: it bounds the outside part
+                outs[1, no] = a
+                outs[2, no] = c_lab[v]
+                no += 1
+    return ins[:, :ni], outs[:, :no]
 
 
 @njit(cache=True)
@@ -669,7 +708,7 @@ def clip_arrays(sx, sy, sl, ss, cx, cy, cl, cs, eps):
     c_ids2, c_lab2, c_st2, c_ins = _split(c_ids, cl, cs, ux, uy, eps)
     if s_ins == 0 and c_ins == 0 and not _shares_a_point(s_ids, c_ids, len(ux)):
         return _holding_lists(sx, sy, sl, ss, cx, cy, cl, cs)
-    ia, ib, il, oa, ob, ol = _classify(s_ids2, s_lab2, s_st2, c_ids2, c_lab2, c_st2, ux, uy)
-    ix, iy, ilab, ist = _trace(ia, ib, il, ux, uy, eps)
-    ox, oy, olab, ost = _trace(oa, ob, ol, ux, uy, eps)
+    ins, outs = _classify(s_ids2, s_lab2, s_st2, c_ids2, c_lab2, c_st2, ux, uy)
+    ix, iy, ilab, ist = _trace(ins, ux, uy, eps)
+    ox, oy, olab, ost = _trace(outs, ux, uy, eps)
     return ix, iy, ilab, ist, ox, oy, olab, ost

@@ -17,7 +17,7 @@ from numba import njit
 
 from aaeval.scenes import Scene
 
-__all__ = ["coverage", "box_filter"]
+__all__ = ["coverage", "coverage_flat", "box_filter"]
 
 
 @njit(cache=True)
@@ -28,29 +28,36 @@ def _unit_cells(lo, hi, n):
 
 
 @njit(cache=True)
+def _add(cells, r, c, weight, v):
+    """cells[r, c, :] += weight[:] * v: every channel of one cell."""
+    for k in range(len(weight)):
+        cells[r, c, k] += weight[k] * v
+
+
+@njit(cache=True)
 def _row_segment(r, xa, xb, dy, w, weight, area, cover):
     """A segment spanning height ``dy`` (signed) of row r, from x = xa to xb."""
     if xa == xb:
         x = xa
         if x <= 0.0:
-            cover[r, 0] += weight * dy
+            _add(cover, r, 0, weight, dy)
         elif x < w:
             c = int(math.floor(x))
-            area[r, c] += weight * dy * ((c + 1) - x)
-            cover[r, c + 1] += weight * dy
+            _add(area, r, c, weight, dy * ((c + 1) - x))
+            _add(cover, r, c + 1, weight, dy)
         return
     lo = min(xa, xb)
     hi = max(xa, xb)
     per_x = dy / (hi - lo)  # height per unit of x
     if lo < 0.0:
-        cover[r, 0] += weight * per_x * (min(hi, 0.0) - lo)
+        _add(cover, r, 0, weight, per_x * (min(hi, 0.0) - lo))
     c0, c1 = _unit_cells(lo, hi, w)
     for c in range(c0, c1 + 1):
         u = max(lo, float(c))
         v = min(hi, float(c + 1))
         h = per_x * (v - u)
-        area[r, c] += weight * h * ((c + 1) - 0.5 * (u + v))
-        cover[r, c + 1] += weight * h
+        _add(area, r, c, weight, h * ((c + 1) - 0.5 * (u + v)))
+        _add(cover, r, c + 1, weight, h)
 
 
 @njit(cache=True)
@@ -58,7 +65,7 @@ def _accumulate(xs, ys, starts, lengths, weights, w, h, area, cover):
     for k in range(len(starts)):
         s = starts[k]
         n = lengths[k]
-        wt = weights[k]
+        wt = weights[k]  # one row: the contour's weight in every channel
         for i in range(n):
             x0 = xs[s + i]
             y0 = ys[s + i]
@@ -92,33 +99,50 @@ def coverage(rings, weights, width: int, height: int) -> np.ndarray:
     weights : (len(rings),) or (len(rings), k) array
         Weight of each ring (e.g. its colour channels).
     """
-    weights = np.asarray(weights, dtype=np.float64)
-    wk = weights.reshape(len(rings), weights.shape[1] if weights.ndim > 1 else 1)
     lengths = np.array([len(r) for r in rings], dtype=np.int64)
-    starts = (np.concatenate([[0], np.cumsum(lengths)[:-1]]) if len(rings) else np.zeros(0)).astype(np.int64)
+    starts = np.zeros(len(rings) + 1, dtype=np.int64)
+    np.cumsum(lengths, out=starts[1:])
     xy = np.concatenate([np.asarray(r, dtype=np.float64).reshape(-1, 2) for r in rings]) if rings else np.zeros((0, 2))
-    x = np.ascontiguousarray(xy[:, 0])
-    y = np.ascontiguousarray(xy[:, 1])
-    out = np.empty((height, width, wk.shape[1]))
-    for ch in range(wk.shape[1]):
-        area = np.zeros((height, width))
-        cover = np.zeros((height, width + 1))
-        _accumulate(x, y, starts, lengths, np.ascontiguousarray(wk[:, ch]), width, height, area, cover)
-        # the accumulated area lies right of each edge; a positive contour's edges going
-        # down (y growing) bound its interior from the right, hence the minus sign
-        out[:, :, ch] = -(area + np.cumsum(cover[:, :width], axis=1))
+    return coverage_flat(xy[:, 0], xy[:, 1], starts, weights, width, height)
+
+
+def coverage_flat(xs, ys, starts, weights, width: int, height: int) -> np.ndarray:
+    """:func:`coverage` of contours given flat: contour k is vertices ``starts[k]:starts[k + 1]``."""
+    weights = np.asarray(weights, dtype=np.float64)
+    n = len(starts) - 1
+    wk = weights.reshape(n, weights.shape[1] if weights.ndim > 1 else 1)
+    starts = np.asarray(starts, dtype=np.int64)
+    lengths = np.diff(starts)
+    x = np.ascontiguousarray(xs, dtype=np.float64)
+    y = np.ascontiguousarray(ys, dtype=np.float64)
+    area = np.zeros((height, width, wk.shape[1]))
+    cover = np.zeros((height, width + 1, wk.shape[1]))
+    _accumulate(x, y, starts[:-1].copy(), lengths, np.ascontiguousarray(wk), width, height, area, cover)
+    # the accumulated area lies right of each edge; a positive contour's edges going
+    # down (y growing) bound its interior from the right, hence the minus sign
+    out = area
+    out += np.cumsum(cover[:, :width], axis=1)
+    np.negative(out, out=out)
     return out if weights.ndim > 1 else out[:, :, 0]
 
 
 def box_filter(scene: Scene, pieces) -> np.ndarray:
-    """The exact box-filtered image (H, W, 3) of non-overlapping visible pieces."""
-    rings, colors = [], []
-    for p in pieces:
-        color = scene.polygons[p.source].color
-        for r in p.shape.rings:
-            rings.append(r)
-            colors.append(color)
-    weights = np.hstack([np.array(colors).reshape(-1, 3), np.ones((len(rings), 1))])
-    acc = coverage(rings, weights, scene.width, scene.height)
-    covered = acc[:, :, 3:4]
-    return acc[:, :, :3] + (1.0 - covered) * scene.background
+    """The exact box-filtered image (H, W, 3) of non-overlapping visible pieces (a list
+    of :class:`~.hidden_surface.Piece` or the flat :class:`~.hidden_surface.VisibleArrays`)."""
+    if hasattr(pieces, "piece_rings"):
+        ring_source = np.repeat(pieces.sources, np.diff(pieces.piece_rings))
+        xs, ys, starts = pieces.xs, pieces.ys, pieces.starts
+    else:
+        rings = [r for p in pieces for r in p.shape.rings]
+        ring_source = np.array([p.source for p in pieces for _ in p.shape.rings], dtype=np.int64)
+        lengths = np.array([len(r) for r in rings], dtype=np.int64)
+        starts = np.zeros(len(rings) + 1, dtype=np.int64)
+        np.cumsum(lengths, out=starts[1:])
+        xy = np.array([q for r in rings for q in r], dtype=np.float64).reshape(-1, 2)
+        xs, ys = xy[:, 0], xy[:, 1]
+    colors = np.array([p.color for p in scene.polygons], dtype=np.float64).reshape(-1, 3)
+    weights = np.hstack([colors[ring_source].reshape(-1, 3), np.ones((len(ring_source), 1))])
+    acc = coverage_flat(xs, ys, starts, weights, scene.width, scene.height)
+    image = acc[:, :, :3]
+    image += (1.0 - acc[:, :, 3:4]) * scene.background
+    return np.ascontiguousarray(image)

@@ -1,0 +1,85 @@
+"""The filter experiment's measures (aaeval/report/filters_section.py) against closed forms.
+
+- the 10-90% edge width measured on exact renders of the ``edges`` scene equals the width
+  of the filter's own step response, found here by quadrature of Mitsuba's formulas;
+- the picket fence of period one pixel does not flicker at all through a filter whose
+  integer shifts sum to one, and does through the Gaussian;
+- the section runs on a small sweep and writes its chart.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+from scipy.optimize import brentq
+
+from aaeval.experiments import load_experiment, run_sweep
+from aaeval.scenes.generate import generate_scene
+from aaeval.filters import FILTERS
+from aaeval.renderers import render
+from aaeval.report.filters_section import _edge_window, edge_width_10_90, fence_interior, filters_section, picket_flicker
+from aaeval.scenes import load_scene, parse_scene
+from filter_oracle import PROFILES
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def step_response_width(name):
+    """10-90% width of the normalised step response of the filter's profile."""
+    _, k = PROFILES[name]
+    knots = np.arange(-2.5, 2.51, 0.5)
+    total = sum(quad(lambda t: float(k(t)), a, b)[0] for a, b in zip(knots[:-1], knots[1:]))
+
+    def cdf(d):
+        return quad(lambda t: float(k(t)), -2.5, d, points=[x for x in knots if -2.5 < x < d], limit=200)[0] / total
+
+    return brentq(lambda d: cdf(d) - 0.9, -2.4, 2.4) - brentq(lambda d: cdf(d) - 0.1, -2.4, 2.4)
+
+
+@pytest.mark.parametrize("name", list(FILTERS))
+def test_edge_width_matches_the_filters_step_response(name):
+    scene = parse_scene(generate_scene("edges", 0.05, size=48, frames=8))
+    frames = np.stack([render(scene, f"catmull:filter={name}", frame=k) for k in range(scene.frames)])
+    rows, cols = _edge_window(48, 48)
+    tolerance = 5e-3 if name == "gaussian" else 1e-3  # the Gaussian's rows align only nearly
+    assert abs(edge_width_10_90(frames, rows=rows, cols=cols) - step_response_width(name)) < tolerance
+
+
+def test_period_one_fence_flickers_only_through_the_gaussian():
+    scene = load_scene(ROOT / "configs" / "scenes" / "picket_fence.toml")
+    box = np.stack([render(scene, "catmull", frame=k) for k in range(scene.frames)])
+    mask = fence_interior(box)
+    assert mask.sum() >= 20
+    for name, filt in FILTERS.items():
+        frames = np.stack([render(scene, f"catmull:filter={name}", frame=k) for k in range(scene.frames)])
+        value = picket_flicker(frames, mask)
+        assert (value < 1e-12) if filt.partition_of_unity else (value > 1e-4), (name, value)
+
+
+def test_section_on_a_small_sweep(tmp_path):
+    config = tmp_path / "filters.toml"
+    config.write_text(f"""
+[experiment]
+name = "filters-small"
+reference = "catmull"
+metrics = ["rmse"]
+
+[[groups]]
+name = "filters"
+scenes = [{{generator = "edges", difficulty = [0.05], size = 48, frames = 3}}, "{ROOT}/configs/scenes/picket_fence_moire.toml"]
+methods = ["catmull", "supersample"]
+frames = [0, 1, 2]
+[groups.options]
+filter = ["box", "mitchell"]
+supersample = {{ k = [2] }}
+""")
+    out = tmp_path / "out"
+    run_sweep(load_experiment(config), out, workers=1, quiet=True, cache_dir=tmp_path / "cache")
+    fragment = filters_section(out, out / "figures")
+    assert (out / "figures" / "filters_tradeoff.png").stat().st_size > 1000
+    assert "figures/filters_tradeoff.png" in fragment
+    for word in ("mitchell", "box", "supersample k=2", "exact"):
+        assert word in fragment
