@@ -30,13 +30,17 @@ from aaeval.report.filters_section import filters_section
 from aaeval.report.specular_section import specular_section
 from aaeval.report.style import Styles
 from aaeval.report.tables import write_table
-from aaeval.report.viewer import VIEWER_CSS, viewer_div, viewer_payload, viewer_script, write_viewer_data
+from aaeval.report.viewer import (GROUP_BUDGET, VIEWER_CSS, viewer_div, viewer_payload, viewer_script,
+                                  write_viewer_data)
 
 __all__ = ["write_report", "reference_statement", "spec_summary", "failed_cells", "failure_definition",
            "SPEED_MIN_PIXELS"]
 
 # Below 256 x 256 pixels a render's time is mostly call overhead: such groups report accuracy.
 SPEED_MIN_PIXELS = 256 * 256
+# The page must stay small (figures' PNG, SVG and PDF, tables and this, under 20 MB): past
+# this many bytes of viewer data, a group's viewer keeps its first scene only.
+VIEWER_BUDGET = 9_000_000
 _VALIDATION_RATIO = 1.5  # an exact method "matches" when its error is within this factor of the noise
 
 _CSS = """
@@ -166,6 +170,7 @@ class _Page:
         self.styles = Styles(zip(results.get("method", []), results.get("options", [])))
         self.definition = failure_definition(self.primary, self.fail_above)
         self.viewer_scripts: list[str] = []
+        self.viewer_left = VIEWER_BUDGET  # bytes of viewer data the page may still load
         self.shaded = {digest for digest, scene in manifest.get("scenes", {}).items()
                        if isinstance(scene, dict) and "shaded" in scene.get("document", {})}
 
@@ -391,10 +396,10 @@ def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.Dat
     grid = _grid(page, ok, slug, group, ref)
     if grid:
         out.append(grid)
-    payload, left_out = viewer_payload(ok, page.store, page.styles)
+    payload, left_out = viewer_payload(ok, page.store, page.styles, budget=min(GROUP_BUDGET, page.viewer_left))
     if payload["scenes"]:
         out.append("<h3>Compare the images</h3>")
-        write_viewer_data(page.viewdir, slug, payload)
+        page.viewer_left -= write_viewer_data(page.viewdir, slug, payload).stat().st_size
         page.viewer_scripts.append(f"viewer/{slug}.js")
         out.append(viewer_div(slug))
         if left_out:
@@ -431,6 +436,20 @@ def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.Dat
     return "\n".join(out)
 
 
+def _ladder_tops(cells: pd.DataFrame) -> pd.Series:
+    """Which rows to keep for a static figure: of a method's numeric ladder (k, spp) only
+    the last row given (the caller sorts by value: the largest); every categorical option."""
+    keep = pd.Series(True, index=cells.index)
+    for _, rows in cells.groupby("method", sort=False):
+        options = [json.loads(o) for o in rows["options"]]
+        varying = {k for k in set().union(*options) if len({json.dumps(o.get(k)) for o in options}) > 1}
+        numeric = varying and all(isinstance(o.get(k), (int, float)) and not isinstance(o.get(k), bool)
+                                  for o in options for k in varying)
+        if numeric:
+            keep[rows.index[:-1]] = False
+    return keep
+
+
 def _grid(page: _Page, ok: pd.DataFrame, slug: str, group: str, ref: str) -> str:
     """Static image grid of the hardest scene's middle frame, for a paper figure."""
     if ok.empty:
@@ -442,14 +461,17 @@ def _grid(page: _Page, ok: pd.DataFrame, slug: str, group: str, ref: str) -> str
     frame = frames[len(frames) // 2]
     cells = ok[(ok["scene"] == scene) & (ok["frame"] == frame)].drop_duplicates("spec")
     cells = cells.iloc[sorted(range(len(cells)), key=lambda i: page.styles.order(cells["method"].iloc[i],
-                                                                              cells["options"].iloc[i]))].head(12)
+                                                                              cells["options"].iloc[i]))]
+    cells = cells[_ladder_tops(cells)]
+    cells = cells.head(10)
     reference = page.store.load_reference(page.store.read_cell(cells["key"].iloc[0])["reference_key"])
     images = [(label, page.store.load_image(key)) for label, key in zip(cells["label"], cells["key"])]
     images = [(s, im) for s, im in images if im is not None]
     if reference is None or not images:
         return ""
     p = figures.image_grid(reference, images, page.figdir / f"{slug}_images", title=f"{group}: {scene}, frame {frame}")
-    return _figure(p, page.root, f"{html.escape(scene)}, frame {frame}: each method's image, the same zoomed crop "
+    return _figure(p, page.root, f"{html.escape(scene)}, frame {frame}: each method (a ladder at its largest k or "
+                   "spp; the viewer below has every option) with its image, the same zoomed crop "
                    "(red box, around the largest error) and its signed error on its own symmetric scale (stated "
                    f"per row; red: too bright, blue: too dark). {ref}")
 

@@ -3,7 +3,7 @@
  * Hand-written because no plotting library shipped in a Python package flips images by
  * key with linked nearest-neighbour zoom. Data come from <script> files that call
  * AAV.add(group, payload) (script tags load from file://, fetch() would not); images are
- * zlib-compressed little-endian float16 arrays in base64, inflated with the browser's
+ * zlib-compressed little-endian float16 arrays (FLIP maps: bytes) in base64, inflated with the browser's
  * DecompressionStream. Nothing is fetched from the network.
  *
  * Keys (over a viewer, or after clicking it): 0-9 show panel N (0 = ground truth) in the
@@ -37,13 +37,22 @@
     return t;
   })();
 
-  async function decode(b64) {
+  async function inflate(b64) {
     const bin = atob(b64), bytes = new Uint8Array(bin.length);
     for (let i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
     const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream("deflate"));
-    const buf = await new Response(stream).arrayBuffer();
-    const half = new Uint16Array(buf), out = new Float32Array(half.length);
+    return new Response(stream).arrayBuffer();
+  }
+
+  async function decode(b64) {  // float16 array
+    const half = new Uint16Array(await inflate(b64)), out = new Float32Array(half.length);
     for (let i = 0; i < half.length; i++) out[i] = HALF[half[i]];
+    return out;
+  }
+
+  async function decode8(b64) {  // bytes meaning [0, 1] in steps of 1/255
+    const codes = new Uint8Array(await inflate(b64)), out = new Float32Array(codes.length);
+    for (let i = 0; i < codes.length; i++) out[i] = codes[i] / 255;
     return out;
   }
 
@@ -85,7 +94,7 @@
       for (const p of scene.panels) {
         p.pixels = await decode(p.img);
         p.err = p.error ? await decode(p.error) : null;
-        p.flipmap = p.flip ? await decode(p.flip) : null;
+        p.flipmap = p.flip ? await decode8(p.flip) : null;
         p.maxErr = 0; p.maxFlip = 0;
         if (p.err) for (let i = 0; i < p.err.length; i++) p.maxErr = Math.max(p.maxErr, Math.abs(p.err[i]));
         if (p.flipmap) for (let i = 0; i < p.flipmap.length; i++) p.maxFlip = Math.max(p.maxFlip, p.flipmap[i]);

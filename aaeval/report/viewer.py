@@ -3,7 +3,8 @@
 For every group, ``viewer/<slug>.js`` holds each scene's frames for the ground truth and
 every method (linear RGB), each method's signed error (mean over RGB, computed here in
 float64 so that errors far below float16's step near 1 keep their value) and its FLIP
-map, as zlib-compressed float16 arrays in base64 inside an ``AAV.add(...)`` call. The page
+map, as zlib-compressed float16 arrays (the FLIP map as bytes, 1/255 steps) in base64 inside
+an ``AAV.add(...)`` call. The page
 loads these files with plain ``<script src>`` tags, which work from ``file://``; the
 viewer itself (``viewer.js`` beside this module, with the colour maps filled in at build
 time) is written inline into the page. Nothing is fetched from the network.
@@ -35,6 +36,12 @@ GROUP_BUDGET = 6_000_000
 def _blob(array: np.ndarray) -> str:
     half = np.ascontiguousarray(np.asarray(array, dtype="<f2"))
     return base64.b64encode(zlib.compress(half.tobytes(), 6)).decode("ascii")
+
+
+def _blob8(array: np.ndarray) -> str:
+    """Values in [0, 1] as bytes (steps of 1/255: the viewer's colour maps have 256 entries)."""
+    codes = np.round(np.clip(array, 0.0, 1.0) * 255).astype(np.uint8)
+    return base64.b64encode(zlib.compress(codes.tobytes(), 6)).decode("ascii")
 
 
 def flip_map(reference: np.ndarray, image: np.ndarray) -> np.ndarray:
@@ -94,7 +101,7 @@ def viewer_payload(ok: pd.DataFrame, store, styles: Styles, *, budget: int = GRO
             flips = np.stack([flip_map(reference[f], imgs[f]) for f in range(len(frames))])
             panels.append({"label": rows["label"].iloc[0], "method": rows["method"].iloc[0],
                            "colour": "#%02x%02x%02x" % tuple(int(round(255 * c)) for c in st.colour),
-                           "img": _blob(imgs), "error": _blob(signed), "flip": _blob(flips)})
+                           "img": _blob(imgs), "error": _blob(signed), "flip": _blob8(flips)})
         entry = {"name": scene, "width": int(reference.shape[2]), "height": int(reference.shape[1]),
                  "frames": len(frames), "frame_numbers": [int(f) for f in frames],
                  "row": _interesting_row(reference), "panels": panels}
