@@ -89,6 +89,21 @@ def _accumulate(xs, ys, starts, lengths, weights, w, h, area, cover):
                 _row_segment(r, xa, xb, sign * (yb - ya), w, wt, area, cover)
 
 
+@njit(cache=True)
+def _settle(area, cover):
+    """Each cell's total: its own area plus the running sum of the heights spanned left
+    of it in its row, negated (the accumulated area lies right of each edge; a positive
+    contour's edges going down, y growing, bound its interior from the right). In place,
+    in ``area``."""
+    h, w, k = area.shape
+    for r in range(h):
+        for ch in range(k):
+            run = 0.0
+            for c in range(w):
+                run += cover[r, c, ch]
+                area[r, c, ch] = -(area[r, c, ch] + run)
+
+
 def coverage(rings, weights, width: int, height: int) -> np.ndarray:
     """Per-pixel sum of ``weight * area of ring over the pixel`` (signed rings).
 
@@ -118,12 +133,8 @@ def coverage_flat(xs, ys, starts, weights, width: int, height: int) -> np.ndarra
     area = np.zeros((height, width, wk.shape[1]))
     cover = np.zeros((height, width + 1, wk.shape[1]))
     _accumulate(x, y, starts[:-1].copy(), lengths, np.ascontiguousarray(wk), width, height, area, cover)
-    # the accumulated area lies right of each edge; a positive contour's edges going
-    # down (y growing) bound its interior from the right, hence the minus sign
-    out = area
-    out += np.cumsum(cover[:, :width], axis=1)
-    np.negative(out, out=out)
-    return out if weights.ndim > 1 else out[:, :, 0]
+    _settle(area, cover)
+    return area if weights.ndim > 1 else area[:, :, 0]
 
 
 def box_filter(scene: Scene, pieces) -> np.ndarray:
