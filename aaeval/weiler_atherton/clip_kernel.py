@@ -357,11 +357,6 @@ def _split(vid, labels, starts, ux, uy, eps):
         for v in range(a, b):
             i0 = vid[v]
             i1 = vid[_next_in_ring(v, a, b)]
-            out = grown(out, m + 1)
-            lab = grown(lab, m + 1)
-            out[m] = i0
-            lab[m] = labels[v]
-            m += 1
             p0x = ux[i0]
             p0y = uy[i0]
             p1x = ux[i1]
@@ -379,8 +374,9 @@ def _split(vid, labels, starts, ux, uy, eps):
                 t = on_segment(ux[j], uy[j], p0x, p0y, p1x, p1y, eps)
                 if t < 0.0:
                     continue
-                ts = grown(ts, k + 1)
-                qs = grown(qs, k + 1)
+                if k == len(ts):  # (checked here: a call per item costs reference counting)
+                    ts = grown(ts, k + 1)
+                    qs = grown(qs, k + 1)
                 # insertion by (t, id): ordered along the edge
                 z = k
                 while z > 0 and (ts[z - 1] > t or (ts[z - 1] == t and qs[z - 1] > j)):
@@ -391,10 +387,14 @@ def _split(vid, labels, starts, ux, uy, eps):
                 qs[z] = j
                 k += 1
             inserted += k
+            if m + 1 + k > len(out):
+                out = grown(out, m + 1 + k)
+                lab = grown(lab, m + 1 + k)
+            out[m] = i0
+            lab[m] = labels[v]
+            m += 1
             for z in range(k):
                 if qs[z] != out[m - 1]:
-                    out = grown(out, m + 1)
-                    lab = grown(lab, m + 1)
                     out[m] = qs[z]
                     lab[m] = labels[v]
                     m += 1
