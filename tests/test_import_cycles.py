@@ -141,3 +141,11 @@ def test_the_graph_sees_parent_packages_and_from_imports():
     assert "aaeval.renderers" not in graph["aaeval.renderers.catmull"]
     # the renderers package imports its method modules ("from aaeval.renderers import catmull")
     assert "aaeval.renderers.catmull" in graph["aaeval.renderers"]
+
+
+def test_no_top_level_folder_shares_a_name_with_a_package_of_aaeval():
+    # "experiments" once meant scripts, a package and a config folder; one name, one thing
+    packages = {p.name for p in ROOT.iterdir() if (p / "__init__.py").is_file()}
+    top = {p.name for p in ROOT.parent.iterdir() if p.is_dir() and not p.name.startswith(".")}
+    assert packages, "no aaeval packages found"
+    assert not packages & top, f"top-level folders named like aaeval packages: {sorted(packages & top)}"
