@@ -204,3 +204,12 @@ def test_every_figure_is_written_as_png_svg_and_pdf(drawn, tmp_path_factory):
             assert (folder / f"{name}.{fmt}").stat().st_size > 0, (name, fmt)
     svg = (folder / "validation.svg").read_text()
     assert 'id="method=catmull;options=' in svg and 'id="method=weiler-atherton;options=window=0"' in svg  # the style tags survive into the SVG
+
+
+def test_every_registered_method_has_its_own_line():
+    # the fallback style is for methods registered by plugins at run time; the shipped ones
+    # are in the table, so that none changes look when another method is added
+    from aaeval.renderers import METHODS
+
+    missing = sorted(set(METHODS) - set(METHOD_STYLES))
+    assert not missing, f"add a line for {missing} to METHOD_STYLES in aaeval/report/style.py"

@@ -246,6 +246,15 @@ def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp
     return out
 
 
+def _filter_of_spec(spec: str) -> str:
+    from aaeval.renderers import MethodError, resolve
+
+    try:
+        return str(resolve(spec)[1].get("filter", "box"))
+    except MethodError:
+        return "box"
+
+
 def _validation_rows(rows: pd.DataFrame, shaded: set[str]) -> pd.DataFrame:
     """Exact methods against a Mitsuba ground truth: one row per scene frame and spec, on
     flat scenes only (``shaded``: digests of scenes with smooth-shaded objects, where an
@@ -255,7 +264,14 @@ def _validation_rows(rows: pd.DataFrame, shaded: set[str]) -> pd.DataFrame:
     ok = rows[rows["error"].isna() & rows["reference"].map(_is_ground_truth)]
     if "scene_digest" in ok:
         ok = ok[~ok["scene_digest"].isin(shaded)]
-    exact = ok[ok["method"].map(lambda m: getattr(METHODS.get(m), "exact", False))]
+    exact = ok[ok["method"].map(lambda m: getattr(METHODS.get(m), "exact", False)).astype(bool)]
+    if exact.empty:
+        return pd.DataFrame()
+    # an exact render with another pixel filter (catmull:filter=tent) is exact for that
+    # filter, not for the box-filtered ground truth: it is no check of the ground truth
+    same_filter = pd.Series([_filter_of_spec(ref) == json.loads(o).get("filter", "box")
+                             for ref, o in zip(exact["reference"], exact["options"])], index=exact.index, dtype=bool)
+    exact = exact[same_filter]
     if exact.empty or "rmse" not in exact:
         return pd.DataFrame()
     return pd.DataFrame({"group": exact["group"], "scene": exact["scene"], "frame": exact["frame"],

@@ -37,7 +37,8 @@ class MethodStyle:
 
 
 # The one table. Exact methods are blues, sampling methods warm colours, the ground
-# truth's renderer olive; markers and dashes differ for every method.
+# truth's renderer olive, other rasterizers black, indigo and brown; markers and dashes
+# differ for every method. A new method gets its line here.
 METHOD_STYLES: dict[str, MethodStyle] = {
     "catmull": MethodStyle("#0072B2", "o", ()),
     "weiler-atherton": MethodStyle("#56B4E9", "s", (6, 2)),
@@ -48,10 +49,12 @@ METHOD_STYLES: dict[str, MethodStyle] = {
     "abuffer": MethodStyle("#009E73", "P", (2, 2)),
     "skia": MethodStyle("#000000", "X", (5, 1, 1, 1, 1, 1)),
     "mitsuba": MethodStyle("#999933", "h", (1, 3)),
+    "freetype": MethodStyle("#332288", "*", (3, 1, 1, 1)),
+    "resvg": MethodStyle("#661100", "d", (6, 1.5, 1, 1.5, 1, 1.5)),
 }
 
-_SPARE_COLOURS = ["#882255", "#332288", "#AA4499", "#117733", "#88CCEE", "#DDCC77", "#661100", "#6699CC"]
-_SPARE_MARKERS = ["p", "*", "d", "H", ">", "8", "1", "2"]
+_SPARE_COLOURS = ["#882255", "#AA4499", "#117733", "#88CCEE", "#DDCC77", "#6699CC"]
+_SPARE_MARKERS = ["p", "H", ">", "8", "1", "2"]
 _FILLS = ["full", "none", "left", "right", "bottom", "top"]
 GROUND_TRUTH_COLOUR = "#555555"
 
