@@ -35,7 +35,7 @@ __all__ = ["EXACT_BELOW", "FORMATS", "pareto_front", "speed_accuracy", "accuracy
 # An error this small is float64 rounding of an exact render against an exact reference.
 EXACT_BELOW = 1e-10
 FORMATS = ("png", "svg", "pdf")
-_DPI = 110
+_DPI = 100
 plt.rcParams.update({"svg.fonttype": "none", "pdf.fonttype": 42, "font.size": 9, "legend.fontsize": 7.5,
                      "axes.titlesize": 9.5})
 

@@ -40,7 +40,7 @@ __all__ = ["write_report", "reference_statement", "spec_summary", "failed_cells"
 SPEED_MIN_PIXELS = 256 * 256
 # The page must stay small (figures' PNG, SVG and PDF, tables and this, under 20 MB): past
 # this many bytes of viewer data, a group's viewer keeps its first scene only.
-VIEWER_BUDGET = 9_000_000
+VIEWER_BUDGET = 4_000_000
 _VALIDATION_RATIO = 1.5  # an exact method "matches" when its error is within this factor of the noise
 
 _CSS = """
