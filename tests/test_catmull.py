@@ -41,10 +41,10 @@ def test_fan_of_thin_polygons_meeting_in_one_pixel():
 
 
 # Two of random_triangles(2000, 128, 128, size=20, seed=0): in pixel (47, 120) the thin
-# triangle's piece is a region of tiny area that rounding made a hair smaller than the
-# square clipped to the same lines; the integrator took it for a rounding remnant and
-# gave it to the other triangle (2.6e-6 off GEOS; 32000 triangles at 512x512 had 38 such
-# pixels, up to 9e-6).
+# triangle's piece (2.6e-6) ends up alone with the background square clipped to the same
+# lines, which rounding made larger by 1.4e-17 (5e-9 of it); the integrator took the
+# piece for a rounding remnant and gave it to the background (2.6e-6 off GEOS; 32000
+# triangles at 512x512 had 38 such pixels, up to 9e-6).
 THIN_TRIANGLE_PAIR = [
     [[121.59121344283813, 37.495345613333555, 92.23505260955798], [120.15598198316243, 48.032504973056675, 48.110897428738774],
      [121.18811914530288, 40.45450747535086, 88.22542859538872]],
