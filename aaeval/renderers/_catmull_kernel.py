@@ -65,6 +65,11 @@ COV_SOLID = 1.0 - 1e-12
 COV_EMPTY = 1e-15
 # Pieces of smaller area are dropped inside the integrator (slivers from rounding).
 AREA_EMPTY = 1e-15
+# A front polygon with no edge left to clip along that falls short of its list's region
+# by more than 1e-9 of it AND by more than this area is a rounding remnant (_is_sliver):
+# a band EPS_LINE wide along a unit edge, far above the area that rounding of a vertex
+# moves, far below what the tests resolve (a wrong "not a remnant" loses at most this).
+SLIVER_SLACK = EPS_LINE
 # Safety bound on integrator steps for one pixel; never reached on valid scenes.
 MAX_STEPS = 100_000
 BACKGROUND = -1
@@ -853,7 +858,12 @@ def _is_sliver(wx, wy, recs, litems, s0, cnt):
 
     Every list holds a polygon spanning its whole region (the background or a solid
     piece, only ever clipped by the region's own lines), so the region's area is the
-    largest area in the list.
+    largest area in the list. F and that polygon reach the region's corners through
+    different clips, so their vertices may differ by rounding: a shortfall within
+    ``SLIVER_SLACK`` (absolute) is rounding, not a remnant. Without it a tiny region
+    (a thin wedge along two almost collinear edges, as where two polygons touch at one
+    vertex) that F truly covers, compared on relative areas alone, was dropped and its
+    area given to what lies behind (2e-8 off GEOS).
     """
     f = litems[s0]
     area_f = signed_area(wx, wy, recs[f, 0], recs[f, 1])
@@ -861,7 +871,8 @@ def _is_sliver(wx, wy, recs, litems, s0, cnt):
     for i in range(1, cnt):
         q = litems[s0 + i]
         region = max(region, signed_area(wx, wy, recs[q, 0], recs[q, 1]))
-    return area_f < region * (1.0 - 1e-9)
+    shortfall = region - area_f
+    return shortfall > region * 1e-9 and shortfall > SLIVER_SLACK
 
 
 @njit(cache=True)
