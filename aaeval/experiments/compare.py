@@ -18,11 +18,10 @@ from aaeval.experiments.measure import (
     check_image_metrics,
     check_temporal_metrics,
     measure_frame,
-    reference_sum_variation,
     render_reference,
     series_metrics,
 )
-from aaeval.metrics import MASKS, METRICS
+from aaeval.metrics import MASKS, METRICS, sum_variation
 from aaeval.renderers import format_spec, resolve
 from aaeval.scenes import Scene, load_scene
 
@@ -161,7 +160,7 @@ def run_comparison(plan: ComparisonPlan, *, on_render: Callable[[str, int], None
             fields = measured.fields(scene.width, scene.height)
             rows.append({"method": spec, "frame": k, **fields.pop("metrics"), **fields})
             rows[-1].pop("traceback")
-    reference_variation = reference_sum_variation([r["intensity_sum"] for r in reference_rows])
+    reference_variation = sum_variation([r["intensity_sum"] for r in reference_rows])
     summary = []
     for spec in plan.methods:
         own = [r for r in rows if r["method"] == spec]

@@ -34,12 +34,11 @@ from aaeval.metrics import (
     compute_temporal_metric,
     intensity_sum,
     rmse,
-    sum_variation,
 )
 
 __all__ = ["Timing", "FrameMeasurement", "SceneCache", "render_measured", "render_reference",
            "reference_kind", "noise_spec", "frame_metrics", "series_metrics", "measure_frame",
-           "check_image_metrics", "check_temporal_metrics", "reference_sum_variation"]
+           "check_image_metrics", "check_temporal_metrics"]
 
 
 @dataclass(frozen=True)
@@ -213,11 +212,6 @@ def series_metrics(names: Sequence[str], references: Sequence[np.ndarray], image
     return values, errors
 
 
-def reference_sum_variation(reference_sums: Sequence[float]) -> float:
-    """``sum_variation`` of the reference's intensity sums (its own change over the frames)."""
-    return sum_variation(reference_sums)
-
-
 @dataclass
 class FrameMeasurement:
     """What :func:`measure_frame` returns: the record's measured fields and the image."""
@@ -236,15 +230,15 @@ class FrameMeasurement:
 
 
 def measure_frame(scene, spec: str, frame: int, reference: np.ndarray | None, metrics: Sequence[str], *,
-                  repeats: int = 1, digest: str | None = None, cache: SceneCache | None = None,
+                  digest: str, repeats: int = 1, cache: SceneCache | None = None,
                   reference_error: str | None = None) -> FrameMeasurement:
     """Render one frame (timed), then measure it against ``reference``; never raises for the
     cell's own failures: they come back as ``error`` (and every metric NaN).
 
+    ``digest`` names the scene's content in ``cache`` (masks are kept per digest and frame).
     ``reference_error``: why there is no reference (the cell fails with this message).
     """
     cache = cache or SCENES
-    digest = digest or f"id{id(scene)}"
     out = FrameMeasurement(None, Timing.missing(repeats), metrics={m: math.nan for m in metrics})
     try:
         if reference_error:

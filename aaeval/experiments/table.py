@@ -20,7 +20,8 @@ from pathlib import Path
 
 import pandas as pd
 
-from aaeval.experiments.measure import SceneCache, reference_sum_variation, series_metrics
+from aaeval.experiments.measure import SceneCache, series_metrics
+from aaeval.metrics import sum_variation
 from aaeval.experiments.record import SCHEMA_VERSION, TABLE_FIELDS, CellRecord, RecordError
 from aaeval.experiments.store import SweepStore
 from aaeval.imageio import atomic_write
@@ -128,7 +129,7 @@ def temporal_frame(store: SweepStore, results: pd.DataFrame) -> pd.DataFrame:
                "method": first["method"], "frames": len(series), "reference": first["reference"],
                "reference_noise_rmse": first["reference_noise_rmse"],
                "failed_frames": int(series["error"].notna().sum()),
-               "reference_sum_variation": reference_sum_variation(series["reference_intensity_sum"].to_numpy(float)),
+               "reference_sum_variation": sum_variation(series["reference_intensity_sum"].to_numpy(float)),
                "metric_errors": None}
         row.update({name: math.nan for name in names})  # a metric another group asked for
         if not row["failed_frames"]:
