@@ -23,23 +23,17 @@ __all__ = ["render_reference", "run_cell", "reference_kind", "noise_spec"]
 
 
 def render_reference(document: dict, source: str, frame: int, spec: str, estimate_noise: bool,
-                     digest: str | None = None) -> dict:
+                     digest: str) -> dict:
     """Render a reference frame; for a seeded reference also its noise level.
 
     A reference that fails comes back as ``{"error": ...}``.
     """
     try:
-        scene = SCENES.scene(digest, document, source) if digest else _parse(document, source)
+        scene = SCENES.scene(digest, document, source)
         result = _reference(scene, spec, frame, estimate_noise=estimate_noise)
     except Exception as exc:  # noqa: BLE001 - the cells that need it record this as their error
         return {"error": f"{type(exc).__name__}: {exc}", "host": socket.gethostname()}
     return {**result, "host": socket.gethostname()}
-
-
-def _parse(document, source):
-    from aaeval.scenes import parse_scene
-
-    return parse_scene(document, source=source)
 
 
 def run_cell(payload: dict[str, Any]) -> tuple[dict, np.ndarray | None]:
