@@ -71,15 +71,15 @@ def drawn(tmp_path_factory):
     results = _synthetic_results()
     styles = Styles(zip(results["method"], results["options"]))
     made = []
-    save = figures._save
+    save = figures.save_figure
 
     def keep(fig, path):
-        figures._plain_log_axes(fig)  # as _save does before writing
+        figures._plain_log_axes(fig)  # as save_figure does before writing
         fig.canvas.draw()  # lay out at the saved size, for the collision check
         made.append((Path(path).stem, fig, _tick_collisions(fig)))
         return save(fig, path)
 
-    figures._save = keep
+    figures.save_figure = keep
     try:
         failed = failed_cells(results, "rmse", 0.05)
         for group, rows in results.groupby("group", sort=False):
@@ -102,7 +102,7 @@ def drawn(tmp_path_factory):
         figures.validation(exact.rename(columns={"reference_noise_rmse": "noise_rmse"}), out / "validation",
                            title="validation", styles=styles)
     finally:
-        figures._save = save
+        figures.save_figure = save
     return [(n, f) for n, f, _ in made], styles, {n: c for n, _, c in made}
 
 

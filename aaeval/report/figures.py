@@ -29,7 +29,7 @@ import pandas as pd  # noqa: E402
 from aaeval.imageio import linear_to_srgb8  # noqa: E402
 from aaeval.report.style import Styles, ground_truth_style  # noqa: E402
 
-__all__ = ["EXACT_BELOW", "FORMATS", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
+__all__ = ["EXACT_BELOW", "FORMATS", "save_figure", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
            "intensity_sums", "flicker_bars", "space_time", "stability", "image_grid", "validation"]
 
 # An error this small is float64 rounding of an exact render against an exact reference.
@@ -55,7 +55,7 @@ def _metric_label(name: str) -> str:
     return name if m is None else f"{m.title} ({m.direction})"
 
 
-def _save(fig, path: Path) -> Path:
+def save_figure(fig, path: Path) -> Path:
     """Write ``path`` (PNG) and its SVG and PDF twins; return the PNG path."""
     path = Path(path).with_suffix(".png")
     _plain_log_axes(fig)
@@ -241,7 +241,7 @@ def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str
     ax.set_title(title)
     ax.grid(True, which="major", alpha=0.3)
     _legend(ax, ncols=1 if len(summary) <= 22 else 2)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def accuracy_dots(summary: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles,
@@ -272,7 +272,7 @@ def accuracy_dots(summary: pd.DataFrame, path: Path, *, metric: str, title: str,
     ax.grid(True, axis="x", which="major", alpha=0.3)
     if ax.get_legend_handles_labels()[0]:
         ax.legend(loc="lower right", fontsize=7)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def _scene_axes(scenes: list[str], entries: int, width: float = 7.6):
@@ -308,7 +308,7 @@ def error_per_frame(results: pd.DataFrame, path: Path, *, metric: str, title: st
         ax.grid(True, alpha=0.3)
         _legend(ax)
     _suptitle(fig, title)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def intensity_sums(results: pd.DataFrame, path: Path, *, title: str, styles: Styles) -> Path:
@@ -334,7 +334,7 @@ def intensity_sums(results: pd.DataFrame, path: Path, *, title: str, styles: Sty
         ax.grid(True, alpha=0.3)
         _legend(ax)
     _suptitle(fig, title)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def flicker_bars(temporal: pd.DataFrame, path: Path, *, title: str, styles: Styles) -> Path:
@@ -361,7 +361,7 @@ def flicker_bars(temporal: pd.DataFrame, path: Path, *, title: str, styles: Styl
     ax.set_xlabel("flicker: RMS over pixels of the error's standard deviation over frames (linear)")
     ax.set_title(title)
     ax.grid(True, axis="x", alpha=0.3)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def space_time(reference: np.ndarray, series: list[tuple[str, np.ndarray]], path: Path, *, row: int,
@@ -382,7 +382,7 @@ def space_time(reference: np.ndarray, series: list[tuple[str, np.ndarray]], path
         ax.imshow(linear_to_srgb8(frames[:, row]), interpolation="nearest", aspect="auto")
         ax.set_title(name, fontsize=7)
     _suptitle(fig, f"{title} (row {row}; x: column, y: frame downwards)")
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: str, styles: Styles,
@@ -419,7 +419,7 @@ def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: 
     bx.grid(True, alpha=0.3)
     _legend(bx)
     _suptitle(fig, title)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def validation(table: pd.DataFrame, path: Path, *, title: str, styles: Styles) -> Path:
@@ -444,7 +444,7 @@ def validation(table: pd.DataFrame, path: Path, *, title: str, styles: Styles) -
     ax.set_title(title)
     ax.grid(True, alpha=0.3)
     _legend(ax)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def _crop_box(error: np.ndarray, size: int) -> tuple[int, int, int, int]:
@@ -489,4 +489,4 @@ def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path
     axes[0, 1].set_title(f"crop rows {r0}-{r1 - 1}, cols {c0}-{c1 - 1}", fontsize=8)
     axes[0, 2].axis("off")
     _suptitle(fig, title, fontsize=9)
-    return _save(fig, path)
+    return save_figure(fig, path)

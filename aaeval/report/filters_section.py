@@ -27,6 +27,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from aaeval.report.figures import save_figure
+from aaeval.report.tables import write_table
+
 __all__ = ["filters_section", "filter_measures", "picket_flicker", "edge_width_10_90"]
 
 GROUP_PREFIX = "filters"
@@ -215,26 +218,17 @@ def _chart(summary: pd.DataFrame, path: Path) -> Path:
     ax.set_title("Pixel filters: flicker against blur (o exact, ^ supersample, s jitter, x Mitsuba)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    fig.savefig(path, dpi=110, bbox_inches="tight")
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)  # PNG, SVG and PDF, as every report figure
 
 
-def _table(summary: pd.DataFrame) -> str:
+def _table(summary: pd.DataFrame, out_dir: Path) -> str:
+    """The summary as the report writes every table: HTML here, CSV and LaTeX in tables/."""
     named = {"filter": "filter", "sampler": "sampler", "edge_width": "edge width (px)",
              "rmse_vs_exact": "RMSE vs exact", "time_vs_box": "time / exact box"}
     cols = ["filter", "sampler"] + [c for c in summary.columns if c.startswith("flicker ")] \
         + ["edge_width", "rmse_vs_exact", "time_vs_box"]
-    head = "".join(f"<th>{html.escape(named.get(c, c))}</th>" for c in cols)
-    body = []
-    for _, row in summary.iterrows():
-        cells = []
-        for c in cols:
-            v = row[c]
-            text = v if isinstance(v, str) else ("" if not np.isfinite(v) else f"{v:.4g}")
-            cells.append(f"<td>{html.escape(text)}</td>")
-        body.append("<tr>" + "".join(cells) + "</tr>")
-    return f"<table><tr>{head}</tr>{''.join(body)}</table>"
+    shown = summary[cols].rename(columns=named)
+    return write_table(shown, out_dir / "tables", "filters_tradeoff", out_dir, "Pixel filters: flicker and blur")
 
 
 def filters_section(out_dir: Path, figures_dir: Path) -> str:
@@ -263,4 +257,4 @@ def filters_section(out_dir: Path, figures_dir: Path) -> str:
             "sweep (other work on the machine disturbs it; benchmarks/bench_filters.py interleaves).</p>"
             f"<figure><img src='{html.escape(src)}' alt='filters trade-off'><figcaption>Flicker against blur per "
             "filter; filled markers exact and Mitsuba, hollow markers supersample and jitter.</figcaption></figure>"
-            + _table(summary))
+            + _table(summary, out_dir))

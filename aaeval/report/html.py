@@ -30,8 +30,8 @@ from aaeval.report.filters_section import filters_section
 from aaeval.report.specular_section import specular_section
 from aaeval.report.style import Styles
 from aaeval.report.tables import write_table
-from aaeval.report.viewer import (GROUP_BUDGET, VIEWER_CSS, viewer_div, viewer_payload, viewer_script,
-                                  write_viewer_data)
+from aaeval.report.viewer import (GROUP_BUDGET, VIEWER_CSS, interesting_row, scene_series, viewer_div,
+                                  viewer_payload, viewer_script, write_viewer_data)
 
 __all__ = ["write_report", "reference_statement", "spec_summary", "failed_cells", "failure_definition",
            "SPEED_MIN_PIXELS"]
@@ -232,11 +232,9 @@ def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp
                    "line is the ground truth's own noise RMS: an exact method's flicker against a noisy ground "
                    f"truth sits near it, anything far beyond it is the method's own. {ref}"))
     scene = animated["scene"].iloc[0]
-    from aaeval.report.viewer import _interesting_row, scene_series
-
     reference, series, frames = scene_series(animated, page.store, scene, page.styles)
     if reference is not None and series:
-        row = _interesting_row(reference)
+        row = interesting_row(reference)
         p = figures.space_time(reference, [(r["label"].iloc[0], imgs) for r, imgs in series[:15]],
                                page.figdir / f"{slug}_space_time", row=row, title=f"{group}: {scene}")
         out.append(_figure(p, page.root, f"Space-time slices of {html.escape(scene)}: row {row} (the row that "

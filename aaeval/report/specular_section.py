@@ -41,7 +41,7 @@ import aaeval  # noqa: E402
 from aaeval.groundtruth import DEFAULT_SAMPLER, groundtruth  # noqa: E402
 from aaeval.imageio import linear_to_srgb8  # noqa: E402
 from aaeval.renderers import resolve  # noqa: E402
-from aaeval.report.figures import _save  # noqa: E402  (PNG + SVG + PDF, as every report figure)
+from aaeval.report.figures import save_figure  # noqa: E402  (PNG + SVG + PDF, as every report figure)
 from aaeval.report.style import SpecStyle, Styles, ground_truth_style  # noqa: E402
 from aaeval.scenes import Scene, load_scene  # noqa: E402
 from aaeval.specular.methods import SPECULAR_METHODS  # noqa: E402
@@ -295,7 +295,7 @@ def _fig_power_cutoff(figures_dir: Path) -> Path:
     ax.set(xlabel="n (highest frequency of cos^n)", ylabel="cutoff frequency", ylim=(0, 250),
            title="Power cutoff of cos^n (Amanatides 1992, fig. 2)")
     ax.legend(fontsize=8)
-    return _save(fig, figures_dir / "specular_fig2_power_cutoff")
+    return save_figure(fig, figures_dir / "specular_fig2_power_cutoff")
 
 
 def cosine_amplitudes(n: int, m: np.ndarray) -> np.ndarray:
@@ -320,7 +320,7 @@ def _fig_clamp_ratio(figures_dir: Path) -> Path:
     ax.set(xlabel="frequency", ylabel="clamped / original component", ylim=(0, 1.2),
            title="cos^160 clamped to n', renormalised by Maximum[n]/Maximum[n'] (fig. 3)")
     ax.legend(fontsize=8, ncol=2)
-    return _save(fig, figures_dir / "specular_fig3_clamp_ratio")
+    return save_figure(fig, figures_dir / "specular_fig3_clamp_ratio")
 
 
 def _zoom_box(specular: np.ndarray, size: int = 48) -> tuple[slice, slice]:
@@ -359,7 +359,7 @@ def _fig_plate(stem: Path, name: str, truth: np.ndarray, truth_specular: np.ndar
     fig.colorbar(im, ax=axes[2, :], shrink=0.8, fraction=0.02, ticks=ticks, format="%.0e")
     fig.suptitle(f"{name}, frame 0, against Mitsuba Phong at {spp} spp {DEFAULT_SAMPLER}, seed 0 "
                  f"(its noise: image RMSE {noise.image:.1e})", fontsize=9)
-    return _save(fig, stem)
+    return save_figure(fig, stem)
 
 
 def _fig_detection(stem: Path, scene: Scene) -> Path:
@@ -378,7 +378,7 @@ def _fig_detection(stem: Path, scene: Scene) -> Path:
     for ax in axes:
         ax.set_xticks([])
         ax.set_yticks([])
-    return _save(fig, stem)
+    return save_figure(fig, stem)
 
 
 def _fig_highlight_error(stem: Path, series: _Series, colours, noise: _Noise) -> Path:
@@ -394,7 +394,7 @@ def _fig_highlight_error(stem: Path, series: _Series, colours, noise: _Noise) ->
            title="Highlight error per frame against Mitsuba Phong")
     ax.set_xticks(series.frames)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    return _save(fig, stem)
+    return save_figure(fig, stem)
 
 
 def _fig_energy(stem: Path, series: _Series, colours, spp: int, noise: _Noise, section: _Section) -> Path:
@@ -408,7 +408,7 @@ def _fig_energy(stem: Path, series: _Series, colours, spp: int, noise: _Noise, s
            title=f"Highlight cross-section ({section.describe()}) per frame")
     ax.set_xticks(series.frames)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    return _save(fig, stem)
+    return save_figure(fig, stem)
 
 
 # --- HTML -----------------------------------------------------------------------------

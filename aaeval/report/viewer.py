@@ -26,7 +26,8 @@ import pandas as pd
 from aaeval.imageio import atomic_write
 from aaeval.report.style import Styles
 
-__all__ = ["viewer_payload", "write_viewer_data", "viewer_div", "viewer_script", "flip_map", "GROUP_BUDGET"]
+__all__ = ["viewer_payload", "write_viewer_data", "viewer_div", "viewer_script", "flip_map", "GROUP_BUDGET",
+           "scene_series", "interesting_row"]
 
 # Above this many bytes of viewer data a group keeps its first scenes only (the page
 # must stay small enough to open from disk).
@@ -54,7 +55,7 @@ def flip_map(reference: np.ndarray, image: np.ndarray) -> np.ndarray:
     return np.asarray(fmap, dtype=np.float64).reshape(reference.shape[:2])
 
 
-def _interesting_row(frames: np.ndarray) -> int:
+def interesting_row(frames: np.ndarray) -> int:
     """The row that changes most over the frames: the default space-time slice."""
     if frames.shape[0] < 2:
         return frames.shape[1] // 2
@@ -104,7 +105,7 @@ def viewer_payload(ok: pd.DataFrame, store, styles: Styles, *, budget: int = GRO
                            "img": _blob(imgs), "error": _blob(signed), "flip": _blob8(flips)})
         entry = {"name": scene, "width": int(reference.shape[2]), "height": int(reference.shape[1]),
                  "frames": len(frames), "frame_numbers": [int(f) for f in frames],
-                 "row": _interesting_row(reference), "panels": panels}
+                 "row": interesting_row(reference), "panels": panels}
         cost = sum(len(p["img"]) + len(p["error"] or "") + len(p["flip"] or "") for p in panels)
         if scenes and size + cost > budget:
             left_out.append(scene)
