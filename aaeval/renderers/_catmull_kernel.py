@@ -363,16 +363,40 @@ def emit_strip_piece(out, pix, src, area, xs, ys, start, n):
     raise NotImplementedError("compiled code only")
 
 
-@overload(emit_strip_piece, jit_options={"cache": True})
-def _emit_strip_piece_or_piece(out, pix, src, area, xs, ys, start, n):
+def _has_method(sink_type, name):
+    """Whether a sink type defines the optional method ``name`` (at compile time)."""
     from numba.core.registry import cpu_target
 
-    if cpu_target.typing_context.resolve_getattr(out, "emit_strip_piece") is not None:
+    return cpu_target.typing_context.resolve_getattr(sink_type, name) is not None
+
+
+@overload(emit_strip_piece, jit_options={"cache": True})
+def _emit_strip_piece_or_piece(out, pix, src, area, xs, ys, start, n):
+    if _has_method(out, "emit_strip_piece"):
         def impl(out, pix, src, area, xs, ys, start, n):
             out.emit_strip_piece(pix, src, area, xs, ys, start, n)
     else:
         def impl(out, pix, src, area, xs, ys, start, n):
             out.emit_piece(pix, src, xs, ys, start, n)
+    return impl
+
+
+def emit_run(out, row, width, c0, c1, src):
+    """The whole pixels ``c0 .. c1`` of ``row`` are polygon ``src``: ``out.emit_run`` where
+    the sink has that method (one call for the run), else ``out.emit_pixel`` per pixel."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(emit_run, jit_options={"cache": True})
+def _emit_run_or_pixels(out, row, width, c0, c1, src):
+    if _has_method(out, "emit_run"):
+        def impl(out, row, width, c0, c1, src):
+            if c1 >= c0:
+                out.emit_run(row * width + c0, c1 - c0 + 1, src, float(c0), float(row))
+    else:
+        def impl(out, row, width, c0, c1, src):
+            for c in range(c0, c1 + 1):
+                out.emit_pixel(row * width + c, src, float(c), float(row))
     return impl
 
 
@@ -800,9 +824,14 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
                       jagged, centroids)
         if n_pl == 1 and plist[0] == solid:
             end, n_zl = solid_run(solid, zl, n_zl, head, items, span, pieces, cov, planes, col, row, width)
-            src = pieces[solid, 2]
-            for c in range(col + 1, end + 1):
-                out.emit_pixel(row * width + c, src, float(c), float(row))
+            emit_run(out, row, width, col + 1, end, pieces[solid, 2])
+            col = end
+        elif n_zl == 0:
+            # no piece over this pixel: the background runs up to the next piece's column
+            end = col
+            while end + 1 < width and head[end + 1] == head[end + 2]:
+                end += 1
+            emit_run(out, row, width, col + 1, end, BACKGROUND)
             col = end
         col += 1
 
@@ -1056,8 +1085,7 @@ def scan_rows(polys, width, row0, row1, eps_z, jagged, centroids, out):
     for row in range(row0, row1):
         enter_polygons(polys, active, row)
         if active.n == 0 and active.next_in >= n_polys:
-            for col in range(width):
-                out.emit_pixel(row * width + col, BACKGROUND, float(col), float(row))
+            emit_run(out, row, width, 0, width - 1, BACKGROUND)
             continue
         clip_to_strip(active, strip, row, width)
         bucket_by_x(strip, width)
@@ -1130,11 +1158,14 @@ def flush(out):
         return
     image = out.image
     colors = out.colors
+    area = out.area
+    src = out.src
+    n = out.n
     pix = out.pixel
     for ch in range(3):
         acc = 0.0
-        for g in range(out.n):
-            acc += out.area[g] * colors[out.src[g], ch]
+        for g in range(n):
+            acc += area[g] * colors[src[g], ch]
         image[pix, ch] = acc
     out.n = 0
 
@@ -1145,16 +1176,19 @@ def _color_add(out, pix, src, area):
     if pix != out.pixel:
         flush(out)
         out.pixel = pix
-    for g in range(out.n):
-        if out.src[g] == src:
-            out.area[g] = out.area[g] + area
+    n = out.n
+    srcs = out.src
+    areas = out.area
+    for g in range(n):
+        if srcs[g] == src:
+            areas[g] = areas[g] + area
             return
-    if out.n >= out.src.shape[0]:
-        out.src = _grow(out.src, out.n + 1)
-        out.area = _grow(out.area, out.n + 1)
-    out.src[out.n] = src
-    out.area[out.n] = area
-    out.n += 1
+    if n >= srcs.shape[0]:
+        srcs = out.src = _grow(srcs, n + 1)
+        areas = out.area = _grow(areas, n + 1)
+    srcs[n] = src
+    areas[n] = area
+    out.n = n + 1
 
 
 @overload_method(ColorSinkType, "emit_pixel", jit_options={"cache": True})
@@ -1163,8 +1197,30 @@ def _color_pixel(out, pix, src, x0, y0):
         if out.n > 0:
             flush(out)
         out.pixel = pix
+        # fields read once into locals: each structref read costs a reference count
+        image = out.image
+        colors = out.colors
         for ch in range(3):
-            out.image[pix, ch] = 1.0 * out.colors[src, ch]
+            image[pix, ch] = 1.0 * colors[src, ch]
+    return impl
+
+
+@overload_method(ColorSinkType, "emit_run", jit_options={"cache": True})
+def _color_run(out, pix, count, src, x0, y0):
+    """Pixels ``pix .. pix + count - 1`` (one row) are all polygon ``src``."""
+    def impl(out, pix, count, src, x0, y0):
+        if out.n > 0:
+            flush(out)
+        out.pixel = pix + count - 1
+        image = out.image
+        colors = out.colors
+        r = 1.0 * colors[src, 0]
+        g = 1.0 * colors[src, 1]
+        b = 1.0 * colors[src, 2]
+        for p in range(pix, pix + count):
+            image[p, 0] = r
+            image[p, 1] = g
+            image[p, 2] = b
     return impl
 
 
