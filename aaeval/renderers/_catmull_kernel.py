@@ -543,34 +543,41 @@ def strip_coverage(xs, ys, start, n, row, c0, c1, cov, cov_off):
         hi = max(x0, x1)
         ca = max(int(np.floor(lo)), c0)
         cb = min(int(np.floor(hi)), c1)
-        for col in range(ca, cb + 1):
-            xa = min(max(x0, col), col + 1.0)
-            xb = min(max(x1, col), col + 1.0)
-            if xa == xb:
-                continue
-            ya = y0 + slope * (xa - x0)
-            yb = y0 + slope * (xb - x0)
-            cov[cov_off + col - c0] -= 0.5 * (xb - xa) * (ya + yb)
+        if y0 == y1 and cb - ca > 1:
+            # a level edge (the strip's top or bottom): the columns it fully crosses get
+            # -y0 per unit of x (the same bits as the general formula below); only its
+            # two end columns need that formula
+            _edge_coverage(x0, y0, x1, slope, ca, ca, c0, cov, cov_off)
+            full = y0 if x1 > x0 else -y0
+            for col in range(ca + 1, cb):
+                cov[cov_off + col - c0] -= full
+            _edge_coverage(x0, y0, x1, slope, cb, cb, c0, cov, cov_off)
+        else:
+            _edge_coverage(x0, y0, x1, slope, ca, cb, c0, cov, cov_off)
 
 
-@njit(cache=True)
-def _add_piece(strip, m, src, row, width):
-    """Keep the piece just written at ``strip.used`` (m vertices) if it covers a column."""
-    at = strip.used
-    xs = strip.x
-    c0 = max(int(np.floor(xs[at:at + m].min())), 0)
-    c1 = min(int(np.ceil(xs[at:at + m].max())) - 1, width - 1)
-    if c1 < c0:
-        return
-    strip.cov = _grow(strip.cov, strip.cov_used + c1 - c0 + 1)
-    strip_coverage(xs, strip.y, at, m, float(row), c0, c1, strip.cov, strip.cov_used)
-    k = strip.n
-    strip.span[k, 0] = c0
-    strip.span[k, 1] = c1
-    strip.span[k, 2] = strip.cov_used
-    strip.n = _record(strip.pieces, k, at, m, src)
-    strip.cov_used += c1 - c0 + 1
-    strip.used += m
+@njit(cache=True, inline="always")
+def _edge_coverage(x0, y0, x1, slope, ca, cb, c0, cov, cov_off):
+    """Add -∫ y dx of the edge from x0 to x1 over each column ca..cb."""
+    for col in range(ca, cb + 1):
+        xa = min(max(x0, col), col + 1.0)
+        xb = min(max(x1, col), col + 1.0)
+        if xa == xb:
+            continue
+        ya = y0 + slope * (xa - x0)
+        yb = y0 + slope * (xb - x0)
+        cov[cov_off + col - c0] -= 0.5 * (xb - xa) * (ya + yb)
+
+
+@njit(cache=True, inline="always")
+def _column_span(xs, start, m, width):
+    """The pixel columns a piece's x range reaches, clamped to the image."""
+    lo = xs[start]
+    hi = xs[start]
+    for i in range(start + 1, start + m):
+        lo = min(lo, xs[i])
+        hi = max(hi, xs[i])
+    return max(int(np.floor(lo)), 0), min(int(np.ceil(hi)) - 1, width - 1)
 
 
 @njit(cache=True)
@@ -578,12 +585,11 @@ def clip_to_strip(active, strip, row, width):
     """Clip this scanline's piece off every active polygon into ``strip``; keep the rest.
 
     The line y = row + 1 splits each polygon: side A (above) is the strip piece, with
-    its coverage of every column; side B replaces the polygon in the active list.
+    its coverage of every column; side B replaces the polygon in the active list. A
+    piece is kept if it covers a column. (Every workspace field is read once into a
+    local and written back at the end: a structref field read costs a reference count.)
     """
     y_bot = float(row) + 1.0
-    strip.n = 0
-    strip.used = 0
-    strip.cov_used = 0
     rx = active.x
     ry = active.y
     rf = active.f
@@ -591,21 +597,49 @@ def clip_to_strip(active, strip, row, width):
     ny = active.spare_y
     nf = active.spare_f
     recs = active.recs
+    sx = strip.x
+    sy = strip.y
+    sf = strip.f
+    pieces = strip.pieces
+    span = strip.span
+    cov = strip.cov
+    used = 0
+    n_pieces = 0
+    cov_used = 0
     new_used = 0
     keep = 0
     for k in range(active.n):
         s = recs[k, 0]
         n = recs[k, 1]
         src = recs[k, 2]
-        strip.x, strip.y, strip.f = _grow_verts(strip.x, strip.y, strip.f, strip.used + 2 * n + 4)
-        nx, ny, nf = _grow_verts(nx, ny, nf, new_used + 2 * n + 4)
+        if used + 2 * n + 4 > sx.shape[0]:
+            sx, sy, sf = _grow_verts(sx, sy, sf, used + 2 * n + 4)
+        if new_used + 2 * n + 4 > nx.shape[0]:
+            nx, ny, nf = _grow_verts(nx, ny, nf, new_used + 2 * n + 4)
         m, m2 = clip_split(rx, ry, rf, s, n, 0.0, 1.0, -y_bot, True, True,
-                           strip.x, strip.y, strip.f, strip.used, nx, ny, nf, new_used)
-        if m > 0 and signed_area(strip.x, strip.y, strip.used, m) > COV_EMPTY:
-            _add_piece(strip, m, src, row, width)
+                           sx, sy, sf, used, nx, ny, nf, new_used)
+        if m > 0 and signed_area(sx, sy, used, m) > COV_EMPTY:
+            c0, c1 = _column_span(sx, used, m, width)
+            if c1 >= c0:
+                if cov_used + c1 - c0 + 1 > cov.shape[0]:
+                    cov = _grow(cov, cov_used + c1 - c0 + 1)
+                strip_coverage(sx, sy, used, m, float(row), c0, c1, cov, cov_used)
+                span[n_pieces, 0] = c0
+                span[n_pieces, 1] = c1
+                span[n_pieces, 2] = cov_used
+                n_pieces = _record(pieces, n_pieces, used, m, src)
+                cov_used += c1 - c0 + 1
+                used += m
         if m2 > 0 and signed_area(nx, ny, new_used, m2) > COV_EMPTY:
             keep = _record(recs, keep, new_used, m2, src)
             new_used += m2
+    strip.x = sx
+    strip.y = sy
+    strip.f = sf
+    strip.cov = cov
+    strip.n = n_pieces
+    strip.used = used
+    strip.cov_used = cov_used
     active.n = keep
     active.used = new_used
     # the remainders' buffer becomes the active one
