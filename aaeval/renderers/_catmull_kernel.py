@@ -1,6 +1,6 @@
 """Catmull 1978 scanline hidden-surface algorithm with the pixel integrator (numba).
 
-The kernel is a chain of small stages, each an ``njit(cache=True)`` function with a named
+The kernel is a chain of small stages, each a compiled function (``_jit.kernel``: ``njit``, cached) with a named
 workspace (a numba structref whose fields are read by name). Data flow, one scanline (a
 strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm":
 
@@ -58,6 +58,7 @@ from numba import njit, types
 from numba.experimental import structref
 from numba.extending import overload, overload_method
 
+from aaeval.renderers._jit import KERNEL_OPTIONS, kernel
 from aaeval.renderers._clip import EPS_LINE, area_centroid, clip_side, clip_split, clip_to_column, signed_area
 
 # Coverage within this of 1 is a solid piece; below COV_EMPTY a piece is absent.
@@ -188,7 +189,7 @@ define_workspace(FragmentSink, FragmentSinkType, ["pix", "src", "area", "cx", "c
 # --- growable buffers -------------------------------------------------------------
 
 
-@njit(cache=True)
+@kernel
 def _grow(a, n):
     """``a`` with room for at least ``n`` entries along its first axis (contents kept)."""
     if n <= a.shape[0]:
@@ -198,17 +199,17 @@ def _grow(a, n):
     return b
 
 
-@njit(cache=True)
+@kernel
 def _grow_verts(x, y, f, n):
     return _grow(x, n), _grow(y, n), _grow(f, n)
 
 
-@njit(cache=True)
+@kernel
 def _new_verts(n):
     return np.empty(n), np.empty(n), np.zeros(n, np.uint8)
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _record(recs, k, start, length, src):
     recs[k, 0] = start
     recs[k, 1] = length
@@ -216,33 +217,33 @@ def _record(recs, k, start, length, src):
     return k + 1
 
 
-@njit(cache=True)
+@kernel
 def new_active_list(n_polys):
     x, y, f = _new_verts(1024)
     sx, sy, sf = _new_verts(1024)
     return ActiveList(x, y, f, sx, sy, sf, np.empty((n_polys, 3), np.int64), 0, 0, 0)
 
 
-@njit(cache=True)
+@kernel
 def new_strip(n_polys, width):
     x, y, f = _new_verts(1024)
     return Strip(x, y, f, np.empty((n_polys, 3), np.int64), np.empty((n_polys, 3), np.int64), np.empty(1024),
                  0, 0, 0, np.zeros(width + 1, np.int64), np.empty(n_polys, np.int64))
 
 
-@njit(cache=True)
+@kernel
 def new_zlist(n_polys):
     return ZList(np.empty(n_polys, np.int64), np.empty(n_polys), np.empty(n_polys + 1, np.int64))
 
 
-@njit(cache=True)
+@kernel
 def new_pixel_work():
     x, y, f = _new_verts(4096)
     return PixelWork(x, y, f, np.empty((1024, 3), np.int64), np.empty(4096, np.int64), np.empty((1024, 2), np.int64),
                      np.empty(1024, np.int64), np.empty(256, np.int64))
 
 
-@njit(cache=True)
+@kernel
 def grow_pixel_work(work):
     """Double every buffer of the integrator's workspace."""
     work.x, work.y, work.f = _grow_verts(work.x, work.y, work.f, 2 * work.x.shape[0])
@@ -253,7 +254,7 @@ def grow_pixel_work(work):
     work.visible = _grow(work.visible, 2 * work.visible.shape[0])
 
 
-@njit(cache=True)
+@kernel
 def new_fragment_sink(capacity):
     return FragmentSink(np.empty(capacity, np.int64), np.empty(capacity, np.int64), np.empty(capacity),
                         np.empty(capacity), np.empty(capacity), 0)
@@ -262,7 +263,7 @@ def new_fragment_sink(capacity):
 # --- the fragment sink ------------------------------------------------------------
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _append(out, pix, src, area, cx, cy):
     n = out.n
     if n >= out.pix.shape[0]:
@@ -275,7 +276,7 @@ def _append(out, pix, src, area, cx, cy):
     out.n = n + 1
 
 
-@njit(cache=True)
+@kernel
 def _grow_sink(out, n):
     out.pix = _grow(out.pix, n)
     out.src = _grow(out.src, n)
@@ -284,7 +285,7 @@ def _grow_sink(out, n):
     out.cy = _grow(out.cy, n)
 
 
-@overload_method(FragmentSinkType, "emit_pixel", jit_options={"cache": True})
+@overload_method(FragmentSinkType, "emit_pixel", jit_options=KERNEL_OPTIONS)
 def _emit_pixel(out, pix, src, x0, y0):
     """The whole pixel square ``[x0, x0+1] x [y0, y0+1]`` is polygon ``src``."""
     def impl(out, pix, src, x0, y0):
@@ -292,7 +293,7 @@ def _emit_pixel(out, pix, src, x0, y0):
     return impl
 
 
-@overload_method(FragmentSinkType, "emit_area", jit_options={"cache": True})
+@overload_method(FragmentSinkType, "emit_area", jit_options=KERNEL_OPTIONS)
 def _emit_area(out, pix, src, area, x0, y0):
     """``area`` of the pixel is polygon ``src``; its shape is not known (centre used)."""
     def impl(out, pix, src, area, x0, y0):
@@ -300,7 +301,7 @@ def _emit_area(out, pix, src, area, x0, y0):
     return impl
 
 
-@overload_method(FragmentSinkType, "emit_piece", jit_options={"cache": True})
+@overload_method(FragmentSinkType, "emit_piece", jit_options=KERNEL_OPTIONS)
 def _emit_piece(out, pix, src, xs, ys, start, n):
     """A visible piece of polygon ``src`` in the pixel: the polygon ``xs, ys[start:start+n]``.
 
@@ -322,7 +323,7 @@ def _emit_piece(out, pix, src, xs, ys, start, n):
     return impl
 
 
-@overload_method(FragmentSinkType, "emit_strip_piece", jit_options={"cache": True})
+@overload_method(FragmentSinkType, "emit_strip_piece", jit_options=KERNEL_OPTIONS)
 def _emit_strip_piece(out, pix, src, area, xs, ys, start, n):
     """Strip piece of polygon ``src`` clipped to the pixel, ``xs, ys[start:start+n]``, whose
     exact area ``area`` is known from the strip coverage (the first fragment of its pixel).
@@ -335,7 +336,7 @@ def _emit_strip_piece(out, pix, src, area, xs, ys, start, n):
     return impl
 
 
-@overload_method(FragmentSinkType, "emit_rest", jit_options={"cache": True})
+@overload_method(FragmentSinkType, "emit_rest", jit_options=KERNEL_OPTIONS)
 def _emit_rest(out, pix, src, x0, y0):
     """Polygon ``src`` covers the rest of the pixel: the square minus what was emitted
     for this pixel so far (the sink's last fragments)."""
@@ -370,7 +371,7 @@ def _has_method(sink_type, name):
     return cpu_target.typing_context.resolve_getattr(sink_type, name) is not None
 
 
-@overload(emit_strip_piece, jit_options={"cache": True})
+@overload(emit_strip_piece, jit_options=KERNEL_OPTIONS)
 def _emit_strip_piece_or_piece(out, pix, src, area, xs, ys, start, n):
     if _has_method(out, "emit_strip_piece"):
         def impl(out, pix, src, area, xs, ys, start, n):
@@ -387,7 +388,7 @@ def emit_run(out, row, width, c0, c1, src):
     raise NotImplementedError("compiled code only")
 
 
-@overload(emit_run, jit_options={"cache": True})
+@overload(emit_run, jit_options=KERNEL_OPTIONS)
 def _emit_run_or_pixels(out, row, width, c0, c1, src):
     if _has_method(out, "emit_run"):
         def impl(out, row, width, c0, c1, src):
@@ -403,12 +404,12 @@ def _emit_run_or_pixels(out, row, width, c0, c1, src):
 # --- depth relations --------------------------------------------------------------
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _depth(planes, p, x, y):
     return planes[p, 0] * x + planes[p, 1] * y + planes[p, 2]
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def in_front_on_square(planes, p, q, x0, y0, eps_z):
     """Whether polygon p hides polygon q everywhere over the square [x0,x0+1]x[y0,y0+1].
 
@@ -431,7 +432,7 @@ def in_front_on_square(planes, p, q, x0, y0, eps_z):
     return hi <= eps_z
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def depth_relation(planes, q, f, xs, ys, start, n, eps_z):
     """Where polygon q (the outline at ``start``) lies in depth against polygon f's plane.
 
@@ -470,7 +471,7 @@ def depth_relation(planes, q, f, xs, ys, start, n, eps_z):
 # --- I. and III.A: polygons enter the active list ---------------------------------
 
 
-@njit(cache=True)
+@kernel
 def sort_polygons(start, length, x, y, planes):
     """The input polygons with their y range, ordered on their first scanline."""
     n_polys = start.size
@@ -482,7 +483,7 @@ def sort_polygons(start, length, x, y, planes):
     return Polygons(start, length, x, y, planes, ymin, ymax, np.argsort(ymin, kind="mergesort"))
 
 
-@njit(cache=True)
+@kernel
 def _below(vx0, vy0, start, n, y_top, out_x, out_y, out_f, at):
     """A polygon's part below ``y_top`` (all of it unless it starts above the image)."""
     lo = vy0[start:start + n].min()
@@ -500,7 +501,7 @@ def _below(vx0, vy0, start, n, y_top, out_x, out_y, out_f, at):
     return m
 
 
-@njit(cache=True)
+@kernel
 def enter_polygons(polys, active, row):
     """Polygons whose first scanline is ``row`` join the active list (their part y >= row)."""
     y_top = float(row)
@@ -525,7 +526,7 @@ def enter_polygons(polys, active, row):
 # --- III.C: the strip pieces ------------------------------------------------------
 
 
-@njit(cache=True)
+@kernel
 def strip_coverage(xs, ys, start, n, row, c0, c1, cov, cov_off):
     """Exact area of a strip piece over each pixel column c0..c1 (-∫ y dx per column)."""
     for c in range(c1 - c0 + 1):
@@ -556,7 +557,7 @@ def strip_coverage(xs, ys, start, n, row, c0, c1, cov, cov_off):
             _edge_coverage(x0, y0, x1, slope, ca, cb, c0, cov, cov_off)
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _edge_coverage(x0, y0, x1, slope, ca, cb, c0, cov, cov_off):
     """Add -∫ y dx of the edge from x0 to x1 over each column ca..cb."""
     for col in range(ca, cb + 1):
@@ -569,7 +570,7 @@ def _edge_coverage(x0, y0, x1, slope, ca, cb, c0, cov, cov_off):
         cov[cov_off + col - c0] -= 0.5 * (xb - xa) * (ya + yb)
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _column_span(xs, start, m, width):
     """The pixel columns a piece's x range reaches, clamped to the image."""
     lo = xs[start]
@@ -580,7 +581,7 @@ def _column_span(xs, start, m, width):
     return max(int(np.floor(lo)), 0), min(int(np.ceil(hi)) - 1, width - 1)
 
 
-@njit(cache=True)
+@kernel
 def clip_to_strip(active, strip, row, width):
     """Clip this scanline's piece off every active polygon into ``strip``; keep the rest.
 
@@ -648,7 +649,7 @@ def clip_to_strip(active, strip, row, width):
     active.f, active.spare_f = nf, rf
 
 
-@njit(cache=True)
+@kernel
 def bucket_by_x(strip, width):
     """The x-bucket: list the strip pieces under their leftmost column (counting sort)."""
     head = strip.bucket_head
@@ -668,7 +669,7 @@ def bucket_by_x(strip, width):
 # --- III.D/E: sweeping the row ----------------------------------------------------
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def update_zlist(zl, zdepth, n_zl, bucket_head, bucket_items, span, pieces, planes, col, row):
     """Move the z-list to column ``col``; returns its new length.
 
@@ -702,7 +703,7 @@ def update_zlist(zl, zdepth, n_zl, bucket_head, bucket_items, span, pieces, plan
     return n_zl
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def pixel_list(zl, n_zl, plist, pieces, span, cov, planes, col, row, eps_z):
     """The pixel's polygon list ``plist``: front to back up to the first solid piece, and
     anything behind that piece not hidden by it everywhere in the pixel.
@@ -726,7 +727,7 @@ def pixel_list(zl, n_zl, plist, pieces, span, cov, planes, col, row, eps_z):
     return n_pl, solid
 
 
-@njit(cache=True)
+@kernel
 def emit_front_piece(strip, k, pix, col, row, work, out, centroids):
     """Emit strip piece k's part in pixel column ``col``: its shape if ``centroids``."""
     cv = strip.cov[strip.span[k, 2] + col - strip.span[k, 0]]
@@ -743,7 +744,7 @@ def emit_front_piece(strip, k, pix, col, row, work, out, centroids):
     out.emit_area(pix, src, cv, float(col), float(row))
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def resolve_pixel(strip, plist, n_pl, solid, planes, eps_z, pix, col, row, work, out, jagged, centroids):
     """Emit the visible pieces of one pixel, by the cheapest case that applies."""
     x0 = float(col)
@@ -771,7 +772,7 @@ def resolve_pixel(strip, plist, n_pl, solid, planes, eps_z, pix, col, row, work,
     integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out)
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _hidden_until(planes, p, q, col, end, row, width):
     """The last column in ``col .. end`` up to which polygon p hides polygon q over every
     pixel square by a safe margin (``col - 1`` if it does not at ``col``).
@@ -798,7 +799,7 @@ def _hidden_until(planes, p, q, col, end, row, width):
     return last
 
 
-@njit(cache=True)
+@kernel
 def solid_run(k, zl, n_zl, bucket_head, bucket_items, span, pieces, cov, planes, col, row, width):
     """How far strip piece k, alone and solid in front at ``col``, stays so without any
     per-pixel work: returns ``(last column, z-list length)``.
@@ -834,7 +835,7 @@ def solid_run(k, zl, n_zl, bucket_head, bucket_items, span, pieces, cov, planes,
     return end, n_zl
 
 
-@njit(cache=True)
+@kernel
 def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centroids):
     """Sweep the pixels of ``row`` left to right, emitting each pixel's visible pieces.
 
@@ -873,7 +874,7 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
 # --- III.E.b: the pixel integrator ------------------------------------------------
 
 
-@njit(cache=True)
+@kernel
 def pixel_polygons(strip, plist, n_pl, solid, x0, y0, work):
     """The pixel's polygon list as integrator records, background square last if needed.
 
@@ -915,7 +916,7 @@ def pixel_polygons(strip, plist, n_pl, solid, x0, y0, work):
     return used, n_rec
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def _is_sliver(wx, wy, recs, litems, s0, cnt):
     """Whether the front polygon of a list is much smaller than the list's region.
 
@@ -938,7 +939,7 @@ def _is_sliver(wx, wy, recs, litems, s0, cnt):
     return shortfall > region * 1e-9 and shortfall > SLIVER_SLACK
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def _first_clip_edge(wx, wy, wf, fs, fn):
     """The line of the first unclipped, non-degenerate edge of a polygon: (found, a, b, c)."""
     for k in range(fn):
@@ -954,7 +955,7 @@ def _first_clip_edge(wx, wy, wf, fs, fn):
     return False, 0.0, 0.0, 0.0
 
 
-@njit(cache=True)
+@kernel
 def integrate_pixel(work, n_init, n_vert, planes, eps_z):
     """Resolve the polygon list ``work.recs[0:n_init]`` (front to back, background last).
 
@@ -1081,7 +1082,7 @@ def integrate_pixel(work, n_init, n_vert, planes, eps_z):
     return n_out
 
 
-@njit(cache=True)
+@kernel
 def integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out):
     """Run the pixel integrator (growing its workspace until it fits) and emit every
     visible piece with its vertices (in the order the integrator found them)."""
@@ -1107,7 +1108,7 @@ def integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out):
 BAND_ROWS = 32
 
 
-@njit(cache=True)
+@kernel
 def scan_rows(polys, width, row0, row1, eps_z, jagged, centroids, out):
     """Run the scanline algorithm over the band of rows ``row0 .. row1-1``, emitting every
     pixel's visible pieces into the sink ``out`` (compiled once per sink type)."""
@@ -1126,7 +1127,7 @@ def scan_rows(polys, width, row0, row1, eps_z, jagged, centroids, out):
         sweep_row(strip, zlist, work, out, polys.planes, row, width, eps_z, jagged, centroids)
 
 
-@njit(cache=True)
+@kernel
 def scanline(polys, width, height, eps_z, jagged, centroids, out):
     """The whole image into the sink ``out``, band after band (the same pieces as
     running the bands on threads)."""
@@ -1134,7 +1135,7 @@ def scanline(polys, width, height, eps_z, jagged, centroids, out):
         scan_rows(polys, width, row0, min(row0 + BAND_ROWS, height), eps_z, jagged, centroids, out)
 
 
-@njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def band_fragments(polys, width, row0, row1, eps_z, jagged, centroids):
     """Fragments ``(pix, src, area, cx, cy)`` of rows ``row0 .. row1-1`` (runs without the GIL)."""
     out = new_fragment_sink((row1 - row0) * width + 16)
@@ -1143,7 +1144,7 @@ def band_fragments(polys, width, row0, row1, eps_z, jagged, centroids):
     return out.pix[:n], out.src[:n], out.area[:n], out.cx[:n], out.cy[:n]
 
 
-@njit(cache=True)
+@kernel
 def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, jagged, centroids):
     """Visible fragments of every pixel, band after band.
 
@@ -1180,12 +1181,12 @@ class ColorSink(structref.StructRefProxy):
 define_workspace(ColorSink, ColorSinkType, ["image", "colors", "pixel", "src", "area", "n"])
 
 
-@njit(cache=True)
+@kernel
 def new_color_sink(image, colors):
     return ColorSink(image, colors, -1, np.empty(16, np.int64), np.empty(16), 0)
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def flush(out):
     """Write the pending pixel into the image."""
     if out.n == 0:
@@ -1204,7 +1205,7 @@ def flush(out):
     out.n = 0
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _color_add(out, pix, src, area):
     """Add ``area`` of polygon ``src`` to pixel ``pix`` (merged with the same polygon)."""
     if pix != out.pixel:
@@ -1225,7 +1226,7 @@ def _color_add(out, pix, src, area):
     out.n = n + 1
 
 
-@overload_method(ColorSinkType, "emit_pixel", jit_options={"cache": True})
+@overload_method(ColorSinkType, "emit_pixel", jit_options=KERNEL_OPTIONS)
 def _color_pixel(out, pix, src, x0, y0):
     def impl(out, pix, src, x0, y0):
         if out.n > 0:
@@ -1239,7 +1240,7 @@ def _color_pixel(out, pix, src, x0, y0):
     return impl
 
 
-@overload_method(ColorSinkType, "emit_run", jit_options={"cache": True})
+@overload_method(ColorSinkType, "emit_run", jit_options=KERNEL_OPTIONS)
 def _color_run(out, pix, count, src, x0, y0):
     """Pixels ``pix .. pix + count - 1`` (one row) are all polygon ``src``."""
     def impl(out, pix, count, src, x0, y0):
@@ -1258,28 +1259,28 @@ def _color_run(out, pix, count, src, x0, y0):
     return impl
 
 
-@overload_method(ColorSinkType, "emit_piece", jit_options={"cache": True})
+@overload_method(ColorSinkType, "emit_piece", jit_options=KERNEL_OPTIONS)
 def _color_piece(out, pix, src, xs, ys, start, n):
     def impl(out, pix, src, xs, ys, start, n):
         _color_add(out, pix, src, signed_area(xs, ys, start, n))
     return impl
 
 
-@overload_method(ColorSinkType, "emit_strip_piece", jit_options={"cache": True})
+@overload_method(ColorSinkType, "emit_strip_piece", jit_options=KERNEL_OPTIONS)
 def _color_strip_piece(out, pix, src, area, xs, ys, start, n):
     def impl(out, pix, src, area, xs, ys, start, n):
         _color_add(out, pix, src, area)
     return impl
 
 
-@overload_method(ColorSinkType, "emit_area", jit_options={"cache": True})
+@overload_method(ColorSinkType, "emit_area", jit_options=KERNEL_OPTIONS)
 def _color_area(out, pix, src, area, x0, y0):
     def impl(out, pix, src, area, x0, y0):
         _color_add(out, pix, src, area)
     return impl
 
 
-@overload_method(ColorSinkType, "emit_rest", jit_options={"cache": True})
+@overload_method(ColorSinkType, "emit_rest", jit_options=KERNEL_OPTIONS)
 def _color_rest(out, pix, src, x0, y0):
     def impl(out, pix, src, x0, y0):
         covered = 0.0
@@ -1292,7 +1293,7 @@ def _color_rest(out, pix, src, x0, y0):
     return impl
 
 
-@njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def band_colors(polys, width, row0, row1, eps_z, jagged, colors, image):
     """Write the flat-colour pixels of rows ``row0 .. row1-1`` into ``image`` (pixels x 3;
     runs without the GIL)."""
