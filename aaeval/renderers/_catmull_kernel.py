@@ -1183,7 +1183,9 @@ define_workspace(ColorSink, ColorSinkType, ["image", "colors", "pixel", "src", "
 
 @kernel
 def new_color_sink(image, colors):
-    return ColorSink(image, colors, -1, np.empty(16, np.int64), np.empty(16), 0)
+    # room for every polygon and the background at once: a pixel never needs to grow it
+    # (a growth call on the emit path would cost every emit its reference counts)
+    return ColorSink(image, colors, -1, np.empty(colors.shape[0], np.int64), np.empty(colors.shape[0]), 0)
 
 
 @kernel(inline="always")
@@ -1214,16 +1216,15 @@ def _color_add(out, pix, src, area):
     n = out.n
     srcs = out.src
     areas = out.area
-    for g in range(n):
-        if srcs[g] == src:
-            areas[g] = areas[g] + area
-            return
-    if n >= srcs.shape[0]:
-        srcs = out.src = _grow(srcs, n + 1)
-        areas = out.area = _grow(areas, n + 1)
-    srcs[n] = src
-    areas[n] = area
-    out.n = n + 1
+    g = 0
+    while g < n and srcs[g] != src:
+        g += 1
+    if g < n:
+        areas[g] = areas[g] + area
+    else:
+        srcs[n] = src
+        areas[n] = area
+        out.n = n + 1
 
 
 @overload_method(ColorSinkType, "emit_pixel", jit_options=KERNEL_OPTIONS)
