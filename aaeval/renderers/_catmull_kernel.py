@@ -19,11 +19,12 @@ strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm
                        stay sorted front to back at the pixel centre -> :class:`ZList`
     ``pixel_list``     the pixel's polygon list: front to back up to the first solid
                        piece, and what behind it is not hidden everywhere in the pixel
-    ``resolve_pixel``  a solid piece in front: the whole pixel (``emit_pixel``), and
-                       while it stays alone in front, its whole run (``solid_run``); one
-                       irregular piece in front of a solid one or of the background: that
-                       piece (``emit_strip_piece``, or ``emit_area`` without centroids) and the
-                       rest of the pixel (``emit_rest``); otherwise ``integrate``
+    (then, by case) no piece: the background up to the next piece (``emit_run``); a
+                       solid piece in front: its whole run while it stays alone in front
+                       (``solid_run``, ``emit_run``); one irregular piece in front of a
+                       solid one or of the background (``behind_front_piece``): that
+                       piece (``emit_strip_piece``, or ``emit_area`` without centroids)
+                       and the rest of the pixel (``emit_rest``); otherwise ``integrate``
 ``integrate``       the pixel integrator: ``pixel_polygons`` clips the listed pieces to
     the pixel (a solid piece becomes the pixel square, the background square goes last),
     ``integrate_pixel`` resolves them (recursive clipping along the front polygon's
@@ -32,10 +33,12 @@ strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm
 
 Every result leaves through a *sink*: a structref with five methods, ``emit_pixel``
 (the whole pixel square), ``emit_piece`` (a visible piece inside a pixel, as its polygon
-vertices), ``emit_strip_piece`` (optional: the same for a strip piece alone in front, with
-the exact area the strip coverage already gave; sinks without it get ``emit_piece``), ``emit_area`` (an area without its shape, only with
-``centroids=False``) and ``emit_rest`` (the pixel square minus what was already emitted for
-that pixel).
+vertices), ``emit_area`` (an area without its shape, only with ``centroids=False``) and
+``emit_rest`` (the pixel square minus what was already emitted for that pixel), and two
+optional ones: ``emit_strip_piece`` (a strip piece alone in front, with the exact area
+the strip coverage already gave; sinks without it get ``emit_piece``) and ``emit_run``
+(``count`` whole pixels of one row, all one polygon; sinks without it get ``emit_pixel``
+per pixel).
 :class:`FragmentSink` turns them into fragments: per pixel, each visible polygon's area and
 area centroid (its pieces merged), so flat colours and per-piece shading are resolved
 outside. Another sink type (for instance one accumulating polynomial moments of each
@@ -728,48 +731,33 @@ def pixel_list(zl, n_zl, plist, pieces, span, cov, planes, col, row, eps_z):
 
 
 @kernel
-def emit_front_piece(strip, k, pix, col, row, work, out, centroids):
-    """Emit strip piece k's part in pixel column ``col``: its shape if ``centroids``."""
+def emit_front_piece(strip, k, pix, col, row, work, out):
+    """Emit strip piece k's part in pixel column ``col`` with its shape (its area alone
+    if clipping leaves nothing)."""
     cv = strip.cov[strip.span[k, 2] + col - strip.span[k, 0]]
     src = strip.pieces[k, 2]
-    if centroids:
-        n = strip.pieces[k, 1]
-        if work.x.shape[0] < 6 * n + 16:
-            work.x, work.y, work.f = _grow_verts(work.x, work.y, work.f, 6 * n + 16)
-        m = clip_to_column(strip.x, strip.y, strip.f, strip.pieces[k, 0], n, float(col),
-                           work.x, work.y, work.f, 0, 4 * n + 8)
-        if m > 0:
-            emit_strip_piece(out, pix, src, cv, work.x, work.y, 0, m)
-            return
-    out.emit_area(pix, src, cv, float(col), float(row))
+    n = strip.pieces[k, 1]
+    if work.x.shape[0] < 6 * n + 16:
+        work.x, work.y, work.f = _grow_verts(work.x, work.y, work.f, 6 * n + 16)
+    m = clip_to_column(strip.x, strip.y, strip.f, strip.pieces[k, 0], n, float(col),
+                       work.x, work.y, work.f, 0, 4 * n + 8)
+    if m > 0:
+        emit_strip_piece(out, pix, src, cv, work.x, work.y, 0, m)
+    else:
+        out.emit_area(pix, src, cv, float(col), float(row))
 
 
 @kernel(inline="always")
-def resolve_pixel(strip, plist, n_pl, solid, planes, eps_z, pix, col, row, work, out, jagged, centroids):
-    """Emit the visible pieces of one pixel, by the cheapest case that applies."""
-    x0 = float(col)
-    y0 = float(row)
-    if n_pl == 0:
-        out.emit_pixel(pix, BACKGROUND, x0, y0)
-        return
-    pieces = strip.pieces
-    first = plist[0]
-    if jagged or (n_pl == 1 and first == solid):
-        # a solid piece in front (or, with the integrator switched off, the nearest
-        # piece colours the whole pixel)
-        out.emit_pixel(pix, pieces[first, 2], x0, y0)
-        return
-    # one irregular piece in front of a solid one (or of the background)
-    behind = -2
+def behind_front_piece(plist, n_pl, solid, pieces, planes, x0, y0, eps_z):
+    """When the pixel's front piece is irregular and everything else in the pixel is one
+    thing it hides (the background, or a solid piece behind it over the whole square):
+    that thing's polygon (-1: background). Otherwise -2: the integrator decides."""
     if n_pl == 1:
-        behind = BACKGROUND
-    elif n_pl == 2 and plist[1] == solid and in_front_on_square(planes, pieces[first, 2], pieces[solid, 2], x0, y0, eps_z):
-        behind = pieces[solid, 2]
-    if behind != -2:
-        emit_front_piece(strip, first, pix, col, row, work, out, centroids)
-        out.emit_rest(pix, behind, x0, y0)
-        return
-    integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out)
+        return BACKGROUND
+    if n_pl == 2 and plist[1] == solid and in_front_on_square(planes, pieces[plist[0], 2], pieces[solid, 2],
+                                                              x0, y0, eps_z):
+        return pieces[solid, 2]
+    return -2
 
 
 @kernel(inline="always")
@@ -837,10 +825,20 @@ def solid_run(k, zl, n_zl, bucket_head, bucket_items, span, pieces, cov, planes,
 
 @kernel
 def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centroids):
-    """Sweep the pixels of ``row`` left to right, emitting each pixel's visible pieces.
+    """Sweep the pixels of ``row`` left to right, emitting each pixel's visible pieces
+    by the cheapest case that applies:
 
-    Where a solid piece is alone in front, its whole solid run is filled at once
-    (``solid_run``): the per-pixel z-list and pixel-list work is skipped there.
+    - no piece: the background, up to the next piece's column (``emit_run``);
+    - a solid piece alone in front: its whole solid run (``solid_run``, ``emit_run``);
+      the per-pixel z-list and pixel-list work is skipped there;
+    - with the integrator switched off (``jagged``): the nearest piece, whole pixel;
+    - one irregular piece over what it hides (``behind_front_piece``): that piece
+      (``emit_front_piece`` with its shape, or ``emit_area`` without centroids) and the
+      rest of the pixel (``emit_rest``);
+    - otherwise the pixel integrator (``integrate``).
+
+    The cases are written out here, not in an inlined helper: an inlined function's
+    array arguments are reference-counted copies, two atomic operations each per pixel.
     """
     zl = zlist.items
     zdepth = zlist.depth
@@ -850,24 +848,40 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
     cov = strip.cov
     head = strip.bucket_head
     items = strip.bucket_items
+    y0 = float(row)
     n_zl = 0
     col = 0
     while col < width:
         n_zl = update_zlist(zl, zdepth, n_zl, head, items, span, pieces, planes, col, row)
         n_pl, solid = pixel_list(zl, n_zl, plist, pieces, span, cov, planes, col, row, eps_z)
-        resolve_pixel(strip, plist, n_pl, solid, planes, eps_z, row * width + col, col, row, work, out,
-                      jagged, centroids)
-        if n_pl == 1 and plist[0] == solid:
-            end, n_zl = solid_run(solid, zl, n_zl, head, items, span, pieces, cov, planes, col, row, width)
-            emit_run(out, row, width, col + 1, end, pieces[solid, 2])
-            col = end
-        elif n_zl == 0:
-            # no piece over this pixel: the background runs up to the next piece's column
+        pix = row * width + col
+        x0 = float(col)
+        if n_pl == 0:
             end = col
-            while end + 1 < width and head[end + 1] == head[end + 2]:
-                end += 1
-            emit_run(out, row, width, col + 1, end, BACKGROUND)
-            col = end
+            if n_zl == 0:
+                while end + 1 < width and head[end + 1] == head[end + 2]:
+                    end += 1
+            emit_run(out, row, width, col, end, BACKGROUND)
+            col = end + 1
+            continue
+        first = plist[0]
+        if n_pl == 1 and first == solid:
+            end, n_zl = solid_run(solid, zl, n_zl, head, items, span, pieces, cov, planes, col, row, width)
+            emit_run(out, row, width, col, end, pieces[solid, 2])
+            col = end + 1
+            continue
+        if jagged:
+            out.emit_pixel(pix, pieces[first, 2], x0, y0)
+        else:
+            behind = behind_front_piece(plist, n_pl, solid, pieces, planes, x0, y0, eps_z)
+            if behind != -2:
+                if centroids:
+                    emit_front_piece(strip, first, pix, col, row, work, out)
+                else:
+                    out.emit_area(pix, pieces[first, 2], cov[span[first, 2] + col - span[first, 0]], x0, y0)
+                out.emit_rest(pix, behind, x0, y0)
+            else:
+                integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out)
         col += 1
 
 
