@@ -901,6 +901,9 @@ def pixel_polygons(strip, plist, n_pl, solid, x0, y0, work):
     wf = work.f
     recs = work.recs
     pieces = strip.pieces
+    sx = strip.x
+    sy = strip.y
+    sf = strip.f
     used = 0
     n_rec = 0
     total = n_pl + (1 if solid < 0 else 0)
@@ -914,7 +917,7 @@ def pixel_polygons(strip, plist, n_pl, solid, x0, y0, work):
             tmp = used + 4 * n + 8
             if tmp + 2 * n + 4 > wx.shape[0]:
                 return -1, 0
-            m = clip_to_column(strip.x, strip.y, strip.f, pieces[k, 0], n, x0, wx, wy, wf, used, tmp)
+            m = clip_to_column(sx, sy, sf, pieces[k, 0], n, x0, wx, wy, wf, used, tmp)
             if m > 0:
                 n_rec = _record(recs, n_rec, used, m, pieces[k, 2])
                 used += m
@@ -1109,9 +1112,12 @@ def integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out):
             break
         grow_pixel_work(work)
     recs = work.recs
+    visible = work.visible
+    wx = work.x
+    wy = work.y
     for o in range(n_out):
-        r = work.visible[o]
-        out.emit_piece(pix, recs[r, 2], work.x, work.y, recs[r, 0], recs[r, 1])
+        r = visible[o]
+        out.emit_piece(pix, recs[r, 2], wx, wy, recs[r, 0], recs[r, 1])
 
 
 # --- the whole image ---------------------------------------------------------------
