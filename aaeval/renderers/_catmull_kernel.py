@@ -1,6 +1,6 @@
 """Catmull 1978 scanline hidden-surface algorithm with the pixel integrator (numba).
 
-The kernel is a chain of small stages, each an ``njit(cache=True)`` function with a named
+The kernel is a chain of small stages, each a compiled function (``_jit.kernel``: ``njit``, cached) with a named
 workspace (a numba structref whose fields are read by name). Data flow, one scanline (a
 strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm":
 
@@ -19,11 +19,12 @@ strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm
                        stay sorted front to back at the pixel centre -> :class:`ZList`
     ``pixel_list``     the pixel's polygon list: front to back up to the first solid
                        piece, and what behind it is not hidden everywhere in the pixel
-    ``resolve_pixel``  a solid piece in front: the whole pixel (``emit_pixel``), and
-                       while it stays alone in front, its whole run (``solid_run``); one
-                       irregular piece in front of a solid one or of the background: that
-                       piece (``emit_strip_piece``, or ``emit_area`` without centroids) and the
-                       rest of the pixel (``emit_rest``); otherwise ``integrate``
+    (then, by case) no piece: the background up to the next piece (``emit_run``); a
+                       solid piece in front: its whole run while it stays alone in front
+                       (``solid_run``, ``emit_run``); one irregular piece in front of a
+                       solid one or of the background (``behind_front_piece``): that
+                       piece (``emit_strip_piece``, or ``emit_area`` without centroids)
+                       and the rest of the pixel (``emit_rest``); otherwise ``integrate``
 ``integrate``       the pixel integrator: ``pixel_polygons`` clips the listed pieces to
     the pixel (a solid piece becomes the pixel square, the background square goes last),
     ``integrate_pixel`` resolves them (recursive clipping along the front polygon's
@@ -32,10 +33,12 @@ strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm
 
 Every result leaves through a *sink*: a structref with five methods, ``emit_pixel``
 (the whole pixel square), ``emit_piece`` (a visible piece inside a pixel, as its polygon
-vertices), ``emit_strip_piece`` (optional: the same for a strip piece alone in front, with
-the exact area the strip coverage already gave; sinks without it get ``emit_piece``), ``emit_area`` (an area without its shape, only with
-``centroids=False``) and ``emit_rest`` (the pixel square minus what was already emitted for
-that pixel).
+vertices), ``emit_area`` (an area without its shape, only with ``centroids=False``) and
+``emit_rest`` (the pixel square minus what was already emitted for that pixel), and two
+optional ones: ``emit_strip_piece`` (a strip piece alone in front, with the exact area
+the strip coverage already gave; sinks without it get ``emit_piece``) and ``emit_run``
+(``count`` whole pixels of one row, all one polygon; sinks without it get ``emit_pixel``
+per pixel).
 :class:`FragmentSink` turns them into fragments: per pixel, each visible polygon's area and
 area centroid (its pieces merged), so flat colours and per-piece shading are resolved
 outside. Another sink type (for instance one accumulating polynomial moments of each
@@ -58,6 +61,7 @@ from numba import njit, types
 from numba.experimental import structref
 from numba.extending import overload, overload_method
 
+from aaeval.renderers._jit import KERNEL_OPTIONS, kernel
 from aaeval.renderers._clip import EPS_LINE, area_centroid, clip_side, clip_split, clip_to_column, signed_area
 
 # Coverage within this of 1 is a solid piece; below COV_EMPTY a piece is absent.
@@ -188,7 +192,7 @@ define_workspace(FragmentSink, FragmentSinkType, ["pix", "src", "area", "cx", "c
 # --- growable buffers -------------------------------------------------------------
 
 
-@njit(cache=True)
+@kernel
 def _grow(a, n):
     """``a`` with room for at least ``n`` entries along its first axis (contents kept)."""
     if n <= a.shape[0]:
@@ -198,17 +202,17 @@ def _grow(a, n):
     return b
 
 
-@njit(cache=True)
+@kernel
 def _grow_verts(x, y, f, n):
     return _grow(x, n), _grow(y, n), _grow(f, n)
 
 
-@njit(cache=True)
+@kernel
 def _new_verts(n):
     return np.empty(n), np.empty(n), np.zeros(n, np.uint8)
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _record(recs, k, start, length, src):
     recs[k, 0] = start
     recs[k, 1] = length
@@ -216,33 +220,33 @@ def _record(recs, k, start, length, src):
     return k + 1
 
 
-@njit(cache=True)
+@kernel
 def new_active_list(n_polys):
     x, y, f = _new_verts(1024)
     sx, sy, sf = _new_verts(1024)
     return ActiveList(x, y, f, sx, sy, sf, np.empty((n_polys, 3), np.int64), 0, 0, 0)
 
 
-@njit(cache=True)
+@kernel
 def new_strip(n_polys, width):
     x, y, f = _new_verts(1024)
     return Strip(x, y, f, np.empty((n_polys, 3), np.int64), np.empty((n_polys, 3), np.int64), np.empty(1024),
                  0, 0, 0, np.zeros(width + 1, np.int64), np.empty(n_polys, np.int64))
 
 
-@njit(cache=True)
+@kernel
 def new_zlist(n_polys):
     return ZList(np.empty(n_polys, np.int64), np.empty(n_polys), np.empty(n_polys + 1, np.int64))
 
 
-@njit(cache=True)
+@kernel
 def new_pixel_work():
     x, y, f = _new_verts(4096)
     return PixelWork(x, y, f, np.empty((1024, 3), np.int64), np.empty(4096, np.int64), np.empty((1024, 2), np.int64),
                      np.empty(1024, np.int64), np.empty(256, np.int64))
 
 
-@njit(cache=True)
+@kernel
 def grow_pixel_work(work):
     """Double every buffer of the integrator's workspace."""
     work.x, work.y, work.f = _grow_verts(work.x, work.y, work.f, 2 * work.x.shape[0])
@@ -253,7 +257,7 @@ def grow_pixel_work(work):
     work.visible = _grow(work.visible, 2 * work.visible.shape[0])
 
 
-@njit(cache=True)
+@kernel
 def new_fragment_sink(capacity):
     return FragmentSink(np.empty(capacity, np.int64), np.empty(capacity, np.int64), np.empty(capacity),
                         np.empty(capacity), np.empty(capacity), 0)
@@ -262,7 +266,7 @@ def new_fragment_sink(capacity):
 # --- the fragment sink ------------------------------------------------------------
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _append(out, pix, src, area, cx, cy):
     n = out.n
     if n >= out.pix.shape[0]:
@@ -275,7 +279,7 @@ def _append(out, pix, src, area, cx, cy):
     out.n = n + 1
 
 
-@njit(cache=True)
+@kernel
 def _grow_sink(out, n):
     out.pix = _grow(out.pix, n)
     out.src = _grow(out.src, n)
@@ -284,7 +288,7 @@ def _grow_sink(out, n):
     out.cy = _grow(out.cy, n)
 
 
-@overload_method(FragmentSinkType, "emit_pixel", jit_options={"cache": True})
+@overload_method(FragmentSinkType, "emit_pixel", jit_options=KERNEL_OPTIONS)
 def _emit_pixel(out, pix, src, x0, y0):
     """The whole pixel square ``[x0, x0+1] x [y0, y0+1]`` is polygon ``src``."""
     def impl(out, pix, src, x0, y0):
@@ -292,7 +296,7 @@ def _emit_pixel(out, pix, src, x0, y0):
     return impl
 
 
-@overload_method(FragmentSinkType, "emit_area", jit_options={"cache": True})
+@overload_method(FragmentSinkType, "emit_area", jit_options=KERNEL_OPTIONS)
 def _emit_area(out, pix, src, area, x0, y0):
     """``area`` of the pixel is polygon ``src``; its shape is not known (centre used)."""
     def impl(out, pix, src, area, x0, y0):
@@ -300,7 +304,7 @@ def _emit_area(out, pix, src, area, x0, y0):
     return impl
 
 
-@overload_method(FragmentSinkType, "emit_piece", jit_options={"cache": True})
+@overload_method(FragmentSinkType, "emit_piece", jit_options=KERNEL_OPTIONS)
 def _emit_piece(out, pix, src, xs, ys, start, n):
     """A visible piece of polygon ``src`` in the pixel: the polygon ``xs, ys[start:start+n]``.
 
@@ -322,7 +326,7 @@ def _emit_piece(out, pix, src, xs, ys, start, n):
     return impl
 
 
-@overload_method(FragmentSinkType, "emit_strip_piece", jit_options={"cache": True})
+@overload_method(FragmentSinkType, "emit_strip_piece", jit_options=KERNEL_OPTIONS)
 def _emit_strip_piece(out, pix, src, area, xs, ys, start, n):
     """Strip piece of polygon ``src`` clipped to the pixel, ``xs, ys[start:start+n]``, whose
     exact area ``area`` is known from the strip coverage (the first fragment of its pixel).
@@ -335,7 +339,7 @@ def _emit_strip_piece(out, pix, src, area, xs, ys, start, n):
     return impl
 
 
-@overload_method(FragmentSinkType, "emit_rest", jit_options={"cache": True})
+@overload_method(FragmentSinkType, "emit_rest", jit_options=KERNEL_OPTIONS)
 def _emit_rest(out, pix, src, x0, y0):
     """Polygon ``src`` covers the rest of the pixel: the square minus what was emitted
     for this pixel so far (the sink's last fragments)."""
@@ -363,11 +367,16 @@ def emit_strip_piece(out, pix, src, area, xs, ys, start, n):
     raise NotImplementedError("compiled code only")
 
 
-@overload(emit_strip_piece, jit_options={"cache": True})
-def _emit_strip_piece_or_piece(out, pix, src, area, xs, ys, start, n):
+def _has_method(sink_type, name):
+    """Whether a sink type defines the optional method ``name`` (at compile time)."""
     from numba.core.registry import cpu_target
 
-    if cpu_target.typing_context.resolve_getattr(out, "emit_strip_piece") is not None:
+    return cpu_target.typing_context.resolve_getattr(sink_type, name) is not None
+
+
+@overload(emit_strip_piece, jit_options=KERNEL_OPTIONS)
+def _emit_strip_piece_or_piece(out, pix, src, area, xs, ys, start, n):
+    if _has_method(out, "emit_strip_piece"):
         def impl(out, pix, src, area, xs, ys, start, n):
             out.emit_strip_piece(pix, src, area, xs, ys, start, n)
     else:
@@ -376,15 +385,34 @@ def _emit_strip_piece_or_piece(out, pix, src, area, xs, ys, start, n):
     return impl
 
 
+def emit_run(out, row, width, c0, c1, src):
+    """The whole pixels ``c0 .. c1`` of ``row`` are polygon ``src``: ``out.emit_run`` where
+    the sink has that method (one call for the run), else ``out.emit_pixel`` per pixel."""
+    raise NotImplementedError("compiled code only")
+
+
+@overload(emit_run, jit_options=KERNEL_OPTIONS)
+def _emit_run_or_pixels(out, row, width, c0, c1, src):
+    if _has_method(out, "emit_run"):
+        def impl(out, row, width, c0, c1, src):
+            if c1 >= c0:
+                out.emit_run(row * width + c0, c1 - c0 + 1, src, float(c0), float(row))
+    else:
+        def impl(out, row, width, c0, c1, src):
+            for c in range(c0, c1 + 1):
+                out.emit_pixel(row * width + c, src, float(c), float(row))
+    return impl
+
+
 # --- depth relations --------------------------------------------------------------
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _depth(planes, p, x, y):
     return planes[p, 0] * x + planes[p, 1] * y + planes[p, 2]
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def in_front_on_square(planes, p, q, x0, y0, eps_z):
     """Whether polygon p hides polygon q everywhere over the square [x0,x0+1]x[y0,y0+1].
 
@@ -407,7 +435,7 @@ def in_front_on_square(planes, p, q, x0, y0, eps_z):
     return hi <= eps_z
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def depth_relation(planes, q, f, xs, ys, start, n, eps_z):
     """Where polygon q (the outline at ``start``) lies in depth against polygon f's plane.
 
@@ -446,7 +474,7 @@ def depth_relation(planes, q, f, xs, ys, start, n, eps_z):
 # --- I. and III.A: polygons enter the active list ---------------------------------
 
 
-@njit(cache=True)
+@kernel
 def sort_polygons(start, length, x, y, planes):
     """The input polygons with their y range, ordered on their first scanline."""
     n_polys = start.size
@@ -458,7 +486,7 @@ def sort_polygons(start, length, x, y, planes):
     return Polygons(start, length, x, y, planes, ymin, ymax, np.argsort(ymin, kind="mergesort"))
 
 
-@njit(cache=True)
+@kernel
 def _below(vx0, vy0, start, n, y_top, out_x, out_y, out_f, at):
     """A polygon's part below ``y_top`` (all of it unless it starts above the image)."""
     lo = vy0[start:start + n].min()
@@ -476,7 +504,7 @@ def _below(vx0, vy0, start, n, y_top, out_x, out_y, out_f, at):
     return m
 
 
-@njit(cache=True)
+@kernel
 def enter_polygons(polys, active, row):
     """Polygons whose first scanline is ``row`` join the active list (their part y >= row)."""
     y_top = float(row)
@@ -501,7 +529,7 @@ def enter_polygons(polys, active, row):
 # --- III.C: the strip pieces ------------------------------------------------------
 
 
-@njit(cache=True)
+@kernel
 def strip_coverage(xs, ys, start, n, row, c0, c1, cov, cov_off):
     """Exact area of a strip piece over each pixel column c0..c1 (-∫ y dx per column)."""
     for c in range(c1 - c0 + 1):
@@ -519,47 +547,53 @@ def strip_coverage(xs, ys, start, n, row, c0, c1, cov, cov_off):
         hi = max(x0, x1)
         ca = max(int(np.floor(lo)), c0)
         cb = min(int(np.floor(hi)), c1)
-        for col in range(ca, cb + 1):
-            xa = min(max(x0, col), col + 1.0)
-            xb = min(max(x1, col), col + 1.0)
-            if xa == xb:
-                continue
-            ya = y0 + slope * (xa - x0)
-            yb = y0 + slope * (xb - x0)
-            cov[cov_off + col - c0] -= 0.5 * (xb - xa) * (ya + yb)
+        if y0 == y1 and cb - ca > 1:
+            # a level edge (the strip's top or bottom): the columns it fully crosses get
+            # -y0 per unit of x (the same bits as the general formula below); only its
+            # two end columns need that formula
+            _edge_coverage(x0, y0, x1, slope, ca, ca, c0, cov, cov_off)
+            full = y0 if x1 > x0 else -y0
+            for col in range(ca + 1, cb):
+                cov[cov_off + col - c0] -= full
+            _edge_coverage(x0, y0, x1, slope, cb, cb, c0, cov, cov_off)
+        else:
+            _edge_coverage(x0, y0, x1, slope, ca, cb, c0, cov, cov_off)
 
 
-@njit(cache=True)
-def _add_piece(strip, m, src, row, width):
-    """Keep the piece just written at ``strip.used`` (m vertices) if it covers a column."""
-    at = strip.used
-    xs = strip.x
-    c0 = max(int(np.floor(xs[at:at + m].min())), 0)
-    c1 = min(int(np.ceil(xs[at:at + m].max())) - 1, width - 1)
-    if c1 < c0:
-        return
-    strip.cov = _grow(strip.cov, strip.cov_used + c1 - c0 + 1)
-    strip_coverage(xs, strip.y, at, m, float(row), c0, c1, strip.cov, strip.cov_used)
-    k = strip.n
-    strip.span[k, 0] = c0
-    strip.span[k, 1] = c1
-    strip.span[k, 2] = strip.cov_used
-    strip.n = _record(strip.pieces, k, at, m, src)
-    strip.cov_used += c1 - c0 + 1
-    strip.used += m
+@kernel(inline="always")
+def _edge_coverage(x0, y0, x1, slope, ca, cb, c0, cov, cov_off):
+    """Add -∫ y dx of the edge from x0 to x1 over each column ca..cb."""
+    for col in range(ca, cb + 1):
+        xa = min(max(x0, col), col + 1.0)
+        xb = min(max(x1, col), col + 1.0)
+        if xa == xb:
+            continue
+        ya = y0 + slope * (xa - x0)
+        yb = y0 + slope * (xb - x0)
+        cov[cov_off + col - c0] -= 0.5 * (xb - xa) * (ya + yb)
 
 
-@njit(cache=True)
+@kernel(inline="always")
+def _column_span(xs, start, m, width):
+    """The pixel columns a piece's x range reaches, clamped to the image."""
+    lo = xs[start]
+    hi = xs[start]
+    for i in range(start + 1, start + m):
+        lo = min(lo, xs[i])
+        hi = max(hi, xs[i])
+    return max(int(np.floor(lo)), 0), min(int(np.ceil(hi)) - 1, width - 1)
+
+
+@kernel
 def clip_to_strip(active, strip, row, width):
     """Clip this scanline's piece off every active polygon into ``strip``; keep the rest.
 
     The line y = row + 1 splits each polygon: side A (above) is the strip piece, with
-    its coverage of every column; side B replaces the polygon in the active list.
+    its coverage of every column; side B replaces the polygon in the active list. A
+    piece is kept if it covers a column. (Every workspace field is read once into a
+    local and written back at the end: a structref field read costs a reference count.)
     """
     y_bot = float(row) + 1.0
-    strip.n = 0
-    strip.used = 0
-    strip.cov_used = 0
     rx = active.x
     ry = active.y
     rf = active.f
@@ -567,21 +601,49 @@ def clip_to_strip(active, strip, row, width):
     ny = active.spare_y
     nf = active.spare_f
     recs = active.recs
+    sx = strip.x
+    sy = strip.y
+    sf = strip.f
+    pieces = strip.pieces
+    span = strip.span
+    cov = strip.cov
+    used = 0
+    n_pieces = 0
+    cov_used = 0
     new_used = 0
     keep = 0
     for k in range(active.n):
         s = recs[k, 0]
         n = recs[k, 1]
         src = recs[k, 2]
-        strip.x, strip.y, strip.f = _grow_verts(strip.x, strip.y, strip.f, strip.used + 2 * n + 4)
-        nx, ny, nf = _grow_verts(nx, ny, nf, new_used + 2 * n + 4)
+        if used + 2 * n + 4 > sx.shape[0]:
+            sx, sy, sf = _grow_verts(sx, sy, sf, used + 2 * n + 4)
+        if new_used + 2 * n + 4 > nx.shape[0]:
+            nx, ny, nf = _grow_verts(nx, ny, nf, new_used + 2 * n + 4)
         m, m2 = clip_split(rx, ry, rf, s, n, 0.0, 1.0, -y_bot, True, True,
-                           strip.x, strip.y, strip.f, strip.used, nx, ny, nf, new_used)
-        if m > 0 and signed_area(strip.x, strip.y, strip.used, m) > COV_EMPTY:
-            _add_piece(strip, m, src, row, width)
+                           sx, sy, sf, used, nx, ny, nf, new_used)
+        if m > 0 and signed_area(sx, sy, used, m) > COV_EMPTY:
+            c0, c1 = _column_span(sx, used, m, width)
+            if c1 >= c0:
+                if cov_used + c1 - c0 + 1 > cov.shape[0]:
+                    cov = _grow(cov, cov_used + c1 - c0 + 1)
+                strip_coverage(sx, sy, used, m, float(row), c0, c1, cov, cov_used)
+                span[n_pieces, 0] = c0
+                span[n_pieces, 1] = c1
+                span[n_pieces, 2] = cov_used
+                n_pieces = _record(pieces, n_pieces, used, m, src)
+                cov_used += c1 - c0 + 1
+                used += m
         if m2 > 0 and signed_area(nx, ny, new_used, m2) > COV_EMPTY:
             keep = _record(recs, keep, new_used, m2, src)
             new_used += m2
+    strip.x = sx
+    strip.y = sy
+    strip.f = sf
+    strip.cov = cov
+    strip.n = n_pieces
+    strip.used = used
+    strip.cov_used = cov_used
     active.n = keep
     active.used = new_used
     # the remainders' buffer becomes the active one
@@ -590,7 +652,7 @@ def clip_to_strip(active, strip, row, width):
     active.f, active.spare_f = nf, rf
 
 
-@njit(cache=True)
+@kernel
 def bucket_by_x(strip, width):
     """The x-bucket: list the strip pieces under their leftmost column (counting sort)."""
     head = strip.bucket_head
@@ -610,7 +672,7 @@ def bucket_by_x(strip, width):
 # --- III.D/E: sweeping the row ----------------------------------------------------
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def update_zlist(zl, zdepth, n_zl, bucket_head, bucket_items, span, pieces, planes, col, row):
     """Move the z-list to column ``col``; returns its new length.
 
@@ -644,7 +706,7 @@ def update_zlist(zl, zdepth, n_zl, bucket_head, bucket_items, span, pieces, plan
     return n_zl
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def pixel_list(zl, n_zl, plist, pieces, span, cov, planes, col, row, eps_z):
     """The pixel's polygon list ``plist``: front to back up to the first solid piece, and
     anything behind that piece not hidden by it everywhere in the pixel.
@@ -668,52 +730,37 @@ def pixel_list(zl, n_zl, plist, pieces, span, cov, planes, col, row, eps_z):
     return n_pl, solid
 
 
-@njit(cache=True)
-def emit_front_piece(strip, k, pix, col, row, work, out, centroids):
-    """Emit strip piece k's part in pixel column ``col``: its shape if ``centroids``."""
+@kernel
+def emit_front_piece(strip, k, pix, col, row, work, out):
+    """Emit strip piece k's part in pixel column ``col`` with its shape (its area alone
+    if clipping leaves nothing)."""
     cv = strip.cov[strip.span[k, 2] + col - strip.span[k, 0]]
     src = strip.pieces[k, 2]
-    if centroids:
-        n = strip.pieces[k, 1]
-        if work.x.shape[0] < 6 * n + 16:
-            work.x, work.y, work.f = _grow_verts(work.x, work.y, work.f, 6 * n + 16)
-        m = clip_to_column(strip.x, strip.y, strip.f, strip.pieces[k, 0], n, float(col),
-                           work.x, work.y, work.f, 0, 4 * n + 8)
-        if m > 0:
-            emit_strip_piece(out, pix, src, cv, work.x, work.y, 0, m)
-            return
-    out.emit_area(pix, src, cv, float(col), float(row))
+    n = strip.pieces[k, 1]
+    if work.x.shape[0] < 6 * n + 16:
+        work.x, work.y, work.f = _grow_verts(work.x, work.y, work.f, 6 * n + 16)
+    m = clip_to_column(strip.x, strip.y, strip.f, strip.pieces[k, 0], n, float(col),
+                       work.x, work.y, work.f, 0, 4 * n + 8)
+    if m > 0:
+        emit_strip_piece(out, pix, src, cv, work.x, work.y, 0, m)
+    else:
+        out.emit_area(pix, src, cv, float(col), float(row))
 
 
-@njit(cache=True, inline="always")
-def resolve_pixel(strip, plist, n_pl, solid, planes, eps_z, pix, col, row, work, out, jagged, centroids):
-    """Emit the visible pieces of one pixel, by the cheapest case that applies."""
-    x0 = float(col)
-    y0 = float(row)
-    if n_pl == 0:
-        out.emit_pixel(pix, BACKGROUND, x0, y0)
-        return
-    pieces = strip.pieces
-    first = plist[0]
-    if jagged or (n_pl == 1 and first == solid):
-        # a solid piece in front (or, with the integrator switched off, the nearest
-        # piece colours the whole pixel)
-        out.emit_pixel(pix, pieces[first, 2], x0, y0)
-        return
-    # one irregular piece in front of a solid one (or of the background)
-    behind = -2
+@kernel(inline="always")
+def behind_front_piece(plist, n_pl, solid, pieces, planes, x0, y0, eps_z):
+    """When the pixel's front piece is irregular and everything else in the pixel is one
+    thing it hides (the background, or a solid piece behind it over the whole square):
+    that thing's polygon (-1: background). Otherwise -2: the integrator decides."""
     if n_pl == 1:
-        behind = BACKGROUND
-    elif n_pl == 2 and plist[1] == solid and in_front_on_square(planes, pieces[first, 2], pieces[solid, 2], x0, y0, eps_z):
-        behind = pieces[solid, 2]
-    if behind != -2:
-        emit_front_piece(strip, first, pix, col, row, work, out, centroids)
-        out.emit_rest(pix, behind, x0, y0)
-        return
-    integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out)
+        return BACKGROUND
+    if n_pl == 2 and plist[1] == solid and in_front_on_square(planes, pieces[plist[0], 2], pieces[solid, 2],
+                                                              x0, y0, eps_z):
+        return pieces[solid, 2]
+    return -2
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _hidden_until(planes, p, q, col, end, row, width):
     """The last column in ``col .. end`` up to which polygon p hides polygon q over every
     pixel square by a safe margin (``col - 1`` if it does not at ``col``).
@@ -740,7 +787,7 @@ def _hidden_until(planes, p, q, col, end, row, width):
     return last
 
 
-@njit(cache=True)
+@kernel
 def solid_run(k, zl, n_zl, bucket_head, bucket_items, span, pieces, cov, planes, col, row, width):
     """How far strip piece k, alone and solid in front at ``col``, stays so without any
     per-pixel work: returns ``(last column, z-list length)``.
@@ -776,12 +823,22 @@ def solid_run(k, zl, n_zl, bucket_head, bucket_items, span, pieces, cov, planes,
     return end, n_zl
 
 
-@njit(cache=True)
+@kernel
 def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centroids):
-    """Sweep the pixels of ``row`` left to right, emitting each pixel's visible pieces.
+    """Sweep the pixels of ``row`` left to right, emitting each pixel's visible pieces
+    by the cheapest case that applies:
 
-    Where a solid piece is alone in front, its whole solid run is filled at once
-    (``solid_run``): the per-pixel z-list and pixel-list work is skipped there.
+    - no piece: the background, up to the next piece's column (``emit_run``);
+    - a solid piece alone in front: its whole solid run (``solid_run``, ``emit_run``);
+      the per-pixel z-list and pixel-list work is skipped there;
+    - with the integrator switched off (``jagged``): the nearest piece, whole pixel;
+    - one irregular piece over what it hides (``behind_front_piece``): that piece
+      (``emit_front_piece`` with its shape, or ``emit_area`` without centroids) and the
+      rest of the pixel (``emit_rest``);
+    - otherwise the pixel integrator (``integrate``).
+
+    The cases are written out here, not in an inlined helper: an inlined function's
+    array arguments are reference-counted copies, two atomic operations each per pixel.
     """
     zl = zlist.items
     zdepth = zlist.depth
@@ -791,26 +848,47 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
     cov = strip.cov
     head = strip.bucket_head
     items = strip.bucket_items
+    y0 = float(row)
     n_zl = 0
     col = 0
     while col < width:
         n_zl = update_zlist(zl, zdepth, n_zl, head, items, span, pieces, planes, col, row)
         n_pl, solid = pixel_list(zl, n_zl, plist, pieces, span, cov, planes, col, row, eps_z)
-        resolve_pixel(strip, plist, n_pl, solid, planes, eps_z, row * width + col, col, row, work, out,
-                      jagged, centroids)
-        if n_pl == 1 and plist[0] == solid:
+        pix = row * width + col
+        x0 = float(col)
+        if n_pl == 0:
+            end = col
+            if n_zl == 0:
+                while end + 1 < width and head[end + 1] == head[end + 2]:
+                    end += 1
+            emit_run(out, row, width, col, end, BACKGROUND)
+            col = end + 1
+            continue
+        first = plist[0]
+        if n_pl == 1 and first == solid:
             end, n_zl = solid_run(solid, zl, n_zl, head, items, span, pieces, cov, planes, col, row, width)
-            src = pieces[solid, 2]
-            for c in range(col + 1, end + 1):
-                out.emit_pixel(row * width + c, src, float(c), float(row))
-            col = end
+            emit_run(out, row, width, col, end, pieces[solid, 2])
+            col = end + 1
+            continue
+        if jagged:
+            out.emit_pixel(pix, pieces[first, 2], x0, y0)
+        else:
+            behind = behind_front_piece(plist, n_pl, solid, pieces, planes, x0, y0, eps_z)
+            if behind != -2:
+                if centroids:
+                    emit_front_piece(strip, first, pix, col, row, work, out)
+                else:
+                    out.emit_area(pix, pieces[first, 2], cov[span[first, 2] + col - span[first, 0]], x0, y0)
+                out.emit_rest(pix, behind, x0, y0)
+            else:
+                integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out)
         col += 1
 
 
 # --- III.E.b: the pixel integrator ------------------------------------------------
 
 
-@njit(cache=True)
+@kernel
 def pixel_polygons(strip, plist, n_pl, solid, x0, y0, work):
     """The pixel's polygon list as integrator records, background square last if needed.
 
@@ -852,7 +930,7 @@ def pixel_polygons(strip, plist, n_pl, solid, x0, y0, work):
     return used, n_rec
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def _is_sliver(wx, wy, recs, litems, s0, cnt):
     """Whether the front polygon of a list is much smaller than the list's region.
 
@@ -875,7 +953,7 @@ def _is_sliver(wx, wy, recs, litems, s0, cnt):
     return shortfall > region * 1e-9 and shortfall > SLIVER_SLACK
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def _first_clip_edge(wx, wy, wf, fs, fn):
     """The line of the first unclipped, non-degenerate edge of a polygon: (found, a, b, c)."""
     for k in range(fn):
@@ -891,7 +969,7 @@ def _first_clip_edge(wx, wy, wf, fs, fn):
     return False, 0.0, 0.0, 0.0
 
 
-@njit(cache=True)
+@kernel
 def integrate_pixel(work, n_init, n_vert, planes, eps_z):
     """Resolve the polygon list ``work.recs[0:n_init]`` (front to back, background last).
 
@@ -1034,7 +1112,7 @@ def integrate_pixel(work, n_init, n_vert, planes, eps_z):
     return n_out
 
 
-@njit(cache=True)
+@kernel
 def integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out):
     """Run the pixel integrator (growing its workspace until it fits) and emit every
     visible piece with its vertices (in the order the integrator found them)."""
@@ -1060,7 +1138,7 @@ def integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out):
 BAND_ROWS = 32
 
 
-@njit(cache=True)
+@kernel
 def scan_rows(polys, width, row0, row1, eps_z, jagged, centroids, out):
     """Run the scanline algorithm over the band of rows ``row0 .. row1-1``, emitting every
     pixel's visible pieces into the sink ``out`` (compiled once per sink type)."""
@@ -1072,15 +1150,14 @@ def scan_rows(polys, width, row0, row1, eps_z, jagged, centroids, out):
     for row in range(row0, row1):
         enter_polygons(polys, active, row)
         if active.n == 0 and active.next_in >= n_polys:
-            for col in range(width):
-                out.emit_pixel(row * width + col, BACKGROUND, float(col), float(row))
+            emit_run(out, row, width, 0, width - 1, BACKGROUND)
             continue
         clip_to_strip(active, strip, row, width)
         bucket_by_x(strip, width)
         sweep_row(strip, zlist, work, out, polys.planes, row, width, eps_z, jagged, centroids)
 
 
-@njit(cache=True)
+@kernel
 def scanline(polys, width, height, eps_z, jagged, centroids, out):
     """The whole image into the sink ``out``, band after band (the same pieces as
     running the bands on threads)."""
@@ -1088,7 +1165,7 @@ def scanline(polys, width, height, eps_z, jagged, centroids, out):
         scan_rows(polys, width, row0, min(row0 + BAND_ROWS, height), eps_z, jagged, centroids, out)
 
 
-@njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def band_fragments(polys, width, row0, row1, eps_z, jagged, centroids):
     """Fragments ``(pix, src, area, cx, cy)`` of rows ``row0 .. row1-1`` (runs without the GIL)."""
     out = new_fragment_sink((row1 - row0) * width + 16)
@@ -1097,7 +1174,7 @@ def band_fragments(polys, width, row0, row1, eps_z, jagged, centroids):
     return out.pix[:n], out.src[:n], out.area[:n], out.cx[:n], out.cy[:n]
 
 
-@njit(cache=True)
+@kernel
 def catmull_fragments(width, height, pstart0, plen0, vx0, vy0, planes, eps_z, jagged, centroids):
     """Visible fragments of every pixel, band after band.
 
@@ -1134,78 +1211,107 @@ class ColorSink(structref.StructRefProxy):
 define_workspace(ColorSink, ColorSinkType, ["image", "colors", "pixel", "src", "area", "n"])
 
 
-@njit(cache=True)
+@kernel
 def new_color_sink(image, colors):
-    return ColorSink(image, colors, -1, np.empty(16, np.int64), np.empty(16), 0)
+    # room for every polygon and the background at once: a pixel never needs to grow it
+    # (a growth call on the emit path would cost every emit its reference counts)
+    return ColorSink(image, colors, -1, np.empty(colors.shape[0], np.int64), np.empty(colors.shape[0]), 0)
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def flush(out):
     """Write the pending pixel into the image."""
     if out.n == 0:
         return
     image = out.image
     colors = out.colors
+    area = out.area
+    src = out.src
+    n = out.n
     pix = out.pixel
     for ch in range(3):
         acc = 0.0
-        for g in range(out.n):
-            acc += out.area[g] * colors[out.src[g], ch]
+        for g in range(n):
+            acc += area[g] * colors[src[g], ch]
         image[pix, ch] = acc
     out.n = 0
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _color_add(out, pix, src, area):
     """Add ``area`` of polygon ``src`` to pixel ``pix`` (merged with the same polygon)."""
     if pix != out.pixel:
         flush(out)
         out.pixel = pix
-    for g in range(out.n):
-        if out.src[g] == src:
-            out.area[g] = out.area[g] + area
-            return
-    if out.n >= out.src.shape[0]:
-        out.src = _grow(out.src, out.n + 1)
-        out.area = _grow(out.area, out.n + 1)
-    out.src[out.n] = src
-    out.area[out.n] = area
-    out.n += 1
+    n = out.n
+    srcs = out.src
+    areas = out.area
+    g = 0
+    while g < n and srcs[g] != src:
+        g += 1
+    if g < n:
+        areas[g] = areas[g] + area
+    else:
+        srcs[n] = src
+        areas[n] = area
+        out.n = n + 1
 
 
-@overload_method(ColorSinkType, "emit_pixel", jit_options={"cache": True})
+@overload_method(ColorSinkType, "emit_pixel", jit_options=KERNEL_OPTIONS)
 def _color_pixel(out, pix, src, x0, y0):
     def impl(out, pix, src, x0, y0):
         if out.n > 0:
             flush(out)
         out.pixel = pix
+        # fields read once into locals: each structref read costs a reference count
+        image = out.image
+        colors = out.colors
         for ch in range(3):
-            out.image[pix, ch] = 1.0 * out.colors[src, ch]
+            image[pix, ch] = 1.0 * colors[src, ch]
     return impl
 
 
-@overload_method(ColorSinkType, "emit_piece", jit_options={"cache": True})
+@overload_method(ColorSinkType, "emit_run", jit_options=KERNEL_OPTIONS)
+def _color_run(out, pix, count, src, x0, y0):
+    """Pixels ``pix .. pix + count - 1`` (one row) are all polygon ``src``."""
+    def impl(out, pix, count, src, x0, y0):
+        if out.n > 0:
+            flush(out)
+        out.pixel = pix + count - 1
+        image = out.image
+        colors = out.colors
+        r = 1.0 * colors[src, 0]
+        g = 1.0 * colors[src, 1]
+        b = 1.0 * colors[src, 2]
+        for p in range(pix, pix + count):
+            image[p, 0] = r
+            image[p, 1] = g
+            image[p, 2] = b
+    return impl
+
+
+@overload_method(ColorSinkType, "emit_piece", jit_options=KERNEL_OPTIONS)
 def _color_piece(out, pix, src, xs, ys, start, n):
     def impl(out, pix, src, xs, ys, start, n):
         _color_add(out, pix, src, signed_area(xs, ys, start, n))
     return impl
 
 
-@overload_method(ColorSinkType, "emit_strip_piece", jit_options={"cache": True})
+@overload_method(ColorSinkType, "emit_strip_piece", jit_options=KERNEL_OPTIONS)
 def _color_strip_piece(out, pix, src, area, xs, ys, start, n):
     def impl(out, pix, src, area, xs, ys, start, n):
         _color_add(out, pix, src, area)
     return impl
 
 
-@overload_method(ColorSinkType, "emit_area", jit_options={"cache": True})
+@overload_method(ColorSinkType, "emit_area", jit_options=KERNEL_OPTIONS)
 def _color_area(out, pix, src, area, x0, y0):
     def impl(out, pix, src, area, x0, y0):
         _color_add(out, pix, src, area)
     return impl
 
 
-@overload_method(ColorSinkType, "emit_rest", jit_options={"cache": True})
+@overload_method(ColorSinkType, "emit_rest", jit_options=KERNEL_OPTIONS)
 def _color_rest(out, pix, src, x0, y0):
     def impl(out, pix, src, x0, y0):
         covered = 0.0
@@ -1218,7 +1324,7 @@ def _color_rest(out, pix, src, x0, y0):
     return impl
 
 
-@njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def band_colors(polys, width, row0, row1, eps_z, jagged, colors, image):
     """Write the flat-colour pixels of rows ``row0 .. row1-1`` into ``image`` (pixels x 3;
     runs without the GIL)."""

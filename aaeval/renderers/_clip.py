@@ -10,14 +10,14 @@ belong to both sides, so no near-duplicate vertices are made.
 
 from __future__ import annotations
 
-from numba import njit
+from aaeval.renderers._jit import kernel
 
 # Distance (pixels) under which a point counts as lying on a clipping line: far above
 # float64 rounding of pixel coordinates, far below any area the tests resolve.
 EPS_LINE = 1e-11
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _side(d):
     if d < -EPS_LINE:
         return -1
@@ -26,7 +26,7 @@ def _side(d):
     return 0
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def clip_split(xs, ys, fs, start, n, a, b, c, want_a, want_b,
                axs, ays, afs, astart, bxs, bys, bfs, bstart):
     """Split a polygon by a line into its side-A and side-B parts in one pass.
@@ -38,52 +38,52 @@ def clip_split(xs, ys, fs, start, n, a, b, c, want_a, want_b,
     """
     ma = 0
     mb = 0
-    if n == 0:
-        return 0, 0
-    prev = start + n - 1
-    dp = a * xs[prev] + b * ys[prev] + c
-    sp = _side(dp)
-    for i in range(start, start + n):
-        d = a * xs[i] + b * ys[i] + c
-        s = _side(d)
-        if sp * s < 0:
-            # strict crossing: the intersection belongs to both parts; the edge leaving
-            # it continues the original edge prev->i (2 marks "on the line" until the end)
-            t = dp / (dp - d)
-            x = xs[prev] + t * (xs[i] - xs[prev])
-            y = ys[prev] + t * (ys[i] - ys[prev])
-            if b == 0.0:
-                x = -c / a
-            elif a == 0.0:
-                y = -c / b
-            if want_a:
-                axs[astart + ma] = x
-                ays[astart + ma] = y
-                afs[astart + ma] = 2 + fs[prev]
+    # one exit only: an early return keeps the array arguments' reference counts alive
+    if n > 0:
+        prev = start + n - 1
+        dp = a * xs[prev] + b * ys[prev] + c
+        sp = _side(dp)
+        for i in range(start, start + n):
+            d = a * xs[i] + b * ys[i] + c
+            s = _side(d)
+            if sp * s < 0:
+                # strict crossing: the intersection belongs to both parts; the edge leaving
+                # it continues the original edge prev->i (2 marks "on the line" until the end)
+                t = dp / (dp - d)
+                x = xs[prev] + t * (xs[i] - xs[prev])
+                y = ys[prev] + t * (ys[i] - ys[prev])
+                if b == 0.0:
+                    x = -c / a
+                elif a == 0.0:
+                    y = -c / b
+                if want_a:
+                    axs[astart + ma] = x
+                    ays[astart + ma] = y
+                    afs[astart + ma] = 2 + fs[prev]
+                    ma += 1
+                if want_b:
+                    bxs[bstart + mb] = x
+                    bys[bstart + mb] = y
+                    bfs[bstart + mb] = 2 + fs[prev]
+                    mb += 1
+            on = 2 if s == 0 else 0
+            if want_a and s <= 0:
+                axs[astart + ma] = xs[i]
+                ays[astart + ma] = ys[i]
+                afs[astart + ma] = on + fs[i]
                 ma += 1
-            if want_b:
-                bxs[bstart + mb] = x
-                bys[bstart + mb] = y
-                bfs[bstart + mb] = 2 + fs[prev]
+            if want_b and s >= 0:
+                bxs[bstart + mb] = xs[i]
+                bys[bstart + mb] = ys[i]
+                bfs[bstart + mb] = on + fs[i]
                 mb += 1
-        on = 2 if s == 0 else 0
-        if want_a and s <= 0:
-            axs[astart + ma] = xs[i]
-            ays[astart + ma] = ys[i]
-            afs[astart + ma] = on + fs[i]
-            ma += 1
-        if want_b and s >= 0:
-            bxs[bstart + mb] = xs[i]
-            bys[bstart + mb] = ys[i]
-            bfs[bstart + mb] = on + fs[i]
-            mb += 1
-        prev = i
-        dp = d
-        sp = s
+            prev = i
+            dp = d
+            sp = s
     return _settle_flags(afs, astart, ma), _settle_flags(bfs, bstart, mb)
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _settle_flags(ofs, ostart, m):
     """An output edge lies on the line when both its ends do; else it keeps its flag."""
     if m < 3:
@@ -99,7 +99,7 @@ def _settle_flags(ofs, ostart, m):
     return m
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def clip_side(xs, ys, fs, start, n, a, b, c, keep, oxs, oys, ofs, ostart):
     """Write the part of a polygon on side ``keep`` (-1: A, +1: B) of a line.
 
@@ -110,7 +110,7 @@ def clip_side(xs, ys, fs, start, n, a, b, c, keep, oxs, oys, ofs, ostart):
     return ma if keep < 0 else mb
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def clip_to_column(xs, ys, fs, start, n, x0, oxs, oys, ofs, at, tmp):
     """Write the part of a polygon inside the pixel column ``x0 <= x <= x0 + 1`` at ``at``.
 
@@ -122,7 +122,7 @@ def clip_to_column(xs, ys, fs, start, n, x0, oxs, oys, ofs, at, tmp):
     return clip_side(oxs, oys, ofs, tmp, m1, 1.0, 0.0, -(x0 + 1.0), -1, oxs, oys, ofs, at)
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def signed_area(xs, ys, start, n):
     """Shoelace area; positive for the orientation every polygon is normalised to."""
     s = 0.0
@@ -133,7 +133,7 @@ def signed_area(xs, ys, start, n):
     return 0.5 * s
 
 
-@njit(cache=True)
+@kernel(inline="always")
 def area_centroid(xs, ys, start, n):
     """Signed area and area centroid of a polygon (fan from its first vertex)."""
     x0 = xs[start]
