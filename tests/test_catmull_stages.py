@@ -281,6 +281,19 @@ def test_integrate_pixel_splits_interpenetrating_planes_where_they_cross():
     np.testing.assert_allclose(cy, [0.5, 0.5], atol=1e-15)
 
 
+def test_integrate_pixel_ends_a_cycle_of_near_coplanar_ties_with_the_pixel_covered():
+    # three parallel planes 0.6 eps_z apart: B ties A and is later, C ties B and is later,
+    # but A is in front of C by 1.2 eps_z; the shared-plane tolerance is not transitive, so
+    # moving the nearer polygon to the front went round A -> B -> C -> A until MAX_STEPS
+    # and the pixel came out empty
+    square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+    eps_z = 1e-11
+    planes = [(0.0, 0.0, 1.0), (0.0, 0.0, 1.0 + 0.6 * eps_z), (0.0, 0.0, 1.0 + 1.2 * eps_z)]
+    src, area, _, _ = integrate_unit_pixel([square, square, square], planes)
+    assert len(src) == 1 and src[0] in (0, 1, 2)  # each is within 1.2 eps_z of the front
+    np.testing.assert_allclose(area, [1.0], atol=1e-15)
+
+
 def test_integrate_pixel_grows_its_workspace_and_gives_the_same_answer():
     rng = np.random.default_rng(4)
     outlines = [[tuple(p) for p in rng.uniform(-0.5, 1.5, (3, 2))] for _ in range(12)]

@@ -35,7 +35,7 @@ def fuzz_dir(tmp_path_factory):
 @settings(max_examples=300, deadline=None, database=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow,
                                  HealthCheck.data_too_large])
-@given(case=cli_case(max_vertices=400, tilted_overlaps=False))
+@given(case=cli_case(max_vertices=400))
 def test_every_cli_case_ends_in_an_image_or_a_one_line_refusal(fuzz_dir, case):
     outcome = run_case(case, fuzz_dir / "case", BOUND_S)
     event(f"{case.kind}: {outcome.verdict}")  # --hypothesis-show-statistics: what the cases reached

@@ -999,12 +999,17 @@ def integrate_pixel(work, n_init, n_vert, planes, eps_z):
     top = 1
     n_out = 0
     steps = 0
+    moved_list = -1  # the list whose front was just replaced, and how many times in a row
+    moves = 0
     while top > 0 and steps < MAX_STEPS:
         steps += 1
         top -= 1
         L = stack[top]
         s0 = lists[L, 0]
         cnt = lists[L, 1]
+        if L != moved_list:
+            moved_list = -1
+            moves = 0
         f = litems[s0]
         src_f = recs[f, 2]
         # 2. the first unclipped (and not degenerate) edge of the front polygon
@@ -1023,8 +1028,17 @@ def integrate_pixel(work, n_init, n_vert, planes, eps_z):
             lists[L, 1] = cnt - 1
             stack[top] = L
             top += 1
+            moved_list = -1
             continue
-        if cnt > 1 and not clip:
+        if cnt > 1 and not clip and moves >= cnt:
+            # more fronts than members: the move-to-front went round a cycle, which only
+            # the shared-plane tolerance can close (A ties B, B ties C, A is in front of C
+            # by more than eps_z: depth_relation is not transitive). Every polygon of the
+            # cycle is within a few eps_z of the others here, below the depth resolution,
+            # so F, which covers the region, stays in front: the region is covered exactly
+            # and the list ends after at most cnt moves instead of MAX_STEPS.
+            pass
+        elif cnt > 1 and not clip:
             # F is clipped on all sides, so it covers its list's region: check depth
             front = -1
             for i in range(1, cnt):
@@ -1054,6 +1068,8 @@ def integrate_pixel(work, n_init, n_vert, planes, eps_z):
                 litems[s0] = q
                 stack[top] = L
                 top += 1
+                moved_list = L
+                moves += 1
                 continue
         if not clip:
             # 2. the front polygon is visible over this whole region
