@@ -22,9 +22,9 @@ strip one pixel high) at a time, following the paper's "Hidden-surface Algorithm
     (then, by case) no piece: the background up to the next piece (``emit_run``); a
                        solid piece in front: its whole run while it stays alone in front
                        (``solid_run``, ``emit_run``); one irregular piece in front of a
-                       solid one or of the background (``behind_front_piece``): that
-                       piece (``emit_strip_piece``, or ``emit_area`` without centroids)
-                       and the rest of the pixel (``emit_rest``); otherwise ``integrate``
+                       solid one or of the background: that piece (``emit_strip_piece``,
+                       or ``emit_area`` without centroids) and the rest of the pixel
+                       (``emit_rest``); otherwise ``integrate``
 ``integrate``       the pixel integrator: ``pixel_polygons`` clips the listed pieces to
     the pixel (a solid piece becomes the pixel square, the background square goes last),
     ``integrate_pixel`` resolves them (recursive clipping along the front polygon's
@@ -419,20 +419,18 @@ def in_front_on_square(planes, p, q, x0, y0, eps_z):
     Depth differences are linear, so the four corners decide. On one shared plane the
     one later in the file is in front (the scene format's rule).
     """
-    if q == BACKGROUND:
-        return True
-    if p == BACKGROUND:
-        return False
-    lo = np.inf
-    hi = -np.inf
-    for cx in (x0, x0 + 1.0):
-        for cy in (y0, y0 + 1.0):
-            d = _depth(planes, p, cx, cy) - _depth(planes, q, cx, cy)
-            lo = min(lo, d)
-            hi = max(hi, d)
-    if hi <= eps_z and lo >= -eps_z:
-        return p > q
-    return hi <= eps_z
+    # (one exit only, as every inlined helper with array arguments: see _first_clip_edge)
+    hides = q == BACKGROUND
+    if q != BACKGROUND and p != BACKGROUND:
+        lo = np.inf
+        hi = -np.inf
+        for cx in (x0, x0 + 1.0):
+            for cy in (y0, y0 + 1.0):
+                d = _depth(planes, p, cx, cy) - _depth(planes, q, cx, cy)
+                lo = min(lo, d)
+                hi = max(hi, d)
+        hides = p > q if hi <= eps_z and lo >= -eps_z else hi <= eps_z
+    return hides
 
 
 @kernel(inline="always")
@@ -748,19 +746,6 @@ def emit_front_piece(strip, k, pix, col, row, work, out):
 
 
 @kernel(inline="always")
-def behind_front_piece(plist, n_pl, solid, pieces, planes, x0, y0, eps_z):
-    """When the pixel's front piece is irregular and everything else in the pixel is one
-    thing it hides (the background, or a solid piece behind it over the whole square):
-    that thing's polygon (-1: background). Otherwise -2: the integrator decides."""
-    if n_pl == 1:
-        return BACKGROUND
-    if n_pl == 2 and plist[1] == solid and in_front_on_square(planes, pieces[plist[0], 2], pieces[solid, 2],
-                                                              x0, y0, eps_z):
-        return pieces[solid, 2]
-    return -2
-
-
-@kernel(inline="always")
 def _hidden_until(planes, p, q, col, end, row, width):
     """The last column in ``col .. end`` up to which polygon p hides polygon q over every
     pixel square by a safe margin (``col - 1`` if it does not at ``col``).
@@ -777,13 +762,15 @@ def _hidden_until(planes, p, q, col, end, row, width):
     margin = 1e-9 * ((abs(planes[p, 0]) + abs(planes[q, 0]) + abs(planes[p, 1]) + abs(planes[q, 1]))
                      * (width + y0 + 2.0) + abs(planes[p, 2]) + abs(planes[q, 2]) + 1.0)
     rest = max(da, 0.0) + db * y0 + max(db, 0.0) + dc
+    # (one exit only, as every inlined helper with array arguments: see _first_clip_edge)
     if da * col + rest >= -margin:
-        return col - 1
-    if da <= 0.0 or da * end + rest < -margin:
-        return end
-    last = min(int(np.floor((-margin - rest) / da)), end)
-    while last >= col and da * last + rest >= -margin:
-        last -= 1
+        last = col - 1
+    elif da <= 0.0 or da * end + rest < -margin:
+        last = end
+    else:
+        last = min(int(np.floor((-margin - rest) / da)), end)
+        while last >= col and da * last + rest >= -margin:
+            last -= 1
     return last
 
 
@@ -832,13 +819,14 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
     - a solid piece alone in front: its whole solid run (``solid_run``, ``emit_run``);
       the per-pixel z-list and pixel-list work is skipped there;
     - with the integrator switched off (``jagged``): the nearest piece, whole pixel;
-    - one irregular piece over what it hides (``behind_front_piece``): that piece
+    - one irregular piece over what it hides: that piece
       (``emit_front_piece`` with its shape, or ``emit_area`` without centroids) and the
       rest of the pixel (``emit_rest``);
     - otherwise the pixel integrator (``integrate``).
 
-    The cases are written out here, not in an inlined helper: an inlined function's
-    array arguments are reference-counted copies, two atomic operations each per pixel.
+    The cases are written out here, not in inlined helpers: an inlined function's array
+    arguments are reference-counted copies where calls follow (two atomic operations
+    each, per pixel).
     """
     zl = zlist.items
     zdepth = zlist.depth
@@ -873,7 +861,14 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
         if jagged:
             out.emit_pixel(pix, pieces[first, 2], x0, y0)
         else:
-            behind = behind_front_piece(plist, n_pl, solid, pieces, planes, x0, y0, eps_z)
+            # one irregular piece in front of all that is left, which it hides: the
+            # background, or a solid piece behind it over the whole square (-2: neither)
+            behind = -2
+            if n_pl == 1:
+                behind = BACKGROUND
+            elif n_pl == 2 and plist[1] == solid and in_front_on_square(planes, pieces[first, 2],
+                                                                        pieces[solid, 2], x0, y0, eps_z):
+                behind = pieces[solid, 2]
             if behind != -2:
                 if centroids:
                     emit_front_piece(strip, first, pix, col, row, work, out)
@@ -958,8 +953,16 @@ def _is_sliver(wx, wy, recs, litems, s0, cnt):
 
 @kernel(inline="always")
 def _first_clip_edge(wx, wy, wf, fs, fn):
-    """The line of the first unclipped, non-degenerate edge of a polygon: (found, a, b, c)."""
-    for k in range(fn):
+    """The line of the first unclipped, non-degenerate edge of a polygon: (found, a, b, c).
+
+    One exit only: an inlined helper returning from inside its loop leaves its array
+    arguments reference-counted at every call (two atomic operations each)."""
+    found = False
+    a = 0.0
+    b = 0.0
+    c = 0.0
+    k = 0
+    while k < fn and not found:
         if wf[fs + k] == 0:
             k2 = fs + (k + 1) % fn
             ex = wx[k2] - wx[fs + k]
@@ -968,8 +971,10 @@ def _first_clip_edge(wx, wy, wf, fs, fn):
             if norm > EPS_LINE:
                 a = ey / norm
                 b = -ex / norm
-                return True, a, b, -(a * wx[fs + k] + b * wy[fs + k])
-    return False, 0.0, 0.0, 0.0
+                c = -(a * wx[fs + k] + b * wy[fs + k])
+                found = True
+        k += 1
+    return found, a, b, c
 
 
 @kernel
