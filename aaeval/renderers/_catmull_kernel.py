@@ -731,12 +731,11 @@ def pixel_list(zl, n_zl, plist, pieces, span, cov, planes, col, row, eps_z):
 @kernel
 def emit_front_piece(strip, k, pix, col, row, work, out):
     """Emit strip piece k's part in pixel column ``col`` with its shape (its area alone
-    if clipping leaves nothing)."""
+    if clipping leaves nothing). ``work`` has room for ``6 n + 16`` vertices (n: the
+    piece's); the caller grows it (``front_piece_room``)."""
     cv = strip.cov[strip.span[k, 2] + col - strip.span[k, 0]]
     src = strip.pieces[k, 2]
     n = strip.pieces[k, 1]
-    if work.x.shape[0] < 6 * n + 16:
-        work.x, work.y, work.f = _grow_verts(work.x, work.y, work.f, 6 * n + 16)
     m = clip_to_column(strip.x, strip.y, strip.f, strip.pieces[k, 0], n, float(col),
                        work.x, work.y, work.f, 0, 4 * n + 8)
     if m > 0:
@@ -836,6 +835,11 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
     cov = strip.cov
     head = strip.bucket_head
     items = strip.bucket_items
+    # the integrator's results, read again only where the workspace grows
+    wx = work.x
+    wy = work.y
+    wrecs = work.recs
+    wvis = work.visible
     y0 = float(row)
     n_zl = 0
     col = 0
@@ -871,19 +875,33 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
                 behind = pieces[solid, 2]
             if behind != -2:
                 if centroids:
+                    if wx.shape[0] < 6 * pieces[first, 1] + 16:
+                        work.x, work.y, work.f = _grow_verts(work.x, work.y, work.f, 6 * pieces[first, 1] + 16)
+                        wx = work.x
+                        wy = work.y
                     emit_front_piece(strip, first, pix, col, row, work, out)
                 else:
                     out.emit_area(pix, pieces[first, 2], cov[span[first, 2] + col - span[first, 0]], x0, y0)
                 out.emit_rest(pix, behind, x0, y0)
             else:
-                integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out)
+                n_out = integrate_visible(strip, plist, n_pl, solid, x0, y0, planes, eps_z, work)
+                if n_out < 0:
+                    # the workspace was too small: integrate grows it and emits
+                    integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out)
+                    wx = work.x
+                    wy = work.y
+                    wrecs = work.recs
+                    wvis = work.visible
+                for o in range(n_out):
+                    r = wvis[o]
+                    out.emit_piece(pix, wrecs[r, 2], wx, wy, wrecs[r, 0], wrecs[r, 1])
         col += 1
 
 
 # --- III.E.b: the pixel integrator ------------------------------------------------
 
 
-@kernel
+@kernel(inline="always")
 def pixel_polygons(strip, plist, n_pl, solid, x0, y0, work):
     """The pixel's polygon list as integrator records, background square last if needed.
 
@@ -902,30 +920,34 @@ def pixel_polygons(strip, plist, n_pl, solid, x0, y0, work):
     used = 0
     n_rec = 0
     total = n_pl + (1 if solid < 0 else 0)
+    # one exit only (see _first_clip_edge): a full workspace sets used = -1 and ends the loop
     if total > recs.shape[0]:
-        return -1, 0
-    for t in range(total):
+        used = -1
+    t = 0
+    while t < total and used >= 0:
         if t < n_pl and plist[t] != solid:
             k = plist[t]
             n = pieces[k, 1]
             # the first clip goes above the space the second one (up to 4n) writes into
             tmp = used + 4 * n + 8
             if tmp + 2 * n + 4 > wx.shape[0]:
-                return -1, 0
-            m = clip_to_column(sx, sy, sf, pieces[k, 0], n, x0, wx, wy, wf, used, tmp)
-            if m > 0:
-                n_rec = _record(recs, n_rec, used, m, pieces[k, 2])
-                used += m
+                used = -1
+            else:
+                m = clip_to_column(sx, sy, sf, pieces[k, 0], n, x0, wx, wy, wf, used, tmp)
+                if m > 0:
+                    n_rec = _record(recs, n_rec, used, m, pieces[k, 2])
+                    used += m
+        elif used + 4 > wx.shape[0]:
+            used = -1
         else:
-            if used + 4 > wx.shape[0]:
-                return -1, 0
             for i, (px, py) in enumerate(((x0, y0), (x0 + 1.0, y0), (x0 + 1.0, y0 + 1.0), (x0, y0 + 1.0))):
                 wx[used + i] = px
                 wy[used + i] = py
                 wf[used + i] = 1
             n_rec = _record(recs, n_rec, used, 4, pieces[plist[t], 2] if t < n_pl else BACKGROUND)
             used += 4
-    return used, n_rec
+        t += 1
+    return used, (n_rec if used >= 0 else 0)
 
 
 @kernel(inline="always")
@@ -977,7 +999,7 @@ def _first_clip_edge(wx, wy, wf, fs, fn):
     return found, a, b, c
 
 
-@kernel
+@kernel(inline="always")
 def integrate_pixel(work, n_init, n_vert, planes, eps_z):
     """Resolve the polygon list ``work.recs[0:n_init]`` (front to back, background last).
 
@@ -1121,17 +1143,26 @@ def integrate_pixel(work, n_init, n_vert, planes, eps_z):
 
 
 @kernel
+def integrate_visible(strip, plist, n_pl, solid, x0, y0, planes, eps_z, work):
+    """``pixel_polygons`` then ``integrate_pixel``: the count of visible pieces, whose
+    records are ``work.visible[:count]``, or -1 if the workspace is too small (grow it
+    and call again). Nothing here calls out (both stages are inlined), so its arguments
+    cost no reference counts; ``sweep_row`` emits the pieces itself."""
+    nv, n_init = pixel_polygons(strip, plist, n_pl, solid, x0, y0, work)
+    n_out = -1
+    if nv >= 0:
+        n_out = integrate_pixel(work, n_init, nv, planes, eps_z)
+    return n_out
+
+
+@kernel
 def integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out):
     """Run the pixel integrator (growing its workspace until it fits) and emit every
     visible piece with its vertices (in the order the integrator found them)."""
-    while True:
-        nv, n_init = pixel_polygons(strip, plist, n_pl, solid, x0, y0, work)
-        n_out = -1
-        if nv >= 0:
-            n_out = integrate_pixel(work, n_init, nv, planes, eps_z)
-        if n_out >= 0:
-            break
+    n_out = integrate_visible(strip, plist, n_pl, solid, x0, y0, planes, eps_z, work)
+    while n_out < 0:
         grow_pixel_work(work)
+        n_out = integrate_visible(strip, plist, n_pl, solid, x0, y0, planes, eps_z, work)
     recs = work.recs
     visible = work.visible
     wx = work.x
