@@ -835,11 +835,14 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
     cov = strip.cov
     head = strip.bucket_head
     items = strip.bucket_items
-    # the integrator's results, read again only where the workspace grows
+    # the integrator's results, read once: these names are never reassigned (a variable
+    # reassigned in the loop is reference-counted at every use). Once the workspace
+    # grows they are stale, and the rest of the row goes through ``integrate``.
     wx = work.x
     wy = work.y
     wrecs = work.recs
     wvis = work.visible
+    grown = False
     y0 = float(row)
     n_zl = 0
     col = 0
@@ -875,26 +878,23 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
                 behind = pieces[solid, 2]
             if behind != -2:
                 if centroids:
-                    if wx.shape[0] < 6 * pieces[first, 1] + 16:
+                    if work.x.shape[0] < 6 * pieces[first, 1] + 16:
                         work.x, work.y, work.f = _grow_verts(work.x, work.y, work.f, 6 * pieces[first, 1] + 16)
-                        wx = work.x
-                        wy = work.y
+                        grown = True
                     emit_front_piece(strip, first, pix, col, row, work, out)
                 else:
                     out.emit_area(pix, pieces[first, 2], cov[span[first, 2] + col - span[first, 0]], x0, y0)
                 out.emit_rest(pix, behind, x0, y0)
             else:
-                n_out = integrate_visible(strip, plist, n_pl, solid, x0, y0, planes, eps_z, work)
-                if n_out < 0:
-                    # the workspace was too small: integrate grows it and emits
+                if not grown:
+                    n_out = integrate_visible(strip, plist, n_pl, solid, x0, y0, planes, eps_z, work)
+                    grown = n_out < 0
+                    for o in range(n_out):
+                        r = wvis[o]
+                        out.emit_piece(pix, wrecs[r, 2], wx, wy, wrecs[r, 0], wrecs[r, 1])
+                if grown:
+                    # the workspace is (or was) too small: integrate grows it and emits
                     integrate(strip, plist, n_pl, solid, x0, y0, planes, eps_z, pix, work, out)
-                    wx = work.x
-                    wy = work.y
-                    wrecs = work.recs
-                    wvis = work.visible
-                for o in range(n_out):
-                    r = wvis[o]
-                    out.emit_piece(pix, wrecs[r, 2], wx, wy, wrecs[r, 0], wrecs[r, 1])
         col += 1
 
 
