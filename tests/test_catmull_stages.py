@@ -302,7 +302,7 @@ def test_integrate_pixel_grows_its_workspace_and_gives_the_same_answer():
     polys = polygons(*outlines, planes=planes)
     _, strip = strip_of(polys, [0], width=1)
     plist = np.arange(strip.n, dtype=np.int64)
-    tiny = K.PixelWork(np.empty(8), np.empty(8), np.zeros(8, np.uint8), np.empty((2, 3), np.int64),
+    tiny = K.PixelWork(np.empty(8), np.empty(8), np.zeros(8, np.uint8), np.empty((2, 3), np.int64), np.empty(2),
                        np.empty(2, np.int64), np.empty((1, 2), np.int64), np.empty(1, np.int64), np.empty(1, np.int64))
     results = []
     for work in (K.new_pixel_work(), tiny):

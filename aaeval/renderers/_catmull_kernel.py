@@ -168,13 +168,14 @@ class PixelWorkType(_Workspace):
 class PixelWork(structref.StructRefProxy):
     """The pixel integrator's workspace.
 
-    Polygons are records ``recs[j] = (start, length, source)`` into ``x, y, f``;
+    Polygons are records ``recs[j] = (start, length, source)`` into ``x, y, f`` with
+    their signed area ``areas[j]`` (found once, when the polygon is made);
     ``items`` holds the lists' members, ``lists[L] = (first item, count)``, ``stack`` the
     lists still to resolve, ``visible`` the records of the visible pieces found.
     """
 
 
-define_workspace(PixelWork, PixelWorkType, ["x", "y", "f", "recs", "items", "lists", "stack", "visible"])
+define_workspace(PixelWork, PixelWorkType, ["x", "y", "f", "recs", "areas", "items", "lists", "stack", "visible"])
 
 
 @structref.register
@@ -242,8 +243,8 @@ def new_zlist(n_polys):
 @kernel
 def new_pixel_work():
     x, y, f = _new_verts(4096)
-    return PixelWork(x, y, f, np.empty((1024, 3), np.int64), np.empty(4096, np.int64), np.empty((1024, 2), np.int64),
-                     np.empty(1024, np.int64), np.empty(256, np.int64))
+    return PixelWork(x, y, f, np.empty((1024, 3), np.int64), np.empty(1024), np.empty(4096, np.int64),
+                     np.empty((1024, 2), np.int64), np.empty(1024, np.int64), np.empty(256, np.int64))
 
 
 @kernel
@@ -251,6 +252,7 @@ def grow_pixel_work(work):
     """Double every buffer of the integrator's workspace."""
     work.x, work.y, work.f = _grow_verts(work.x, work.y, work.f, 2 * work.x.shape[0])
     work.recs = _grow(work.recs, 2 * work.recs.shape[0])
+    work.areas = _grow(work.areas, 2 * work.areas.shape[0])
     work.items = _grow(work.items, 2 * work.items.shape[0])
     work.lists = _grow(work.lists, 2 * work.lists.shape[0])
     work.stack = _grow(work.stack, 2 * work.stack.shape[0])
@@ -913,6 +915,7 @@ def pixel_polygons(strip, plist, n_pl, solid, x0, y0, work):
     wy = work.y
     wf = work.f
     recs = work.recs
+    areas = work.areas
     pieces = strip.pieces
     sx = strip.x
     sy = strip.y
@@ -935,6 +938,7 @@ def pixel_polygons(strip, plist, n_pl, solid, x0, y0, work):
             else:
                 m = clip_to_column(sx, sy, sf, pieces[k, 0], n, x0, wx, wy, wf, used, tmp)
                 if m > 0:
+                    areas[n_rec] = signed_area(wx, wy, used, m)
                     n_rec = _record(recs, n_rec, used, m, pieces[k, 2])
                     used += m
         elif used + 4 > wx.shape[0]:
@@ -944,6 +948,7 @@ def pixel_polygons(strip, plist, n_pl, solid, x0, y0, work):
                 wx[used + i] = px
                 wy[used + i] = py
                 wf[used + i] = 1
+            areas[n_rec] = signed_area(wx, wy, used, 4)
             n_rec = _record(recs, n_rec, used, 4, pieces[plist[t], 2] if t < n_pl else BACKGROUND)
             used += 4
         t += 1
@@ -951,7 +956,7 @@ def pixel_polygons(strip, plist, n_pl, solid, x0, y0, work):
 
 
 @kernel(inline="always")
-def _is_sliver(wx, wy, recs, litems, s0, cnt):
+def _is_sliver(areas, litems, s0, cnt):
     """Whether the front polygon of a list is much smaller than the list's region.
 
     Every list holds a polygon spanning its whole region (the background or a solid
@@ -964,11 +969,11 @@ def _is_sliver(wx, wy, recs, litems, s0, cnt):
     area given to what lies behind (2e-8 off GEOS).
     """
     f = litems[s0]
-    area_f = signed_area(wx, wy, recs[f, 0], recs[f, 1])
+    area_f = areas[f]
     region = area_f
     for i in range(1, cnt):
         q = litems[s0 + i]
-        region = max(region, signed_area(wx, wy, recs[q, 0], recs[q, 1]))
+        region = max(region, areas[q])
     shortfall = region - area_f
     return shortfall > region * 1e-9 and shortfall > SLIVER_SLACK
 
@@ -1011,6 +1016,7 @@ def integrate_pixel(work, n_init, n_vert, planes, eps_z):
     wy = work.y
     wf = work.f
     recs = work.recs
+    areas = work.areas
     litems = work.items
     lists = work.lists
     stack = work.stack
@@ -1046,7 +1052,7 @@ def integrate_pixel(work, n_init, n_vert, planes, eps_z):
         c = 0.0
         if cnt > 1:
             clip, a, b, c = _first_clip_edge(wx, wy, wf, recs[f, 0], recs[f, 1])
-        if cnt > 1 and not clip and _is_sliver(wx, wy, recs, litems, s0, cnt):
+        if cnt > 1 and not clip and _is_sliver(areas, litems, s0, cnt):
             # F has no edge left to clip along, so it should be the whole region; when it
             # is smaller it is a rounding remnant (a spike along two clip lines, or edges
             # too short to clip along): it is dropped and the list looked at again
@@ -1121,13 +1127,17 @@ def integrate_pixel(work, n_init, n_vert, planes, eps_z):
                 return -1
             ma, mb = clip_split(wx, wy, wf, recs[p, 0], n, a, b, c, True, True,
                                 wx, wy, wf, n_vert, wx, wy, wf, at_b)
-            if ma > 0 and signed_area(wx, wy, n_vert, ma) > AREA_EMPTY:
+            area_a = signed_area(wx, wy, n_vert, ma) if ma > 0 else 0.0
+            if area_a > AREA_EMPTY:
                 litems[a_start + a_cnt] = n_poly
                 a_cnt += 1
+                areas[n_poly] = area_a
                 n_poly = _record(recs, n_poly, n_vert, ma, recs[p, 2])
-            if mb > 0 and signed_area(wx, wy, at_b, mb) > AREA_EMPTY:
+            area_b = signed_area(wx, wy, at_b, mb) if mb > 0 else 0.0
+            if area_b > AREA_EMPTY:
                 litems[b_start + b_cnt] = n_poly
                 b_cnt += 1
+                areas[n_poly] = area_b
                 n_poly = _record(recs, n_poly, at_b, mb, recs[p, 2])
             n_vert = at_b + mb
         n_items += 2 * cnt
