@@ -378,3 +378,55 @@ def test_solid_run_stops_before_a_piece_entering_in_front_and_takes_in_those_beh
                          polys.planes, 0, 0, 6)
     assert end == 3
     assert sorted(strip.pieces[zl[:n], 2]) == [0, 1]  # `behind` joined the z-list, `front` waits
+
+
+# --- the two-layer shortcut (areas only) -------------------------------------------------
+
+
+def _overlap(outlines, col=1):
+    polys = polygons(*outlines)
+    _, strip = strip_of(polys, [0], width=3)
+    work = K.new_pixel_work()
+    return K.two_layer_overlap(strip.x, strip.y, strip.f, strip.pieces, 0, 1, float(col), work.x, work.y, work.f)
+
+
+def test_two_layer_overlap_of_two_half_pixel_triangles_is_their_quarter_by_hand():
+    # in pixel [1,2]x[0,1]: A below the diagonal y = x - 1, B left of x = 1.5
+    a = [(1.0, 0.0), (2.0, 0.0), (2.0, 1.0)]
+    b = [(1.0, 0.0), (1.5, 0.0), (1.5, 1.0), (1.0, 1.0)]
+    # A ∩ B is the triangle (1,0), (1.5,0), (1.5,0.5): area 1/8
+    assert _overlap([a, b]) == pytest.approx(0.125, abs=1e-15)
+
+
+def test_two_layer_overlap_declines_a_front_part_that_is_not_convex():
+    notch = [(1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.5, 0.3), (1.0, 1.0)]
+    b = [(0.0, 0.0), (3.0, 0.0), (3.0, 1.0), (0.0, 1.0)]
+    assert _overlap([notch, b]) == -1.0
+
+
+def test_two_layer_overlap_equals_geos_on_random_convex_fronts():
+    pytest.importorskip("shapely")
+    from shapely.geometry import Polygon, box
+
+    rng = np.random.default_rng(7)
+    checked = overlapping = 0
+    for _ in range(600):
+        a = rng.uniform(-0.5, 3.5, (3, 2))  # a triangle: convex
+        b = rng.uniform(-0.5, 3.5, (int(rng.integers(3, 6)), 2))
+        if not Polygon(b).is_valid or Polygon(b).area < 1e-6 or Polygon(a).area < 1e-6:
+            continue
+        # the kernel's positive orientation is a positive shoelace area
+        a = [tuple(p) for p in (a if _area(a) > 0 else a[::-1])]
+        b = [tuple(p) for p in (b if _area(b) > 0 else b[::-1])]
+        polys = polygons(a, b)
+        _, strip = strip_of(polys, [0], width=3)
+        if strip.n != 2:
+            continue
+        ka = [k for k in range(2) if strip.pieces[k, 2] == 0][0]
+        work = K.new_pixel_work()
+        got = K.two_layer_overlap(strip.x, strip.y, strip.f, strip.pieces, ka, 1 - ka, 1.0, work.x, work.y, work.f)
+        want = Polygon(a).intersection(Polygon(b)).intersection(box(1, 0, 2, 1)).area
+        assert got == pytest.approx(want, abs=1e-12)
+        checked += 1
+        overlapping += want > 1e-3
+    assert checked > 150 and overlapping > 50

@@ -811,6 +811,58 @@ def solid_run(k, zl, n_zl, bucket_head, bucket_items, span, pieces, cov, planes,
     return end, n_zl
 
 
+CONVEX_SLACK = 1e-12  # a turn the other way by less than this (pixel area units) is rounding
+
+
+@kernel
+def two_layer_overlap(sx, sy, sf, pieces, ka, kb, x0, wx, wy, wf):
+    """Area of strip piece ka's part in pixel column ``x0`` overlapping piece kb's, or -1.0
+    if ka's part is not convex there (or the scratch space ``wx, wy, wf`` is too small).
+
+    For a pixel whose visible pieces are ka in front of kb in front of what both hide,
+    the areas are ka's coverage, kb's coverage minus this overlap, and the rest: no
+    integrator needed (areas only: no shapes). The overlap is kb's pixel part clipped by
+    each of ka's own edges in turn (for a convex part, the intersection of their
+    half-planes); ka's clipped edges lie on the pixel's boundary lines, inside which
+    kb's part already is.
+    """
+    na = pieces[ka, 1]
+    nb = pieces[kb, 1]
+    at_b = 2 * na + 4  # each clip's output (a clip adds at most one vertex per edge)
+    tmp = at_b + 2 * nb + 4  # scratch of the column clips, then the overlap clips
+    cap = 2 * nb + 2 * na + 8  # the overlap is kb's part cut by at most na lines
+    result = -1.0
+    if tmp + 2 * cap + 2 * nb + 8 <= wx.shape[0]:
+        ma = clip_to_column(sx, sy, sf, pieces[ka, 0], na, x0, wx, wy, wf, 0, tmp)
+        mb = clip_to_column(sx, sy, sf, pieces[kb, 0], nb, x0, wx, wy, wf, at_b, tmp)
+        convex = True  # (and with no part of ka or kb here, the overlap is empty)
+        if ma < 3 or mb < 3:
+            ma = 0
+            mb = 0
+        for i in range(ma):
+            j = (i + 1) % ma
+            k = (i + 2) % ma
+            turn = (wx[j] - wx[i]) * (wy[k] - wy[j]) - (wy[j] - wy[i]) * (wx[k] - wx[j])
+            convex = convex and turn >= -CONVEX_SLACK
+        if convex:
+            cur = at_b
+            m = mb
+            spare = tmp
+            for i in range(ma):
+                j = (i + 1) % ma
+                ex = wx[j] - wx[i]
+                ey = wy[j] - wy[i]
+                norm = np.sqrt(ex * ex + ey * ey)
+                if wf[i] == 0 and norm > EPS_LINE and m > 0:
+                    a = ey / norm
+                    b = -ex / norm
+                    m = clip_side(wx, wy, wf, cur, m, a, b, -(a * wx[i] + b * wy[i]), -1, wx, wy, wf, spare)
+                    cur, spare = spare, (tmp + cap if spare == tmp else tmp)
+            result = signed_area(wx, wy, cur, m) if m >= 3 else 0.0
+            result = max(result, 0.0)
+    return result
+
+
 @kernel
 def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centroids):
     """Sweep the pixels of ``row`` left to right, emitting each pixel's visible pieces
@@ -842,6 +894,7 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
     # grows they are stale, and the rest of the row goes through ``integrate``.
     wx = work.x
     wy = work.y
+    wf = work.f
     wrecs = work.recs
     wvis = work.visible
     grown = False
@@ -878,6 +931,16 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
             elif n_pl == 2 and plist[1] == solid and in_front_on_square(planes, pieces[first, 2],
                                                                         pieces[solid, 2], x0, y0, eps_z):
                 behind = pieces[solid, 2]
+            # areas only: two irregular pieces over what both hide, the front one convex
+            # in the pixel (two_layer_overlap; -1.0: not this case)
+            overlap = -1.0
+            if behind == -2 and not centroids and (n_pl == 2 and solid < 0 or n_pl == 3 and plist[2] == solid):
+                back = BACKGROUND if n_pl == 2 else pieces[solid, 2]
+                second = plist[1]
+                if in_front_on_square(planes, pieces[first, 2], pieces[second, 2], x0, y0, eps_z) \
+                        and (n_pl == 2 or in_front_on_square(planes, pieces[second, 2], back, x0, y0, eps_z)
+                             and in_front_on_square(planes, pieces[first, 2], back, x0, y0, eps_z)):
+                    overlap = two_layer_overlap(strip.x, strip.y, strip.f, pieces, first, second, x0, wx, wy, wf)
             if behind != -2:
                 if centroids:
                     if work.x.shape[0] < 6 * pieces[first, 1] + 16:
@@ -887,6 +950,12 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
                 else:
                     out.emit_area(pix, pieces[first, 2], cov[span[first, 2] + col - span[first, 0]], x0, y0)
                 out.emit_rest(pix, behind, x0, y0)
+            elif overlap >= 0.0:
+                out.emit_area(pix, pieces[first, 2], cov[span[first, 2] + col - span[first, 0]], x0, y0)
+                second_visible = cov[span[second, 2] + col - span[second, 0]] - overlap
+                if second_visible > 0.0:
+                    out.emit_area(pix, pieces[second, 2], second_visible, x0, y0)
+                out.emit_rest(pix, back, x0, y0)
             else:
                 if not grown:
                     n_out = integrate_visible(strip, plist, n_pl, solid, x0, y0, planes, eps_z, work)
@@ -1127,13 +1196,17 @@ def integrate_pixel(work, n_init, n_vert, planes, eps_z):
                 return -1
             ma, mb = clip_split(wx, wy, wf, recs[p, 0], n, a, b, c, True, True,
                                 wx, wy, wf, n_vert, wx, wy, wf, at_b)
-            area_a = signed_area(wx, wy, n_vert, ma) if ma > 0 else 0.0
+            area_a = 0.0
+            if ma > 0:
+                area_a = signed_area(wx, wy, n_vert, ma)
             if area_a > AREA_EMPTY:
                 litems[a_start + a_cnt] = n_poly
                 a_cnt += 1
                 areas[n_poly] = area_a
                 n_poly = _record(recs, n_poly, n_vert, ma, recs[p, 2])
-            area_b = signed_area(wx, wy, at_b, mb) if mb > 0 else 0.0
+            area_b = 0.0
+            if mb > 0:
+                area_b = signed_area(wx, wy, at_b, mb)
             if area_b > AREA_EMPTY:
                 litems[b_start + b_cnt] = n_poly
                 b_cnt += 1
