@@ -61,7 +61,7 @@ from numba import njit, types
 from numba.experimental import structref
 from numba.extending import overload, overload_method
 
-from aaeval.renderers._jit import KERNEL_OPTIONS, kernel
+from aaeval._jit import KERNEL_OPTIONS, kernel
 from aaeval.renderers._clip import EPS_LINE, area_centroid, clip_side, clip_split, clip_to_column, signed_area
 
 # Coverage within this of 1 is a solid piece; below COV_EMPTY a piece is absent.

@@ -10,7 +10,7 @@ belong to both sides, so no near-duplicate vertices are made.
 
 from __future__ import annotations
 
-from aaeval.renderers._jit import kernel
+from aaeval._jit import kernel
 
 # Distance (pixels) under which a point counts as lying on a clipping line: far above
 # float64 rounding of pixel coordinates, far below any area the tests resolve.
