@@ -237,3 +237,19 @@ def test_a_damaged_numba_cache_is_cleared_with_a_warning_and_rebuilt(tmp_path):
     assert second.stderr.count("\n") == 1, second.stderr
     np.testing.assert_array_equal(np.load(tmp_path / "a.npy"), np.load(tmp_path / "b.npy"))
     assert sorted((tmp_path / "cache" / "numba").rglob("*.nbc"))  # rebuilt
+
+
+def test_the_kernel_cache_key_covers_modules_using_the_kernel_decorator(tmp_path, monkeypatch):
+    # _clip.py defines its kernels with aaeval._jit.kernel and never names njit; an edit
+    # there must still start a fresh cache, or callers keep stale inlined machine code
+    from aaeval import _numba_cache
+
+    package = tmp_path / "aaeval"
+    (package / "renderers").mkdir(parents=True)
+    clip = (_numba_cache.PACKAGE / "renderers" / "_clip.py").read_text()
+    assert "njit" not in clip
+    (package / "renderers" / "_clip.py").write_text(clip)
+    monkeypatch.setattr(_numba_cache, "PACKAGE", package)
+    before = _numba_cache.kernel_source_hash()
+    (package / "renderers" / "_clip.py").write_text(clip.replace("EPS_LINE = 1e-11", "EPS_LINE = 2e-11"))
+    assert _numba_cache.kernel_source_hash() != before
