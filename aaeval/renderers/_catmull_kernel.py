@@ -875,6 +875,9 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
     - one irregular piece over what it hides: that piece
       (``emit_front_piece`` with its shape, or ``emit_area`` without centroids) and the
       rest of the pixel (``emit_rest``);
+    - areas only (no centroids): two irregular pieces over what both hide, the front one
+      convex in the pixel (``two_layer_overlap``): the front one's coverage, the back
+      one's coverage minus the overlap, and the rest;
     - otherwise the pixel integrator (``integrate``).
 
     The cases are written out here, not in inlined helpers: an inlined function's array
@@ -891,7 +894,8 @@ def sweep_row(strip, zlist, work, out, planes, row, width, eps_z, jagged, centro
     items = strip.bucket_items
     # the integrator's results, read once: these names are never reassigned (a variable
     # reassigned in the loop is reference-counted at every use). Once the workspace
-    # grows they are stale, and the rest of the row goes through ``integrate``.
+    # grows they are stale, and the rest of the row goes through ``integrate`` (the
+    # areas-only case only borrows them as scratch, checking their size itself).
     wx = work.x
     wy = work.y
     wf = work.f

@@ -26,7 +26,7 @@ def _side(d):
     return 0
 
 
-@kernel
+@kernel(inline="always")
 def clip_split(xs, ys, fs, start, n, a, b, c, want_a, want_b,
                axs, ays, afs, astart, bxs, bys, bfs, bstart):
     """Split a polygon by a line into its side-A and side-B parts in one pass.
