@@ -2,10 +2,12 @@
 over its square, accumulated edge by edge (numba).
 
 Every directed edge adds, to each pixel of a row it crosses, the signed area between the
-edge and the pixel's right side, and the height it spans to every pixel farther right
-(a running sum per row settles those). Summed over a closed contour this is the contour's
-area inside each pixel, holes (negative contours) included; parts left of the image count
-as if on its left border and parts right of it not at all.
+edge and the pixel's right side, and the height it spans to every pixel farther right.
+Both go into one array of differences along the row (the area to the pixel and, less
+that area, the height to the next one, as font-rs and FreeType's smooth rasterizer
+accumulate coverage), and a running sum per row settles it. Summed over a closed contour
+this is the contour's area inside each pixel, holes (negative contours) included; parts
+left of the image count as if on its left border and parts right of it not at all.
 """
 
 from __future__ import annotations
@@ -28,40 +30,42 @@ def _unit_cells(lo, hi, n):
 
 
 @njit(cache=True)
-def _add(cells, r, c, weight, v):
-    """cells[r, c, :] += weight[:] * v: every channel of one cell."""
+def _add_cell(diff, r, c, weight, area, height):
+    """Cell (r, c) gets ``area``, every cell right of it ``height``: as differences, area
+    at c and the rest of the height at c + 1, in every channel."""
     for k in range(len(weight)):
-        cells[r, c, k] += weight[k] * v
+        diff[r, c, k] += weight[k] * area
+        diff[r, c + 1, k] += weight[k] * (height - area)
 
 
 @njit(cache=True)
-def _row_segment(r, xa, xb, dy, w, weight, area, cover):
+def _row_segment(r, xa, xb, dy, w, weight, diff):
     """A segment spanning height ``dy`` (signed) of row r, from x = xa to xb."""
     if xa == xb:
         x = xa
         if x <= 0.0:
-            _add(cover, r, 0, weight, dy)
+            for k in range(len(weight)):
+                diff[r, 0, k] += weight[k] * dy
         elif x < w:
             c = int(math.floor(x))
-            _add(area, r, c, weight, dy * ((c + 1) - x))
-            _add(cover, r, c + 1, weight, dy)
+            _add_cell(diff, r, c, weight, dy * ((c + 1) - x), dy)
         return
     lo = min(xa, xb)
     hi = max(xa, xb)
     per_x = dy / (hi - lo)  # height per unit of x
     if lo < 0.0:
-        _add(cover, r, 0, weight, per_x * (min(hi, 0.0) - lo))
+        for k in range(len(weight)):
+            diff[r, 0, k] += weight[k] * (per_x * (min(hi, 0.0) - lo))
     c0, c1 = _unit_cells(lo, hi, w)
     for c in range(c0, c1 + 1):
         u = max(lo, float(c))
         v = min(hi, float(c + 1))
         h = per_x * (v - u)
-        _add(area, r, c, weight, h * ((c + 1) - 0.5 * (u + v)))
-        _add(cover, r, c + 1, weight, h)
+        _add_cell(diff, r, c, weight, h * ((c + 1) - 0.5 * (u + v)), h)
 
 
 @njit(cache=True)
-def _accumulate(xs, ys, starts, lengths, weights, w, h, area, cover):
+def _accumulate(xs, ys, starts, lengths, weights, w, h, diff):
     for k in range(len(starts)):
         s = starts[k]
         n = lengths[k]
@@ -86,22 +90,22 @@ def _accumulate(xs, ys, starts, lengths, weights, w, h, area, cover):
                 yb = min(yhi, float(r + 1))
                 xa = x0 + (ya - y0) * dxdy
                 xb = x0 + (yb - y0) * dxdy
-                _row_segment(r, xa, xb, sign * (yb - ya), w, wt, area, cover)
+                _row_segment(r, xa, xb, sign * (yb - ya), w, wt, diff)
 
 
 @njit(cache=True)
-def _settle(area, cover):
-    """Each cell's total: its own area plus the running sum of the heights spanned left
-    of it in its row, negated (the accumulated area lies right of each edge; a positive
-    contour's edges going down, y growing, bound its interior from the right). In place,
-    in ``area``."""
-    h, w, k = area.shape
+def _settle(diff, out):
+    """Each cell's total: the running sum of the differences along its row, negated (the
+    accumulated area lies right of each edge; a positive contour's edges going down, y
+    growing, bound its interior from the right), added to ``out`` (h, w, k)."""
+    h, w, k = out.shape
+    run = np.zeros(k)
     for r in range(h):
-        for ch in range(k):
-            run = 0.0
-            for c in range(w):
-                run += cover[r, c, ch]
-                area[r, c, ch] = -(area[r, c, ch] + run)
+        run[:] = 0.0
+        for c in range(w):
+            for ch in range(k):
+                run[ch] += diff[r, c, ch]
+                out[r, c, ch] -= run[ch]
 
 
 def coverage(rings, weights, width: int, height: int) -> np.ndarray:
@@ -124,17 +128,21 @@ def coverage(rings, weights, width: int, height: int) -> np.ndarray:
 def coverage_flat(xs, ys, starts, weights, width: int, height: int) -> np.ndarray:
     """:func:`coverage` of contours given flat: contour k is vertices ``starts[k]:starts[k + 1]``."""
     weights = np.asarray(weights, dtype=np.float64)
-    n = len(starts) - 1
-    wk = weights.reshape(n, weights.shape[1] if weights.ndim > 1 else 1)
-    starts = np.asarray(starts, dtype=np.int64)
-    lengths = np.diff(starts)
-    x = np.ascontiguousarray(xs, dtype=np.float64)
-    y = np.ascontiguousarray(ys, dtype=np.float64)
+    wk = weights.reshape(len(starts) - 1, weights.shape[1] if weights.ndim > 1 else 1)
     area = np.zeros((height, width, wk.shape[1]))
-    cover = np.zeros((height, width + 1, wk.shape[1]))
-    _accumulate(x, y, starts[:-1].copy(), lengths, np.ascontiguousarray(wk), width, height, area, cover)
-    _settle(area, cover)
+    _add_coverage(xs, ys, starts, wk, area)
     return area if weights.ndim > 1 else area[:, :, 0]
+
+
+def _add_coverage(xs, ys, starts, weights, out: np.ndarray) -> None:
+    """out (H, W, k) += per-pixel sum of ``weights[ring] * area of ring over the pixel``."""
+    height, width, k = out.shape
+    starts = np.asarray(starts, dtype=np.int64)
+    diff = np.zeros((height, width + 1, k))
+    _accumulate(np.ascontiguousarray(xs, dtype=np.float64), np.ascontiguousarray(ys, dtype=np.float64),
+                starts[:-1].copy(), np.diff(starts), np.ascontiguousarray(weights, dtype=np.float64),
+                width, height, diff)
+    _settle(diff, out)
 
 
 def box_filter(scene: Scene, pieces) -> np.ndarray:
@@ -151,9 +159,11 @@ def box_filter(scene: Scene, pieces) -> np.ndarray:
         np.cumsum(lengths, out=starts[1:])
         xy = np.array([q for r in rings for q in r], dtype=np.float64).reshape(-1, 2)
         xs, ys = xy[:, 0], xy[:, 1]
-    colors = np.array([p.color for p in scene.polygons], dtype=np.float64).reshape(-1, 3)
-    weights = np.hstack([colors[ring_source].reshape(-1, 3), np.ones((len(ring_source), 1))])
-    acc = coverage_flat(xs, ys, starts, weights, scene.width, scene.height)
-    image = acc[:, :, :3]
-    image += (1.0 - acc[:, :, 3:4]) * scene.background
-    return np.ascontiguousarray(image)
+    # pieces do not overlap: colour * area summed, plus the background over what is left,
+    # is the background plus (colour - background) * area summed
+    background = np.asarray(scene.background, dtype=np.float64)
+    colors = np.array([p.color for p in scene.polygons], dtype=np.float64).reshape(-1, 3) - background
+    image = np.empty((scene.height, scene.width, 3))
+    image[:] = background
+    _add_coverage(xs, ys, starts, colors[ring_source].reshape(-1, 3), image)
+    return image
