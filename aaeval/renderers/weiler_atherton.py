@@ -27,9 +27,11 @@ def _warmup() -> None:
     summary="Weiler-Atherton 1977: visible polygons solved in object space, exact box filter",
     options={
         "window": Option(int, 0, "screen subdivision: most polygons per window (0: none)", minimum=0),
+        "convex": Option(bool, True, "clip convex pieces by convex outlines edge line by edge line "
+                                     "(false: the paper's clipper for every pair)"),
     },
     exact=True,
     warmup=_warmup,
 )
-def render_weiler_atherton(scene: Scene, window: int = 0) -> "np.ndarray":  # noqa: F821
-    return box_filter(scene, visible_arrays(scene, window=window))
+def render_weiler_atherton(scene: Scene, window: int = 0, convex: bool = True) -> "np.ndarray":  # noqa: F821
+    return box_filter(scene, visible_arrays(scene, window=window, convex=convex))

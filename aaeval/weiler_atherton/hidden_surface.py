@@ -17,7 +17,8 @@ not overlap. :func:`visible_pieces` adds the paper's screen subdivision: the ima
 Warnock-style into windows holding at most ``window`` polygons, each solved separately.
 
 Each window is solved by compiled code (:mod:`.solve_kernel`, on the clipper's stages in
-:mod:`.clip_kernel`); this module prepares the problem and hands back the pieces, as
+:mod:`.clip_kernel`, and for convex pieces clipped by convex outlines the shorter road of
+:mod:`.convex_kernel`); this module prepares the problem and hands back the pieces, as
 flat arrays (:func:`visible_arrays`, for the renderer) or as :class:`Piece` objects.
 
 Edge labels (see :mod:`.clipper`) record where each output edge came from:
@@ -125,11 +126,11 @@ class _Problem:
         sources = np.asarray(sources, dtype=np.int64)
         return sources[np.lexsort((-sources, self.zmin[sources]))]
 
-    def solve(self, window, sources=None) -> VisibleArrays:
+    def solve(self, window, sources=None, convex: bool = True) -> VisibleArrays:
         order = self.depth_order(self.sources if sources is None else sources)
         win = tuple(float(v) for v in window)
         return VisibleArrays(*solve_window(self.xs, self.ys, self.starts, self.bboxes, self.planes, order, win,
-                                           self.eps, self.eps_z))
+                                           self.eps, self.eps_z, bool(convex)))
 
 
 def hidden_surface(scene: Scene, window: tuple[float, float, float, float] | None = None, sources=None) -> list[Piece]:
@@ -137,7 +138,7 @@ def hidden_surface(scene: Scene, window: tuple[float, float, float, float] | Non
     return _Problem(scene).solve(window or (0.0, 0.0, float(scene.width), float(scene.height)), sources).pieces()
 
 
-def visible_pieces(scene: Scene, *, window: int = 0) -> list[Piece]:
+def visible_pieces(scene: Scene, *, window: int = 0, convex: bool = True) -> list[Piece]:
     """Non-overlapping visible pieces of every polygon inside the image.
 
     Parameters
@@ -147,11 +148,15 @@ def visible_pieces(scene: Scene, *, window: int = 0) -> list[Piece]:
         Screen subdivision: largest number of polygons a window may hold before it is cut
         into four (0: solve the whole image at once). Windows stop shrinking at one pixel,
         or where cutting them no longer separates their polygons (see ``SPLIT_GAIN``).
+    convex : bool
+        Clip a convex piece by a convex outline edge line by edge line, the outside then
+        coming as convex pieces (:mod:`.convex_kernel`; the same regions, faster); False
+        clips every pair with the paper's clipper.
     """
-    return visible_arrays(scene, window=window).pieces()
+    return visible_arrays(scene, window=window, convex=convex).pieces()
 
 
-def visible_arrays(scene: Scene, *, window: int = 0) -> VisibleArrays:
+def visible_arrays(scene: Scene, *, window: int = 0, convex: bool = True) -> VisibleArrays:
     """:func:`visible_pieces` as flat arrays (what the renderer needs, without building
     Python contours)."""
     if window < 0:
@@ -159,7 +164,7 @@ def visible_arrays(scene: Scene, *, window: int = 0) -> VisibleArrays:
     problem = _Problem(scene)
     full = (0, 0, scene.width, scene.height)
     if window == 0:
-        return problem.solve(full)
+        return problem.solve(full, convex=convex)
     out = []
     boxes = problem.bboxes
     todo = [(full, [s for s in problem.sources if _overlaps(boxes[s], full)])]
@@ -169,10 +174,10 @@ def visible_arrays(scene: Scene, *, window: int = 0) -> VisibleArrays:
         parts = [(w, [s for s in here if _overlaps(boxes[s], w)]) for w in children]
         crowded = sum(len(c) for _, c in parts) > SPLIT_GAIN * len(children) * len(here)
         if len(here) <= window or len(children) == 1 or crowded:
-            out.append(problem.solve(win, here))
+            out.append(problem.solve(win, here, convex))
             continue
         todo.extend((w, c) for w, c in parts if c)
-    return VisibleArrays.concatenate(out) if out else problem.solve(full, [])
+    return VisibleArrays.concatenate(out) if out else problem.solve(full, [], convex)
 
 
 # a window is split only while that separates its polygons: when its quarters would still

@@ -15,11 +15,14 @@ from aaeval.weiler_atherton.hidden_surface import EDGE_CROSSING, EDGE_OWN, visib
 __all__ = ["visible_edges", "hidden_line_svg"]
 
 
-def visible_edges(scene: Scene, *, window: int = 0) -> list[tuple[tuple[float, float], tuple[float, float], int]]:
-    """Visible edge segments ``(p, q, source)``, each drawn once."""
+def visible_edges(
+    scene: Scene, *, window: int = 0, convex: bool = True
+) -> list[tuple[tuple[float, float], tuple[float, float], int]]:
+    """Visible edge segments ``(p, q, source)``, each drawn once (``window`` and ``convex``
+    as in :func:`~.hidden_surface.visible_pieces`)."""
     seen = set()
     out = []
-    for piece in visible_pieces(scene, window=window):
+    for piece in visible_pieces(scene, window=window, convex=convex):
         for ring, labels in zip(piece.shape.rings, piece.shape.labels):
             n = len(ring)
             for k in range(n):
