@@ -203,7 +203,7 @@ def test_every_figure_is_written_as_png_svg_and_pdf(drawn, tmp_path_factory):
         for fmt in figures.FORMATS:
             assert (folder / f"{name}.{fmt}").stat().st_size > 0, (name, fmt)
     svg = (folder / "validation.svg").read_text()
-    assert 'id="method=catmull;options=' in svg and 'id="method=weiler-atherton;options=window=0"' in svg  # the style tags survive into the SVG
+    assert 'id="method=catmull;options=' in svg and 'id="method=weiler-atherton;options=convex=True,window=0"' in svg  # the style tags survive into the SVG
 
 
 def test_every_registered_method_has_its_own_line():

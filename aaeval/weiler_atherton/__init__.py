@@ -4,6 +4,8 @@ polygon clipper; the output is the visible polygons themselves.
 - :mod:`.clipper`: concave polygons with holes clipped against each other.
 - :mod:`.hidden_surface`: polygon area sorting, recursive subdivision, cyclic overlap,
   interpenetration, screen subdivision.
+- :mod:`.convex_kernel`: the short road for a convex piece clipped by a convex outline
+  (cut edge line by edge line; the paper's clipper takes every other pair).
 - :mod:`.raster`: exact box filter of the visible polygons.
 - :mod:`.lines`: visible edges (hidden-line drawings).
 """

@@ -184,6 +184,23 @@ def grown(a, need):
 
 
 @njit(cache=True)
+def grouped(keys, n):
+    """Item indices grouped by key (0 <= key < n), each group in input order (a counting
+    sort): (group starts, n + 1 entries; the indices)."""
+    starts = np.zeros(n + 1, np.int64)
+    for k in keys:
+        starts[k + 1] += 1
+    for i in range(n):
+        starts[i + 1] += starts[i]
+    fill = starts[:n].copy()
+    order = np.empty(len(keys), np.int64)
+    for e in range(len(keys)):
+        order[fill[keys[e]]] = e
+        fill[keys[e]] += 1
+    return starts, order
+
+
+@njit(cache=True)
 def _lex_order(px, py, n):
     """Permutation sorting the first n points by x, then y."""
     if n <= SMALL_SORT:
@@ -418,17 +435,8 @@ def _trace(edges, ux, uy, eps):
     eb = edges[1]
     m = edges.shape[1]
     nu = len(ux)
-    # outgoing edges of each point, in edge order (a counting sort keeps the order)
-    head = np.zeros(nu + 1, np.int64)
-    for e in range(m):
-        head[ea[e] + 1] += 1
-    for i in range(nu):
-        head[i + 1] += head[i]
-    fill = head[:nu].copy()
-    out_edges = np.empty(m, np.int64)
-    for e in range(m):
-        out_edges[fill[ea[e]]] = e
-        fill[ea[e]] += 1
+    # outgoing edges of each point, in edge order
+    head, out_edges = grouped(ea, nu)
     used = np.zeros(m, np.bool_)
     xs = np.empty(m)
     ys = np.empty(m)

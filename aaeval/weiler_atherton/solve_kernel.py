@@ -17,7 +17,7 @@ import numpy as np
 from numba import njit, types
 from numba.typed import List
 
-from aaeval.weiler_atherton.clip_kernel import clip_arrays, grown, ring_area_of, shape_bbox
+from aaeval.weiler_atherton.clip_kernel import clip_arrays, grown, grouped, ring_area_of, shape_bbox
 from aaeval.weiler_atherton.convex_kernel import edge_line_values, plane_line_values, split_convex, vertex_sides
 
 EDGE_CUT = 0
@@ -493,16 +493,8 @@ def _later_neighbours(obb, order):
             lo[m] = min(p, q)
             hi[m] = max(p, q)
             m += 1
-    starts = np.zeros(n + 1, np.int64)
-    for k in range(m):
-        starts[lo[k] + 1] += 1
-    for p in range(n):
-        starts[p + 1] += starts[p]
-    fill = starts[:n].copy()
-    rows = np.empty(m, np.int64)
-    for k in range(m):
-        rows[fill[lo[k]]] = hi[k]
-        fill[lo[k]] += 1
+    starts, by_lo = grouped(lo[:m], n)
+    rows = hi[by_lo]
     for p in range(n):
         rows[starts[p] : starts[p + 1]].sort()
     return starts, rows
