@@ -16,7 +16,10 @@ first render takes longer than ``--slow`` seconds is timed once on that scene, a
 ``--out``: ``bench_methods.csv`` (every timing) and ``bench_methods.png``, cost against work
 (log-log; work = pixels + the pixel area of every polygon, i.e. pixels x (1 + depth
 complexity)) with the machine's fill-rate line (the time to write that many RGB float64
-pixels once, measured here).
+pixels once, measured here). The header also gives the machine's own parallel ceiling: how
+much faster a loop of pure arithmetic (no memory traffic, no shared state) runs split over
+every core than on one, median of interleaved repeats; the thread speed-up of
+``catmull:threads=0`` on each scene is printed next to it.
 
     PYTHONPATH=. python3 benchmarks/bench_methods.py [--groups table count size depth]
         [--repeats 5] [--methods SPEC ...] [--out benchmarks/results]
@@ -31,8 +34,10 @@ import time
 from pathlib import Path
 
 import numpy as np
+from numba import njit
 
 from aaeval.renderers import render_timed
+from aaeval.renderers.catmull import available_cores
 from aaeval.scenes.generate import random_triangles
 
 METHODS = [
@@ -71,6 +76,33 @@ def fill_seconds_per_pixel(side: int = 1024, repeats: int = 9) -> float:
         image[...] = 0.5
         times.append(time.perf_counter() - start)
     return float(min(times)) / (side * side)
+
+
+@njit(nogil=True)
+def _arithmetic(n):
+    s = 0.0
+    for i in range(n):
+        s += (i % 7) * 0.5
+    return s
+
+
+def parallel_ceiling(cores: int, repeats: int = 15, n: int = 100_000_000) -> float:
+    """Median time of a pure-arithmetic loop on one thread over its median split across
+    ``cores`` threads (interleaved): the speed-up this machine gives work that shares
+    nothing."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    _arithmetic(10)
+    one, many = [], []
+    with ThreadPoolExecutor(cores) as pool:
+        for _ in range(repeats):
+            start = time.perf_counter()
+            _arithmetic(n)
+            one.append(time.perf_counter() - start)
+            start = time.perf_counter()
+            list(pool.map(_arithmetic, [n // cores] * cores))
+            many.append(time.perf_counter() - start)
+    return float(np.median(one) / np.median(many))
 
 
 def time_scene(scene, methods, repeats, slow):
@@ -135,8 +167,11 @@ def main() -> None:
         with open(args.out / "bench_methods.csv") as fh:
             plot(list(csv.DictReader(fh)), fill, args.out / "bench_methods.png")
         return
+    cores = available_cores()
+    ceiling = parallel_ceiling(cores) if cores > 1 else 1.0
     print(f"{os.cpu_count()} cores; fill rate {fill * 1e9:.2f} ns per RGB float64 pixel; "
           f"median of {args.repeats} interleaved repeats after warm-up")
+    print(f"parallel ceiling: pure arithmetic runs {ceiling:.2f}x faster on {cores} threads than on one")
     scenes = list(dict.fromkeys(s for g in args.groups for s in GROUPS[g]))
     rows = []
     for side, n, size in scenes:
@@ -158,6 +193,9 @@ def main() -> None:
                 rows.append(dict(side=side, triangles=n, size=size, depth=round(depth, 3), work=work, method=spec,
                                  repeat=k, wall_ms=w * 1e3, cpu_ms=c * 1e3, median_wall_ms=wall * 1e3,
                                  median_ratio_to_skia=wall / skia))
+        if "catmull:threads=1" in timings and "catmull:threads=0" in timings:
+            one, every = (summary([w for w, _ in timings[m]])[0] for m in ("catmull:threads=1", "catmull:threads=0"))
+            print(f"{'':>26} threads=0 is {one / every:.2f}x threads=1 ({cores} cores; ceiling {ceiling:.2f}x)")
     with open(args.out / "bench_methods.csv", "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
         writer.writeheader()
