@@ -325,8 +325,8 @@ def _clip_list(arena, ids, src, ox, oy, ol, os_, obb, eps, convex_road):
     pbb = arena[3][0]
     inside = np.empty(len(ids), np.int64)
     outside = np.empty(len(ids), np.int64)
-    ni = 0
-    no = 0
+    ni = np.int64(0)  # typed int64, not as the literal 0: one compiled _clip_piece for every caller
+    no = np.int64(0)
     cb = obb[src]
     box = (cb[0], cb[1], cb[2], cb[3])
     convex = _is_convex(ox, oy)
@@ -596,7 +596,7 @@ def _solve(arena, first, order, ox, oy, ol, ost, obb, planes, eps, eps_z, convex
         cb = obb[src]
         box = (cb[0], cb[1], cb[2], cb[3])
         convex = _is_convex(cx, cy)
-        ni = 0
+        ni = np.int64(0)
         pid = head[p]
         while pid >= 0:  # a piece always lies in its own polygon's outline
             if ni == len(inside):
@@ -617,7 +617,7 @@ def _solve(arena, first, order, ox, oy, ol, ost, obb, planes, eps, eps_z, convex
                     pid = after
                     continue
                 inside, ni, parts, nparts = _clip_piece(arena, pid, box, convex, cx, cy, cl, cs, eps, convex_road,
-                                                        fw, iw, inside, ni, parts, 0)
+                                                        fw, iw, inside, ni, parts, np.int64(0))
                 # the piece's outside parts take its place in its polygon's chain
                 link = grown(link, arena[4][0] + 1)
                 for k in range(nparts):
