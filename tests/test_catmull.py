@@ -203,35 +203,3 @@ def test_polygons_crossing_row_bands_match_geos(seed):
     polys.append({"color": [0.2, 0.4, 0.6], "vertices": with_plane(star(rng, (5.0, 36.0), 3.0, 30.0, 9), rng, 0.3)})
     scene = parse_scene({"image": {"width": 10, "height": 72}, "polygons": polys})
     np.testing.assert_allclose(render(scene, "catmull"), oracle_image(scene), rtol=0, atol=1e-9)
-
-
-def _address(a):
-    return a.__array_interface__["data"][0]
-
-
-def test_output_buffer_is_reused_only_once_nothing_views_it():
-    from aaeval.renderers.catmull import _output_image
-
-    first = _output_image(300)
-    view = first.reshape(10, 30, 3)[:, :, 0]
-    del first
-    second = _output_image(300)  # a view of the first is alive: a new buffer
-    assert _address(second) != _address(view)
-    del view
-    kept = _address(second)
-    del second
-    assert _address(_output_image(300)) == kept  # nothing refers to it: handed out again
-    held = _output_image(300)
-    assert _address(_output_image(300)) != _address(held)  # still held: not handed out
-    assert _output_image(77).shape == (77, 3)
-
-
-def test_an_image_kept_by_the_caller_is_not_overwritten_by_the_next_render():
-    a, b = random_scene(1, width=40, height=30), random_scene(2, width=40, height=30)
-    first = render(a, "catmull:threads=1")
-    want = first.copy()
-    second = render(b, "catmull:threads=2")
-    assert np.array_equal(first, want) and not np.array_equal(first, second)
-    del first, want
-    again = render(a, "catmull:threads=1")  # may reuse the first's buffer: same bits
-    assert np.array_equal(again, render(a, "catmull:threads=2"))

@@ -9,8 +9,6 @@ nearest piece in the pixel's z-list colours the whole pixel.
 from __future__ import annotations
 
 import os
-import sys
-import threading
 from concurrent.futures import ThreadPoolExecutor
 from functools import lru_cache
 from typing import NamedTuple
@@ -127,37 +125,13 @@ def resolve_flat(scene: Scene, fragments: Fragments) -> np.ndarray:
     return image.reshape(scene.height, scene.width, 3)
 
 
-# The last flat-colour image handed out, kept for the next render of the same size once
-# nothing refers to it any more: a new array of that size costs the kernel's zeroing of
-# every page on first touch (9 ms for a 2048x2048 float64 RGB image, and it scales poorly
-# over threads), which a sweep rendering frame after frame need not pay.
-_REUSE_LOCK = threading.Lock()
-_REUSABLE: list[np.ndarray] = []
-REUSE_MAX_BYTES = 1 << 30
-
-
-def _output_image(pixels: int) -> np.ndarray:
-    """A (pixels, 3) float64 array with unspecified contents, for the kernel to fill
-    completely: the kept one when it has this size and no array anywhere still views it
-    (its reference count says so; the lock makes a concurrent render take another)."""
-    with _REUSE_LOCK:
-        kept = _REUSABLE.pop() if _REUSABLE else None
-        # references now: `kept` and getrefcount's argument; a caller's image or any view
-        # of it (numpy views hold their base) adds one
-        if kept is None or kept.shape[0] != pixels or sys.getrefcount(kept) > 2:
-            kept = np.empty((pixels, 3))
-        if kept.nbytes <= REUSE_MAX_BYTES:
-            _REUSABLE.append(kept)
-        return kept
-
-
 def render_flat(scene: Scene, *, jagged: bool = False, threads: int = 0) -> np.ndarray:
     """The box-filtered flat-colour image (H, W, 3), written by the kernel straight into
     the image (no fragment list): the same bits as ``resolve_flat(visible_fragments())``."""
     starts, lengths, x, y, planes, source, eps_z = kernel_inputs(scene)
     polys = sort_polygons(starts, lengths, x, y, planes)
     colors = np.ascontiguousarray(np.vstack([scene.arrays.colors[source], scene.background]), dtype=float)
-    image = _output_image(scene.width * scene.height)
+    image = np.empty((scene.width * scene.height, 3))
     run_bands(scene.height, threads,
                lambda r0, r1: band_colors(polys, scene.width, r0, r1, eps_z, jagged, colors, image))
     return image.reshape(scene.height, scene.width, 3)
