@@ -203,3 +203,13 @@ def test_polygons_crossing_row_bands_match_geos(seed):
     polys.append({"color": [0.2, 0.4, 0.6], "vertices": with_plane(star(rng, (5.0, 36.0), 3.0, 30.0, 9), rng, 0.3)})
     scene = parse_scene({"image": {"width": 10, "height": 72}, "polygons": polys})
     np.testing.assert_allclose(render(scene, "catmull"), oracle_image(scene), rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("n, threads", [(64, 2), (5, 2), (7, 3), (1, 2), (3, 4), (10, 10)])
+def test_threads_take_every_band_once_far_apart(n, threads):
+    from aaeval.renderers.catmull import far_apart
+
+    order = far_apart(n, threads)
+    assert sorted(order) == list(range(n))
+    if n >= 2 * threads:  # the first bands taken come from different runs of the image
+        assert order[1] - order[0] >= n // threads
