@@ -205,8 +205,10 @@ def _workspace():
 
 
 @njit(cache=True)
-def _takes_convex_road(sx, ss, extra):
-    return len(ss) == 2 and len(sx) + extra + 2 <= WORK_VERTICES
+def _takes_convex_road(sx, sy, ss, extra):
+    """Whether a piece is one convex contour small enough for the scratch rows, with
+    ``extra`` vertices (those of the outline) added by the cuts."""
+    return len(ss) == 2 and len(sx) + extra + 2 <= WORK_VERTICES and _is_convex(sx, sy)
 
 
 @njit(cache=True)
@@ -232,7 +234,8 @@ def _cut_by_outline(arena, pid, source, cx, cy, cl, eps, fw, iw, inside, ni, out
     """Piece pid (one convex contour) clipped by a convex outline, edge line by edge
     line: the part beyond each line goes to the outside list, what is left at the end
     to the inside list (a part of area eps**2 or less is dropped, as the clipper drops
-    it). A piece no line cuts goes whole to its list. Returns the lists and counts."""
+    it). A piece no line cuts goes whole to its list. The caller leaves room for one
+    inside and ``len(cx)`` outside entries. Returns the lists and counts."""
     sx, sy, sl, _ = _piece(arena, pid)
     n = _load(fw, iw, sx, sy, sl)
     tiny = eps * eps
@@ -245,16 +248,10 @@ def _cut_by_outline(arena, pid, source, cx, cy, cl, eps, fw, iw, inside, ni, out
         if not above:
             continue
         if not below:  # the rest lies beyond this edge: all of it outside
-            if cut:
-                outside = grown(outside, no + 1)
-                outside[no] = _add_contour(arena, fw[0], fw[1], iw[0], n, source)
-            else:
-                outside = grown(outside, no + 1)
-                outside[no] = pid
+            outside[no] = _add_contour(arena, fw[0], fw[1], iw[0], n, source) if cut else pid
             return inside, ni, outside, no + 1
         nl, nr = split_convex(fw[0], fw[1], iw[0], n, fw[6], tol, cl[i], fw[2], fw[3], iw[1], fw[4], fw[5], iw[2])
         if ring_area_of(fw[4], fw[5], 0, nr) > tiny:
-            outside = grown(outside, no + 1)
             outside[no] = _add_contour(arena, fw[4], fw[5], iw[2], nr, source)
             no += 1
         n = _keep_left(fw, iw, nl)
@@ -306,7 +303,7 @@ def _clip_piece(arena, pid, box, convex, ox, oy, ol, os_, eps, convex_road, fw, 
         if side == INSIDE:
             inside[ni] = pid
             return inside, ni + 1, outside, no
-        if convex_road and _takes_convex_road(sx, ss, len(ox)) and _is_convex(sx, sy):
+        if convex_road and _takes_convex_road(sx, sy, ss, len(ox)):
             return _cut_by_outline(arena, pid, source, ox, oy, ol, eps, fw, iw, inside, ni, outside, no)
     ix, iy, il, ist, qx, qy, ql, qst = clip_arrays(sx, sy, sl, ss, ox, oy, ol, os_, eps)
     if len(ist) > 1:
@@ -440,7 +437,7 @@ def _resolve_inside(arena, src, inside, planes, eps, eps_z, convex_road):
             offenders[nf] = pid
             nk += 1
             nf += 1
-        elif rel == 0 and convex_road and _takes_convex_road(sx, ss, 0) and _is_convex(sx, sy):
+        elif rel == 0 and convex_road and _takes_convex_road(sx, sy, ss, 0):
             f = _cut_by_plane_line(arena, pid, source, planes[source, 0] - planes[src, 0],
                                    planes[source, 1] - planes[src, 1], planes[source, 2] - planes[src, 2], eps, fw, iw)
             if f >= 0:
