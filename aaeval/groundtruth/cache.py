@@ -9,7 +9,9 @@ An entry is keyed by what determines it and nothing else:
 - the scene at that frame (:func:`scene_digest`: size, background, every polygon's
   vertices and colour in file order, and for shaded scenes the expanded triangles, their
   normal fields, materials and light; not the file's path);
-- the options that change pixels (spp, sampler, seed);
+- the options that change pixels (spp, sampler, seed, and the pixel filter: a group judged
+  through filter F needs ``mitsuba:filter=F``, cached like the box; the box leaves the key
+  as it was before filters were keyed, so existing box entries stay valid);
 - the Mitsuba version;
 - the source code that turns a scene into Mitsuba's scene and shades it
   (:data:`CODE_FILES`, hashed by :func:`code_digest`): editing the conversion gives new
@@ -132,7 +134,7 @@ def _mitsuba_version() -> str:
         return mitsuba.__version__
 
 
-def groundtruth_key(scene: Scene, *, spp: int, sampler: str, seed: int) -> str:
+def groundtruth_key(scene: Scene, *, spp: int, sampler: str, seed: int, filter: str = "box") -> str:
     """Hex key of a ground truth (see the module docstring for what it covers)."""
     config = {
         "scene": scene_digest(scene),
@@ -142,12 +144,14 @@ def groundtruth_key(scene: Scene, *, spp: int, sampler: str, seed: int) -> str:
         "mitsuba": _mitsuba_version(),
         "code": code_digest(),
     }
+    if filter != "box":  # the box's key is the one it had before filters were keyed
+        config["filter"] = str(filter)
     return hashlib.sha256(json.dumps(config, sort_keys=True).encode()).hexdigest()[:32]
 
 
-def groundtruth_path(scene: Scene, *, spp: int, sampler: str, seed: int) -> Path:
+def groundtruth_path(scene: Scene, *, spp: int, sampler: str, seed: int, filter: str = "box") -> Path:
     """Where the cached ground truth of this configuration lives (it may not exist yet)."""
-    return cache_dir() / f"{groundtruth_key(scene, spp=spp, sampler=sampler, seed=seed)}.npz"
+    return cache_dir() / f"{groundtruth_key(scene, spp=spp, sampler=sampler, seed=seed, filter=filter)}.npz"
 
 
 def groundtruth(
@@ -158,10 +162,19 @@ def groundtruth(
     seed: int = 0,
     variant: str = "auto",
     cache: bool = True,
+    filter: str = "box",
 ) -> GroundTruth:
-    """The Mitsuba ground truth of ``scene`` (Phong for ``[shaded]`` scenes), cached on disk."""
+    """The Mitsuba ground truth of ``scene`` (Phong for ``[shaded]`` scenes), cached on disk.
+
+    ``filter``: a pixel filter of :data:`aaeval.filters.FILTERS` (Mitsuba's matching
+    ``rfilter``; flat-coloured scenes only), part of the cache key.
+    """
+    if filter != "box" and has_shaded(scene):
+        raise ValueError(f"mitsuba: filter={filter} supports flat-coloured scenes only, not [shaded] objects")
     render = _render_phong if has_shaded(scene) else _render_flat
     options = {"spp": spp, "sampler": sampler, "seed": seed}
+    if filter != "box":
+        options["filter"] = filter
     if not cache:
         return GroundTruth(*render(scene, variant=variant, **options), False)
     path = groundtruth_path(scene, **options)
@@ -188,9 +201,13 @@ def groundtruth_phong(scene: Scene, **options) -> tuple[np.ndarray, np.ndarray, 
     return tuple(groundtruth(scene, **options))
 
 
-def _render_flat(scene: Scene, **options) -> tuple[np.ndarray, None]:
+def _render_flat(scene: Scene, *, filter: str = "box", **options) -> tuple[np.ndarray, None]:
     from aaeval.groundtruth import flat
 
+    if filter != "box":
+        from aaeval.filters import get_filter
+
+        options["rfilter"] = dict(get_filter(filter).mitsuba)
     return flat.render_mitsuba(scene, **options), None
 
 
