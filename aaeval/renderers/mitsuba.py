@@ -44,7 +44,7 @@ def _warmup() -> None:
         "seed": Option(int, 0, "seed of the sampler", minimum=0),
         "variant": Option(str, "auto", "Mitsuba variant: auto (CUDA, else LLVM, else scalar) or an RGB variant name"),
         "cache": Option(bool, True, "reuse images cached in $AAEVAL_CACHE_DIR/groundtruth"),
-        **FILTER_OPTION,  # a filter other than box is Mitsuba's matching rfilter, rendered uncached
+        **FILTER_OPTION,  # a filter other than box is Mitsuba's matching rfilter, cached under its own key
     },
     samples=lambda o: o["spp"],
     warmup=_warmup,
@@ -52,13 +52,4 @@ def _warmup() -> None:
 def render_mitsuba_method(
     scene: Scene, *, spp: int, sampler: str, seed: int, variant: str, cache: bool, filter: str = "box"
 ) -> np.ndarray:
-    from aaeval.scenes.shaded import has_shaded
-
-    if filter != "box":  # not cached: the ground-truth cache holds box-filtered images
-        from aaeval.filters import get_filter
-
-        if has_shaded(scene):
-            raise ValueError(f"mitsuba: filter={filter} supports flat-coloured scenes only, not [shaded] objects")
-        return render_mitsuba(scene, spp=spp, sampler=sampler, seed=seed, variant=variant,
-                              rfilter=dict(get_filter(filter).mitsuba))
-    return groundtruth(scene, spp=spp, sampler=sampler, seed=seed, variant=variant, cache=cache).image
+    return groundtruth(scene, spp=spp, sampler=sampler, seed=seed, variant=variant, cache=cache, filter=filter).image
