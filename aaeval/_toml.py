@@ -12,11 +12,15 @@ def read_toml(path: str | Path, error: type[Exception], what: str) -> tuple[dict
 
     Returns the document and its text.
     """
+    from aaeval.readlimits import FileLimitError, read_bytes
+
     path = Path(path)
+    try:  # a regular file within the size limit, checked before reading (aaeval.readlimits)
+        data = read_bytes(path, what=what)
+    except FileLimitError as exc:
+        raise error(str(exc)) from None
     try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise error(f"{path}: cannot read {what} ({exc.strerror})") from None
+        text = data.decode("utf-8")
     except UnicodeDecodeError as exc:  # a binary file, or text in another encoding
         raise error(f"{path}: {what} is not UTF-8 text (byte {exc.object[exc.start]:#04x} at offset {exc.start}); "
                     "TOML files are UTF-8") from None

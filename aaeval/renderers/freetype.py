@@ -21,7 +21,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from aaeval.renderers.registry import register_method, required_table
+from aaeval.renderers.registry import MethodError, register_method, required_table
 from aaeval.scenes import Scene
 
 __all__ = ["render_freetype"]
@@ -29,9 +29,20 @@ __all__ = ["render_freetype"]
 
 @lru_cache(maxsize=8)
 def _face(path: str):
+    """The FreeType face of a font file, read through the bounded reader; a file that is
+    not a font is refused in one line naming it."""
+    import io
+
     import freetype
 
-    return freetype.Face(path)
+    from aaeval.readlimits import read_bytes
+
+    data = read_bytes(path, what="font ([text].font)")
+    try:
+        return freetype.Face(io.BytesIO(data))
+    except freetype.FT_Exception as exc:
+        raise MethodError(f"{path}: FreeType cannot read this font ({exc}); [text].font must name a "
+                          "TrueType/OpenType font file") from None
 
 
 def _glyph_coverage(face, gid: int, size: float, x: float, y: float):
@@ -78,9 +89,15 @@ def render_freetype(scene: Scene) -> np.ndarray:
     image = np.empty((scene.height, scene.width, 3))
     image[:] = scene.background
     color = np.asarray(text.color, dtype=np.float64)
+    import freetype
+
     for string, size, origin in zip(text.strings, text.sizes, text.origins):
         for glyph in layout(font, string, size, origin):
-            cover, top, left = _glyph_coverage(face, glyph.gid, size, glyph.x, glyph.y)
+            try:
+                cover, top, left = _glyph_coverage(face, glyph.gid, size, glyph.x, glyph.y)
+            except freetype.FT_Exception as exc:  # a damaged glyph in a font that opened
+                raise MethodError(f"{font}: FreeType cannot render glyph {glyph.glyph!r} for {glyph.char!r} "
+                                  f"({exc})") from None
             _blend(image, cover, top, left, color)
     return image
 
