@@ -23,17 +23,26 @@ or reference ``.npy`` whose header and size disagree (what a power cut or a full
 leaves), is named, moved to the quarantine folder and counted as not done, so the next
 sweep runs that cell again. One folder holds one experiment and has one writer: a second
 sweep into it is refused while the first runs, and another experiment only with ``force``.
+
+A sweep reads, writes, truncates and moves only files inside its folder: every file of the
+folder is opened without following symbolic links (``O_NOFOLLOW``) and must be a regular
+file, and every subfolder it writes into (``cells/``, ``images/``, ``references/``,
+``quarantine/``, ``history/``) must be a real folder, not a link. A planted link is refused
+by name (``sweep.lock``, a subfolder) or treated as a damaged file (a cell record or an
+image that is a link: set aside, the link itself moved, its target untouched).
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import fcntl
 import hashlib
 import json
 import math
 import os
 import socket
+import stat
 import sys
 import time
 from pathlib import Path
@@ -45,7 +54,7 @@ import aaeval
 from aaeval.imageio import atomic_write
 
 __all__ = ["code_version", "cell_key", "reference_key", "SweepStore", "ReferenceCache", "default_cache_dir",
-           "StoreError", "npy_problem"]
+           "StoreError", "FolderInUse", "npy_problem"]
 
 # Packages whose source cannot change a cell's result: editing them keeps old results.
 _PRESENTATION = ("cli", "report")
@@ -95,6 +104,10 @@ class StoreError(ValueError):
     """A sweep folder that cannot be used as asked: in use, another experiment, a damaged file."""
 
 
+class FolderInUse(StoreError):
+    """Another process (a sweep, or a report rebuilding the tables) holds the folder's lock."""
+
+
 def npy_problem(path: str | Path) -> str | None:
     """Why ``path`` is not a complete ``.npy`` array (header and size agree), or None.
 
@@ -115,6 +128,56 @@ def npy_problem(path: str | Path) -> str | None:
         return f"not a .npy array ({exc or type(exc).__name__})"
     if size != expected:
         return f"{size} bytes where its header promises {expected}" + (" (truncated)" if size < expected else "")
+    return None
+
+
+# a cell record, manifest or config of a sweep folder is small; anything larger is damage
+_MAX_RECORD_BYTES = 64 << 20
+_NOFOLLOW = getattr(os, "O_NOFOLLOW", 0)
+_CLOEXEC = getattr(os, "O_CLOEXEC", 0)
+
+
+def _read_own_file(path: Path, limit: int = _MAX_RECORD_BYTES) -> bytes:
+    """The bytes of ``path``, a regular file that is not a symbolic link (``OSError`` or
+    ``ValueError`` saying why not): a sweep never reads through a link planted in its folder,
+    and never blocks on a FIFO or reads a device."""
+    try:
+        fd = os.open(path, os.O_RDONLY | _NOFOLLOW | _CLOEXEC | getattr(os, "O_NONBLOCK", 0))
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            raise ValueError("a symbolic link (a sweep folder holds only its own files)") from None
+        raise
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode):
+            raise ValueError("not a regular file")
+        if st.st_size > limit:
+            raise ValueError(f"{st.st_size} bytes, over {limit}")
+        os.set_blocking(fd, True)
+        chunks, total = [], 0
+        while chunk := os.read(fd, 1 << 20):
+            chunks.append(chunk)
+            total += len(chunk)
+            if total > limit:
+                raise ValueError(f"over {limit} bytes")
+        return b"".join(chunks)
+    finally:
+        os.close(fd)
+
+
+def _regular_problem(path: Path) -> str | None:
+    """Why ``path`` is not a regular file of the folder itself (a link, a FIFO...), or None;
+    a missing file is not a problem here."""
+    try:
+        st = os.lstat(path)
+    except FileNotFoundError:
+        return None
+    except OSError as exc:
+        return f"cannot be read ({exc.strerror})"
+    if stat.S_ISLNK(st.st_mode):
+        return "is a symbolic link (a sweep folder holds only its own files)"
+    if not stat.S_ISREG(st.st_mode):
+        return "is not a regular file"
     return None
 
 
@@ -167,6 +230,7 @@ class SweepStore:
         self.lock_path = self.root / "sweep.lock"
         self.log = log or _warn
         self._quarantine: Path | None = None
+        self._locked = False
 
     def cell_path(self, key: str) -> Path:
         return self.cells_dir / f"{key}.json"
@@ -191,6 +255,10 @@ class SweepStore:
         named through ``log``; with ``heal`` it and the files of its cell are moved to
         ``quarantine/`` so that the next sweep runs the cell again.
         """
+        for folder in (self.cells_dir, self.images_dir, self.refs_dir):
+            if os.path.islink(folder):  # reading through it would read, and healing move, files elsewhere
+                raise StoreError(f"{folder} is a symbolic link; a sweep reads and moves only files inside "
+                                 f"{self.root} (remove the link)")
         if not self.cells_dir.is_dir():
             return {}
         sound: dict[str, dict] = {}
@@ -211,20 +279,29 @@ class SweepStore:
             else:
                 self._set_aside(path, problem, heal, [self.image_path(path.stem)])
         for ref, problem in bad_refs.items():
-            if problem is not None and self.reference_path(ref).is_file():
+            if problem is not None and os.path.lexists(self.reference_path(ref)):
                 self._move(self.reference_path(ref), heal)
         return sound
 
     def _parse_cell(self, path: Path) -> tuple[dict, str | None]:
+        from aaeval.experiments.record import CellRecord, RecordError
+
         try:
-            record = json.loads(path.read_text(encoding="utf-8"))
+            record = json.loads(_read_own_file(path).decode("utf-8"))
         except (OSError, ValueError) as exc:  # UnicodeDecodeError and JSONDecodeError are ValueErrors
             return {}, f"not a cell record ({exc})"
         if not isinstance(record, dict) or record.get("key") != path.stem:
             return {}, "not the record of this cell's key"
+        try:  # a field missing, unknown or of another schema: damaged like any other record
+            CellRecord.from_json(record, where="record")
+        except (RecordError, TypeError, ValueError, AttributeError) as exc:
+            return {}, f"not a readable cell record ({str(exc).removeprefix('record: ')})"
         return record, None
 
     def _array_problem(self, path: Path, what: str) -> str | None:
+        problem = _regular_problem(path)
+        if problem is not None:
+            return f"{what} {path} {problem}"
         if not path.is_file():
             return f"{what} {path} is missing"
         problem = npy_problem(path)
@@ -236,7 +313,7 @@ class SweepStore:
             return
         moved = self._move(cell, heal)
         for path in companions:
-            if path.is_file():
+            if os.path.lexists(path):  # a link is moved itself; its target is never touched
                 self._move(path, heal)
         self.log(f"damaged sweep file {cell}: {problem}; moved to {moved.parent}, the cell will run again")
 
@@ -246,9 +323,40 @@ class SweepStore:
         if self._quarantine is None:
             self._quarantine = self.root / "quarantine" / _stamp()
         target = self._quarantine / path.relative_to(self.root)
-        target.parent.mkdir(parents=True, exist_ok=True)
-        os.replace(path, target)  # never deleted: the user may want to look at it
+        self._folder(target.parent)  # quarantine/ must be a real folder of this one, not a link
+        os.replace(path, target)  # never deleted: the user may want to look at it (a link moves as a link)
         return target
+
+    def _folder(self, folder: Path) -> Path:
+        """``folder`` (inside the sweep folder), created if missing, with no symbolic link
+        and nothing but folders between the sweep folder and it: whatever is written or
+        moved into it stays inside the sweep folder."""
+        folder = Path(folder)
+        rel = folder.relative_to(self.root)
+        self.root.mkdir(parents=True, exist_ok=True)
+        current = self.root
+        for part in rel.parts:
+            current = current / part
+            try:
+                st = os.lstat(current)
+            except FileNotFoundError:
+                with contextlib.suppress(FileExistsError):
+                    os.mkdir(current)
+                st = os.lstat(current)
+            if stat.S_ISLNK(st.st_mode):
+                raise StoreError(f"{current} is a symbolic link; a sweep writes only inside {self.root} "
+                                 "(remove the link)")
+            if not stat.S_ISDIR(st.st_mode):
+                raise StoreError(f"{current} is not a folder; a sweep needs it as one (move it away)")
+        return folder
+
+    def writable(self, name: str) -> Path:
+        """The path of the sweep folder's own file ``name`` (e.g. ``"results.parquet"``),
+        its folders checked (:meth:`_folder`); it is written by replacing it atomically,
+        so a link planted there is replaced, never followed."""
+        path = self.root / name
+        self._folder(path.parent)
+        return path
 
     def read_cell(self, key: str) -> dict:
         record, problem = self._parse_cell(self.cell_path(key))
@@ -257,6 +365,9 @@ class SweepStore:
         return record
 
     def _load_array(self, path: Path) -> np.ndarray | None:
+        problem = _regular_problem(path)
+        if problem is not None:
+            raise StoreError(f"{path} {problem}")
         if not path.is_file():
             return None
         problem = npy_problem(path)
@@ -272,10 +383,10 @@ class SweepStore:
 
     def read_manifest(self) -> dict:
         p = self.root / "manifest.json"
-        if not p.is_file():
+        if not os.path.lexists(p):
             raise FileNotFoundError(f"{self.root}: no manifest.json; is this a sweep folder (aaeval sweep CONFIG --out DIR)?")
         try:
-            manifest = json.loads(p.read_text(encoding="utf-8"))
+            manifest = json.loads(_read_own_file(p).decode("utf-8"))
         except (OSError, ValueError) as exc:
             raise StoreError(f"{p}: damaged manifest ({exc}); run the sweep again to rewrite it") from None
         if not isinstance(manifest, dict) or not isinstance(manifest.get("cells"), list):
@@ -292,23 +403,30 @@ class SweepStore:
         # image first: a record that exists always has its image
         if image is not None:
             # float64: a float32 copy would show rounding as error against an exact reference
+            self._folder(self.images_dir)
             _save_npy(self.image_path(record["key"]), image, np.float64)
         text = json.dumps(record, indent=1, default=_jsonable) + "\n"
+        self._folder(self.cells_dir)
         atomic_write(self.cell_path(record["key"]), lambda tmp: Path(tmp).write_text(text))
 
     def write_reference(self, key: str, image: np.ndarray) -> None:
-        if not self.reference_path(key).is_file() or npy_problem(self.reference_path(key)):
-            _save_npy(self.reference_path(key), image, np.float64)
+        path = self.reference_path(key)
+        self._folder(self.refs_dir)
+        if _regular_problem(path) or not path.is_file() or npy_problem(path):
+            _save_npy(path, image, np.float64)  # replaces a planted link, never writes through it
 
     def write_manifest(self, experiment_text: str, manifest: dict) -> None:
         """Write the config and its cells; an earlier, different config moves to ``history/``."""
         old = self.root / "experiment.toml"
-        if old.is_file() and old.read_bytes() != experiment_text.encode():
-            kept = self.root / "history" / _stamp()
-            kept.mkdir(parents=True, exist_ok=True)
+        try:
+            old_text = _read_own_file(old) if os.path.lexists(old) else None
+        except (OSError, ValueError):
+            old_text = b""  # a link or a damaged file: kept in history/ like another config
+        if old_text is not None and old_text != experiment_text.encode():
+            kept = self._folder(self.root / "history" / _stamp())
             for name in ("experiment.toml", "manifest.json"):
-                if (self.root / name).is_file():
-                    os.replace(self.root / name, kept / name)
+                if os.path.lexists(self.root / name):
+                    os.replace(self.root / name, kept / name)  # a link moves as a link
             self.log(f"the earlier config of {self.root} is kept in {kept}")
         atomic_write(self.root / "experiment.toml", lambda tmp: Path(tmp).write_text(experiment_text))
         text = json.dumps(manifest, indent=1, default=_jsonable) + "\n"
@@ -317,34 +435,69 @@ class SweepStore:
     # --- one folder, one experiment, one writer ----------------------------------------
 
     @contextlib.contextmanager
-    def lock(self) -> Iterator[None]:
+    def try_lock(self, command: str = "report") -> Iterator[bool]:
+        """Hold the lock if no one else does: yields True holding it, False (holding
+        nothing) while another process holds it."""
+        stack = contextlib.ExitStack()
+        try:
+            stack.enter_context(self.lock(command))
+            held = True
+        except FolderInUse:
+            held = False
+        with stack:
+            yield held
+
+    def owner(self) -> dict:
+        """Who holds the lock, as it wrote itself into ``sweep.lock`` ({} if unknown)."""
+        try:
+            return json.loads(_read_own_file(self.lock_path, 4096).decode() or "{}")
+        except (OSError, ValueError):
+            return {}
+
+    @contextlib.contextmanager
+    def lock(self, command: str = "sweep") -> Iterator[None]:
         """Hold ``sweep.lock`` (an advisory ``flock`` plus the owner's PID) while writing.
 
         The kernel drops the ``flock`` when its process ends, however it ends, so a lock
         file that names a PID but is not locked is stale and is taken over.
         """
+        if self._locked:  # this store already holds it (the sweep rebuilding its tables)
+            yield
+            return
         self.root.mkdir(parents=True, exist_ok=True)
-        fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT, 0o666)
+        try:  # never through a link: O_RDWR|O_CREAT on a link would open, then truncate, its target
+            fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT | _NOFOLLOW | _CLOEXEC
+                         | getattr(os, "O_NONBLOCK", 0), 0o666)
+        except OSError as exc:
+            if exc.errno == errno.ELOOP:
+                raise StoreError(f"{self.lock_path} is a symbolic link; a sweep opens only its own files "
+                                 f"inside {self.root} (remove the link)") from None
+            raise
         try:
+            if not stat.S_ISREG(os.fstat(fd).st_mode):
+                raise StoreError(f"{self.lock_path} is not a regular file; a sweep needs it as its lock "
+                                 "(move it away)")
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:
                 owner = _lock_owner(fd)
-                raise StoreError(
-                    f"{self.root} is in use by another sweep (pid {owner.get('pid', '?')} on "
+                raise FolderInUse(
+                    f"{self.root} is in use by another {owner.get('command', 'sweep')} (pid {owner.get('pid', '?')} on "
                     f"{owner.get('host', '?')}, started {owner.get('started', '?')}); wait for it or stop it"
                 ) from None
             stale = _lock_owner(fd)
             if stale.get("pid"):
                 self.log(f"stale lock {self.lock_path} of pid {stale['pid']} on {stale.get('host', '?')} "
                          "(that sweep no longer runs) taken over")
-            owner = {"pid": os.getpid(), "host": socket.gethostname(),
+            owner = {"pid": os.getpid(), "host": socket.gethostname(), "command": command,
                      "started": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
             os.ftruncate(fd, 0)
             os.pwrite(fd, (json.dumps(owner) + "\n").encode(), 0)
+            self._locked = True
             try:
                 yield
             finally:
+                self._locked = False
                 os.ftruncate(fd, 0)  # kept, not unlinked: unlinking a locked file races
         finally:
             os.close(fd)  # releases the flock
@@ -353,10 +506,10 @@ class SweepStore:
         """Refuse another experiment's folder unless ``force``; say which finished cells
         this config leaves out of the table (their files stay)."""
         p = self.root / "manifest.json"
-        if not p.is_file():
+        if not os.path.lexists(p):
             return
         try:
-            previous = json.loads(p.read_text(encoding="utf-8")).get("experiment")
+            previous = json.loads(_read_own_file(p).decode("utf-8")).get("experiment")
         except (OSError, ValueError, AttributeError):
             previous = None  # a damaged manifest is rewritten by this run
         if previous is not None and previous != name and not force:

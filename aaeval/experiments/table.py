@@ -42,11 +42,12 @@ def read_record(store: SweepStore, key: str) -> CellRecord:
     return CellRecord.from_json(store.read_cell(key), where=str(store.cell_path(key)))
 
 
-def results_frame(store: SweepStore) -> pd.DataFrame:
-    """One row per finished cell of the manifest, in manifest order."""
+def results_frame(store: SweepStore, *, heal: bool = True) -> pd.DataFrame:
+    """One row per finished cell of the manifest, in manifest order (``heal=False``: damaged
+    cells are left where they are, for a reader that does not hold the folder's lock)."""
     manifest = store.read_manifest()
     metrics = list(manifest.get("metrics", []))
-    done = store.finished()
+    done = set(store.check(heal=heal))
     out = []
     for row in manifest["cells"]:
         if row["key"] not in done:
@@ -160,7 +161,7 @@ def _write_parquet(frame: pd.DataFrame, path: Path) -> None:
     meta = dict(table.schema.metadata or {})
     meta[_SCHEMA_KEY] = str(SCHEMA_VERSION).encode()
     table = table.replace_schema_metadata(meta)
-    atomic_write(path, lambda tmp: pq.write_table(table, tmp))
+    atomic_write(path, lambda tmp: pq.write_table(table, tmp))  # replaces a planted link, never follows it
 
 
 def read_table(path: str | Path) -> pd.DataFrame:
@@ -177,16 +178,29 @@ def read_table(path: str | Path) -> pd.DataFrame:
 
 
 def write_results(store: SweepStore) -> pd.DataFrame:
-    """Rebuild ``results.parquet`` and ``temporal.parquet`` from the cell files."""
-    results = results_frame(store)
-    temporal = temporal_frame(store, results)
-    _write_parquet(results, store.root / "results.parquet")
-    _write_parquet(temporal, store.root / "temporal.parquet")
+    """Rebuild ``results.parquet`` and ``temporal.parquet`` from the cell files, holding the
+    folder's lock (a sweep calling this already holds it; another process's running sweep
+    is :class:`~aaeval.experiments.store.FolderInUse`)."""
+    with store.lock("report"):
+        results = results_frame(store)
+        temporal = temporal_frame(store, results)
+        _write_parquet(results, store.writable("results.parquet"))
+        _write_parquet(temporal, store.writable("temporal.parquet"))
     return results
 
 
 def load_results(store: SweepStore) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Both tables, rebuilt first so they match the cell files on disk."""
-    results = write_results(store)
-    temporal = read_table(store.root / "temporal.parquet")
-    return results, temporal
+    """Both tables, rebuilt first so they match the cell files on disk.
+
+    While a sweep writes the folder (it holds the lock) nothing of it is rewritten or
+    moved: both tables are built in memory from the cells finished so far, and the sweep
+    rewrites ``results.parquet`` when it ends."""
+    with store.try_lock("report") as held:
+        if held:
+            results = write_results(store)
+            return results, read_table(store.root / "temporal.parquet")
+    owner = store.owner()
+    store.log(f"{store.root} is being written by a running {owner.get('command', 'sweep')} (pid "
+              f"{owner.get('pid', '?')}): reading the cells finished so far, leaving results.parquet to it")
+    results = results_frame(store, heal=False)
+    return results, temporal_frame(store, results)
