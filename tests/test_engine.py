@@ -323,3 +323,48 @@ def test_highlight_metrics_run_in_a_sweep_over_the_ground_truth_highlight(tmp_pa
     change = np.diff(np.stack(tests) - np.stack(refs), axis=0)[:, still]
     row = temporal.set_index("spec").loc["catmull"]
     assert row["highlight_flicker"] == pytest.approx(math.sqrt(float(np.mean(change**2))), rel=1e-12)
+
+
+def test_warm_up_renders_every_option_combination_before_its_clock(monkeypatch):
+    """Issue 23 item 8: catmull's own warm-up compiles the box path only; a timed
+    catmull:filter=tent (or any other option) must have rendered that very spec untimed first."""
+    import aaeval.renderers as renderers
+    from aaeval.experiments import measure
+    from aaeval.scenes import parse_scene
+
+    scene = parse_scene({"image": {"width": 5, "height": 4},
+                         "polygons": [{"color": [1, 0, 0], "vertices": [[0.5, 0.5, 1], [4.5, 1, 1], [2, 3.5, 1]]}]})
+    calls = []
+    real_render, real_timed = renderers.render, renderers.render_timed
+    monkeypatch.setattr(renderers, "render", lambda sc, spec, **kw: calls.append(("warm", spec)) or real_render(sc, spec, **kw))
+    monkeypatch.setattr(renderers, "render_timed",
+                        lambda sc, spec, **kw: calls.append(("timed", spec)) or real_timed(sc, spec, **kw))
+    monkeypatch.setattr(measure, "_WARMED", set())
+    specs = ["catmull:filter=tent", "catmull:filter=gaussian", "supersample:k=2,filter=mitchell", "catmull"]
+    for spec in specs:
+        measure.render_measured(scene, spec, 0, repeats=2)
+    for spec in specs:
+        timed = [i for i, c in enumerate(calls) if c == ("timed", spec)]
+        assert len(timed) == 2
+        assert calls.index(("warm", spec)) < timed[0], spec  # this very spec, untimed, before its clock
+    calls.clear()
+    measure.render_measured(scene, "catmull:filter=tent", 0)
+    assert calls == [("timed", "catmull:filter=tent")]  # once per process and size
+    bigger = parse_scene({"image": {"width": 6, "height": 4}, "polygons": []})
+    measure.render_measured(bigger, "catmull:filter=tent", 0)
+    assert calls[1:] == [("warm", "catmull:filter=tent"), ("timed", "catmull:filter=tent")]
+
+
+def test_render_stats_warms_up_the_spec_it_times(tmp_path, monkeypatch):
+    import aaeval.renderers as renderers
+    from aaeval.cli import main
+    from aaeval.experiments import measure
+
+    calls = []
+    real_render = renderers.render
+    monkeypatch.setattr(renderers, "render", lambda sc, spec, **kw: calls.append(spec) or real_render(sc, spec, **kw))
+    monkeypatch.setattr(measure, "_WARMED", set())
+    scene = Path(__file__).resolve().parents[1] / "configs" / "scenes" / "fan.toml"
+    assert main(["render", str(scene), "-m", "catmull:filter=bspline", "-o", str(tmp_path / "f.npy"),
+                 "--stats", str(tmp_path / "s.json")]) == 0
+    assert calls[0] == "catmull:filter=bspline"

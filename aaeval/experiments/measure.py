@@ -5,8 +5,11 @@ temporal table (:mod:`aaeval.experiments.table`) and the specular study all meas
 through these functions, so the same scene, method and frame give the same numbers
 wherever they are measured:
 
-- :func:`render_measured`: one untimed warm-up render of the method at this image size
-  (once per process: JIT compilation and first-call costs), then ``repeats`` timed renders;
+- :func:`warm_up`: one untimed render of exactly the spec to be timed (every option: the
+  filter, the specular method, k, spp: each may compile its own kernels) at this image
+  size, once per process;
+- :func:`render_measured`: :func:`warm_up`, then ``repeats`` timed renders (sweep cells,
+  ``aaeval render --stats``, the speed pass);
 - :func:`render_reference`: the reference image and, for a seeded reference, its noise;
 - :func:`frame_metrics`: every per-frame metric asked, each with the mask it declares;
 - :func:`series_metrics`: every temporal metric asked over all frames of an animation;
@@ -36,7 +39,7 @@ from aaeval.metrics import (
     rmse,
 )
 
-__all__ = ["Timing", "FrameMeasurement", "SceneCache", "render_measured", "render_reference",
+__all__ = ["Timing", "FrameMeasurement", "SceneCache", "warm_up", "render_measured", "render_reference",
            "reference_kind", "noise_spec", "frame_metrics", "series_metrics", "measure_frame",
            "check_image_metrics", "check_temporal_metrics"]
 
@@ -101,21 +104,36 @@ SCENES = SceneCache()
 _WARMED: set[tuple] = set()
 
 
-def render_measured(scene, spec: str, frame: int, repeats: int = 1) -> tuple[np.ndarray, Timing]:
-    """Render ``scene`` at ``frame`` with ``spec``: warm-up once, then ``repeats`` timed renders.
+def warm_up(scene, spec: str, frame: int = 0) -> bool:
+    """One untimed render of ``spec`` on ``scene`` the first time this process meets (spec,
+    width, height, shaded or flat); True if it rendered.
 
-    The warm-up is one untimed render the first time this process meets (spec, width,
-    height): a JIT such as numba or Dr.Jit compiles per method and, for Dr.Jit, per sample
-    count and image size. The image returned is the last timed render's.
+    The spec is rendered as it will be timed, every option included: a method's own
+    warm-up (:attr:`Method.warmup`) compiles its default path only (catmull's box filter),
+    while ``catmull:filter=tent`` or ``catmull:specular=crow`` compile kernels of their
+    own, and Dr.Jit compiles per sample count and image size.
     """
-    from aaeval.renderers import render, render_timed
+    from aaeval.renderers import render
+    from aaeval.scenes.shaded import has_shaded
+
+    key = (spec, scene.width, scene.height, has_shaded(scene))
+    if key in _WARMED:
+        return False
+    render(scene, spec, frame=frame)
+    _WARMED.add(key)
+    return True
+
+
+def render_measured(scene, spec: str, frame: int, repeats: int = 1) -> tuple[np.ndarray, Timing]:
+    """Render ``scene`` at ``frame`` with ``spec``: :func:`warm_up`, then ``repeats`` timed renders.
+
+    The image returned is the last timed render's.
+    """
+    from aaeval.renderers import render_timed
 
     if not (isinstance(repeats, int) and repeats >= 1):
         raise ValueError(f"repeats must be a whole number >= 1, got {repeats!r}")
-    key = (spec, scene.width, scene.height)
-    if key not in _WARMED:
-        render(scene, spec, frame=frame)
-        _WARMED.add(key)
+    warm_up(scene, spec, frame)
     seconds = []
     for _ in range(repeats):
         image, s = render_timed(scene, spec, frame=frame)
