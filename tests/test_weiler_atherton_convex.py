@@ -17,7 +17,7 @@ from aaeval.scenes.generate import random_triangles
 from aaeval.weiler_atherton import visible_pieces
 from aaeval.weiler_atherton.convex_kernel import edge_line_values, plane_line_values, split_convex, vertex_sides
 from aaeval.weiler_atherton.lines import visible_edges
-from aaeval.weiler_atherton.solve_kernel import _later_neighbours
+from aaeval.weiler_atherton.solve_kernel import later_neighbours
 from randomscenes import degenerate_scene, random_scene
 
 DATA = Path(__file__).parent / "data"
@@ -82,12 +82,12 @@ def test_line_values_and_sides():
     assert vertex_sides(d, 4, 1e-12) == (True, True) and vertex_sides(d, 4, 20.0) == (False, False)
 
 
-def test_later_neighbours_are_the_overlapping_boxes_later_in_the_order():
+def testlater_neighbours_are_the_overlapping_boxes_later_in_the_order():
     rng = np.random.default_rng(3)
     lo = rng.uniform(0, 20, (60, 2)).round()  # integer corners: touching boxes happen
     boxes = np.hstack([lo, lo + rng.integers(0, 6, (60, 2))])
     order = rng.permutation(60)
-    starts, rows = _later_neighbours(boxes, order)
+    starts, rows = later_neighbours(boxes, order)
     b = boxes[order]
     for p in range(60):
         want = [q for q in range(p + 1, 60)

@@ -10,8 +10,9 @@ is exact: the plane is linear, so its extremes over polygon ∩ pixel lie at tha
 region's vertices, which are the polygon's edges clipped to the pixel square and the
 pixel corners inside the polygon.
 
-Resolution, front to back: fragments are sorted on ``zmin`` (ties: later polygon in the
-file first) and each one claims the subsamples of its mask that no nearer fragment has
+Resolution, front to back: fragments are sorted on ``zmin`` by the scene format's tie
+rule (fragments within ``eps_z`` of the nearest ``zmin`` are tied, the later polygon in
+the file first: :func:`aaeval.scenes.depth.tied_latest_first`) and each one claims the subsamples of its mask that no nearer fragment has
 claimed. Where the z range of a fragment ``f`` overlaps that of the next fragment ``g``
 whose mask meets f's claimed bits, the two surfaces may cross inside the pixel, and the
 paper blends them on the shared bits by the fraction of f estimated to be in front,
@@ -43,6 +44,7 @@ from aaeval.renderers._sampling_kernel import (
     row_buckets,
     strip_edges,
 )
+from aaeval.scenes.depth import tied_latest_first
 
 SUBSAMPLES = 32
 SUB_COLS = 8
@@ -232,6 +234,7 @@ def abuffer_image(width, height, starts, lengths, xs, ys, planes, eps_z, colors,
                 fpoly[nf] = p
                 nf += 1
         # bucket the row's fragments by column, then sort each pixel's on (zmin, -polygon)
+        # and put each run within eps_z of its nearest zmin latest polygon first
         per_col[:] = 0
         for f in range(nf):
             per_col[fcol[f] + 1] += 1
@@ -254,6 +257,7 @@ def abuffer_image(width, height, starts, lengths, xs, ys, planes, eps_z, colors,
                     order[b + 1] = order[b]
                     b -= 1
                 order[b + 1] = f
+            tied_latest_first(order[lo:hi], fzmin, fpoly, eps_z)
             resolve_pixel(order[lo:hi], fmask, fzmin, fzmax, fpoly, planes, eps_z, colors, background,
                           col, r, image[r, col])
     return image

@@ -17,9 +17,9 @@ Structure (a scanline algorithm, so the cost follows what the polygons cover):
   sample on the shared edge belongs to exactly one of them; a polygon covers
   ``[ymin, ymax)`` vertically.
 - depth: ``z = a x + b y + c``; polygons are visited in file order and a later one wins
-  when its depth is below the best so far plus ``eps_z`` (an exactly shared plane goes to
-  the later polygon, as the scene format says; ``eps_z`` comes from
-  :func:`aaeval.renderers.catmull.kernel_inputs`).
+  when its depth is within ``eps_z`` of the nearest so far or nearer
+  (:func:`aaeval.scenes.depth.nearer_or_tied`: the scene format's tie rule, relative to
+  the nearest depth; ``eps_z`` comes from :func:`aaeval.renderers.catmull.kernel_inputs`).
 
 Jittered samples come from a counter-based hash of ``(seed, row, column, sample,
 axis)``: reproducible, independent of the order of work, and fixed in screen space, so
@@ -33,6 +33,7 @@ from numba import njit
 
 from aaeval.filters.evaluate import profile_at
 from aaeval.filters.registry import KIND_BOX
+from aaeval.scenes.depth import nearer_or_tied
 
 NO_POLYGON = -1
 
@@ -285,8 +286,8 @@ def sample_image(width, height, starts, lengths, xs, ys, planes, eps_z, colors, 
                             ys_ = r + (j + offsets[col, s, 1]) * inv_k
                             if inside(ex0, ey0, ex1, ey1, m, x, ys_):
                                 z = a * x + b * ys_ + c
-                                if z < best_z[col, s] + eps_z or best_p[col, s] == NO_POLYGON:
-                                    best_z[col, s] = z
+                                if best_p[col, s] == NO_POLYGON or nearer_or_tied(z, best_z[col, s], eps_z):
+                                    best_z[col, s] = min(z, best_z[col, s])
                                     best_p[col, s] = p
                 else:
                     # one scanline through the stratum centres: fill between crossings
@@ -297,8 +298,8 @@ def sample_image(width, height, starts, lengths, xs, ys, planes, eps_z, colors, 
                             col = g // k
                             s = j * k + (g - col * k)
                             z = a * grid_x(g, k) + b * y + c
-                            if z < best_z[col, s] + eps_z or best_p[col, s] == NO_POLYGON:
-                                best_z[col, s] = z
+                            if best_p[col, s] == NO_POLYGON or nearer_or_tied(z, best_z[col, s], eps_z):
+                                best_z[col, s] = min(z, best_z[col, s])
                                 best_p[col, s] = p
         if filtered:
             splat_row(r, k, jitter, offsets, best_p, colors, background, fkind, fradius, fpieces, falpha, fbias,

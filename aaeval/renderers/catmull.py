@@ -19,7 +19,9 @@ from aaeval.filters.registry import DEFAULT_FILTER, FILTERS
 from aaeval.renderers._catmull_kernel import BACKGROUND, BAND_ROWS, band_colors, band_fragments, sort_polygons
 from aaeval.renderers.registry import Option, register_method
 from aaeval.scenes import Scene, parse_scene
+from aaeval.scenes.depth import depth_tolerance
 from aaeval.specular.methods import PARAMETERS as SPECULAR_PARAMETERS
+from aaeval.weiler_atherton.near_ties import resolve_flat_arrays
 
 __all__ = ["Fragments", "visible_fragments", "resolve_flat", "render_flat", "render_catmull", "render_catmull_jagged"]
 
@@ -61,12 +63,13 @@ def kernel_inputs(scene: Scene):
     flip = area2[owner] < 0 if len(source) else np.zeros(0, bool)
     local = np.where(flip, length[owner] - 1 - local, local)
     xy = arr.vertices[arr.start[source][owner] + local, :2]
-    zmax = float(np.abs(arr.vertices[:, 2]).max()) if len(arr.vertices) else 0.0
-    # depth differences below this count as one shared plane (float64 rounding of the
-    # plane evaluation is ~1e-16 of the depth magnitude)
-    eps_z = 1e-11 * (1.0 + zmax)
-    return (start, length, np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]),
-            np.ascontiguousarray(arr.planes[source]), source, eps_z)
+    # depth differences below this count as one shared plane (the scene format's tie rule)
+    eps_z = depth_tolerance(arr.vertices[:, 2])
+    # stacks of nearly coplanar polygons are resolved by the rule before the pairwise sort
+    start, length, x, y, planes, source = resolve_flat_arrays(
+        start, length, np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]),
+        np.ascontiguousarray(arr.planes[source]), source, eps_z)
+    return start, length, x, y, planes, source, eps_z
 
 
 def _next_in_polygon(values, start, length, owner, local):
@@ -82,6 +85,12 @@ def available_cores() -> int:
 @lru_cache(maxsize=None)
 def _pool(threads: int) -> ThreadPoolExecutor:
     return ThreadPoolExecutor(max_workers=threads, thread_name_prefix="catmull")
+
+
+# a forked child inherits the pools without their threads: a band handed to one would
+# wait forever, so the child starts with none (multiprocessing forks by default on Linux)
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_pool.cache_clear)
 
 
 def run_bands(height: int, threads: int, band):

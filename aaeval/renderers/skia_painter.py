@@ -3,8 +3,8 @@
 Polygons are painted back to front (painter's algorithm) onto the background with
 anti-aliasing on, through skia-python into a float32 RGBA surface (``kRGBA_F32``, no
 colour space, so Skia blends the linear values as given). The painter's order is by mean
-vertex depth, farthest first (ties: file order, so the later polygon is painted last, as
-on a shared plane). A painter's sort cannot resolve interpenetrating polygons, or cyclic
+vertex depth, farthest first (ties, within the scene format's tie band: the later polygon
+is painted last, as on a shared plane). A painter's sort cannot resolve interpenetrating polygons, or cyclic
 overlaps: one of them simply covers the other wherever they overlap.
 
 Skia computes each shape's coverage of a pixel on its own and blends shape by shape
@@ -24,18 +24,21 @@ from aaeval.renderers.catmull import BOX_ONLY
 from aaeval.renderers.registry import register_method
 from aaeval.renderers.sampling import warmup_scene
 from aaeval.scenes import Scene
+from aaeval.scenes.depth import depth_tolerance, front_to_back
 
 __all__ = ["render_skia", "painter_order"]
 
 
 def painter_order(scene: Scene) -> list[int]:
-    """Indices of the drawable polygons, farthest mean depth first (stable on file order)."""
+    """Indices of the drawable polygons, farthest mean depth first; mean depths within the
+    scene format's tie band of each other are tied, the later polygon painted last."""
     arr = scene.arrays
     drawable = np.flatnonzero(np.isfinite(arr.planes).all(axis=1))
     if drawable.size == 0:
         return []
     mean_z = np.add.reduceat(arr.vertices[:, 2], arr.start) / arr.length
-    return drawable[np.argsort(-mean_z[drawable], kind="stable")].tolist()
+    near_first = front_to_back(mean_z[drawable], depth_tolerance(arr.vertices[:, 2]))
+    return drawable[near_first[::-1]].tolist()
 
 
 @register_method(

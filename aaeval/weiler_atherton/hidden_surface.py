@@ -34,7 +34,9 @@ from typing import NamedTuple
 import numpy as np
 
 from aaeval.scenes import Scene
-from aaeval.weiler_atherton.clipper import Shape, from_arrays, ring_area
+from aaeval.scenes.depth import depth_tolerance
+from aaeval.weiler_atherton.clipper import Shape, from_arrays, ring_area, to_arrays
+from aaeval.weiler_atherton.near_ties import solve_by_rule, tie_groups
 from aaeval.weiler_atherton.solve_kernel import EDGE_CROSSING, EDGE_CUT, EDGE_OWN, originals, solve_window
 
 __all__ = [
@@ -93,6 +95,16 @@ class VisibleArrays(NamedTuple):
         return VisibleArrays(cat([np.zeros(0)] + xs), cat([np.zeros(0)] + ys), cat([np.zeros(0, np.int64)] + labels),
                              cat(starts), cat(piece_rings), cat([np.zeros(0, np.int64)] + sources))
 
+    @staticmethod
+    def of_shapes(regions: list[tuple[int, Shape]]) -> "VisibleArrays":
+        """Flat arrays of ``[(source, shape), ...]``."""
+        parts = []
+        for source, shape in regions:
+            xs, ys, labels, starts = to_arrays(shape)
+            parts.append(VisibleArrays(xs, ys, labels, starts, np.array([0, len(starts) - 1], np.int64),
+                                       np.array([source], np.int64)))
+        return VisibleArrays.concatenate(parts) if parts else VisibleArrays.concatenate([])
+
     def pieces(self) -> list[Piece]:
         out = []
         for i, source in enumerate(self.sources.tolist()):
@@ -113,12 +125,12 @@ class _Problem:
         arrays = scene.arrays
         self.planes = np.ascontiguousarray(arrays.planes, dtype=np.float64)
         vertices = np.ascontiguousarray(arrays.vertices, dtype=np.float64).reshape(-1, 3)
-        self.xs, self.ys, self.starts, self.bboxes, self.zmin, scale, zmax = originals(
+        self.xs, self.ys, self.starts, self.bboxes, self.zmin, scale, _ = originals(
             vertices, arrays.start, arrays.length, self.planes
         )
         self.sources = np.flatnonzero(np.diff(self.starts) > 0)
-        # same depth tolerance as the Catmull kernel: differences below it are one plane
-        self.eps_z = 1e-11 * (1.0 + zmax)
+        # the scene format's tie band, as every method uses it
+        self.eps_z = depth_tolerance(vertices[:, 2])
         self.eps = 2e-14 * max(1.0 + max(scene.width, scene.height), scale)
 
     def depth_order(self, sources) -> np.ndarray:
@@ -127,10 +139,22 @@ class _Problem:
         return sources[np.lexsort((-sources, self.zmin[sources]))]
 
     def solve(self, window, sources=None, convex: bool = True) -> VisibleArrays:
-        order = self.depth_order(self.sources if sources is None else sources)
+        """Visible pieces inside ``window``: near-coplanar groups by the tie rule
+        (:mod:`.near_ties`), the rest by the area sort."""
+        tied, rest = tie_groups(self.bboxes, self.planes, self.sources if sources is None else sources, self.eps_z)
+        order = self.depth_order(rest)
         win = tuple(float(v) for v in window)
-        return VisibleArrays(*solve_window(self.xs, self.ys, self.starts, self.bboxes, self.planes, order, win,
-                                           self.eps, self.eps_z, bool(convex)))
+        sorted_ = VisibleArrays(*solve_window(self.xs, self.ys, self.starts, self.bboxes, self.planes, order, win,
+                                              self.eps, self.eps_z, bool(convex)))
+        if len(tied) == 0:
+            return sorted_
+        regions = solve_by_rule(self.outline, lambda s: self.bboxes[s], self.planes, win, tied, self.eps, self.eps_z)
+        return VisibleArrays.concatenate([sorted_, VisibleArrays.of_shapes(regions)])
+
+    def outline(self, source: int) -> Shape:
+        """Polygon ``source``'s outline as the solver takes it, every edge its own."""
+        a, b = self.starts[source], self.starts[source + 1]
+        return Shape([list(zip(self.xs[a:b].tolist(), self.ys[a:b].tolist()))], [[EDGE_OWN] * int(b - a)])
 
 
 def hidden_surface(scene: Scene, window: tuple[float, float, float, float] | None = None, sources=None) -> list[Piece]:

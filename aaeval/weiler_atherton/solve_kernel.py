@@ -466,7 +466,7 @@ def _resolve_inside(arena, src, inside, planes, eps, eps_z, convex_road):
 
 
 @njit(cache=True)
-def _later_neighbours(obb, order):
+def later_neighbours(obb, order):
     """For each position p of the depth order, the later positions whose polygons' boxes
     overlap polygon order[p]'s (touching is not overlapping, as in :func:`_disjoint`), in
     ascending order: (row starts, positions). A sweep over the boxes sorted by left side."""
@@ -558,7 +558,7 @@ def _solve(arena, first, order, ox, oy, ol, ost, obb, planes, eps, eps_z, convex
 
     The first list (every polygon's piece in depth order) is kept as one chain of pieces
     per polygon, so that a clip polygon meets only the polygons whose boxes overlap its
-    own (:func:`_later_neighbours`) instead of the whole list; the pieces it meets and
+    own (:func:`later_neighbours`) instead of the whole list; the pieces it meets and
     their order are those of the list, so the result is the same."""
     visible = List()
     visible.append(0)
@@ -580,7 +580,7 @@ def _solve(arena, first, order, ox, oy, ol, ost, obb, planes, eps, eps_z, convex
         p = position[arena[2][0][pid, 4]]
         link[pid] = head[p]
         head[p] = pid
-    starts, rows = _later_neighbours(obb, order)
+    starts, rows = later_neighbours(obb, order)
     fw, iw = _workspace()
     inside = np.empty(16, np.int64)
     parts = np.empty(16, np.int64)
@@ -759,4 +759,4 @@ def _flatten(arena, visible):
     return xs, ys, labels, starts, piece_rings, sources
 
 
-__all__ = ["solve_window", "half_plane", "ring_area_of", "EDGE_CUT", "EDGE_OWN", "EDGE_CROSSING"]
+__all__ = ["solve_window", "half_plane", "later_neighbours", "ring_area_of", "EDGE_CUT", "EDGE_OWN", "EDGE_CROSSING"]
