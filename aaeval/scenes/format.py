@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from fractions import Fraction
 from functools import cached_property
 from pathlib import Path
 from typing import Any, Callable, Mapping
@@ -372,7 +373,11 @@ def _check_planar(vertices: np.ndarray, where: str) -> np.ndarray:
     _, sing, axes = np.linalg.svd(centred, full_matrices=False)
     size = np.ptp(vertices, axis=0).max()
     if size == 0.0 or sing[1] <= 1e-12 * sing[0]:
-        raise SceneError(f"{where}: degenerate polygon (all vertices on one line or point)")
+        if _collinear_exactly(vertices):
+            raise SceneError(f"{where}: degenerate polygon (all vertices on one line or point)")
+        # a valid sliver thinner than the fit can resolve (area ~1e-16): kept, it covers
+        # (nearly) nothing, and its plane is undefined like an edge-on polygon's
+        return centred @ axes[:2].T
     if len(vertices) > 3:
         distance = np.abs(centred @ axes[2])
         if distance.max() > PLANARITY_RTOL * size:
@@ -382,6 +387,20 @@ def _check_planar(vertices: np.ndarray, where: str) -> np.ndarray:
                 "from the plane of the others)"
             )
     return centred @ axes[:2].T
+
+
+def _collinear_exactly(vertices: np.ndarray) -> bool:
+    """Whether every vertex lies exactly on one line (or point), in exact rational
+    arithmetic: only asked of outlines whose fitted thickness is below rounding."""
+    points = [[Fraction(c) for c in row] for row in vertices.tolist()]
+    origin = points[0]
+    far = points[int(np.abs(vertices - vertices[0]).sum(axis=1).argmax())]
+    d = [b - a for a, b in zip(origin, far)]
+    for q in points:
+        e = [b - a for a, b in zip(origin, q)]
+        if d[1] * e[2] != d[2] * e[1] or d[2] * e[0] != d[0] * e[2] or d[0] * e[1] != d[1] * e[0]:
+            return False
+    return True
 
 
 def _check_simple(xy: np.ndarray, where: str) -> None:
