@@ -226,3 +226,86 @@ def test_resvg_and_catmull_agree_on_viewbox_only_svgs(tmp_path, scale):
     assert np.abs(coverage_resvg - coverage_exact).max() < 0.14
     ink = (16 + np.pi * 1.9**2) * scale**2
     assert abs(coverage_resvg.sum() - ink) < 0.02 * ink
+
+
+# --- case 2: every method estimates memory and time from the scene ------------------------
+
+IDENTICAL = "[[polygons]]\ncolor = [1, 0.5, 0]\nvertices = [[1.3, 1.2, 0], [14.7, 2.1, 0], [3.1, 14.9, 0]]\n"
+
+
+@pytest.fixture(scope="module")
+def identical_triangles(tmp_path_factory):
+    """Issue 21's case at 2000 triangles (every pair overlapping): small enough to render
+    here if a budget were missing, so the test fails instead of exhausting the machine."""
+    from aaeval.scenes import load_scene
+
+    path = tmp_path_factory.mktemp("identical") / "tri.toml"
+    path.write_text("[image]\nwidth = 16\nheight = 16\nbackground = [0.0, 0.0, 0.0]\n\n" + IDENTICAL * 2000)
+    return path, load_scene(path)
+
+
+def polygon_methods():
+    from aaeval.renderers.registry import METHODS, _load_builtin_methods
+
+    _load_builtin_methods()
+    return sorted(name for name, m in METHODS.items() if m.requires is None and name != "mitsuba")
+
+
+@pytest.mark.parametrize("limit", ["memory", "seconds"])
+def test_every_polygon_method_refuses_a_scene_over_the_budget(identical_triangles, monkeypatch, limit):
+    from aaeval.renderers import MethodError, render
+
+    path, scene = identical_triangles
+    # 2000 identical triangles: 2e6 overlapping pairs, each costing every method's near-tie
+    # pass about 200 bytes and a microsecond (measured)
+    monkeypatch.setenv("AAEVAL_MAX_MEMORY" if limit == "memory" else "AAEVAL_MAX_SECONDS",
+                       "100M" if limit == "memory" else "0.5")
+    methods = polygon_methods()
+    assert {"weiler-atherton", "abuffer", "catmull", "point"} <= set(methods)
+    for name in methods:
+        with pytest.raises(MethodError, match="AAEVAL_MAX_MEMORY" if limit == "memory" else "AAEVAL_MAX_SECONDS"):
+            render(scene, name)
+
+
+def test_budget_refusal_is_one_line_before_any_work(identical_triangles, capsys, monkeypatch, tmp_path):
+    path, _ = identical_triangles
+    monkeypatch.setenv("AAEVAL_MAX_MEMORY", "100M")
+    for method in ["weiler-atherton", "abuffer"]:
+        err = refused(["render", str(path), "-m", method, "-o", str(tmp_path / "x.npy")], capsys, path,
+                      "overlapping polygon pairs")
+        assert "GiB of memory" in err
+    assert not (tmp_path / "x.npy").exists()
+
+
+def test_scene_load_counts_match_brute_force():
+    """Overlapping box pairs against shapely's STRtree, depth per pixel against a loop."""
+    import shapely
+    from shapely.geometry import box
+
+    from aaeval.renderers.registry import _scene_load
+    from aaeval.scenes.generate import random_triangles
+
+    for n, size, w in [(300, 6.0, 40), (3000, 30.0, 256)]:
+        scene = random_triangles(n, w, w, size=size, seed=3)
+        boxes = []
+        for p in scene.polygons:
+            if np.any(p.vertices[:, :2].min(axis=0) >= w) or np.any(p.vertices[:, :2].max(axis=0) <= 0):
+                continue  # wholly outside the image
+            lo = np.clip(p.vertices[:, :2].min(axis=0), 0, w)
+            hi = np.clip(p.vertices[:, :2].max(axis=0), 0, w)
+            boxes.append((lo, hi))
+        geoms = [box(lo[0], lo[1], hi[0], hi[1]) for lo, hi in boxes]
+        tree = shapely.STRtree(geoms)
+        left, right = tree.query(geoms, predicate="intersects")
+        exact_pairs = int((left < right).sum())
+        load = _scene_load(scene)
+        if n <= 2048:
+            assert load.pairs == exact_pairs
+        else:  # sampled: within a fifth
+            assert abs(load.pairs - exact_pairs) < 0.2 * exact_pairs
+        depth = np.zeros((w, w))
+        for lo, hi in boxes:
+            x0, y0 = np.floor(lo).astype(int)
+            x1, y1 = np.maximum(np.ceil(hi).astype(int), [x0 + 1, y0 + 1])
+            depth[y0:y1, x0:x1] += 1
+        assert load.depth_squares == (depth**2).sum() and load.fragments == depth.sum()

@@ -5,8 +5,16 @@ under a name with its declared options (Mitsuba-plugin style). A *spec* names a 
 and sets options: ``"catmull"``, ``"supersample:k=4"``, ``"mitsuba:spp=4096,seed=1"``.
 :func:`resolve` validates the name and every option (type, range, rule) and fails loudly on
 anything unknown. Before any render, :func:`check_budget` refuses a request whose point
-samples or memory cannot fit (see ``MAX_SAMPLES`` and :func:`available_memory`), with its
-estimate, instead of running out of memory or time half-way.
+samples, memory or time cannot fit (see ``MAX_SAMPLES``, :func:`available_memory` and
+``MAX_SECONDS``), with its estimate, instead of running out of memory or time half-way.
+
+Memory and time are estimated from the scene in one pass over its polygons' bounding boxes
+(:func:`scene_load`): ``pairs``, the polygon pairs whose boxes overlap (every method that
+draws polygons first resolves near depth ties between such pairs, and Weiler-Atherton
+clips them against each other), and ``depth_squares``, the sum over pixels of the squared
+number of boxes over the pixel (a per-pixel sort of fragments, as the A-buffer's, costs
+that). A method declares what it costs per unit once, in its ``register_method`` call
+(``memory=``, ``seconds=``); the pass over the boxes costs O(polygons + pixels / cell).
 """
 
 from __future__ import annotations
@@ -36,6 +44,9 @@ __all__ = [
     "check_budget",
     "available_memory",
     "MAX_SAMPLES",
+    "MAX_SECONDS",
+    "SceneLoad",
+    "scene_load",
 ]
 
 # Point samples (pixels x samples per pixel) one render may take: 2^36, about ten minutes
@@ -44,6 +55,16 @@ MAX_SAMPLES = 1 << 36
 # A float64 RGB image is held about this many times over by a render and its writing
 # (the result, accumulators, the conversion for the file); measured methods add their own.
 IMAGE_COPIES = 4
+# Estimated seconds one render may take (methods that declare ``seconds=``); as long as the
+# point-sample limit takes; AAEVAL_MAX_SECONDS raises or lowers it.
+MAX_SECONDS = 600.0
+# Every method that draws the polygons first groups near depth ties among polygons whose
+# boxes overlap (aaeval.weiler_atherton.near_ties through catmull.kernel_inputs): per such
+# pair, bytes held and seconds taken. Measured on 2000 and 4000 identical triangles in a
+# 16x16 image (every pair overlapping): about 210 bytes and 1 microsecond per pair (and
+# Weiler-Atherton on 1e4 of them: 11 GB, 44 s, i.e. 226 bytes and 0.9 us per pair in all).
+PAIR_BYTES = 200
+PAIR_SECONDS = 0.8e-6
 
 
 class MethodError(ValueError):
@@ -117,6 +138,8 @@ class Method:
     samples: Callable[[Mapping[str, Any]], int] | None = None
     # bytes the method holds besides IMAGE_COPIES images, for a scene and options
     memory: Callable[[Scene, Mapping[str, Any]], int] | None = None
+    # estimated seconds of the render, for a scene and options (None: not estimated)
+    seconds: Callable[[Scene, Mapping[str, Any]], float] | None = None
 
 
 METHODS: dict[str, Method] = {}
@@ -132,17 +155,21 @@ def register_method(
     requires: str | None = None,
     samples: Callable[[Mapping[str, Any]], int] | None = None,
     memory: Callable[[Scene, Mapping[str, Any]], int] | None = None,
+    seconds: Callable[[Scene, Mapping[str, Any]], float] | None = None,
 ):
     """Decorator registering ``render(scene, **options)`` under ``name``.
 
-    ``samples(options)`` (point samples per pixel) and ``memory(scene, options)`` (bytes
-    beyond the image) let :func:`check_budget` refuse requests that cannot fit.
+    ``samples(options)`` (point samples per pixel), ``memory(scene, options)`` (bytes
+    beyond the image) and ``seconds(scene, options)`` (the render's estimated time) let
+    :func:`check_budget` refuse requests that cannot fit; :func:`scene_load` gives the
+    counts an estimate is built from.
     """
 
     def decorate(func):
         if name in METHODS:
             raise ValueError(f"method {name!r} is registered twice")
-        METHODS[name] = Method(name, func, dict(options or {}), summary, exact, warmup, requires, samples, memory)
+        METHODS[name] = Method(name, func, dict(options or {}), summary, exact, warmup, requires, samples, memory,
+                               seconds)
         return func
 
     return decorate
@@ -254,8 +281,101 @@ def _max_samples() -> int:
         raise MethodError(f"AAEVAL_MAX_SAMPLES={text!r}: expected a number") from None
 
 
+def _max_seconds() -> float:
+    text = os.environ.get("AAEVAL_MAX_SECONDS")
+    if not text:
+        return MAX_SECONDS
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not value > 0:
+        raise MethodError(f"AAEVAL_MAX_SECONDS={text!r}: expected a positive number of seconds")
+    return value
+
+
+@dataclass(frozen=True)
+class SceneLoad:
+    """What a scene costs to draw, from its polygons' bounding boxes (:func:`scene_load`)."""
+
+    polygons: int
+    vertices: int
+    # polygon pairs whose boxes overlap (inside the image); estimated from a sample when large
+    pairs: float
+    # sum over pixels of (boxes over the pixel)^2, and of boxes over the pixel
+    depth_squares: float
+    fragments: float
+
+
+# exact pair counts up to this many polygons; beyond, a sample of polygons against all
+_EXACT_PAIRS = 2048
+_PAIR_WORK = 1 << 22  # box comparisons the pair estimate may make (tens of milliseconds)
+_GRID_CELLS = 1 << 18  # cells of the depth grid
+
+
+def scene_load(scene: Scene) -> SceneLoad:
+    """Counts of :class:`SceneLoad` for ``scene`` (boxes clipped to the image), computed
+    once per scene object."""
+    cached = scene.__dict__.get("_aaeval_scene_load")
+    if cached is None:
+        cached = _scene_load(scene)
+        scene.__dict__["_aaeval_scene_load"] = cached  # a frozen dataclass: its cache, as cached_property's
+    return cached
+
+
+def _scene_load(scene: Scene) -> SceneLoad:
+    polys = scene.polygons
+    n = len(polys)
+    if n == 0:
+        return SceneLoad(0, 0, 0.0, 0.0, 0.0)
+    arr = scene.arrays
+    xy = arr.vertices[:, :2]
+    lo = np.minimum.reduceat(xy, arr.start, axis=0)
+    hi = np.maximum.reduceat(xy, arr.start, axis=0)
+    extent = np.array([scene.width, scene.height], dtype=np.float64)
+    keep = np.all((lo < extent) & (hi > 0), axis=1)  # boxes reaching into the image
+    lo, hi = np.clip(lo, 0.0, extent), np.clip(hi, 0.0, extent)
+    lo, hi = lo[keep], hi[keep]
+    m = len(lo)
+    # pairs: every pair when few, else each sampled box against all, scaled
+    if m <= _EXACT_PAIRS:
+        sample = np.arange(m)
+    else:
+        size = int(min(m, max(64, _PAIR_WORK // m)))
+        sample = np.random.default_rng(0).choice(m, size=size, replace=False)
+    hits = 0
+    step = max(1, (1 << 22) // (4 * max(m, 1)))
+    for a in range(0, len(sample), step):
+        s = sample[a : a + step]
+        over = ((lo[s, None, 0] <= hi[None, :, 0]) & (lo[None, :, 0] <= hi[s, None, 0])
+                & (lo[s, None, 1] <= hi[None, :, 1]) & (lo[None, :, 1] <= hi[s, None, 1]))
+        hits += int(over.sum()) - len(s)  # not with itself
+    pairs = hits / 2 * (m / max(len(sample), 1))
+    # depth per grid cell: boxes over it (a cell of c x c pixels counts a box touching it)
+    c = max(1, math.ceil(math.sqrt(scene.width * scene.height / _GRID_CELLS)))
+    gw, gh = -(-scene.width // c), -(-scene.height // c)
+    x0 = np.clip(np.floor(lo[:, 0] / c).astype(np.int64), 0, gw - 1)
+    y0 = np.clip(np.floor(lo[:, 1] / c).astype(np.int64), 0, gh - 1)
+    x1 = np.clip(np.ceil(hi[:, 0] / c).astype(np.int64), x0 + 1, gw)
+    y1 = np.clip(np.ceil(hi[:, 1] / c).astype(np.int64), y0 + 1, gh)
+    diff = np.zeros((gh + 1, gw + 1), np.int64)
+    np.add.at(diff, (y0, x0), 1)
+    np.add.at(diff, (y0, x1), -1)
+    np.add.at(diff, (y1, x0), -1)
+    np.add.at(diff, (y1, x1), 1)
+    depth = np.cumsum(np.cumsum(diff, axis=0), axis=1)[:gh, :gw].astype(np.float64)
+    return SceneLoad(n, len(arr.vertices), float(pairs), float((depth**2).sum() * c * c),
+                     float(depth.sum() * c * c))
+
+
+def _draws_polygons(method: Method) -> bool:
+    # methods drawing a source table (resvg, freetype) or calling Mitsuba do not run the
+    # near-tie pass over the polygons
+    return method.requires is None and method.name != "mitsuba"
+
+
 def check_budget(scene: Scene, method: Method, options: Mapping[str, Any]) -> None:
-    """Refuse, with the estimate, a render whose samples or memory cannot fit."""
+    """Refuse, with the estimate, a render whose samples, memory or time cannot fit."""
     pixels = scene.width * scene.height
     where = f"{scene.source}: method {method.name!r} on a {scene.width}x{scene.height} image"
     if method.samples is not None:
@@ -264,11 +384,22 @@ def check_budget(scene: Scene, method: Method, options: Mapping[str, Any]) -> No
         if pixels * per_pixel > limit:
             raise MethodError(f"{where} at {per_pixel:.4g} samples per pixel takes {pixels * per_pixel:.3g} point "
                               f"samples, over the limit of {limit:.3g} (AAEVAL_MAX_SAMPLES)")
-    need = pixels * 3 * 8 * IMAGE_COPIES + (int(method.memory(scene, options)) if method.memory else 0)
+    load = scene_load(scene) if (_draws_polygons(method) or method.seconds is not None) else None
+    pair_bytes = PAIR_BYTES * load.pairs if load is not None and _draws_polygons(method) else 0.0
+    need = pixels * 3 * 8 * IMAGE_COPIES + pair_bytes + (float(method.memory(scene, options)) if method.memory else 0)
     have = available_memory()
     if need > have:
-        raise MethodError(f"{where} needs about {need / 2**30:.3g} GiB of memory, {have / 2**30:.3g} GiB "
-                          "available (AAEVAL_MAX_MEMORY may lower it)")
+        detail = f", {load.pairs:.3g} overlapping polygon pairs" if load is not None and load.pairs > 1e5 else ""
+        raise MethodError(f"{where} needs about {need / 2**30:.3g} GiB of memory ({len(scene.polygons)} polygons"
+                          f"{detail}), {have / 2**30:.3g} GiB available (AAEVAL_MAX_MEMORY may lower it)")
+    seconds = PAIR_SECONDS * load.pairs if load is not None and _draws_polygons(method) else 0.0
+    if method.seconds is not None:
+        seconds += float(method.seconds(scene, options))
+    limit_s = _max_seconds()
+    if seconds > limit_s:
+        raise MethodError(f"{where} would take about {seconds:.3g} s ({len(scene.polygons)} polygons, "
+                          f"{load.pairs:.3g} overlapping polygon pairs), over the limit of {limit_s:.3g} s "
+                          "(AAEVAL_MAX_SECONDS raises it)")
 
 
 def render(scene: Scene, spec: str, *, frame: int | None = None) -> np.ndarray:
@@ -288,18 +419,22 @@ _warmed: set[str] = set()
 
 
 def render_timed(scene: Scene, spec: str, *, frame: int | None = None) -> tuple[np.ndarray, float]:
-    """Render and return ``(image, seconds)``; JIT compilation is done before the clock starts."""
+    """Render and return ``(image, seconds)``; JIT compilation and the budget check are
+    done before the clock starts."""
     method, options = resolve(spec)
+    if frame is not None:
+        scene = scene.at_frame(frame)
     check_budget(scene, method, options)  # before the warm-up: a refusal costs nothing
     if method.name not in _warmed:
         if method.warmup is not None:
             method.warmup()
         _warmed.add(method.name)
-    if frame is not None:
-        scene = scene.at_frame(frame)
     start = time.perf_counter()
-    image = render(scene, spec)
-    return image, time.perf_counter() - start
+    image = method.render(scene, **options)
+    seconds = time.perf_counter() - start
+    if image.shape != scene.shape:
+        raise RuntimeError(f"method {method.name!r} returned shape {image.shape}, expected {scene.shape}")
+    return image, seconds
 
 
 def _load_builtin_methods() -> None:
