@@ -35,8 +35,13 @@ from aaeval.weiler_atherton.solve_kernel import EDGE_CUT, half_plane, later_neig
 __all__ = ["NEAR_COPLANAR", "tie_groups", "solve_by_rule"]
 
 #: two planes whose depths differ by at most this many eps over their common box are
-#: solved by the rule (a 64-pixel quad tilted by up to about 3e-7 against another)
-NEAR_COPLANAR = 1e6
+#: solved by the rule (a 64-pixel quad tilted by up to about 3e-9 against another)
+NEAR_COPLANAR = 1e4
+#: common boxes narrower than this (pixels) are not looked at: there the depth slopes of
+#: a near-coplanar pair may differ by up to 2 NEAR_COPLANAR eps / MIN_OVERLAP, and only
+#: pairs whose slopes differ by less are compared box by box (a render's polygons are
+#: not paired up unless some have nearly the same slopes)
+MIN_OVERLAP = 1.0
 
 
 def tie_groups(boxes: np.ndarray, planes: np.ndarray, sources: np.ndarray, eps_z: float) -> tuple[np.ndarray, np.ndarray]:
@@ -45,12 +50,37 @@ def tie_groups(boxes: np.ndarray, planes: np.ndarray, sources: np.ndarray, eps_z
     The first part is every group of polygons connected by overlapping boxes that holds
     a near-coplanar pair whose tie band meets their common box; the second the rest."""
     sources = np.asarray(sources, dtype=np.int64)
-    if len(sources) < 2:
+    alike = _similar_slopes(planes[sources], 2 * NEAR_COPLANAR * eps_z / MIN_OVERLAP)
+    if alike.sum() < 2 or not _near_pairs(boxes, planes, sources[alike], eps_z)[2].any():
         return sources[:0], sources
+    first, rows, near = _near_pairs(boxes, planes, sources, eps_z)
+    n = len(sources)
+    graph = coo_matrix((np.ones(len(rows)), (first, rows)), shape=(n, n))
+    _, component = connected_components(graph, directed=False)
+    tied = np.isin(component, np.unique(component[first[near]]))
+    return sources[tied], sources[~tied]
+
+
+def _similar_slopes(planes: np.ndarray, tol: float) -> np.ndarray:
+    """Which planes have another whose x slope and y slope are each within ``tol``
+    (a superset of the near-coplanar pairs, found by sorting instead of pairing)."""
+    alike = np.ones(len(planes), dtype=bool)
+    for axis in (0, 1):
+        idx = np.flatnonzero(alike)
+        slope = planes[idx, axis]
+        ordered = np.sort(slope)
+        count = np.searchsorted(ordered, slope + tol, "right") - np.searchsorted(ordered, slope - tol, "left")
+        alike[idx[count < 2]] = False
+    return alike
+
+
+def _near_pairs(boxes, planes, sources, eps_z):
+    """Pairs of ``sources`` (positions ``first``, ``rows``) whose boxes overlap, and
+    which of them are near-coplanar with the tie band meeting their common box."""
+    if len(sources) < 2:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, bool)
     starts, rows = later_neighbours(boxes, sources)
     first = np.repeat(np.arange(len(sources)), np.diff(starts))
-    if len(rows) == 0:
-        return sources[:0], sources
     i, j = sources[first], sources[rows]
     bi, bj = boxes[i], boxes[j]
     x0, y0 = np.maximum(bi[:, 0], bj[:, 0]), np.maximum(bi[:, 1], bj[:, 1])
@@ -60,14 +90,8 @@ def tie_groups(boxes: np.ndarray, planes: np.ndarray, sources: np.ndarray, eps_z
     band_meets = (np.abs(corners).min(axis=0) <= eps_z) | (corners.min(axis=0) < 0) & (corners.max(axis=0) > 0)
     spread = np.abs(corners).max(axis=0)
     # exactly equal planes tie by file order, which is transitive: the area sort keeps them
-    near = band_meets & (spread > 0) & (spread <= NEAR_COPLANAR * eps_z)
-    if not near.any():
-        return sources[:0], sources
-    n = len(sources)
-    graph = coo_matrix((np.ones(len(rows)), (first, rows)), shape=(n, n))
-    _, component = connected_components(graph, directed=False)
-    tied = np.isin(component, np.unique(component[first[near]]))
-    return sources[tied], sources[~tied]
+    wide = (x1 - x0 >= MIN_OVERLAP) & (y1 - y0 >= MIN_OVERLAP)
+    return first, rows, band_meets & wide & (spread > 0) & (spread <= NEAR_COPLANAR * eps_z)
 
 
 def solve_by_rule(outline, box, planes, window, sources, eps, eps_z):
