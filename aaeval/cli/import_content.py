@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 
@@ -46,6 +47,8 @@ def add_parser(sub) -> None:
 
 def _common(p) -> None:
     p.add_argument("-o", "--output", required=True, metavar="SCENE.toml", help="scene file to write")
+    p.add_argument("--mkdir", action="store_true",
+                   help="create the output's folder if it does not exist (refused otherwise)")
     p.add_argument("--tolerance", type=float, default=DEFAULT_TOLERANCE, metavar="PX",
                    help=f"flattening tolerance in pixels (default {DEFAULT_TOLERANCE:g})")
     p.add_argument("--frames", type=int, default=1, help="animation frames (default 1)")
@@ -70,10 +73,42 @@ def _report(output: Path, document: dict, ignored: list[str], cut: int) -> None:
 
 
 def _check_common(args) -> None:
-    if not args.tolerance > 0:
-        raise ValueError(f"--tolerance must be > 0, got {args.tolerance}")
+    if not (math.isfinite(args.tolerance) and args.tolerance > 0):
+        raise ValueError(f"--tolerance must be a positive number of pixels, got {args.tolerance}")
+    folder = Path(args.output).parent
+    if not folder.is_dir() and not args.mkdir:
+        raise ValueError(f"{folder}: no such folder for -o {args.output}; create it or pass --mkdir")
     if args.frames < 1:
         raise ValueError(f"--frames must be >= 1, got {args.frames}")
+
+
+def _check_options(args) -> None:
+    """Every number option finite and in range, refused naming the option, and the output
+    file writable, before anything is read or imported."""
+    from aaeval.imageio import check_outputs
+
+    def finite(name: str, values, low=None, high=None, rule: str = "") -> None:
+        for v in values if isinstance(values, (list, tuple)) else [values]:
+            if not math.isfinite(v) or (low is not None and v < low) or (high is not None and v > high):
+                shown = " ".join(f"{x:g}" for x in values) if isinstance(values, (list, tuple)) else f"{values:g}"
+                raise ValueError(f"{name} must be {rule or 'a finite number'}, got {shown}")
+
+    finite("--translate", args.translate, -1e6, 1e6, "finite pixels per frame within +-1e6")
+    finite("--background", args.background, 0.0, 1.0, "three linear RGB values in [0, 1]")
+    if getattr(args, "scale", None) is not None:
+        finite("--scale", args.scale, 1e-9, 1e6, "a positive finite number (scene pixels per SVG pixel, at most 1e6)")
+        if args.scale <= 0:
+            raise ValueError(f"--scale must be a positive finite number, got {args.scale:g}")
+    if getattr(args, "color", None) is not None:
+        finite("--color", args.color, 0.0, 1.0, "three linear RGB values in [0, 1]")
+    if getattr(args, "size", None) is not None:
+        finite("--size", args.size, 1e-3, 1e5, "pixels per em, finite, in [0.001, 1e5]")
+    if getattr(args, "margin", None) is not None:
+        # 2 x 8192 px of margin alone reaches the scene format's 2^28-pixel image limit
+        finite("--margin", args.margin, 0.0, 8192.0, "a finite number of pixels in [0, 8192]")
+    if getattr(args, "origin", None) is not None:
+        finite("--origin", args.origin, -1e6, 1e6, "finite pixel coordinates within +-1e6")
+    check_outputs({"-o": args.output})  # a folder that cannot be written is refused now, by the user's path
 
 
 def run_svg(args) -> int:
@@ -81,6 +116,7 @@ def run_svg(args) -> int:
     from aaeval.importers.svg import import_svg
 
     _check_common(args)
+    _check_options(args)
     output = Path(args.output)
     result = import_svg(args.svg, tolerance=args.tolerance, scale=args.scale, background=args.background,
                         frames=args.frames, translate=args.translate,
@@ -97,6 +133,7 @@ def run_text(args) -> int:
     from aaeval.importers.text import import_text
 
     _check_common(args)
+    _check_options(args)
     output = Path(args.output)
     font_ref = None if args.font is None or args.font.startswith("matplotlib:") else _relative(Path(args.font), output)
     result = import_text(args.string, font=args.font, sizes=args.size, color=args.color,

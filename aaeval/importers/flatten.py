@@ -22,6 +22,8 @@ import math
 
 import numpy as np
 
+from aaeval.importers.limits import charge
+
 __all__ = ["bezier_points", "arc_points", "conic_points", "bezier_steps", "DEFAULT_TOLERANCE"]
 
 DEFAULT_TOLERANCE = 1.0 / 16.0  # pixels
@@ -35,6 +37,8 @@ def bezier_steps(control: np.ndarray, tol: float) -> int:
     k = len(control) - 1
     if k < 2:
         return 1
+    if not np.isfinite(control).all():
+        raise ValueError("a curve has a control point that is not a finite number")
     second = control[2:] - 2.0 * control[1:-1] + control[:-2]
     m = float(np.hypot(second[:, 0], second[:, 1]).max())
     return int(min(MAX_STEPS, max(1, math.ceil(math.sqrt(k * (k - 1) * m / (8.0 * tol))))))
@@ -47,6 +51,7 @@ def bezier_points(control, tol: float) -> np.ndarray:
     """
     control = np.asarray(control, dtype=np.float64)
     n = bezier_steps(control, tol)
+    charge(n)
     t = np.arange(1, n + 1) / n
     k = len(control) - 1
     # Bernstein basis, (n, k+1)
@@ -66,9 +71,15 @@ def arc_points(centre, rx: float, ry: float, rotation: float, start: float, swee
     r = max(abs(rx), abs(ry))
     if r <= tol:
         step = math.pi
-    else:
+    elif tol / r > 1e-8:
         step = 2.0 * math.acos(1.0 - tol / r)
-    n = int(min(MAX_STEPS, max(1, math.ceil(abs(sweep) / min(step, math.pi)))))
+    else:  # 1 - tol/r rounds towards 1: acos(1 - x) = sqrt(2x) (1 + x/12 + ...)
+        step = 2.0 * math.sqrt(2.0 * tol / r)
+    if not all(map(math.isfinite, (rx, ry, rotation, start, sweep, centre[0], centre[1]))):
+        raise ValueError("an arc has a value that is not a finite number")
+    steps = abs(sweep) / min(step, math.pi) if step > 0 else math.inf
+    n = int(min(MAX_STEPS, max(1, math.ceil(steps)))) if steps < MAX_STEPS else MAX_STEPS
+    charge(n)
     t = start + sweep * np.arange(1, n + 1) / n
     c, s = math.cos(rotation), math.sin(rotation)
     x, y = rx * np.cos(t), ry * np.sin(t)
@@ -82,6 +93,7 @@ def conic_points(p0, p1, p2, w: float, tol: float) -> np.ndarray:
     stack = [(np.asarray(p0, float), np.asarray(p1, float), np.asarray(p2, float), float(w), 0)]
     while stack:  # depth first, second half pushed first: points come out in order
         a, b, c, w, depth = stack.pop()
+        charge(1)
         if _conic_height(a, b, c) * w / (1.0 + w) <= tol or depth >= 24:
             out.append(c)
             continue

@@ -1,11 +1,11 @@
-"""Filled regions from outlines: fill rules and strokes resolved by Skia's path operations.
+"""Filled regions from outlines: fill rules and strokes resolved in float64.
 
-The curves are flattened by :mod:`aaeval.importers.flatten` before Skia sees them, and
-Skia's output (a stroke's round joins and caps) is flattened the same way, so every
-vertex count is ours. ``skia.Simplify`` turns a path under its fill rule (nonzero or
-even-odd) into contours that neither cross nor overlap; :func:`nest` sorts those into
-outer rings and holes. Skia holds coordinates as float32, so imported vertices are
-float32 values (a few 1e-6 px off the flattened curve at a few hundred px).
+Fill rules (nonzero, even-odd) are resolved by :func:`aaeval.importers.fill.resolve_fill`
+(an arrangement of the flattened outline's edges in float64: straight-edged input keeps
+its exact coordinates, a crossing is one vertex rounded once). Strokes are built from the
+true segments by :mod:`aaeval.importers.stroke` (offsets sampled to the tolerance, joins
+decided on the true tangents) and their pieces united the same way. Skia is no longer
+used here: its path operations round every coordinate to float32.
 """
 
 from __future__ import annotations
@@ -13,18 +13,19 @@ from __future__ import annotations
 from typing import Iterable, NamedTuple
 
 import numpy as np
-import skia
 
-from aaeval.importers.flatten import bezier_points, conic_points
+from aaeval.importers.fill import resolve_fill
+from aaeval.importers.limits import charge
+from aaeval.importers.stroke import Seg, stroke_pieces
 from aaeval.scenes.holes import points_inside, ring_area
 
-__all__ = ["Subpath", "Region", "fill_regions", "stroke_regions", "nest", "STROKE_CAPS", "STROKE_JOINS"]
+__all__ = ["Subpath", "Region", "fill_regions", "stroke_regions", "nest", "STROKE_CAPS", "STROKE_JOINS", "Seg"]
 
-# Rings smaller than this (px^2) are Skia's rounding crumbs, not content.
+# Rings smaller than this (px^2) are rounding crumbs, not content.
 CRUMB_AREA = 1e-9
 
-STROKE_CAPS = {"butt": skia.Paint.kButt_Cap, "round": skia.Paint.kRound_Cap, "square": skia.Paint.kSquare_Cap}
-STROKE_JOINS = {"miter": skia.Paint.kMiter_Join, "round": skia.Paint.kRound_Join, "bevel": skia.Paint.kBevel_Join}
+STROKE_CAPS = ("butt", "round", "square")
+STROKE_JOINS = ("miter", "round", "bevel")
 
 
 class Subpath(NamedTuple):
@@ -45,54 +46,20 @@ def fill_regions(subpaths: Iterable[Subpath], rule: str) -> list[Region]:
     """The area a set of subpaths fills under ``rule`` (``"nonzero"`` or ``"evenodd"``)."""
     if rule not in ("nonzero", "evenodd"):
         raise ValueError(f"unknown fill rule {rule!r}; use nonzero or evenodd")
-    path = _skia_path((s.points, True) for s in subpaths)
-    path.setFillType(skia.PathFillType.kWinding if rule == "nonzero" else skia.PathFillType.kEvenOdd)
-    return _regions_of(path)
+    return [Region(outer, holes) for outer, holes in resolve_fill([s.points for s in subpaths], rule)]
 
 
 def stroke_regions(
-    subpaths: Iterable[Subpath], width: float, *, cap: str = "butt", join: str = "miter",
-    miter_limit: float = 4.0, tol: float,
+    subpaths, width: float, *, cap: str = "butt", join: str = "miter", miter_limit: float = 4.0, tol: float,
 ) -> list[Region]:
-    """The area a stroke of ``width`` along the subpaths covers (SVG stroke geometry)."""
-    path = _skia_path((s.points, s.closed) for s in subpaths)
-    paint = skia.Paint(
-        Style=skia.Paint.kStroke_Style, StrokeWidth=float(width), StrokeCap=STROKE_CAPS[cap],
-        StrokeJoin=STROKE_JOINS[join], StrokeMiter=float(miter_limit),
-    )
-    outline = skia.Path()
-    paint.getFillPath(path, outline)
-    flat = _skia_path((ring, True) for ring in flatten_skia_path(outline, tol))
-    flat.setFillType(skia.PathFillType.kWinding)  # a stroke covers where any part of it is
-    return _regions_of(flat)
+    """The area a stroke of ``width`` along the subpaths covers (SVG stroke geometry).
 
-
-def flatten_skia_path(path: skia.Path, tol: float) -> list[np.ndarray]:
-    """Every contour of a Skia path as a closed ring of points, curves flattened to ``tol``."""
-    rings, current = [], []
-    iterator = skia.Path.Iter(path, True)
-    while True:
-        verb, points = iterator.next()
-        if verb == skia.Path.kDone_Verb:
-            break
-        pts = np.array([(p.x(), p.y()) for p in points], dtype=np.float64)
-        if verb == skia.Path.kMove_Verb:
-            if len(current) >= 3:
-                rings.append(np.array(current))
-            current = [pts[0]]
-        elif verb == skia.Path.kLine_Verb:
-            current.append(pts[1])
-        elif verb == skia.Path.kQuad_Verb or verb == skia.Path.kCubic_Verb:
-            current.extend(bezier_points(pts, tol))
-        elif verb == skia.Path.kConic_Verb:
-            current.extend(conic_points(pts[0], pts[1], pts[2], iterator.conicWeight(), tol))
-        elif verb == skia.Path.kClose_Verb:
-            if len(current) >= 3:
-                rings.append(np.array(current))
-            current = []
-    if len(current) >= 3:
-        rings.append(np.array(current))
-    return [r for r in (_clean(r) for r in rings) if r is not None]
+    ``subpaths`` is a sequence of (list of :class:`Seg`, closed): the true segments, so
+    joins are decided on true tangents and offsets sampled to ``tol``.
+    """
+    pieces = stroke_pieces(subpaths, width, cap=cap, join=join, miter_limit=miter_limit, tol=tol, budget=charge)
+    # every piece is positively oriented: their union is the nonzero fill
+    return [Region(outer, holes) for outer, holes in resolve_fill(pieces, "nonzero")]
 
 
 def nest(rings: list[np.ndarray]) -> list[Region]:
@@ -120,27 +87,6 @@ def nest(rings: list[np.ndarray]) -> list[Region]:
             regions[region_of[container]].holes.append(rings[i])
         placed.append(i)
     return regions
-
-
-def _skia_path(contours) -> skia.Path:
-    path = skia.Path()
-    for points, closed in contours:
-        if len(points) < 2:
-            continue
-        path.moveTo(float(points[0][0]), float(points[0][1]))
-        for x, y in points[1:]:
-            path.lineTo(float(x), float(y))
-        if closed:
-            path.close()
-    return path
-
-
-def _regions_of(path: skia.Path) -> list[Region]:
-    simple = skia.Simplify(path)
-    if simple is None:
-        raise ValueError("Skia could not resolve the fill of a path")
-    # Simplify's output is made of lines only (its input was), so tol is never used
-    return nest(flatten_skia_path(simple, tol=1.0))
 
 
 def _clean(ring: np.ndarray) -> np.ndarray | None:

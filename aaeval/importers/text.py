@@ -16,6 +16,7 @@ so a text scene needs nothing from the network or the system.
 from __future__ import annotations
 
 import math
+import struct
 from functools import lru_cache
 from pathlib import Path
 from typing import NamedTuple
@@ -23,6 +24,7 @@ from typing import NamedTuple
 import numpy as np
 
 from aaeval.importers.flatten import DEFAULT_TOLERANCE, bezier_points
+from aaeval.importers.limits import MAX_GLYPHS, ImportLimitError, VertexBudget, budget_scope, check_tolerance
 from aaeval.importers.scene import ImportResult, Layer, scene_document
 from aaeval.importers.shapes import Subpath, fill_regions
 from aaeval.scenes.sources import font_path
@@ -30,6 +32,7 @@ from aaeval.scenes.sources import font_path
 __all__ = ["import_text", "layout", "glyph_subpaths", "PlacedGlyph", "DEFAULT_FONT", "TextError"]
 
 DEFAULT_FONT = "matplotlib:DejaVuSans.ttf"
+MAX_SIZE = 1e6  # pixels per em: a stated limit (a glyph would span a million pixels)
 
 
 class TextError(ValueError):
@@ -47,13 +50,18 @@ class PlacedGlyph(NamedTuple):
 
 @lru_cache(maxsize=8)
 def _font(path: str):
+    import io
+
     from fontTools.ttLib import TTFont, TTLibError
 
+    from aaeval.readlimits import read_bytes
+
+    data = read_bytes(path, what="font")  # a regular file of bounded size, read once
     try:
-        font = TTFont(path, lazy=True)
+        font = TTFont(io.BytesIO(data), lazy=True)
         font.getGlyphOrder()
         font["head"], font["hmtx"], font["hhea"]  # noqa: B018  (the tables layout needs)
-    except (OSError, TTLibError, KeyError) as exc:
+    except (OSError, TTLibError, KeyError, ValueError, struct.error, AssertionError) as exc:
         raise TextError(f"{path}: not a readable TrueType/OpenType font ({exc})") from None
     return font
 
@@ -100,9 +108,14 @@ def glyph_subpaths(font_file: str | Path, glyph: PlacedGlyph, tol: float) -> lis
     from fontTools.pens.basePen import BasePen
     from fontTools.pens.transformPen import TransformPen
 
+    glyph_set = _font(str(font_file)).getGlyphSet()
+
     class FlattenPen(BasePen):
+        # BasePen with a glyph set decomposes components: each component's outline is
+        # drawn through its own 2x3 transform (nested components compose), as FreeType
+        # does; a flipped component keeps its contour direction, as in FreeType.
         def __init__(self):
-            super().__init__(None)
+            super().__init__(glyph_set)
             self.subpaths: list[Subpath] = []
             self.points: list = []
 
@@ -132,7 +145,14 @@ def glyph_subpaths(font_file: str | Path, glyph: PlacedGlyph, tol: float) -> lis
     pen = FlattenPen()
     s = glyph.scale
     # font units (y up) to image pixels (y down) at the glyph's pen position
-    _font(str(font_file)).getGlyphSet()[glyph.glyph].draw(TransformPen(pen, (s, 0, 0, -s, glyph.x, glyph.y)))
+    try:
+        glyph_set[glyph.glyph].draw(TransformPen(pen, (s, 0, 0, -s, glyph.x, glyph.y)))
+    except RecursionError:
+        raise TextError(f"{font_file}: glyph {glyph.glyph!r} has components nested without end") from None
+    except (KeyError, IndexError, ValueError, TypeError, struct.error, AssertionError) as exc:
+        if isinstance(exc, TextError):
+            raise
+        raise TextError(f"{font_file}: glyph {glyph.glyph!r} cannot be read ({type(exc).__name__}: {exc})") from None
     pen._finish()
     return pen.subpaths
 
@@ -161,29 +181,44 @@ def import_text(
     sizes = [float(s) for s in sizes]
     if not sizes or any(not (math.isfinite(s) and s > 0) for s in sizes):
         raise TextError(f"sizes must be positive numbers of pixels, got {sizes}")
+    if any(s > MAX_SIZE for s in sizes):
+        raise TextError(f"sizes above {MAX_SIZE:g} px are over the limit, got {max(sizes):g}")
+    if len(string) * len(sizes) > MAX_GLYPHS:
+        raise TextError(f"{len(string)} characters at {len(sizes)} size(s) are {len(string) * len(sizes)} glyphs, "
+                        f"over the limit of {MAX_GLYPHS}")
     reference = font_ref if font_ref is not None else (DEFAULT_FONT if font is None else str(font))
     file = font_path(".", font or DEFAULT_FONT)
-    if not file.is_file():
-        raise TextError(f"{file}: no such font file")
+    if not file.exists():
+        raise TextError(f"{file}: no such font file")  # other kinds of file: refused by the reader
     ascent0 = line_metrics(file, sizes[0])[0]
     x0, y = (margin, margin + ascent0) if origin is None else (float(origin[0]), float(origin[1]))
-    layers, origins, right, bottom = [], [], 0.0, 0.0
+    # the layout first (cheap): the image size bounds the tolerance before any flattening
+    lines, origins, right, bottom = [], [], 0.0, 0.0
     for k, size in enumerate(sizes):
         ascent, descent, gap = line_metrics(file, size)
         if k > 0:
             y += previous_descent + gap + ascent
         origins.append([x0, y])
-        for glyph in layout(file, string, size, (x0, y)):
-            regions = fill_regions(glyph_subpaths(file, glyph, tolerance), "nonzero")
-            if regions:
-                layers.append(Layer(np.asarray(color, dtype=np.float64), regions, f"{glyph.char!r} at {size:g} px"))
+        lines.append((size, layout(file, string, size, (x0, y))))
         right = max(right, x0 + _advance(file, string, size))
         bottom = y + descent
         previous_descent = descent
+    width, height = math.ceil(right + margin), math.ceil(bottom + margin)
+    try:
+        check_tolerance(tolerance, width, height)
+    except ImportLimitError as exc:
+        raise TextError(str(exc)) from None
+    layers = []
+    with budget_scope(VertexBudget()):
+        for size, glyphs in lines:
+            for glyph in glyphs:
+                regions = fill_regions(glyph_subpaths(file, glyph, tolerance), "nonzero")
+                if regions:
+                    layers.append(Layer(np.asarray(color, dtype=np.float64), regions, f"{glyph.char!r} at {size:g} px"))
     source = {"font": reference, "color": [float(c) for c in color], "tolerance": float(tolerance),
               "strings": [string] * len(sizes), "sizes": sizes, "origins": origins}
     document, cut = scene_document(
-        math.ceil(right + margin), math.ceil(bottom + margin), background, layers,
+        width, height, background, layers,
         extension=("text", source), frames=frames, translate=translate,
     )
     return ImportResult(document, [], cut)
