@@ -124,8 +124,11 @@ def atomic_write(path: str | Path, write) -> Path:
     :class:`OSError` ``no space left on device: PATH`` and leaves ``path`` as it was.
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
+    except OSError as exc:  # name the user's path, not the temporary file's
+        raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from None
     try:
         try:
             os.fchmod(fd, 0o666 & ~_umask())  # mkstemp makes 0600 whatever the umask
@@ -141,6 +144,8 @@ def atomic_write(path: str | Path, write) -> Path:
             os.unlink(tmp)
         if full:
             raise OSError(errno.ENOSPC, "no space left on device", str(path)) from None
+        if isinstance(exc, OSError) and exc.filename is not None and str(exc.filename) == str(tmp):
+            raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from None  # the user's path
         raise
     _fsync_dir(path.parent)
     return path

@@ -56,8 +56,11 @@ def run(args) -> int:
     from aaeval.experiments.record import dumps
     from aaeval.imageio import atomic_write
 
+    from aaeval.imageio import check_outputs
+
     if args.json and Path(args.json).is_dir():
         raise ValueError(f"--json {args.json} is a directory; give a file name")
+    check_outputs({"--json": args.json})  # a folder that cannot be written is refused before rendering
     plan = plan_comparison(args.scene, args.methods, args.reference, args.frames, metrics=args.metrics,
                            temporal=args.temporal, repeats=args.repeats)
     quiet = args.quiet or not sys.stderr.isatty()

@@ -22,8 +22,11 @@ def run(args) -> int:
     from aaeval.renderers import render, resolve
     from aaeval.scenes import load_scene
 
+    from aaeval.renderers.registry import check_frames
+
     resolve(args.method)
     scene = load_scene(args.scene)
+    check_frames(scene, scene.frames, "invariance renders every frame")  # budgeted as a generator's frames
     sums = []
     for k in range(scene.frames):
         sums.append(intensity_sum(render(scene, args.method, frame=k)))

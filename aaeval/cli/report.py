@@ -17,8 +17,13 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
+    from pathlib import Path
+
+    from aaeval.imageio import check_outputs
     from aaeval.report import write_report
 
+    if Path(args.dir).is_dir():  # a folder the report cannot write into is refused before any work
+        check_outputs({"DIR": args.dir}, folders=True)
     index = write_report(args.dir, quiet=args.quiet)
     print(f"report: {index}")
     return 0

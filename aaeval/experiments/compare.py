@@ -23,6 +23,7 @@ from aaeval.experiments.measure import (
 )
 from aaeval.metrics import MASKS, METRICS, sum_variation
 from aaeval.renderers import format_spec, resolve
+from aaeval.renderers.registry import check_frames
 from aaeval.scenes import Scene, load_scene
 
 __all__ = ["ComparisonPlan", "parse_frames", "plan_comparison", "run_comparison", "default_metrics"]
@@ -66,6 +67,16 @@ def parse_frames(value: str | int, available: int) -> tuple[int, ...]:
     if count > available:
         raise ValueError(f"--frames {count}: the scene has only {available} frame(s)")
     return tuple(range(count))
+
+
+def _frame_count(value: str | int, available: int) -> int:
+    """How many frames ``--frames value`` asks for (0 when malformed: parse_frames says why)."""
+    if isinstance(value, str) and value.strip().lower() == "all":
+        return available
+    try:
+        return max(0, min(int(value), available))
+    except (TypeError, ValueError):
+        return 0
 
 
 def plan_comparison(
@@ -114,6 +125,8 @@ def plan_comparison(
         scene = load_scene(scene)
     metrics = default_metrics("image", scene) if metrics is None else metrics
     temporal = default_metrics("temporal", scene) if temporal is None else temporal
+    # a file's frame count is budgeted as a generator's, before the frame list is built
+    check_frames(scene, _frame_count(frames, scene.frames), f"--frames {frames}")
     return ComparisonPlan(scene, methods, reference.strip(), parse_frames(frames, scene.frames), metrics,
                           temporal, repeats)
 

@@ -46,6 +46,7 @@ __all__ = [
     "MAX_SAMPLES",
     "MAX_SECONDS",
     "SceneLoad",
+    "check_frames",
     "scene_load",
 ]
 
@@ -366,6 +367,20 @@ def _scene_load(scene: Scene) -> SceneLoad:
     depth = np.cumsum(np.cumsum(diff, axis=0), axis=1)[:gh, :gw].astype(np.float64)
     return SceneLoad(n, len(arr.vertices), float(pairs), float((depth**2).sum() * c * c),
                      float(depth.sum() * c * c))
+
+
+def check_frames(scene: Scene, frames: int, where: str) -> None:
+    """Refuse rendering ``frames`` frames of ``scene`` when the pixels over all of them
+    exceed the limit generated scenes have (``aaeval.scenes.generate.MAX_PIXEL_FRAMES``):
+    a scene file's ``[animation] frames`` is budgeted as a generator's is."""
+    from aaeval.scenes import SceneError
+    from aaeval.scenes.generate import MAX_PIXEL_FRAMES
+
+    total = scene.width * scene.height * int(frames)
+    if total > MAX_PIXEL_FRAMES:
+        raise SceneError(f"{scene.source}: {where}: {int(frames)} frames of {scene.width}x{scene.height} are "
+                         f"{total:.3g} pixels, over the limit of {MAX_PIXEL_FRAMES:.3g} pixels over all frames "
+                         "(render fewer frames)")
 
 
 def _draws_polygons(method: Method) -> bool:
