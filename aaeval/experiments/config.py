@@ -384,6 +384,13 @@ def _animate(scenes: tuple[SceneSource, ...], raw: Any, where: str) -> tuple[Sce
 
 def _frames(raw: Any, where: str, scenes: tuple[SceneSource, ...]) -> Any:
     if raw == "all":
+        from aaeval.renderers.registry import check_frames
+
+        for src in scenes:  # a file's [animation] frames is budgeted as a generator's
+            try:
+                check_frames(src.parsed, src.frames, f"{where} = \"all\"")
+            except SceneError as exc:
+                raise ConfigError(str(exc)) from None
         return "all"
     if not isinstance(raw, list) or not raw or not all(isinstance(k, int) and not isinstance(k, bool) for k in raw):
         raise ConfigError(f"{where}: expected \"all\" or a non-empty list of frame numbers, got {raw!r}")
