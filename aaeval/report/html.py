@@ -146,7 +146,7 @@ def _figure(path: Path, root: Path, caption: str) -> str:
     rel = path.relative_to(root).as_posix()
     twins = " · ".join(f"<a href='{html.escape(Path(rel).with_suffix('.' + f).as_posix())}'>{f.upper()}</a>"
                        for f in figures.FORMATS if f != "png")
-    return (f"<figure><img src='{html.escape(rel)}' alt='{html.escape(caption[:120])}'>"
+    return (f"<figure><img src='{html.escape(rel)}' alt='{html.escape(html.unescape(''.join(p.split('>', 1)[-1] for p in caption.split('<')))[:120])}'>"
             f"<figcaption>{caption} <span class='dl'>(also as {twins})</span></figcaption></figure>")
 
 
