@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 
 def add_parser(sub) -> None:
     p = sub.add_parser(
@@ -38,11 +40,25 @@ def run(args) -> int:
     if args.dry_run:
         return dry_run(experiment, args.out)
     check_outputs({"--out": args.out, "--cache": args.cache}, folders=True)
+    scheduler = None
     try:
-        summary = run_sweep(experiment, args.out, workers=args.workers, scheduler=args.scheduler, quiet=args.quiet,
+        if args.scheduler:  # reached, with a worker, before the folder is touched (no empty sweep.lock)
+            from aaeval.experiments.executors import connect
+
+            scheduler = connect(args.scheduler)
+        summary = run_sweep(experiment, args.out, workers=args.workers, scheduler=scheduler, quiet=args.quiet,
                             retry_failed=args.retry_failed, cache_dir=args.cache, force=args.force)
     except ConnectionError as exc:
         raise ValueError(str(exc)) from None
+    finally:
+        if scheduler is not None:
+            from aaeval.experiments.executors import _quietly
+
+            with _quietly():
+                scheduler.close(timeout=5)
+    if any("SchedulerLost" in line for line in summary.lost):
+        print(f"aaeval sweep: the Dask scheduler at {args.scheduler} was lost: {len(summary.lost)} cell(s) not run; "
+              "finished cells are kept, rerun when it is back", file=sys.stderr)
     print(f"{experiment.name}: {summary.total} cells, {summary.skipped} already done, {summary.ran} run "
           f"({summary.failed} failed), references {summary.references_rendered} rendered / "
           f"{summary.references_cached} from cache{', on ' + summary.executor if summary.executor else ''}; "

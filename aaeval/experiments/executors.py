@@ -19,7 +19,7 @@ import time
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any, Callable, Iterator, Sequence
 
-__all__ = ["SerialExecutor", "ProcessExecutor", "DaskExecutor", "make_executor"]
+__all__ = ["SerialExecutor", "ProcessExecutor", "DaskExecutor", "SchedulerLost", "connect", "make_executor"]
 
 Outcome = tuple[int, Any, BaseException | None]
 
@@ -99,48 +99,152 @@ class ProcessExecutor:
         self._pool.shutdown(wait=True, cancel_futures=True)
 
 
+# Seconds to wait for the scheduler to answer, and for a scheduler with no workers to get
+# one, before the sweep is refused (AAEVAL_DASK_TIMEOUT, AAEVAL_DASK_WORKER_TIMEOUT).
+CONNECT_TIMEOUT = 20.0
+WORKER_TIMEOUT = 60.0
+
+
+class SchedulerLost(ConnectionError):
+    """The Dask scheduler went away during the sweep: the cells it had not returned are lost
+    (not recorded) and run on the next sweep."""
+
+
+def _seconds(name: str, default: float) -> float:
+    text = os.environ.get(name)
+    if not text:
+        return default
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not value > 0:
+        raise ValueError(f"{name}={text!r}: expected a positive number of seconds")
+    return value
+
+
+def connect(address: Any):
+    """A ``distributed.Client`` of the scheduler at ``address`` (or ``address`` itself if it
+    is a Client) that has at least one worker.
+
+    An unreachable scheduler is a ``ConnectionError`` after ``AAEVAL_DASK_TIMEOUT`` seconds
+    (default 20); one with no worker, after ``AAEVAL_DASK_WORKER_TIMEOUT`` seconds (default
+    60) of waiting for one to join. Called before a sweep touches its folder.
+    """
+    from distributed import Client
+
+    if isinstance(address, Client):
+        client = address
+    else:
+        timeout = _seconds("AAEVAL_DASK_TIMEOUT", CONNECT_TIMEOUT)
+        try:
+            client = Client(address, timeout=f"{timeout}s")
+        except (OSError, TimeoutError) as exc:
+            raise ConnectionError(f"cannot reach the Dask scheduler at {address} within {timeout:g} s: {exc}") from None
+    if not client.scheduler_info().get("workers"):
+        wait = _seconds("AAEVAL_DASK_WORKER_TIMEOUT", WORKER_TIMEOUT)
+        try:
+            client.wait_for_workers(1, timeout=wait)
+        except (TimeoutError, OSError) as exc:
+            where = getattr(client.scheduler, "address", address)
+            if client is not address:
+                client.close()
+            raise ConnectionError(f"the Dask scheduler at {where} has no workers: none joined within {wait:g} s "
+                                  f"(start one with 'dask worker {where}'; AAEVAL_DASK_WORKER_TIMEOUT sets the "
+                                  f"wait; {type(exc).__name__})") from None
+    return client
+
+
 class DaskExecutor:
     """The same tasks on a Dask distributed cluster: ``Client(address)``, ``client.map``,
-    ``as_completed``."""
+    ``as_completed``.
+
+    ``description`` and ``workers`` follow the cluster: a worker that dies during the sweep
+    is seen in the records written after it (:meth:`current`). A scheduler that goes away
+    ends the run: every task not yet returned comes back as :class:`SchedulerLost`.
+    """
 
     def __init__(self, address: Any):
         from distributed import Client
 
-        if isinstance(address, Client):
-            self.client = address
-        else:
-            try:
-                self.client = Client(address, timeout="20s")
-            except (OSError, TimeoutError) as exc:
-                raise ConnectionError(f"cannot reach the Dask scheduler at {address}: {exc}") from None
         self._own = not isinstance(address, Client)
-        info = self.client.scheduler_info()
-        self.workers = max(1, len(info.get("workers", {})))
-        self.description = f"Dask cluster {self.client.scheduler.address} ({self.workers} workers)"
+        self.client = connect(address)
+        self.address = self.client.scheduler.address
+        self.started_with = self._live_workers()
+        self.workers = max(1, self.started_with)
+        self.description = f"Dask cluster {self.address} ({self.workers} workers)"
+        self.lost: SchedulerLost | None = None
+
+    def _live_workers(self) -> int:
+        try:
+            return len(self.client.scheduler_info().get("workers", {}))
+        except Exception:  # noqa: BLE001 - no answer: none known
+            return 0
+
+    def current(self) -> dict:
+        """The executor as a record's ``executor`` and ``workers`` fields, now."""
+        n = self._live_workers()
+        if n == self.started_with or n == 0:
+            return {"executor": self.description, "workers": self.workers}
+        change = f"{self.started_with - n} lost" if n < self.started_with else f"{n - self.started_with} joined"
+        return {"executor": f"Dask cluster {self.address} ({n} workers; {change} since the start)", "workers": n}
 
     def run(self, fn: Callable, payloads: Sequence) -> Iterator[Outcome]:
         from distributed import as_completed
 
         if not payloads:
             return
-        # tasks render and time: never let Dask skip one as a duplicate of a pure call
-        futures = [self.client.submit(fn, *p, pure=False) for p in payloads]
-        index = {f.key: i for i, f in enumerate(futures)}
+        if self.lost is not None:  # the scheduler is gone: nothing more can run
+            for i in range(len(payloads)):
+                yield i, None, self.lost
+            return
+        returned: set[int] = set()
+        futures = []
         try:
+            # tasks render and time: never let Dask skip one as a duplicate of a pure call
+            futures = [self.client.submit(fn, *p, pure=False) for p in payloads]
+            index = {f.key: i for i, f in enumerate(futures)}
             for future in as_completed(futures):
                 i = index[future.key]
+                if future.status == "cancelled":
+                    raise SchedulerLost("its task was cancelled")
                 if future.status == "error":
-                    yield i, None, future.exception()
+                    outcome = (i, None, future.exception())
                 else:
-                    yield i, future.result(), None
+                    outcome = (i, future.result(), None)
+                returned.add(i)
+                yield outcome
                 future.release()
         except (KeyboardInterrupt, SystemExit):
-            self.client.cancel(futures)  # the cluster stops computing cells nobody will write
+            with _quietly():
+                self.client.cancel(futures)  # the cluster stops computing cells nobody will write
             raise
+        except GeneratorExit:  # the caller stopped reading
+            raise
+        except BaseException as exc:  # noqa: BLE001 - a lost connection comes in many classes
+            if self.client.status == "running" and not isinstance(exc, SchedulerLost) and self._live_workers():
+                raise  # the cluster is fine: not ours to hide
+            self.lost = SchedulerLost(f"the Dask scheduler at {self.address} was lost during the sweep "
+                                      f"({type(exc).__name__}: {str(exc) or 'connection closed'}); finished cells "
+                                      "are kept, rerun the sweep when it is back")
+            for i in range(len(payloads)):
+                if i not in returned:
+                    yield i, None, self.lost
 
     def close(self) -> None:
         if self._own:
-            self.client.close()
+            with _quietly():
+                self.client.close(timeout=5)
+
+
+class _quietly:
+    """Ignore any error (closing a client whose scheduler is gone)."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return exc[0] is not None and not issubclass(exc[0], (KeyboardInterrupt, SystemExit))
 
 
 def make_executor(workers: int | None = None, scheduler: Any = None):

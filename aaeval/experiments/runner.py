@@ -92,11 +92,56 @@ class SweepSummary:
     executor: str = ""
 
 
+class _LineProgress:
+    """Progress as plain lines, for a stdout that is not a terminal (a log file, CI, a pipe):
+    a task's count, elapsed time and estimate at most every ``every`` seconds, and when it ends."""
+
+    def __init__(self, every: float = 15.0, stream=None):
+        import sys
+
+        self.every, self.stream = every, stream or sys.stdout
+        self.tasks: dict[int, dict] = {}
+
+    def add_task(self, description: str, total: int) -> int:
+        import time
+
+        task = len(self.tasks)
+        now = time.monotonic()
+        self.tasks[task] = {"description": description, "total": int(total), "done": 0, "start": now, "shown": now}
+        self._line(task)
+        return task
+
+    def advance(self, task: int, advance: int = 1) -> None:
+        import time
+
+        t = self.tasks[task]
+        t["done"] += advance
+        now = time.monotonic()
+        if now - t["shown"] >= self.every or t["done"] >= t["total"]:
+            t["shown"] = now
+            self._line(task)
+
+    def _line(self, task: int) -> None:
+        import time
+
+        t = self.tasks[task]
+        elapsed = time.monotonic() - t["start"]
+        eta = (f", eta {elapsed / t['done'] * (t['total'] - t['done']):.0f} s"
+               if 0 < t["done"] < t["total"] else "")
+        print(f"{t['description']}: {t['done']}/{t['total']} ({elapsed:.0f} s{eta})", file=self.stream, flush=True)
+
+
 @contextmanager
 def progress_bar(quiet: bool):
-    """A rich progress bar with counts and ETA, or nothing under ``--quiet``."""
+    """A rich progress bar with counts and ETA on a terminal, plain progress lines when stdout
+    is not one, or nothing under ``--quiet``."""
+    import sys
+
     if quiet:
         yield None
+        return
+    if not sys.stdout.isatty():
+        yield _LineProgress()
         return
     from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn,
                                TimeRemainingColumn)
@@ -144,11 +189,18 @@ def run_sweep(experiment: Experiment, out: str | Path, *, workers: int | None = 
     planned = plan(experiment)
     with store.lock():
         store.check_experiment(experiment.name, {p.key for p in planned}, force=force)
-        return _run_locked(experiment, store, planned, workers=workers, scheduler=scheduler, quiet=quiet,
-                           retry_failed=retry_failed, cache_dir=cache_dir)
+        summary = _run_locked(experiment, store, planned, workers=workers, scheduler=scheduler, quiet=quiet,
+                              retry_failed=retry_failed, cache_dir=cache_dir, log=log)
+        if experiment.speed and not summary.lost:
+            from aaeval.experiments.speed import run_speed_pass
+
+            # after the accuracy cells, in this process: one worker, the stated threads
+            run_speed_pass(experiment, store.root, log=(lambda *_: None) if quiet else log)
+        return summary
 
 
-def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_failed, cache_dir) -> SweepSummary:
+def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_failed, cache_dir,
+                log=print) -> SweepSummary:
     from aaeval.experiments.table import write_results
 
     def write_manifest():  # only once the run can start: a failed start leaves the folder as it was
@@ -246,6 +298,8 @@ def _cells(todo, refs, store, executor, progress, summary) -> None:
             summary.lost.append(f"{todo[i].key}: {type(exc).__name__}: {exc}")
         else:
             record, image = result
+            if hasattr(executor, "current"):  # a cluster's workers now (one may have died since the start)
+                record.update(executor.current())
             store.write_cell(record, image)
             summary.ran += 1
             summary.failed += bool(record.get("error"))

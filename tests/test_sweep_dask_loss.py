@@ -1,0 +1,104 @@
+"""Dask losses say what was lost (issue 21 case 11): an unreachable scheduler or one with no
+workers is refused before the sweep folder is touched (no empty ``sweep.lock``), after a
+stated timeout; a scheduler that dies mid-sweep is named, the sweep exits 1 and a rerun
+finishes; the executor column follows dead workers."""
+
+from __future__ import annotations
+
+import threading
+import time
+
+import pytest
+
+from aaeval.cli import main
+from sweep_util import write_config
+
+distributed = pytest.importorskip("distributed", reason="dask[distributed] is a dependency; install it to run this")
+
+MANY = """
+[experiment]
+name = "many"
+description = "enough cells to kill the scheduler in the middle"
+reference = "supersample:k=2"
+metrics = ["rmse"]
+temporal = []
+
+[[groups]]
+name = "edges"
+scenes = [{generator = "edges", difficulty = [0.1], frames = 120, size = 24}]
+methods = ["point", "supersample:k=3"]
+"""
+
+
+def local_cluster(n_workers):
+    return distributed.LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=False, protocol="tcp",
+                                    host="127.0.0.1", dashboard_address=None)
+
+
+def test_an_unreachable_scheduler_leaves_no_folder(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("AAEVAL_DASK_TIMEOUT", "2")
+    config = write_config(tmp_path, MANY)
+    code = main(["sweep", str(config), "--out", str(tmp_path / "out"), "--scheduler", "tcp://127.0.0.1:9", "-q"])
+    err = capsys.readouterr().err
+    assert code == 2 and "cannot reach the Dask scheduler" in err and "2 s" in err
+    assert not (tmp_path / "out").exists()  # no empty sweep.lock left behind
+
+
+def test_a_scheduler_without_workers_is_refused_after_the_stated_wait(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("AAEVAL_DASK_WORKER_TIMEOUT", "2")
+    config = write_config(tmp_path, MANY)
+    with local_cluster(0) as cluster:
+        start = time.monotonic()
+        code = main(["sweep", str(config), "--out", str(tmp_path / "out"), "--scheduler",
+                     cluster.scheduler_address, "-q"])
+        waited = time.monotonic() - start
+    err = capsys.readouterr().err
+    assert code == 2 and "has no workers" in err and "2 s" in err, err
+    assert waited < 120  # a hang guard, not a timing claim
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_scheduler_killed_mid_sweep_is_named_and_the_rerun_finishes(tmp_path, capsys):
+    config = write_config(tmp_path, MANY)
+    out = tmp_path / "out"
+    with local_cluster(1) as cluster:
+        def kill_after_first_cells():
+            deadline = time.monotonic() + 300
+            while time.monotonic() < deadline:
+                cells = out / "cells"
+                if cells.is_dir() and len(list(cells.glob("*.json"))) >= 3:
+                    break
+                time.sleep(0.02)
+            cluster.loop.add_callback(cluster.scheduler.close)
+
+        killer = threading.Thread(target=kill_after_first_cells, daemon=True)
+        killer.start()
+        code = main(["sweep", str(config), "--out", str(out), "--scheduler", cluster.scheduler_address, "-q"])
+        killer.join()
+    captured = capsys.readouterr()
+    assert code == 1, captured.err
+    assert "scheduler" in captured.err and "was lost" in captured.err and captured.err.count("\n") == 1
+    done = len(list((out / "cells").glob("*.json")))
+    assert 3 <= done < 240
+    # the folder is sound and a rerun (here, locally) runs only what was lost
+    assert main(["sweep", str(config), "--out", str(out), "--workers", "1", "-q"]) == 0
+    assert len(list((out / "cells").glob("*.json"))) == 240
+
+
+def test_the_executor_column_follows_a_dead_worker(tmp_path):
+    from aaeval.experiments.executors import DaskExecutor
+
+    with local_cluster(2) as cluster:
+        executor = DaskExecutor(cluster.scheduler_address)
+        try:
+            assert executor.current() == {"executor": executor.description, "workers": 2}
+            assert "(2 workers)" in executor.description
+            name = next(iter(cluster.workers))
+            cluster.sync(cluster.workers[name].close)
+            deadline = time.monotonic() + 60
+            while executor._live_workers() != 1 and time.monotonic() < deadline:
+                time.sleep(0.1)
+            now = executor.current()
+            assert now["workers"] == 1 and "1 workers; 1 lost" in now["executor"]
+        finally:
+            executor.close()
