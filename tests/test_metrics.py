@@ -302,3 +302,44 @@ def test_dispatcher_refuses_unknown_names_and_options():
 def test_non_positive_options_are_refused(metric, option, value):
     with pytest.raises(ValueError, match=f"{option} must be positive"):
         metric(IMAGE, IMAGE, **{option: value})
+
+
+def test_bias_and_flicker_split_the_error_of_an_animation():
+    from aaeval.metrics import temporal_bias
+
+    rng = np.random.default_rng(3)
+    truth = rng.random((5, 6, 7, 3))
+    steady = rng.normal(0, 0.1, (6, 7, 3))
+    wobble = rng.normal(0, 0.05, (5, 6, 7, 3))
+    test = truth + steady + wobble - wobble.mean(axis=0)
+    assert temporal_bias(truth, truth + steady) == pytest.approx(np.sqrt(np.mean(steady**2)))
+    assert flicker(truth, truth + steady) == pytest.approx(0.0, abs=1e-15)
+    mse = np.mean((test - truth) ** 2)
+    assert temporal_bias(truth, test) ** 2 + flicker(truth, test) ** 2 == pytest.approx(mse)
+
+
+def test_highlight_bias_is_the_time_average_and_energy_flicker_what_is_left():
+    from aaeval.metrics import highlight_bias, highlight_energy_flicker
+
+    truth = np.ones((4, 3, 3))
+    mask = np.zeros((3, 3), bool)
+    mask[1, 1] = True
+    scale = np.array([0.5, 0.5, 0.5, 0.5])[:, None, None]
+    dim = truth * scale  # steadily half as bright: bias, no flicker
+    assert highlight_bias(truth, dim, mask=mask) == pytest.approx(-0.5)
+    assert highlight_energy_flicker(truth, dim, mask=mask) == pytest.approx(0.0)
+    pops = truth * np.array([1.2, 0.8, 1.2, 0.8])[:, None, None]  # no bias, flicker 0.2
+    assert highlight_bias(truth, pops, mask=mask) == pytest.approx(0.0, abs=1e-12)
+    assert highlight_energy_flicker(truth, pops, mask=mask) == pytest.approx(0.2)
+
+
+def test_image_flicker_measures_the_test_alone_inside_the_mask():
+    from aaeval.metrics import image_flicker
+
+    frames = np.zeros((4, 3, 4, 3))
+    frames[:, :, 0] = np.array([0.0, 1.0, 0.0, 1.0])[:, None, None]  # column 0 blinks by +-0.5
+    inside = np.zeros((3, 4), bool)
+    inside[:, 0] = True
+    assert image_flicker(frames * 0, frames, mask=inside) == pytest.approx(0.5)
+    assert image_flicker(frames * 0, frames, mask=~inside) == 0.0
+    assert math.isnan(image_flicker(frames, frames, mask=np.zeros((3, 4), bool)))

@@ -29,6 +29,7 @@ from aaeval.metrics.registry import (
 )
 from aaeval.metrics.specular import (
     detection_precision_recall,
+    highlight_bias,
     highlight_energy_bias,
     highlight_energy_flicker,
     highlight_flicker,
@@ -36,7 +37,8 @@ from aaeval.metrics.specular import (
     highlight_profile_flicker,
     highlight_rmse,
 )
-from aaeval.metrics.temporal import flicker, intensity_sum, intensity_sum_variation, sum_variation
+from aaeval.metrics.temporal import (flicker, image_flicker, intensity_sum, intensity_sum_variation, sum_variation,
+                                     temporal_bias)
 
 __all__ = [
     "METRICS",
@@ -64,12 +66,15 @@ __all__ = [
     "edge_mask",
     "edge_rmse",
     "flicker",
+    "temporal_bias",
+    "image_flicker",
     "intensity_sum",
     "intensity_sum_variation",
     "sum_variation",
     "highlight_mask",
     "highlight_rmse",
     "highlight_energy_bias",
+    "highlight_bias",
     "highlight_flicker",
     "highlight_energy_flicker",
     "highlight_profile_flicker",

@@ -13,12 +13,17 @@ from typing import Callable
 
 import numpy as np
 
-__all__ = ["MASKS", "Mask", "register_mask", "build_mask", "HIGHLIGHT_THRESHOLD", "HIGHLIGHT_SPP"]
+__all__ = ["MASKS", "Mask", "register_mask", "build_mask", "HIGHLIGHT_THRESHOLD", "HIGHLIGHT_SPP", "INTERIOR_MARGIN"]
 
 #: A pixel is in the highlight when the ground truth's box-filtered specular term exceeds this.
 HIGHLIGHT_THRESHOLD = 0.02
-#: Samples per pixel of the Mitsuba Phong ground truth the highlight mask is read from.
-HIGHLIGHT_SPP = 1024
+#: Samples per pixel of the Mitsuba Phong ground truth the highlight mask is read from: the
+#: specular groups' own ground truth (``mitsuba:spp=4096,seed=0``), so a page has one
+#: specular truth and the mask is a cache hit.
+HIGHLIGHT_SPP = 4096
+#: Pixels this close to the outline of what the scene covers are left out of ``interior``
+#: (the widest pixel filter reaches 2 pixels).
+INTERIOR_MARGIN = 2
 
 
 @dataclass(frozen=True)
@@ -75,7 +80,23 @@ def _highlight(scene) -> np.ndarray:
     return highlight_mask(specular, threshold=HIGHLIGHT_THRESHOLD)
 
 
+def _interior(scene) -> np.ndarray:
+    """Pixels some polygon covers, at least :data:`INTERIOR_MARGIN` pixels inside the outline
+    of everything covered (exact coverage: the exact renderer's image differs from the
+    background there; a polygon of the background's colour counts as uncovered)."""
+    from scipy.ndimage import binary_erosion
+
+    from aaeval.renderers import render
+
+    image = render(scene, "catmull")
+    covered = np.any(np.abs(image - np.asarray(scene.background, dtype=float)) > 1e-9, axis=2)
+    size = 2 * INTERIOR_MARGIN + 1
+    return binary_erosion(covered, structure=np.ones((size, size), bool))
+
+
 register_mask("edge", _edge, "pixels a visible edge crosses (exact coverage, aaeval.metrics.edges.edge_mask)")
+register_mask("interior", _interior,
+              f"pixels covered by the scene, {INTERIOR_MARGIN} px or more inside the outline of what is covered")
 def _has_shaded(scene) -> bool:
     from aaeval.scenes.shaded import has_shaded
 

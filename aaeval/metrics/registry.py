@@ -31,12 +31,13 @@ from aaeval.metrics.edges import edge_rmse
 from aaeval.metrics.image import psnr, rmse, ssim
 from aaeval.metrics.perceptual import flip
 from aaeval.metrics.specular import (
+    highlight_bias,
     highlight_energy_bias,
     highlight_energy_flicker,
     highlight_flicker,
     highlight_rmse,
 )
-from aaeval.metrics.temporal import flicker, intensity_sum_variation
+from aaeval.metrics.temporal import flicker, image_flicker, intensity_sum_variation, temporal_bias
 
 __all__ = [
     "METRICS",
@@ -275,14 +276,24 @@ register_metric("highlight_rmse", highlight_rmse, kind="image", title="hl RMSE",
 register_metric("highlight_energy_bias", highlight_energy_bias, kind="image", title="hl bias", fmt="+.3f",
                 mask="highlight", target=0.0,
                 summary="sum(test) / sum(reference) - 1 over the highlight pixels, RGB (negative: dimmer)")
+# Over the frames of an animation. Each error splits into its bias (the time-average,
+# which stays with the object) and its flicker (what is left, frame to frame).
 register_metric("sum_variation", intensity_sum_variation, kind="temporal", title="sum var", fmt=".3e",
                 needs=("frames",),
                 summary="(max - min) / mean of the test's intensity sums over the frames (no reference)")
-register_metric("flicker", flicker, kind="temporal", title="flicker", fmt=".3e",
+register_metric("temporal_bias", temporal_bias, kind="temporal", title="bias (time-avg error)", fmt=".3e",
+                summary="RMS over pixels of the error's time-average (bias**2 + flicker**2 = MSE of all frames)")
+register_metric("flicker", flicker, kind="temporal", title="flicker (error minus its time-avg)", fmt=".3e",
                 summary="RMS over pixels of the std over frames of the error against the reference")
-register_metric("highlight_flicker", highlight_flicker, kind="temporal", title="hl flicker", fmt=".3e",
+register_metric("image_flicker", image_flicker, kind="temporal", title="image flicker (interior)", fmt=".3e",
+                mask="interior", needs=("frames",),
+                summary="RMS over the scene's interior of the test image's own std over frames (no reference)")
+register_metric("highlight_bias", highlight_bias, kind="temporal", title="hl bias (time-avg energy)", fmt="+.3f",
+                mask="highlight", target=0.0,
+                summary="mean over frames of sum(test) / sum(reference) - 1 over each frame's highlight pixels")
+register_metric("highlight_energy_flicker", highlight_energy_flicker, kind="temporal",
+                title="hl flicker (energy, frame to frame)", fmt=".3e", mask="highlight",
+                summary="std over frames of the highlight energy ratio test / reference (what is left after hl bias)")
+register_metric("highlight_flicker", highlight_flicker, kind="temporal", title="hl change error", fmt=".3e",
                 mask="highlight",
-                summary="RMS of the frame-to-frame change of the error over the highlight pixels")
-register_metric("highlight_energy_flicker", highlight_energy_flicker, kind="temporal", title="hl E flicker",
-                fmt=".3e", mask="highlight",
-                summary="std over frames of the highlight energy ratio test / reference")
+                summary="RMS of the frame-to-frame change of the error over the highlight pixels (a moving bias counts)")

@@ -17,6 +17,7 @@ __all__ = [
     "highlight_energy_bias",
     "highlight_flicker",
     "highlight_profile_flicker",
+    "highlight_bias",
     "highlight_energy_flicker",
     "detection_precision_recall",
 ]
@@ -157,8 +158,38 @@ def highlight_profile_flicker(frames_true, frames_test, *, mask, axis: int = 1) 
     return float(np.sqrt(np.mean(spread**2)) / true[:, lines].mean())
 
 
+def _energy_ratios(frames_true, frames_test, mask) -> np.ndarray:
+    frames_true, frames_test = _frames(frames_true, frames_test)
+    mask = np.broadcast_to(np.asarray(mask, dtype=bool), frames_true.shape[:3])
+    return np.array([highlight_energy_bias(t, s, mask=m) + 1.0 for t, s, m in zip(frames_true, frames_test, mask)])
+
+
+def highlight_bias(frames_true, frames_test, *, mask) -> float:
+    """Bias of the highlight over an animation: the time-average of its energy error.
+
+    The mean over frames of :func:`highlight_energy_bias` (``sum(test) / sum(true) - 1``
+    over each frame's highlight pixels). The highlight's mask moves with it, so a highlight
+    that is steadily dimmer or wider than the truth's wherever it goes is bias here, not
+    flicker; :func:`highlight_energy_flicker` is what is left (the frame-to-frame change).
+
+    Parameters
+    ----------
+    frames_true, frames_test : ndarray, shape (T, H, W) or (T, H, W, C), T >= 2
+    mask : ndarray of bool, shape (H, W) or (T, H, W)
+
+    Returns
+    -------
+    bias : float
+        Negative: dimmer than the truth on average; NaN when the truth has no energy in a frame's mask.
+    """
+    return float(np.mean(_energy_ratios(frames_true, frames_test, mask)) - 1.0)
+
+
 def highlight_energy_flicker(frames_true, frames_test, *, mask) -> float:
     """Standard deviation over frames of the relative highlight energy test / true.
+
+    What is left of the highlight's energy error after its time-average
+    (:func:`highlight_bias`): a highlight that pops or breaks up between frames.
 
     Parameters
     ----------
@@ -170,12 +201,7 @@ def highlight_energy_flicker(frames_true, frames_test, *, mask) -> float:
     flicker : float
         0 for a method whose highlight energy follows the reference's exactly.
     """
-    frames_true, frames_test = _frames(frames_true, frames_test)
-    mask = np.broadcast_to(np.asarray(mask, dtype=bool), frames_true.shape[:3])
-    ratios = [
-        highlight_energy_bias(t, s, mask=m) + 1.0 for t, s, m in zip(frames_true, frames_test, mask)
-    ]
-    return float(np.std(ratios))
+    return float(np.std(_energy_ratios(frames_true, frames_test, mask)))
 
 
 def detection_precision_recall(image_true, image_test, *, flagged, tolerance: float = 0.02) -> tuple[float, float]:

@@ -6,7 +6,7 @@ import numpy as np
 
 from aaeval.metrics._checks import check_frames_pair
 
-__all__ = ["intensity_sum", "sum_variation", "intensity_sum_variation", "flicker"]
+__all__ = ["intensity_sum", "sum_variation", "intensity_sum_variation", "temporal_bias", "flicker", "image_flicker"]
 
 
 def intensity_sum(image: np.ndarray) -> float:
@@ -54,14 +54,39 @@ def intensity_sum_variation(frames_true, frames_test) -> float:
     return sum_variation(frames_test.sum(axis=(1, 2, 3)))
 
 
+def temporal_bias(frames_true, frames_test) -> float:
+    """Bias of a method over an animation: the part of its error that stays put.
+
+    The error ``frames_test - frames_true`` is averaged over the frames for every pixel and
+    channel; the root mean square of that time-average over pixels and channels is
+    returned. With :func:`flicker` (what is left) it splits the error of the whole
+    animation: ``temporal_bias**2 + flicker**2`` is the mean square error over every frame.
+
+    Parameters
+    ----------
+    frames_true : array_like, shape (F, H, W, 3)
+        Reference frames of the animation (linear RGB).
+    frames_test : array_like, shape (F, H, W, 3)
+        The test method's frames, same shape.
+
+    Returns
+    -------
+    bias : float
+        ``sqrt(mean over pixels and channels of (mean over frames of the error)**2)``.
+    """
+    frames_true, frames_test = check_frames_pair(frames_true, frames_test)
+    error = frames_test - frames_true
+    return float(np.sqrt(np.mean(np.mean(error, axis=0) ** 2)))
+
+
 def flicker(frames_true, frames_test) -> float:
-    """Temporal flicker of a method's error: how much it changes from frame to frame.
+    """Temporal flicker of a method's error: what is left of it after its time-average.
 
     The error ``frames_test - frames_true`` is taken per pixel and channel; its standard
     deviation across frames (population, ``ddof=0``) is computed for every pixel and
     channel, and the root mean square of those over pixels and channels is returned. An
-    error that stays put (however large) gives 0; an error alternating between ``+d``
-    and ``-d`` on every pixel gives ``d``.
+    error that stays put (however large) gives 0 (it is :func:`temporal_bias`); an error
+    alternating between ``+d`` and ``-d`` on every pixel gives ``d``.
 
     Parameters
     ----------
@@ -78,3 +103,36 @@ def flicker(frames_true, frames_test) -> float:
     frames_true, frames_test = check_frames_pair(frames_true, frames_test)
     error = frames_test - frames_true
     return float(np.sqrt(np.mean(np.var(error, axis=0))))
+
+
+def image_flicker(frames_true, frames_test, *, mask) -> float:
+    """How much the test image itself changes over the frames inside ``mask`` (no reference).
+
+    The RMS over the masked pixels and channels of each pixel's standard deviation across
+    the frames (population). Inside a region where an ideal low-pass image is constant (the
+    interior of a picket fence whose bars repeat at or above the Nyquist rate), every
+    temporal change is aliasing that the pixel filter let through.
+
+    Parameters
+    ----------
+    frames_true : array_like, shape (F, H, W, 3)
+        Reference frames; only checked against the test frames' shape.
+    frames_test : array_like, shape (F, H, W, 3)
+        The test method's frames.
+    mask : array_like of bool, shape (H, W) or (F, H, W)
+        Pixels to measure; a per-frame mask is reduced to the pixels masked in every frame.
+
+    Returns
+    -------
+    flicker : float
+        NaN when the mask is empty.
+    """
+    frames_true, frames_test = check_frames_pair(frames_true, frames_test)
+    mask = np.asarray(mask, dtype=bool)
+    if mask.ndim == 3:
+        mask = mask.all(axis=0)
+    if mask.shape != frames_test.shape[1:3]:
+        raise ValueError(f"mask shape {mask.shape} does not match frames of shape {frames_test.shape[1:3]}")
+    if not mask.any():
+        return float("nan")
+    return float(np.sqrt(np.mean(np.var(frames_test, axis=0)[mask])))
