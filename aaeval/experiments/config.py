@@ -45,7 +45,8 @@ from aaeval.metrics import MetricError, check_metric_names
 from aaeval.renderers import MethodError, format_spec, parse_spec, resolve
 from aaeval.scenes import Scene, SceneError, parse_scene
 
-__all__ = ["ConfigError", "Experiment", "Group", "SceneSource", "Cell", "load_experiment", "parse_experiment"]
+__all__ = ["ConfigError", "Experiment", "Group", "SceneSource", "Cell", "SpeedPass", "load_experiment",
+           "parse_experiment", "reference_for", "SPEED_MIN_PIXELS"]
 
 
 class ConfigError(ValueError):
@@ -121,9 +122,39 @@ class Group:
         for src in self.scenes:
             frames = range(src.frames) if self.frames == "all" else self.frames
             for spec in self.specs:
+                reference = reference_for(spec, self.reference)
                 for k in frames:
-                    out.append(Cell(self.name, src, spec, int(k), self.reference, self.metrics, self.repeats))
+                    out.append(Cell(self.name, src, spec, int(k), reference, self.metrics, self.repeats))
         return out
+
+
+def reference_for(spec: str, reference: str) -> str:
+    """The reference a cell of ``spec`` is judged against: ``reference`` through the same
+    pixel filter as the method (``catmull:filter=tent`` against ``mitsuba:filter=tent``).
+
+    A method renders the image its filter defines; judging it against another filter's
+    image measures the filters' difference, not the method. A reference that takes no
+    ``filter`` option, or a method without one (the box), leaves ``reference`` as given.
+    """
+    method, options = resolve(spec)
+    ref_method, ref_options = resolve(reference)
+    wanted = options.get("filter", "box")
+    if "filter" not in ref_method.options or ref_options.get("filter", "box") == wanted:
+        return reference
+    return format_spec(ref_method.name, {**ref_options, "filter": wanted})
+
+
+@dataclass(frozen=True)
+class SpeedPass:
+    """One ``[[speed]]`` table: scenes x method specs timed in the sweep's speed pass (one
+    worker, ``threads`` threads, ``repeats`` interleaved rounds after a warm-up), frame 0.
+    ``accuracy``: the group whose errors the speed-accuracy chart pairs with these times."""
+
+    scenes: tuple[SceneSource, ...]
+    specs: tuple[str, ...]
+    repeats: int = 5
+    threads: int = 1
+    accuracy: str | None = None
 
 
 @dataclass(frozen=True)
@@ -137,6 +168,7 @@ class Experiment:
     primary: str
     noise_estimate: bool = True
     fail_above: float | None = None  # a cell whose primary error exceeds this counts as failed
+    speed: tuple[SpeedPass, ...] = ()  # the speed pass: the only times the report charts
 
     def cells(self) -> list[Cell]:
         return [cell for group in self.groups for cell in group.cells()]
@@ -146,6 +178,9 @@ _EXPERIMENT_KEYS = {"name", "description", "reference", "metrics", "temporal", "
                     "fail_above", "repeats"}
 _GROUP_KEYS = {"name", "scenes", "methods", "frames", "options", "reference", "metrics", "temporal", "animate",
                "repeats"}
+_SPEED_KEYS = {"scenes", "methods", "options", "repeats", "threads", "accuracy"}
+#: The speed pass times images of at least this many pixels (below, a render is call overhead).
+SPEED_MIN_PIXELS = 256 * 256
 
 
 def load_experiment(path: str | Path) -> Experiment:
@@ -158,9 +193,9 @@ def load_experiment(path: str | Path) -> Experiment:
 def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config>", text: str = "") -> Experiment:
     where = str(path)
     base = Path(path).parent if str(path) != "<config>" else Path.cwd()
-    unknown = sorted(set(document) - {"experiment", "groups"})
+    unknown = sorted(set(document) - {"experiment", "groups", "speed"})
     if unknown:
-        raise ConfigError(f"{where}: unknown top-level key(s) {unknown}; allowed: ['experiment', 'groups']")
+        raise ConfigError(f"{where}: unknown top-level key(s) {unknown}; allowed: ['experiment', 'groups', 'speed']")
     head = document.get("experiment")
     if not isinstance(head, Mapping):
         raise ConfigError(f"{where}: missing table [experiment]")
@@ -192,8 +227,46 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
         raise ConfigError(f"{where}: groups.name must be unique, repeated: {dup}")
     if not any(primary in g.metrics for g in groups):
         raise ConfigError(f"{where}: [experiment].primary {primary!r} is not a metric of any group")
+    raw_speed = document.get("speed", [])
+    if not isinstance(raw_speed, list):
+        raise ConfigError(f"{where}: speed must be an array of [[speed]] tables")
+    speed = tuple(_speed(raw, f"{where}: speed[{i}]", base, set(names)) for i, raw in enumerate(raw_speed))
     return Experiment(name, str(head.get("description", "")), where, text, tuple(groups), temporal, primary, noise,
-                      None if fail_above is None else float(fail_above))
+                      None if fail_above is None else float(fail_above), speed)
+
+
+def _speed(raw: Any, where: str, base: Path, groups: set[str]) -> SpeedPass:
+    """One ``[[speed]]`` table: ``scenes``, ``methods``, ``options`` as in a group; ``repeats``
+    (interleaved rounds, default 5), ``threads`` (default 1: given to every method that has a
+    ``threads`` option and to numba) and ``accuracy`` (a group name)."""
+    if not isinstance(raw, Mapping):
+        raise ConfigError(f"{where}: must be a table")
+    _no_unknown(raw, _SPEED_KEYS, where)
+    scenes = _scenes(raw.get("scenes"), f"{where}.scenes", base)
+    for src in scenes:
+        if src.parsed.width * src.parsed.height < SPEED_MIN_PIXELS:
+            raise ConfigError(f"{where}.scenes: {src.name} is {src.parsed.width}x{src.parsed.height}; the speed pass "
+                              f"times images of at least {SPEED_MIN_PIXELS} pixels (256 x 256)")
+    methods = raw.get("methods")
+    if not isinstance(methods, list) or not methods or not all(isinstance(m, str) for m in methods):
+        raise ConfigError(f"{where}.methods: expected a non-empty list of method specs, got {methods!r}")
+    options = raw.get("options", {})
+    if not isinstance(options, Mapping):
+        raise ConfigError(f"{where}.options: expected a table of option = [values], got {options!r}")
+    repeats = _repeats(raw.get("repeats", 5), f"{where}.repeats")
+    threads = raw.get("threads", 1)
+    if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
+        raise ConfigError(f"{where}.threads: expected a whole number of threads >= 1, got {threads!r}")
+    specs = []
+    for spec in _expand_specs(methods, options, where):
+        method, opts = resolve(spec)
+        if "threads" in method.options and "threads" not in parse_spec(spec)[1]:
+            spec = format_spec(method.name, {**opts, "threads": threads})
+        specs.append(spec)
+    accuracy = raw.get("accuracy")
+    if accuracy is not None and accuracy not in groups:
+        raise ConfigError(f"{where}.accuracy: {accuracy!r} is not a group of this experiment ({sorted(groups)})")
+    return SpeedPass(scenes, tuple(specs), repeats, threads, accuracy)
 
 
 def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str, ...], repeats: int,

@@ -1,0 +1,177 @@
+"""The speed pass: the only render times the report charts.
+
+Accuracy cells may run on several workers at once, so their times say how busy the machine
+was. The speed pass runs after them, in the sweep's own process (one worker), with a stated
+number of threads: for every ``[[speed]]`` table of the config and every scene of it, each
+method spec is warmed up (:func:`aaeval.experiments.measure.warm_up`: the spec itself,
+untimed), then timed ``repeats`` times in interleaved rounds (the methods take turns inside
+each round, the order rotating), as ``benchmarks/bench_methods.py`` does, so a machine
+shared with other work disturbs them alike.
+
+``DIR/speed.parquet``: one row per (table, scene, spec, round) with ``render_s`` and
+``ms_per_mpix``, and the pass's identity in its metadata; a rerun with the same config,
+code and machine keeps it. :func:`speed_summary` gives one row per (scene, spec): median,
+fastest and slowest.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import platform
+import time
+from pathlib import Path
+
+import pandas as pd
+
+from aaeval.experiments.config import Experiment, SpeedPass
+from aaeval.imageio import atomic_write
+
+__all__ = ["SPEED_FILE", "run_speed_pass", "read_speed", "speed_summary", "speed_identity", "accuracy_spec"]
+
+SPEED_FILE = "speed.parquet"
+_META_KEY = b"aaeval_speed_identity"
+
+
+def speed_identity(experiment: Experiment) -> str:
+    """Digest of what the pass times (scenes, specs, repeats, threads), the code and the machine."""
+    from aaeval.experiments.store import code_version
+
+    what = [{"scenes": [s.digest for s in p.scenes], "specs": list(p.specs), "repeats": p.repeats,
+             "threads": p.threads} for p in experiment.speed]
+    config = {"passes": what, "code": code_version(), "host": platform.node(), "cores": os.cpu_count()}
+    return hashlib.sha256(json.dumps(config, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def _set_threads(threads: int) -> list:
+    """Limit numba (and Dr.Jit, if loaded) to ``threads``; returns what to restore."""
+    restore = []
+    try:
+        import numba
+
+        restore.append(("numba", numba.get_num_threads()))
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    except ImportError:  # pragma: no cover - numba is a dependency
+        pass
+    return restore
+
+
+def _restore(restore: list) -> None:
+    for what, value in restore:
+        if what == "numba":
+            import numba
+
+            numba.set_num_threads(value)
+
+
+def accuracy_spec(spec: str) -> str:
+    """``spec`` as the accuracy cells name it: the thread count (which changes no pixel) at
+    its default, so a timing pairs with the same method's errors."""
+    from aaeval.renderers import format_spec, resolve
+
+    method, options = resolve(spec)
+    if "threads" in method.options:
+        options = {**options, "threads": method.options["threads"].default}
+    return format_spec(method.name, options)
+
+
+def _time_table(index: int, speed: SpeedPass, log) -> list[dict]:
+    from aaeval.experiments.measure import warm_up
+    from aaeval.experiments.table import short_label
+    from aaeval.renderers import render_timed, resolve
+
+    rows = []
+    restore = _set_threads(speed.threads)
+    try:
+        for src in speed.scenes:
+            scene = src.parsed
+            mpix = scene.width * scene.height / 1e6
+            specs, failed = [], {}
+            for spec in speed.specs:
+                try:
+                    warm_up(scene, spec, 0)
+                    specs.append(spec)
+                except Exception as exc:  # noqa: BLE001 - a method that cannot render this scene is left out
+                    failed[spec] = f"{type(exc).__name__}: {exc}"
+            log(f"speed pass {index}: {src.name} ({scene.width}x{scene.height}), {len(specs)} methods x "
+                f"{speed.repeats} interleaved rounds, {speed.threads} thread(s)")
+            for r in range(speed.repeats):
+                order = specs[r % len(specs):] + specs[:r % len(specs)] if specs else []
+                for spec in order:
+                    _, seconds = render_timed(scene, spec, frame=0)
+                    method, options = resolve(spec)
+                    rows.append({"pass": index, "scene": src.name, "difficulty": src.difficulty,
+                                 "scene_digest": src.digest, "width": scene.width, "height": scene.height,
+                                 "spec": accuracy_spec(spec), "timed_spec": spec,
+                                 "label": short_label(accuracy_spec(spec)), "method": method.name,
+                                 "options": json.dumps(resolve(accuracy_spec(spec))[1], sort_keys=True), "round": r,
+                                 "threads": speed.threads, "render_s": seconds, "ms_per_mpix": seconds * 1e3 / mpix,
+                                 "accuracy_group": speed.accuracy, "error": None})
+            for spec, error in failed.items():
+                method, options = resolve(spec)
+                rows.append({"pass": index, "scene": src.name, "difficulty": src.difficulty,
+                             "scene_digest": src.digest, "width": scene.width, "height": scene.height,
+                             "spec": accuracy_spec(spec), "timed_spec": spec,
+                             "label": short_label(accuracy_spec(spec)), "method": method.name,
+                             "options": json.dumps(resolve(accuracy_spec(spec))[1], sort_keys=True), "round": -1, "threads": speed.threads,
+                             "render_s": math.nan, "ms_per_mpix": math.nan, "accuracy_group": speed.accuracy,
+                             "error": error})
+    finally:
+        _restore(restore)
+    return rows
+
+
+def run_speed_pass(experiment: Experiment, root: str | Path, *, log=print, force: bool = False) -> pd.DataFrame | None:
+    """Time every ``[[speed]]`` table of ``experiment`` in this process; write ``root/speed.parquet``.
+
+    Kept as it is when the file holds a pass of the same identity (:func:`speed_identity`)
+    unless ``force``. Returns the table, or None when the config has no ``[[speed]]``.
+    """
+    if not experiment.speed:
+        return None
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    path = Path(root) / SPEED_FILE
+    identity = speed_identity(experiment)
+    if path.is_file() and not force:
+        meta = pq.read_schema(path).metadata or {}
+        if meta.get(_META_KEY, b"").decode() == identity:
+            return read_speed(root)
+    start = time.perf_counter()
+    rows = []
+    for i, speed in enumerate(experiment.speed):
+        rows.extend(_time_table(i, speed, log))
+    frame = pd.DataFrame(rows)
+    table = pa.Table.from_pandas(frame, preserve_index=False)
+    meta = dict(table.schema.metadata or {})
+    meta[_META_KEY] = identity.encode()
+    table = table.replace_schema_metadata(meta)
+    atomic_write(path, lambda tmp: pq.write_table(table, tmp))
+    log(f"speed pass: {len(frame)} timed renders in {time.perf_counter() - start:.0f} s -> {path}")
+    return frame
+
+
+def read_speed(root: str | Path) -> pd.DataFrame:
+    """``root/speed.parquet``, or an empty table when the sweep had no speed pass."""
+    path = Path(root) / SPEED_FILE
+    if not path.is_file():
+        return pd.DataFrame()
+    return pd.read_parquet(path)
+
+
+def speed_summary(speed: pd.DataFrame) -> pd.DataFrame:
+    """One row per (pass, scene, spec): median, fastest and slowest ms per megapixel and render ms."""
+    if speed.empty:
+        return speed
+    ok = speed[speed["error"].isna()]
+    keys = ["pass", "scene", "spec"]
+    agg = ok.groupby(keys, sort=False).agg(
+        label=("label", "first"), method=("method", "first"), options=("options", "first"),
+        width=("width", "first"), height=("height", "first"), threads=("threads", "first"),
+        rounds=("round", "size"), render_ms=("render_s", lambda s: 1e3 * s.median()),
+        ms_per_mpix=("ms_per_mpix", "median"), ms_per_mpix_min=("ms_per_mpix", "min"),
+        ms_per_mpix_max=("ms_per_mpix", "max"), accuracy_group=("accuracy_group", "first"))
+    return agg.reset_index()
