@@ -95,7 +95,10 @@ def drawn(tmp_path_factory):
                 method=("method", "first"), options=("options", "first"), label=("label", "first"),
                 reference_noise_rmse=("reference_noise_rmse", "first")).reset_index()
             temporal["flicker"] = np.linspace(1e-3, 1e-2, len(temporal))
-            figures.flicker_bars(temporal, out / f"{group}_flicker", title=group, styles=styles)
+            temporal["temporal_bias"] = np.linspace(2e-3, 1e-3, len(temporal))
+            temporal["group"] = group
+            figures.temporal_bars(temporal, out / f"{group}_flicker", group=group, metrics=["temporal_bias", "flicker"],
+                                  title=group, styles=styles)
             figures.stability(rows, out / f"{group}_stab", metric="rmse", failed=failed.loc[rows.index],
                               title=group, styles=styles, definition="A cell fails when ...")
         exact = results[results["method"].isin(["catmull", "weiler-atherton"])]

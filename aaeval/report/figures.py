@@ -29,11 +29,14 @@ import pandas as pd  # noqa: E402
 from aaeval.imageio import linear_to_srgb8  # noqa: E402
 from aaeval.report.style import Styles, ground_truth_style  # noqa: E402
 
-__all__ = ["EXACT_BELOW", "FORMATS", "save_figure", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
-           "intensity_sums", "flicker_bars", "space_time", "stability", "image_grid", "validation"]
+__all__ = ["EXACT_BELOW", "UNIT", "FORMATS", "temporal_bars", "save_figure", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
+           "intensity_sums", "space_time", "stability", "image_grid", "validation"]
 
 # An error this small is float64 rounding of an exact render against an exact reference.
 EXACT_BELOW = 1e-10
+#: The one unit of every error on the page, stated in every caption.
+UNIT = ("unit: linear RGB per channel (error maps: the mean of the R, G, B errors; RMSE and flicker: root mean square "
+        "over pixels and channels)")
 FORMATS = ("png", "svg", "pdf")
 _DPI = 100
 plt.rcParams.update({"svg.fonttype": "none", "pdf.fonttype": 42, "font.size": 9, "legend.fontsize": 7.5,
@@ -330,38 +333,54 @@ def intensity_sums(results: pd.DataFrame, path: Path, *, title: str, styles: Sty
         _frame_ticks(ax)
         ax.set_title(scene)
         ax.set_xlabel("frame")
-        ax.set_ylabel("intensity sum / ground truth's")
+        ax.set_ylabel("intensity sum over ground-truth sum")
         ax.grid(True, alpha=0.3)
         _legend(ax)
     _suptitle(fig, title)
     return save_figure(fig, path)
 
 
-def flicker_bars(temporal: pd.DataFrame, path: Path, *, title: str, styles: Styles) -> Path:
-    """Flicker per spec on a linear axis, next to the flicker the ground truth's own noise
-    puts into any method's error (sqrt(2) x its noise RMS between two independent frames,
-    here its mean noise); one row per spec, mean over the animated scenes."""
-    agg = temporal.groupby("spec", sort=False).agg(
-        flicker=("flicker", "mean"), method=("method", "first"), options=("options", "first"),
-        label=("label", "first"), noise=("reference_noise_rmse", "mean"))
-    rows = sorted(agg.itertuples(), key=lambda r: styles.order(r.method, r.options))
-    fig, ax = plt.subplots(figsize=(7.0, 0.26 * len(rows) + 1.4))
-    for i, r in enumerate(rows):
-        st = styles.spec(r.method, r.options)
-        ax.barh(i, r.flicker, color=st.colour, edgecolor="black", lw=0.5,
-                hatch=None if st.fillstyle == "full" else "///", gid=st.gid)
-    noise = agg["noise"].dropna()
-    if len(noise) and noise.max() > 0:
-        ax.axvline(float(noise.mean()), color="0.35", ls="--", lw=1,
-                   label="ground truth's own noise RMS (an exact method's flicker is near it)")
-        ax.legend(loc="lower right", fontsize=7)
-    ax.set_yticks(range(len(rows)), [r.label for r in rows], fontsize=7.5)
-    ax.invert_yaxis()
-    ax.set_xlim(0, None)
-    ax.set_xlabel("flicker: RMS over pixels of the error's standard deviation over frames (linear)")
-    ax.set_title(title)
-    ax.grid(True, axis="x", alpha=0.3)
+def temporal_bars(temporal: pd.DataFrame, path: Path, *, group: str, metrics: list[str], title: str,
+                  styles: Styles) -> Path:
+    """One panel per temporal metric (registered, from temporal.parquet): a bar per spec, mean over
+    the group's animations (:func:`aaeval.report.findings.per_spec`, the findings' aggregation),
+    linear axes, the ground truth's noise RMS dashed where the metric is an RMS of errors."""
+    from aaeval.metrics import METRICS
+    from aaeval.report.findings import per_spec
+
+    tables = {m: per_spec(temporal, group, m) for m in metrics}
+    specs = tables[metrics[0]]
+    order = sorted(specs.itertuples(), key=lambda r: styles.order(r.method, r.options))
+    fig, axes = plt.subplots(1, len(metrics), figsize=(3.3 * len(metrics) + 2.2, 0.26 * len(order) + 1.5),
+                             squeeze=False, sharey=True, gridspec_kw={"wspace": 0.08})
+    for ax, name in zip(axes[0], metrics):
+        values = tables[name].set_index("spec")["value"]
+        for i, r in enumerate(order):
+            st = styles.spec(r.method, r.options)
+            ax.barh(i, values.get(r.spec, np.nan), color=st.colour, edgecolor=_bar_edge(st), lw=0.8,
+                    hatch=_HATCH.get(st.fillstyle), gid=st.gid)
+        noise = tables[name]["noise"].dropna()
+        if name in ("flicker", "temporal_bias") and len(noise) and noise.max() > 0:
+            ax.axvline(float(noise.mean()), color="0.35", ls="--", lw=1)
+            ax.text(float(noise.mean()), -0.7, " truth noise", fontsize=6.5, color="0.35", va="bottom")
+        metric = METRICS[name]
+        if metric.target is not None:
+            ax.axvline(metric.target, color="0.2", lw=0.8)
+        else:
+            ax.set_xlim(0, None)
+        ax.set_xlabel(f"{metric.title} ({metric.direction})", fontsize=7.5)
+        ax.grid(True, axis="x", alpha=0.3)
+    axes[0, 0].set_yticks(range(len(order)), [r.label for r in order], fontsize=7.5)
+    axes[0, 0].invert_yaxis()
+    _suptitle(fig, title)
     return save_figure(fig, path)
+
+
+_HATCH = {"full": None, "none": "///", "left": "\\\\", "right": "xx", "bottom": "..", "top": "--"}
+
+
+def _bar_edge(st) -> str:
+    return "black"
 
 
 def space_time(reference: np.ndarray, series: list[tuple[str, np.ndarray]], path: Path, *, row: int,
@@ -457,13 +476,16 @@ def _crop_box(error: np.ndarray, size: int) -> tuple[int, int, int, int]:
     return r0, r0 + size, c0, c0 + size
 
 
-def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path: Path, *, title: str) -> Path:
+def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path: Path, *, title: str,
+               shared: bool = True) -> Path:
     """Rows: the ground truth, then each method; columns: image, zoomed crop, signed error
-    (red: too bright, blue: too dark) on each row's own symmetric scale, stated per row.
+    (the mean of the R, G, B errors, the page's one unit; red: too bright, blue: too dark) on
+    one symmetric scale for the whole figure (``shared=False``: each row its own), stated per row.
 
     The crop is the same square for every row (around the largest error of any method).
     """
-    errors = [(img - reference).sum(axis=2) for _, img in images]
+    errors = [(img - reference).mean(axis=2) for _, img in images]
+    common = max((float(np.abs(e).max()) for e in errors), default=0.0)
     worst = np.max(np.abs(np.stack(errors)), axis=0) if errors else np.zeros(reference.shape[:2])
     r0, r1, c0, c1 = _crop_box(worst, max(4, min(reference.shape[:2]) // 3))
     rows = [("ground truth", reference, None)] + [(n, img, err) for (n, img), err in zip(images, errors)]
@@ -478,7 +500,7 @@ def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path
         ax[0].set_ylabel(name.replace(":", ":\n").replace(",", ",\n"), fontsize=7)
         ax[1].imshow(srgb[r0:r1, c0:c1], interpolation="nearest")
         if err is not None:
-            scale = max(float(np.abs(err).max()), np.finfo(float).tiny)
+            scale = max(common if shared else float(np.abs(err).max()), np.finfo(float).tiny)
             ax[2].imshow(err, cmap="RdBu_r", vmin=-scale, vmax=scale, interpolation="nearest")
             ax[2].set_title(f"signed error, scale ±{scale:.2g}; mean |err| {np.abs(err).mean():.2g}"
                             if np.abs(err).max() > 0 else "no error: identical to the ground truth", fontsize=7)

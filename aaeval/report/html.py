@@ -28,6 +28,8 @@ from aaeval.report import figures
 from aaeval.report.names import figure_stem
 from aaeval.report.filters_section import filters_section
 from aaeval.report.specular_section import specular_section
+from aaeval.metrics import METRICS
+from aaeval.report.findings import findings_section
 from aaeval.report.style import Styles
 from aaeval.report.tables import write_table
 from aaeval.report.viewer import (GROUP_BUDGET, VIEWER_CSS, interesting_row, scene_series, viewer_div,
@@ -72,16 +74,23 @@ def failure_definition(primary: str, fail_above) -> str:
     """The one definition of a failed cell, as written on the page."""
     crit = "its render raised an error or gave non-finite pixels"
     if fail_above:
-        crit += f", or its {primary} against the ground truth is above {fail_above:g}"
-    return f"A cell fails when {crit}."
+        crit += (f", or, on a flat-coloured scene, its {primary} against its own ground truth (the Mitsuba render "
+                 f"through the same pixel filter) is above {fail_above:g}")
+    text = f"A cell fails when {crit}."
+    if fail_above:
+        text += (" On scenes with shaded objects a specular method departs from the Phong truth by design (a clamp "
+                 "widens and dims the highlight): that departure is shown as highlight bias and flicker, not counted "
+                 "as a failure.")
+    return text
 
 
-def failed_cells(rows: pd.DataFrame, primary: str, fail_above) -> pd.Series:
+def failed_cells(rows: pd.DataFrame, primary: str, fail_above, shaded=frozenset()) -> pd.Series:
     """Boolean per cell, by :func:`failure_definition` (a metric that could not be computed
-    is listed apart and is not a failure)."""
+    is listed apart and is not a failure). ``shaded``: digests of scenes with shaded objects."""
     bad = rows["error"].notna()
     if fail_above and primary in rows:
-        bad |= pd.to_numeric(rows[primary], errors="coerce") > fail_above
+        flat = ~rows["scene_digest"].isin(set(shaded)) if "scene_digest" in rows else True
+        bad |= flat & (pd.to_numeric(rows[primary], errors="coerce") > fail_above)
     return bad
 
 
@@ -173,37 +182,26 @@ class _Page:
         self.viewer_left = VIEWER_BUDGET  # bytes of viewer data the page may still load
         self.shaded = {digest for digest, scene in manifest.get("scenes", {}).items()
                        if isinstance(scene, dict) and "shaded" in scene.get("document", {})}
+        self.group_temporal = manifest.get("group_temporal", {})
 
     def table(self, frame: pd.DataFrame, name: str, caption: str = "") -> str:
         return write_table(frame, self.tabdir, name, self.root, caption)  # names: fixed words and figure stems
 
 
-def _timing_block(page: _Page, group: str, slug: str, summary: pd.DataFrame, rows: pd.DataFrame,
-                  ref: str) -> str:
-    ok = rows[rows["error"].isna()]
-    pixels = (_megapixels(ok) * 1e6).round()
+def _accuracy_block(page: _Page, group: str, slug: str, summary: pd.DataFrame, rows: pd.DataFrame,
+                    ref: str) -> str:
+    """Accuracy per spec. The accuracy cells may run in parallel, so their times are never
+    charted: speed comes from the speed pass (:mod:`aaeval.experiments.speed`)."""
     primary = page.primary
     noise = _noise(rows)
     data = summary.dropna(subset=[primary])
     if data.empty:
         return ""
-    if len(ok) and pixels.min() >= SPEED_MIN_PIXELS:
-        reps = int(summary["repeats"].min())
-        p = figures.speed_accuracy(data.dropna(subset=["ms_per_mpix"]), page.figdir / f"{slug}_speed_accuracy",
-                                   metric=primary, title=f"{group}: speed against accuracy", styles=page.styles,
-                                   noise=noise)
-        spread = (f"median of {reps} timed renders after one untimed warm-up, bars from the fastest to the "
-                  "slowest" if reps > 1 else "ONE timed render per cell (this sweep predates repeats): no spread")
-        return _figure(p, page.root, f"Render time per megapixel ({spread}; images of at least "
-                       f"{int(pixels.min())} pixels) against mean {primary}. {ref} Dotted lines join one method's "
-                       "option ladder (light: smallest value, dark: largest); the dashed step is the Pareto front; "
-                       "the grey band is the ground truth's measured noise, where an exact method's error lands.")
     p = figures.accuracy_dots(data, page.figdir / f"{slug}_accuracy", metric=primary,
                               title=f"{group}: accuracy", styles=page.styles, noise=noise)
-    return _figure(p, page.root, f"Mean {primary} per method and option (bar: best to worst cell). {ref} "
-                   f"The grey band is the ground truth's measured noise. No speed is shown: the images are "
-                   f"{int(pixels.max()) if len(ok) else 0} pixels or fewer, so their render times are call "
-                   "overhead, not rendering.")
+    return _figure(p, page.root, f"Mean {primary} per method and option (bar: best to worst cell), "
+                   f"{figures.UNIT}. {ref} The grey band is the ground truth's measured noise. Times of these cells "
+                   "are not charted (cells may share the machine): see <a href='#speed'>Speed</a>.")
 
 
 def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp: pd.DataFrame,
@@ -224,13 +222,15 @@ def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp
     out.append(_figure(p, page.root, "Intensity sum of every frame divided by the ground truth's sum of the same "
                "frame (linear axis; 1 is right); the thick grey curve is the ground truth's own sum relative to "
                f"its frame 0. Area sampling keeps the sum while the scene moves inside the frame. {ref}"))
-    if not temp.empty and "flicker" in temp and temp["flicker"].notna().any():
-        p = figures.flicker_bars(temp, page.figdir / f"{slug}_flicker", title=f"{group}: flicker",
-                                 styles=page.styles)
-        out.append(_figure(p, page.root, "Flicker per method and option (mean over the animated scenes) on a "
-                   "linear axis: the RMS over pixels of the error's standard deviation over frames. The dashed "
-                   "line is the ground truth's own noise RMS: an exact method's flicker against a noisy ground "
-                   f"truth sits near it, anything far beyond it is the method's own. {ref}"))
+    names = [m for m in page.group_temporal.get(group, []) if m in temp and temp[m].notna().any()]
+    if not temp.empty and names:
+        p = figures.temporal_bars(temp, page.figdir / f"{slug}_temporal", group=group, metrics=names,
+                                  title=f"{group}: over the animations", styles=page.styles)
+        out.append(_figure(p, page.root, "Each temporal measure per method and option, one panel each (mean over "
+                   "the animated scenes, linear axes; registered in aaeval/metrics, values from temporal.parquet): "
+                   + "; ".join(f"<b>{html.escape(METRICS[m].title)}</b>: {html.escape(METRICS[m].summary)}"
+                               for m in names)
+                   + f". The dashed line is the ground truth's own noise RMS where it applies. {ref}"))
     scene = animated["scene"].iloc[0]
     reference, series, frames = scene_series(animated, page.store, scene, page.styles)
     if reference is not None and series:
@@ -340,10 +340,16 @@ an exact reference) is drawn on a marked "exact" strip at the bottom of the axis
 <li><b>Styles.</b> A method keeps one colour, marker and dash pattern in every figure; the shades of that colour
 (light to dark) and growing markers are its option ladder (k, spp) from smallest to largest; marker fills (full,
 empty, half) are categorical options. Legends list methods in one order, options by value.</li>
-<li><b>Times.</b> Speed is charted only for groups whose images have at least {SPEED_MIN_PIXELS} pixels (256 x 256),
-as time per megapixel: the median of the repeated renders after an untimed warm-up (JIT compilation and first-call
-costs excluded), bars from the fastest to the slowest repeat. Smaller groups show accuracy only; their times in the
-tables are call overhead.</li>
+<li><b>Times.</b> Only the speed pass is timed for the page (section <a href='#speed'>Speed</a>): one worker,
+a stated thread count, each method warmed up on its own spec, then interleaved rounds on images of at least
+{SPEED_MIN_PIXELS} pixels (256 x 256), as time per megapixel (median, bars from the fastest to the slowest round).
+The accuracy cells may run on several workers at once: their times are never charted.</li>
+<li><b>Units.</b> {figures.UNIT}. Error maps and grids share one scale per figure (the viewer's "shared scale"
+checkbox switches to each panel's own).</li>
+<li><b>Bias and flicker.</b> Over an animation a method's error splits into its bias (the time-average of the
+error, the part that stays with the object) and its flicker (what is left, frame to frame); for highlights the
+same split is made on the highlight's energy, so a clamp that dims the highlight wherever it goes shows as bias,
+not as flicker. Each is one registered metric (aaeval/metrics), used by every table, chart and section.</li>
 <li><b>Failed.</b> {html.escape(page.definition)} The same definition is used by every table and chart; a metric
 that could not be computed for a cell is listed separately and does not make the cell fail.</li>
 <li><b>The viewer.</b> Each group ends with an interactive viewer: pick a scene, scrub or play the frames, choose
@@ -398,7 +404,7 @@ def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.Dat
                    "in this report.</p>")
     ok = rows[rows["error"].isna()]
     summary = spec_summary(rows, metrics, page.primary, failed)
-    out.append(_timing_block(page, group, slug, summary, rows, ref))
+    out.append(_accuracy_block(page, group, slug, summary, rows, ref))
     temp = temporal[temporal["group"] == group] if not temporal.empty else temporal
     out.extend(_temporal_block(page, group, slug, rows, temp, ref))
     if rows["difficulty"].nunique() >= 3:  # a trend needs a few levels
@@ -420,19 +426,15 @@ def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.Dat
             out.append(f"<p class='note'>Left out of the viewer to keep the page small: "
                        f"{html.escape(', '.join(left_out))} (their images are in images/ as .npy).</p>")
     out.append("<h3>Numbers per method and option</h3>")
-    pixels = int((_megapixels(ok) * 1e6).min()) if len(ok) else 0
-    shown = summary.drop(columns=["spec", "method", "options", f"{page.primary}_min", f"{page.primary}_max"],
-                         errors="ignore").rename(columns={"label": "method (options)"})
-    if pixels < SPEED_MIN_PIXELS:
-        shown = shown.drop(columns=["ms_per_mpix", "ms_per_mpix_min", "ms_per_mpix_max"]).rename(
-            columns={"render ms (median)": "render ms (overhead: tiny images)"})
-    else:
-        shown = shown.rename(columns={"ms_per_mpix": "ms per megapixel (median)",
-                                      "ms_per_mpix_min": "ms/Mpix fastest", "ms_per_mpix_max": "ms/Mpix slowest"})
-    out.append(page.table(shown, f"{slug}_numbers", f"{group}: numbers per method and option"))
+    # the accuracy cells' times are left out: cells may share the machine (see the speed pass)
+    shown = summary.drop(columns=["spec", "method", "options", f"{page.primary}_min", f"{page.primary}_max",
+                                  "repeats", "render ms (median)", "ms_per_mpix", "ms_per_mpix_min",
+                                  "ms_per_mpix_max"], errors="ignore").rename(columns={"label": "method (options)"})
+    out.append(page.table(shown, f"{slug}_numbers", f"{group}: numbers per method and option (mean over cells; "
+                          f"{figures.UNIT}; times: see the speed pass)"))
     out.append(f"<p class='dl'>{html.escape(page.definition)}</p>")
     if not temp.empty:
-        names = [c for c in ("flicker", "sum_variation") if c in temp]
+        names = [c for c in page.group_temporal.get(group, ("flicker", "sum_variation")) if c in temp]
         cols = ["scene", "label", "frames", "failed_frames", *names, "reference_sum_variation",
                 "reference_noise_rmse"]
         out.append(page.table(temp[[c for c in cols if c in temp.columns]], f"{slug}_temporal",
@@ -486,8 +488,72 @@ def _grid(page: _Page, ok: pd.DataFrame, slug: str, group: str, ref: str) -> str
     p = figures.image_grid(reference, images, page.figdir / f"{slug}_images", title=f"{group}: {scene}, frame {frame}")
     return _figure(p, page.root, f"{html.escape(scene)}, frame {frame}: each method (a ladder at its largest k or "
                    "spp; the viewer below has every option) with its image, the same zoomed crop "
-                   "(red box, around the largest error) and its signed error on its own symmetric scale (stated "
-                   f"per row; red: too bright, blue: too dark). {ref}")
+                   "(red box, around the largest error) and its signed error, the mean of the R, G, B errors, on "
+                   f"one symmetric scale shared by every row (red: too bright, blue: too dark); {figures.UNIT}. {ref}")
+
+
+def _speed_section(page: _Page, results: pd.DataFrame, speed: pd.DataFrame) -> str:
+    """The speed pass (``speed.parquet``): the only times charted; with each ``accuracy`` group,
+    the speed-accuracy chart (each method's ladder and the Pareto front)."""
+    from aaeval.experiments.speed import speed_summary
+
+    out = ["<h2 id='speed'>Speed</h2>"]
+    if speed.empty:
+        out.append("<p class='warn'>This sweep has no speed pass (no [[speed]] table in its config): no time is "
+                   "charted. The accuracy cells' render times in the tables may come from several workers sharing "
+                   "the machine and are not comparable.</p>")
+        return "\n".join(out)
+    summary = speed_summary(speed)
+    import os
+
+    threads = ", ".join(sorted({str(int(t)) for t in speed["threads"].dropna()}))
+    rounds = int(summary["rounds"].max())
+    note = (f"Timed in the speed pass, after the accuracy cells: <b>one worker</b> (the sweep's own process), "
+            f"<b>{threads} thread(s)</b> for every method with a threads option and for numba (Mitsuba keeps its own "
+            f"thread pool), on a machine with {os.cpu_count()} cores (see provenance); each method warmed up on its "
+            f"own spec (untimed), then {rounds} interleaved rounds (the methods take turns, the order rotating, as "
+            "benchmarks/bench_methods.py times them); images of 256 x 256 pixels or more. Time per megapixel: "
+            "median of the rounds; bars from the fastest to the slowest round.")
+    out.append(f"<p class='note'>{note}</p>")
+    for index, rows in summary.groupby("pass", sort=True):
+        group = rows["accuracy_group"].dropna().iloc[0] if rows["accuracy_group"].notna().any() else None
+        scenes = list(dict.fromkeys(rows["scene"]))
+        per = rows.groupby("spec", sort=False).agg(
+            label=("label", "first"), method=("method", "first"), options=("options", "first"),
+            ms_per_mpix=("ms_per_mpix", "median"), ms_per_mpix_min=("ms_per_mpix_min", "min"),
+            ms_per_mpix_max=("ms_per_mpix_max", "max")).reset_index()
+        if group is not None and page.primary in results:
+            acc = results[(results["group"] == group) & results["error"].isna()].groupby("spec")[page.primary].mean()
+            data = per.assign(**{page.primary: per["spec"].map(acc)}).dropna(subset=[page.primary, "ms_per_mpix"])
+            if not data.empty:
+                noise = _noise(results[results["group"] == group])
+                p = figures.speed_accuracy(data, page.figdir / f"speed_accuracy_{index}", metric=page.primary,
+                                           title=f"speed against accuracy (speed pass, one worker; error: {group})",
+                                           styles=page.styles, noise=noise)
+                out.append(_figure(p, page.root, f"Render time per megapixel in the speed pass (one worker, {threads} "
+                           f"thread(s); median over {', '.join(map(html.escape, scenes))} of the medians of "
+                           f"{rounds} interleaved rounds; bar: fastest to slowest round) against mean {page.primary} "
+                           f"in group <a href='#{html.escape(figure_stem(group))}'>{html.escape(group)}</a> "
+                           f"({figures.UNIT}). Dotted lines join one method's option ladder (light: smallest value, "
+                           "dark: largest); the dashed step is the Pareto front (no method is both faster and more "
+                           "accurate than a point on it); the grey band is the ground truth's measured noise."))
+        table = rows[["scene", "width", "height", "label", "threads", "rounds", "render_ms", "ms_per_mpix",
+                      "ms_per_mpix_min", "ms_per_mpix_max"]].copy()
+        ratios = []
+        for scene, r in table.groupby("scene", sort=False):
+            by = r.set_index("label")["render_ms"]
+            if "skia" in by and "catmull" in by:
+                ratios.append(f"{html.escape(scene)} ({int(r['width'].iloc[0])}x{int(r['height'].iloc[0])}): "
+                              f"catmull / Skia = {by['catmull'] / by['skia']:.3g}")
+        out.append(page.table(table.rename(columns={"label": "method (options)", "render_ms": "render ms (median)",
+                                                    "ms_per_mpix": "ms/Mpix (median)", "ms_per_mpix_min": "fastest",
+                                                    "ms_per_mpix_max": "slowest"}),
+                              f"speed_pass_{index}", "Speed pass: render time per scene and method"))
+        if ratios:
+            out.append("<p class='note'>Time ratios on the same scene: " + "; ".join(ratios) + ". "
+                       "benchmarks/bench_methods.py times the same scene the same way (see docs/experiments.md) for "
+                       "the ratio to compare.</p>")
+    return "\n".join(out)
 
 
 def _provenance(root: Path, results: pd.DataFrame) -> str:
@@ -537,26 +603,36 @@ def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
     page = _Page(store, results, manifest)
     metrics = _metric_columns(results, manifest)
     distinct = {c["key"] for c in manifest["cells"]}
-    failed = failed_cells(results, page.primary, page.fail_above) if not results.empty else pd.Series(dtype=bool)
+    failed = (failed_cells(results, page.primary, page.fail_above, page.shaded) if not results.empty
+              else pd.Series(dtype=bool))
     n_failed = int(failed[~results["key"].duplicated()].sum()) if not results.empty else 0
+    n_errors = int(results.loc[~results["key"].duplicated(), "error"].notna().sum()) if not results.empty else 0
     done = results["key"].nunique() if not results.empty else 0
 
+    from aaeval.experiments.speed import read_speed
+
+    speed = read_speed(store.root)
     parts = [f"<h1>{html.escape(manifest['experiment'])}</h1>",
              f"<p>{html.escape(manifest.get('description', ''))}</p>",
-             f"<p class='note'>{done} of {len(distinct)} distinct cells finished ({n_failed} failed, "
-             f"{len(distinct) - done} pending). Code version {html.escape(manifest.get('code_version', '?'))}. "
+             f"<p class='note'>{done} of {len(distinct)} distinct cells finished ({n_failed} failed by the "
+             f"definition in <a href='#how-to-read'>how to read</a>, {n_errors} of them because the render raised an "
+             f"error; {len(distinct) - done} pending). Code version {html.escape(manifest.get('code_version', '?'))}. "
              f"Generated {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. "
-             + (_timing_note(results) if not results.empty else "") + "</p>",
-             _provenance(store.root, results),
-             "<p>Data: <a href='results.parquet'>results.parquet</a> (one row per cell), "
-             "<a href='temporal.parquet'>temporal.parquet</a> (one row per animation), "
-             "<a href='experiment.toml'>experiment.toml</a> (the config as run), "
-             "<a href='manifest.json'>manifest.json</a>.</p>"]
+             + (_timing_note(results) if not results.empty else "") + "</p>"]
+    if not results.empty:
+        parts.append(findings_section(results, temporal, speed, speed_note="See <a href='#speed'>Speed</a>."))
     groups = list(dict.fromkeys(c["group"] for c in manifest["cells"]))
-    parts.append("<p>Sections: <a href='#how-to-read'>how to read this report</a>, <a href='#ground-truth'>ground "
-                 "truth</a>, <a href='#overview'>overview</a>; groups: "
+    parts.append("<p>Sections: <a href='#findings'>findings</a>, <a href='#how-to-read'>how to read this report</a>, "
+                 "<a href='#ground-truth'>ground truth</a>, <a href='#overview'>overview</a>, <a href='#speed'>speed</a>"
+                 "; groups: "
                  + ", ".join(f"<a href='#{html.escape(figure_stem(g))}'>{html.escape(g)}</a>" for g in groups) + "</p>")
     parts.append(_how_to_read(page))
+    parts.append(_provenance(store.root, results))
+    parts.append("<p>Data: <a href='results.parquet'>results.parquet</a> (one row per cell), "
+                 "<a href='temporal.parquet'>temporal.parquet</a> (one row per animation), "
+                 "<a href='speed.parquet'>speed.parquet</a> (the speed pass), "
+                 "<a href='experiment.toml'>experiment.toml</a> (the config as run), "
+                 "<a href='manifest.json'>manifest.json</a>.</p>")
     if not results.empty:
         parts.append(_policy_section(page, results))
         parts.append(_overview(page, results, failed))
@@ -571,8 +647,11 @@ def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
                 parts.append(_group_section(page, group, rows, temporal, metrics, failed))
             if task is not None:
                 progress.advance(task)
-    parts.append(specular_section(store.root, page.figdir))
-    parts.append(filters_section(store.root, page.figdir))
+    parts.append(_speed_section(page, results, speed))
+    if not results.empty:
+        parts.append(specular_section(store.root, page.figdir, results, temporal, shaded=page.shaded,
+                                      styles=page.styles))
+        parts.append(filters_section(store.root, page.figdir, results, temporal, page.styles))
     scripts = "".join(f"<script src='{html.escape(s)}'></script>" for s in page.viewer_scripts)
     page_text = ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"
                  f"<title>{html.escape(manifest['experiment'])} — aaeval report</title><style>{_CSS}</style>"
