@@ -19,7 +19,8 @@ from aaeval.scenes import parse_scene
 QUAD = [(5.25, 6.5), (57.75, 4.125), (59.5, 58.25), (3.125, 55.875)]
 PIVOT = (31.0, 31.0)
 SIZE = 64
-DEPTH_METHODS = ["catmull", "weiler-atherton", "point", "supersample:k=4", "jitter:k=4", "abuffer", "skia"]
+DEPTH_METHODS = ["catmull", "weiler-atherton", "point", "supersample:k=4", "jitter:k=4", "abuffer", "skia",
+                 "mitsuba:spp=16"]
 
 
 def tilted_planes(k: int, tilt: float, seed: int = 0) -> np.ndarray:

@@ -61,8 +61,10 @@ CACHE_ENV = "AAEVAL_CACHE_DIR"
 
 # Source files (relative to the aaeval package) whose code decides a ground-truth image
 # beyond the scene data the digest covers: the conversion to Mitsuba, the Phong
-# integrator and the clipping kernel the conversion uses.
-CODE_FILES = ("groundtruth/flat.py", "groundtruth/phong.py", "renderers/_clip.py")
+# integrator, the clipping kernel the conversion uses, and the near-tie rule that
+# resolves nearly coplanar groups before Mitsuba sees them (with the clipper it uses).
+CODE_FILES = ("groundtruth/flat.py", "groundtruth/phong.py", "renderers/_clip.py", "scenes/depth.py",
+              "weiler_atherton/near_ties.py", "weiler_atherton/clipper.py", "weiler_atherton/clip_kernel.py")
 
 
 class GroundTruth(NamedTuple):

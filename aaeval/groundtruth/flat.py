@@ -31,6 +31,9 @@ import numpy as np
 
 from aaeval.groundtruth.variant import import_mitsuba
 from aaeval.scenes import Scene
+from aaeval.scenes.depth import depth_tolerance
+from aaeval.scenes.holes import ring_area
+from aaeval.weiler_atherton.near_ties import resolve_flat_arrays
 
 __all__ = [
     "SAMPLERS",
@@ -73,6 +76,10 @@ DEPTH_SPAN = 100.0  # camera depths of the polygons span [NEAR, NEAR + DEPTH_SPA
 # polygon wins every tie, and it is 1e-5 of the depth span, so it moves a line where such
 # a polygon crosses another one by 1e-5 / (their depth-slope difference in span units).
 COPLANAR_NUDGE = 1e-3
+# The smallest depth range mapped onto the span, in tie bands (eps): differences of a few
+# eps then land 1e-4 of the span apart, below float32's resolution, so ties are the
+# nudge's to decide, as coplanar_ranks says.
+TIE_SPAN = 1e6
 # Samples Mitsuba traces in one kernel launch; larger renders are split into row bands.
 MAX_SAMPLES_PER_PASS = 1 << 28
 
@@ -177,18 +184,18 @@ def triangulate_scene(scene: Scene, *, margin: float = MARGIN) -> Triangles:
     window = (-margin, -margin, scene.width + margin, scene.height + margin)
     ranks = coplanar_ranks(scene)
     pieces = []  # (xy, z, rank, polygon index)
-    for p in scene.polygons:
-        if not np.isfinite(p.plane).all():
-            continue
-        xy = clip_to_window(p.xy, window)
+    for outline, plane, index in _outlines_by_tie_rule(scene):
+        xy = clip_to_window(outline, window)
         if len(xy) < 3:
             continue
-        a, b, c = p.plane
-        pieces.append((xy, a * xy[:, 0] + b * xy[:, 1] + c, ranks[p.index], p.index))
+        a, b, c = plane
+        pieces.append((xy, a * xy[:, 0] + b * xy[:, 1] + c, ranks[index], index))
     if not pieces:
         return Triangles(np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64), np.zeros(0, dtype=np.int64))
     zmin = min(z.min() for _, z, _, _ in pieces)
-    zmax = max(z.max() for _, z, _, _ in pieces)
+    # depths within the tie band are one depth: a scene whose depths all lie within a few
+    # eps must not have them stretched over the whole span, past the coplanar nudge
+    zmax = max(max(z.max() for _, z, _, _ in pieces), zmin + TIE_SPAN * depth_tolerance(scene.arrays.vertices[:, 2]))
     vertices, faces, owner, offset = [], [], [], 0
     for xy, z, rank, index in pieces:
         tri = mapbox_earcut.triangulate_float64(xy, np.array([len(xy)], dtype=np.uint32)).reshape(-1, 3)
@@ -197,6 +204,28 @@ def triangulate_scene(scene: Scene, *, margin: float = MARGIN) -> Triangles:
         owner.append(np.full(len(tri), index, dtype=np.int64))
         offset += len(xy)
     return Triangles(np.concatenate(vertices), np.concatenate(faces), np.concatenate(owner))
+
+
+def _outlines_by_tie_rule(scene: Scene):
+    """(outline (k, 2), plane, polygon index) of every polygon not seen edge-on, with each
+    group of nearly coplanar polygons replaced by its visible regions under the scene
+    format's tie rule (:mod:`aaeval.weiler_atherton.near_ties`): float32 ray tracing cannot
+    tell depths 1e-11 apart, so such groups are resolved before Mitsuba sees them (pairs
+    tied over their whole overlap are ranked by :func:`coplanar_ranks`)."""
+    drawable = [p for p in scene.polygons if np.isfinite(p.plane).all()]
+    if not drawable:
+        return []
+    outlines = [p.xy if ring_area(p.xy) >= 0 else p.xy[::-1] for p in drawable]
+    length = np.array([len(o) for o in outlines], dtype=np.int64)
+    start = np.concatenate([[0], np.cumsum(length)[:-1]]).astype(np.int64)
+    xy = np.concatenate(outlines)
+    planes = np.array([p.plane for p in drawable], dtype=np.float64)
+    source = np.array([p.index for p in drawable], dtype=np.int64)
+    start, length, x, y, planes, source = resolve_flat_arrays(
+        start, length, np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]), planes, source,
+        depth_tolerance(scene.arrays.vertices[:, 2]))
+    return [(np.column_stack([x[s:s + n], y[s:s + n]]), planes[k], int(source[k]))
+            for k, (s, n) in enumerate(zip(start, length))]
 
 
 def _background_quad(scene: Scene, margin: float) -> tuple[np.ndarray, np.ndarray]:

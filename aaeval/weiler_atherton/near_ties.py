@@ -19,7 +19,7 @@ long as ``eps`` is far above the rounding of a plane evaluation, so the area is 
 
 :func:`tie_groups` finds the polygons that need this: the groups (by overlapping boxes)
 holding a pair whose planes are within :data:`NEAR_COPLANAR` x ``eps`` of each other over
-their common box, but not equal, while the tie band meets it. Every other group keeps the area sort,
+their common box, but not everywhere within ``eps``. Every other group keeps the area sort,
 where crossing planes are split where their depths are equal.
 """
 
@@ -48,7 +48,7 @@ def tie_groups(boxes: np.ndarray, planes: np.ndarray, sources: np.ndarray, eps_z
     """Split ``sources`` into (solved by the rule, solved by the area sort).
 
     The first part is every group of polygons connected by overlapping boxes that holds
-    a near-coplanar pair whose tie band meets their common box; the second the rest."""
+    a near-coplanar pair (see :func:`_near_pairs`); the second the rest."""
     sources = np.asarray(sources, dtype=np.int64)
     alike = _similar_slopes(planes[sources], 2 * NEAR_COPLANAR * eps_z / MIN_OVERLAP)
     if alike.sum() < 2 or not _near_pairs(boxes, planes, sources[alike], eps_z)[2].any():
@@ -76,7 +76,8 @@ def _similar_slopes(planes: np.ndarray, tol: float) -> np.ndarray:
 
 def _near_pairs(boxes, planes, sources, eps_z):
     """Pairs of ``sources`` (positions ``first``, ``rows``) whose boxes overlap, and
-    which of them are near-coplanar with the tie band meeting their common box."""
+    which of them are near-coplanar: apart by more than eps somewhere in their common
+    box and by at most NEAR_COPLANAR eps everywhere in it."""
     if len(sources) < 2:
         return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, bool)
     starts, rows = later_neighbours(boxes, sources)
@@ -87,11 +88,14 @@ def _near_pairs(boxes, planes, sources, eps_z):
     x1, y1 = np.minimum(bi[:, 2], bj[:, 2]), np.minimum(bi[:, 3], bj[:, 3])
     d = planes[j] - planes[i]
     corners = np.stack([d[:, 0] * x + d[:, 1] * y + d[:, 2] for x, y in ((x0, y0), (x1, y0), (x0, y1), (x1, y1))])
-    band_meets = (np.abs(corners).min(axis=0) <= eps_z) | (corners.min(axis=0) < 0) & (corners.max(axis=0) > 0)
     spread = np.abs(corners).max(axis=0)
-    # exactly equal planes tie by file order, which is transitive: the area sort keeps them
+    # a pair within eps over its whole common box is tied everywhere there, and cannot
+    # start a cycle alone; one apart by more than eps somewhere, but by at most
+    # NEAR_COPLANAR eps everywhere, can, with a third polygon tied to both (depths 0,
+    # 0.8 eps, 1.6 eps: A ties B, B ties C, A is before C). Crossing planes are apart by
+    # more than that except in a strip along their crossing some eps / slope wide.
     wide = (x1 - x0 >= MIN_OVERLAP) & (y1 - y0 >= MIN_OVERLAP)
-    return first, rows, band_meets & wide & (spread > 0) & (spread <= NEAR_COPLANAR * eps_z)
+    return first, rows, wide & (spread > eps_z) & (spread <= NEAR_COPLANAR * eps_z)
 
 
 def solve_by_rule(outline, box, planes, window, sources, eps, eps_z):
