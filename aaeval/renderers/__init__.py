@@ -28,6 +28,9 @@ from aaeval.renderers import mitsuba  # noqa: E402,F401
 from aaeval.renderers import weiler_atherton  # noqa: E402,F401
 from aaeval.renderers import freetype  # noqa: E402,F401
 from aaeval.renderers import resvg  # noqa: E402,F401
+from aaeval.renderers import msaa  # noqa: E402,F401
+from aaeval.renderers import fxaa  # noqa: E402,F401
+from aaeval.renderers import taa  # noqa: E402,F401
 
 __all__ = [
     "METHODS",

@@ -1,0 +1,187 @@
+"""Method ``taa``: temporal anti-aliasing as engines ship it (Karis 2014, "High Quality Temporal Supersampling").
+
+Each frame takes one sample per pixel, at a sub-pixel jitter that cycles through the
+first ``phases`` points of the Halton(2, 3) sequence (indices 1..phases, minus 1/2: the
+jitter of Unreal Engine 4 and most engines). The previous output (the *history*) is
+reprojected by the scene's exact motion (the animation's translation per frame: pixel
+``p`` of frame ``t`` shows what pixel ``p - translate`` showed at ``t - 1``), resampled
+bilinearly or with the Catmull-Rom spline (``resample=``); history that comes from
+outside the previous image is replaced by the current sample. The reprojected history is
+limited to the current frame's 3x3 neighbourhood in YCoCg: clamped to its min/max box
+(``clamp=minmax``), or clipped towards the centre of the box ``mean +- gamma * std``
+(``clamp=variance``, Salvi 2016), or not at all (``clamp=none``). The output is
+``alpha * current + (1 - alpha) * history`` and becomes the next history.
+
+Frame ``k`` of an animation is frame ``warmup + k`` of the sequence: ``warmup`` frames of
+the scene held still at its first frame (jitter running) are rendered first, then frames
+``0 .. k`` with the motion, so every frame's image is reproducible on its own, whatever
+was rendered before. Within one process the last history of each (scene, options) is
+kept, so rendering frames in order costs one frame each.
+
+``[shaded]`` scenes are shaded at each sample; their history is reprojected by the
+translation only (a spinning object's surface motion is not reprojected, so its history
+is wrong by the spin and is held back only by the neighbourhood clamp).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import pickle
+import threading
+from collections import OrderedDict
+
+import numpy as np
+
+from aaeval.renderers.offsets import OffsetSampler, halton
+from aaeval.renderers.registry import Option, register_method
+from aaeval.renderers.sampling import warmup_scene
+from aaeval.scenes import Scene
+
+__all__ = ["render_taa", "jitter_sequence", "rgb_to_ycocg", "ycocg_to_rgb"]
+
+_CACHE: "OrderedDict[tuple, tuple[int, np.ndarray]]" = OrderedDict()
+_CACHE_LOCK = threading.Lock()
+_CACHE_SIZE = 4
+
+
+def jitter_sequence(phases: int) -> np.ndarray:
+    """Offsets from the pixel centre (phases, 2): Halton(2, 3) points 1..phases, minus 1/2."""
+    return np.array([[halton(i, 2) - 0.5, halton(i, 3) - 0.5] for i in range(1, phases + 1)])
+
+
+def rgb_to_ycocg(rgb: np.ndarray) -> np.ndarray:
+    r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+    return np.stack([0.25 * r + 0.5 * g + 0.25 * b, 0.5 * r - 0.5 * b, -0.25 * r + 0.5 * g - 0.25 * b], axis=-1)
+
+
+def ycocg_to_rgb(ycc: np.ndarray) -> np.ndarray:
+    y, co, cg = ycc[..., 0], ycc[..., 1], ycc[..., 2]
+    return np.stack([y + co - cg, y + cg, y - co - cg], axis=-1)
+
+
+def _taps(shift: float, n: int, kind: str) -> tuple[list[np.ndarray], list[float], np.ndarray]:
+    """Source indices and weights along one axis for sampling at ``i - shift``, and which
+    ``i`` fall inside the previous image."""
+    pos = np.arange(n) - shift
+    base = int(np.floor(-shift))
+    t = -shift - base
+    if kind == "bilinear":
+        offsets, weights = [0, 1], [1 - t, t]
+    else:  # Catmull-Rom
+        offsets = [-1, 0, 1, 2]
+        weights = [(-t + 2 * t * t - t**3) / 2, (2 - 5 * t * t + 3 * t**3) / 2, (t + 4 * t * t - 3 * t**3) / 2,
+                   (-t * t + t**3) / 2]
+    idx = [np.clip(np.arange(n) + base + o, 0, n - 1) for o in offsets]
+    inside = (pos >= -0.5) & (pos <= n - 0.5)
+    return idx, weights, inside
+
+
+def reproject(history: np.ndarray, dx: float, dy: float, kind: str) -> tuple[np.ndarray, np.ndarray]:
+    """``history`` sampled at ``(col - dx, row - dy)`` of every pixel, and where that lies
+    inside the image (H, W bool)."""
+    h, w = history.shape[:2]
+    xi, xw, xin = _taps(dx, w, kind)
+    yi, yw, yin = _taps(dy, h, kind)
+    rows = sum(wt * history[:, i] for i, wt in zip(xi, xw))
+    out = sum(wt * rows[i] for i, wt in zip(yi, yw))
+    return out, yin[:, None] & xin[None, :]
+
+
+def _neighbourhood(ycc: np.ndarray, mode: str, gamma: float) -> tuple[np.ndarray, np.ndarray]:
+    h, w = ycc.shape[:2]
+    pad = np.pad(ycc, ((1, 1), (1, 1), (0, 0)), mode="edge")
+    stack = np.stack([pad[1 + dy : 1 + dy + h, 1 + dx : 1 + dx + w] for dy in (-1, 0, 1) for dx in (-1, 0, 1)])
+    if mode == "minmax":
+        return stack.min(axis=0), stack.max(axis=0)
+    mean = stack.mean(axis=0)
+    std = np.sqrt(np.maximum((stack**2).mean(axis=0) - mean**2, 0.0))
+    return mean - gamma * std, mean + gamma * std
+
+
+def _limit(history: np.ndarray, current: np.ndarray, mode: str, gamma: float) -> np.ndarray:
+    if mode == "none":
+        return history
+    hist = rgb_to_ycocg(history)
+    lo, hi = _neighbourhood(rgb_to_ycocg(current), mode, gamma)
+    if mode == "minmax":
+        limited = np.clip(hist, lo, hi)
+    else:  # clip towards the box centre (keeps the history's hue direction)
+        centre = 0.5 * (lo + hi)
+        extent = np.maximum(0.5 * (hi - lo), 1e-12)
+        v = hist - centre
+        ratio = np.max(np.abs(v) / extent, axis=-1, keepdims=True)
+        limited = np.where(ratio > 1.0, centre + v / np.maximum(ratio, 1.0), hist)
+    # history inside the box is kept as it is (no round trip through YCoCg)
+    moved = np.any(limited != hist, axis=-1, keepdims=True)
+    return np.where(moved, ycocg_to_rgb(limited), history)
+
+
+def _scene_key(scene: Scene) -> str:
+    first = scene.at_frame(0)
+    digest = hashlib.sha256()
+    for part in (first.arrays.vertices, first.arrays.colors, first.arrays.start, np.asarray(first.background),
+                 np.asarray(first.translate), np.array([first.width, first.height, first.frames])):
+        digest.update(np.ascontiguousarray(part).tobytes())
+    digest.update(pickle.dumps(dict(first.extensions), protocol=4))
+    return digest.hexdigest()
+
+
+@register_method(
+    "taa",
+    summary="TAA: Halton(2,3) jitter, history reprojected by the exact motion, YCoCg clamp, exponential blend",
+    options={
+        "phases": Option(int, 8, "jitter phases (Halton(2,3) points per cycle)", choices=(8, 16)),
+        "alpha": Option(float, 0.1, "weight of the current frame in the exponential blend", minimum=1e-3,
+                        maximum=1.0),
+        "warmup": Option(int, 64, "frames of the still first frame rendered before frame 0", minimum=0,
+                         maximum=4096),
+        "resample": Option(str, "catmull-rom", "history resampling: catmull-rom or bilinear",
+                           choices=("catmull-rom", "bilinear")),
+        "clamp": Option(str, "minmax", "history limit in YCoCg: minmax (3x3 box), variance (mean +- gamma std, "
+                        "clipped), none", choices=("minmax", "variance", "none")),
+        "gamma": Option(float, 1.0, "variance clipping: box half-width in standard deviations", minimum=0.0,
+                        maximum=10.0),
+    },
+    warmup=lambda: render_taa(warmup_scene(), warmup=2),
+    samples=lambda o: o["warmup"] + 1,
+    memory=lambda scene, o: 40 * 8 * scene.width * scene.height,
+)
+def render_taa(scene: Scene, phases: int = 8, alpha: float = 0.1, warmup: int = 64, resample: str = "catmull-rom",
+               clamp: str = "minmax", gamma: float = 1.0) -> np.ndarray:
+    key = (_scene_key(scene), phases, alpha, warmup, resample, clamp, gamma)
+    target = scene.frame
+    with _CACHE_LOCK:
+        cached = _CACHE.get(key)
+    jitter = jitter_sequence(phases)
+    dx, dy = (float(v) for v in scene.translate)
+    if cached is not None and cached[0] <= target:
+        frame, history = cached[0], cached[1].copy()
+        start = frame + 1
+    else:
+        history = None
+        sampler = OffsetSampler(scene.at_frame(0))
+        for t in range(warmup):  # the still first frame
+            current = sampler.sample(*jitter[t % phases])
+            history = _step(history, current, 0.0, 0.0, alpha, resample, clamp, gamma)
+        start = 0
+    for j in range(start, target + 1):
+        t = warmup + j
+        current = OffsetSampler(scene.at_frame(j)).sample(*jitter[t % phases])
+        moved = j > 0
+        history = _step(history, current, dx if moved else 0.0, dy if moved else 0.0, alpha, resample, clamp, gamma)
+    with _CACHE_LOCK:
+        _CACHE[key] = (target, history.copy())
+        _CACHE.move_to_end(key)
+        while len(_CACHE) > _CACHE_SIZE:
+            _CACHE.popitem(last=False)
+    return history
+
+
+def _step(history, current, dx, dy, alpha, resample, clamp, gamma):
+    if history is None:
+        return current
+    if dx or dy:
+        history, inside = reproject(history, dx, dy, resample)
+        history = np.where(inside[:, :, None], history, current)
+    history = _limit(history, current, clamp, gamma)
+    return history + alpha * (current - history)
