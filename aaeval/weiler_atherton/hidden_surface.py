@@ -148,13 +148,8 @@ class _Problem:
                                               self.eps, self.eps_z, bool(convex)))
         if len(tied) == 0:
             return sorted_
-        regions = solve_by_rule(self.outline, lambda s: self.bboxes[s], self.planes, win, tied, self.eps, self.eps_z)
+        regions = solve_by_rule(self.xs, self.ys, self.starts, self.bboxes, self.planes, win, tied, self.eps, self.eps_z)
         return VisibleArrays.concatenate([sorted_, VisibleArrays.of_shapes(regions)])
-
-    def outline(self, source: int) -> Shape:
-        """Polygon ``source``'s outline as the solver takes it, every edge its own."""
-        a, b = self.starts[source], self.starts[source + 1]
-        return Shape([list(zip(self.xs[a:b].tolist(), self.ys[a:b].tolist()))], [[EDGE_OWN] * int(b - a)])
 
 
 def hidden_surface(scene: Scene, window: tuple[float, float, float, float] | None = None, sources=None) -> list[Piece]:

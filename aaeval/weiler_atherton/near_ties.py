@@ -29,8 +29,9 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from aaeval.weiler_atherton.clipper import Shape, clip, from_arrays, polygons, shape_area, to_arrays
-from aaeval.weiler_atherton.solve_kernel import EDGE_CUT, half_plane, later_neighbours
+from aaeval.weiler_atherton.clip_kernel import clip_arrays
+from aaeval.weiler_atherton.clipper import Shape, from_arrays, polygons, shape_area
+from aaeval.weiler_atherton.solve_kernel import EDGE_CUT, EDGE_OWN, half_plane, later_neighbours
 
 __all__ = ["NEAR_COPLANAR", "tie_groups", "solve_by_rule"]
 
@@ -98,40 +99,50 @@ def _near_pairs(boxes, planes, sources, eps_z):
     return first, rows, wide & (spread > eps_z) & (spread <= NEAR_COPLANAR * eps_z)
 
 
-def solve_by_rule(outline, box, planes, window, sources, eps, eps_z):
+def solve_by_rule(xs, ys, starts, boxes, planes, window, sources, eps, eps_z):
     """Visible regions of ``sources`` inside ``window`` by the rule (module docstring).
 
-    ``outline(s)`` gives polygon s's outline as a :class:`Shape` (edges EDGE_OWN), ``box``
-    its bounding box. Returns [(source, Shape), ...], each shape one main contour and
-    its holes."""
+    Polygon s's outline is vertices ``starts[s]:starts[s + 1]`` of ``xs, ys`` (positive
+    area), its box ``boxes[s]``. Returns [(source, Shape), ...], each shape one main
+    contour and its holes, edges of a polygon's own outline labelled EDGE_OWN. The work
+    stays in the clipper's flat arrays (:func:`clip_arrays`): the region of a stack of
+    120 polygons takes some 30000 clips."""
     x0, y0, x1, y1 = (float(v) for v in window)
-    frame = Shape([[(x0, y0), (x1, y0), (x1, y1), (x0, y1)]], [[EDGE_CUT] * 4])
-    claimed: list[tuple[Shape, tuple]] = []
+    frame = (np.array([x0, x1, x1, x0]), np.array([y0, y0, y1, y1]), np.full(4, EDGE_CUT, np.int64),
+             np.array([0, 4], np.int64))
+
+    def outline(s):
+        a, b = starts[s], starts[s + 1]
+        return xs[a:b].copy(), ys[a:b].copy(), np.full(b - a, EDGE_OWN, np.int64), np.array([0, b - a], np.int64)
+
+    claimed = []
     out = []
     for i in sorted((int(s) for s in sources), reverse=True):  # later polygons claim first
-        region = clip(outline(i), frame, eps)[0]
+        region = clip_arrays(*outline(i), *frame, eps)[:4]
         for j in sources:
             j = int(j)
-            if j == i or not region.rings or not _boxes_meet(box(j), _bbox(region)):
+            if j == i or len(region[3]) < 2 or not _boxes_meet(boxes[j], _bbox(region)):
                 continue
             a, b, c = planes[j] - planes[i]
             nearer = half_plane(a, b, c + eps_z, np.asarray(_bbox(region)))  # z_j < z_i - eps
             if len(nearer[0]) < 3:
                 continue
-            cut = clip(outline(j), from_arrays(*nearer), eps)[0]
-            if cut.rings:
-                region = clip(region, cut, eps)[1]
-        for taken, taken_box in claimed:
-            if region.rings and _boxes_meet(taken_box, _bbox(region)):
-                region = clip(region, taken, eps)[1]
-        if region.rings and shape_area(region) > 0:
-            claimed.append((region, _bbox(region)))
-            out.extend((i, part) for part in polygons(region))
+            cut = clip_arrays(*outline(j), *nearer, eps)[:4]
+            if len(cut[3]) > 1:
+                region = clip_arrays(*region, *cut, eps)[4:]
+        for taken in claimed:
+            if len(region[3]) > 1 and _boxes_meet(_bbox(taken), _bbox(region)):
+                region = clip_arrays(*region, *taken, eps)[4:]
+        if len(region[3]) > 1:
+            shape = from_arrays(*region)
+            if shape_area(shape) > 0:
+                claimed.append(region)
+                out.extend((i, part) for part in polygons(shape))
     return out
 
 
-def _bbox(shape: Shape) -> tuple[float, float, float, float]:
-    xs, ys, _, _ = to_arrays(shape)
+def _bbox(region) -> tuple[float, float, float, float]:
+    xs, ys = region[0], region[1]
     return float(xs.min()), float(ys.min()), float(xs.max()), float(ys.max())
 
 
@@ -156,12 +167,9 @@ def resolve_flat_arrays(start, length, x, y, planes, source, eps_z):
     if len(tied) == 0:
         return start, length, x, y, planes, source
 
-    def outline(k):
-        return Shape([list(zip(x[start[k]:ends[k]].tolist(), y[start[k]:ends[k]].tolist()))], [[EDGE_CUT] * int(length[k])])
-
     window = (boxes[tied, 0].min(), boxes[tied, 1].min(), boxes[tied, 2].max(), boxes[tied, 3].max())
     eps = 2e-14 * max(1.0, float(np.abs(x).max()), float(np.abs(y).max()))
-    regions = solve_by_rule(outline, lambda k: boxes[k], planes, window, tied, eps, eps_z)
+    regions = solve_by_rule(x, y, np.append(start, ends[-1]), boxes, planes, window, tied, eps, eps_z)
     xs = [x[start[k]:ends[k]] for k in rest]
     ys = [y[start[k]:ends[k]] for k in rest]
     owner = list(rest)
