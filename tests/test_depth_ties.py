@@ -137,3 +137,16 @@ def test_near_coplanar_stack_follows_the_rule_per_pixel(k, tilt):
         np.testing.assert_allclose(render(scene, method), expected, atol=1e-9, err_msg=method)
     # the samplers apply the rule point by point: a fine grid converges to the same image
     np.testing.assert_allclose(render(scene, "supersample:k=16"), expected, atol=0.02)
+
+
+@pytest.mark.parametrize("k", [3, 110, 120])
+@pytest.mark.parametrize("method", ["catmull", "weiler-atherton"])
+def test_the_tilted_stack_of_squares_keeps_its_area(method, k):
+    # the stack the issue-13 fuzz found (one corner raised by i * 1e-12, the others on
+    # z = 1): W-A covered 1138.6 of 1296 px² from k = 110 on
+    square = [[4, 4], [40, 5], [39, 40], [3, 41]]
+    scene = parse_scene({"image": {"width": 41, "height": 41}, "polygons": [
+        {"color": [1.0, 0.0, 0.0], "vertices": [[*square[0], 1 + i * 1e-12], [*square[1], 1], [*square[2], 1], [*square[3], 1]]}
+        for i in range(k)]})
+    inside = shapely.Polygon(square).intersection(shapely.box(0, 0, 41, 41)).area
+    assert render(scene, method)[..., 0].sum() == pytest.approx(inside, abs=1e-9)
