@@ -88,6 +88,9 @@ def main(argv: list[str] | None = None) -> int:
     from aaeval.renderers.registry import MethodError
     from aaeval.scenes import SceneError
 
+    from aaeval.plugins import load_plugins
+
+    load_plugins("aaeval.metrics")  # metrics of other packages (methods load with aaeval.renderers)
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

@@ -44,3 +44,10 @@ __all__ = [
     "render_timed",
     "resolve",
 ]
+
+# methods from other packages (entry points "aaeval.methods"), after the built-ins; metric
+# plugins too, so that every process that renders (sweep workers included) knows them
+from aaeval.plugins import load_plugins  # noqa: E402
+
+load_plugins("aaeval.methods")
+load_plugins("aaeval.metrics")

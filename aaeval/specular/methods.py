@@ -150,3 +150,7 @@ register_specular("vlachos", summary="Vlachos 2015: roughness from the normal's 
 register_specular("tokuyoshi", summary="Tokuyoshi & Kaplanyan 2021: roughness variance from derivatives",
                   clamp=clamp_tokuyoshi)
 
+# specular methods from other packages (entry points "aaeval.specular"), after the built-ins
+from aaeval.plugins import load_plugins  # noqa: E402
+
+load_plugins("aaeval.specular")
