@@ -73,11 +73,37 @@ def whole_polygons(scene: Scene) -> list[_Whole]:
     return wholes
 
 
+def document_polygons(document: dict, frame: int = 0) -> list[_Whole]:
+    """The polygons of a raw scene document (the dict a TOML file parses to), holes and
+    the animation's translation at ``frame`` included, without aaeval's parser: each
+    plane is the least-squares plane through the outer ring's vertices."""
+    shift = np.asarray(document.get("animation", {}).get("translate", [0.0, 0.0]), dtype=float) * frame
+    wholes = []
+    for i, p in enumerate(document.get("polygons", [])):
+        ring = np.asarray(p["vertices"], dtype=float)
+        xy = ring[:, :2] + shift
+        fit = np.linalg.lstsq(np.column_stack([xy, np.ones(len(xy))]), ring[:, 2], rcond=None)[0]
+        holes = [np.asarray(h, dtype=float)[:, :2] + shift for h in p.get("holes", [])]
+        wholes.append(_Whole(xy, holes, fit, np.asarray(p["color"], dtype=float), i))
+    return wholes
+
+
+def document_oracle_image(document: dict, frame: int = 0) -> np.ndarray:
+    """:func:`oracle_image` of a raw scene document (see :func:`document_polygons`): the
+    reference then owes nothing to how aaeval parses holes or planes."""
+    image = document["image"]
+    return _overlay(document_polygons(document, frame), image["width"], image["height"],
+                    np.asarray(image.get("background", [0.0, 0.0, 0.0]), dtype=float))
+
+
 def visible_regions(scene: Scene) -> list[shapely.Geometry]:
     """The exactly visible region of every polygon of the scene (GEOS), holes included."""
-    polygons = whole_polygons(scene)
+    return _visible(whole_polygons(scene), scene.width, scene.height)
+
+
+def _visible(polygons: list[_Whole], width: int, height: int) -> list[shapely.Geometry]:
     shapes = [ShapelyPolygon(p.xy, p.holes) for p in polygons]
-    allpts = np.vstack([p.xy for p in polygons] + [np.array([[0, 0], [scene.width, scene.height]])])
+    allpts = np.vstack([p.xy for p in polygons] + [np.array([[0, 0], [width, height]])])
     bounds = (*(allpts.min(axis=0) - 10), *(allpts.max(axis=0) + 10))
     regions = []
     for i, p in enumerate(polygons):
@@ -95,15 +121,19 @@ def visible_regions(scene: Scene) -> list[shapely.Geometry]:
 
 def oracle_image(scene: Scene) -> np.ndarray:
     """Exact box-filtered image of a flat-coloured scene, by GEOS polygon overlay."""
-    rows, cols = np.mgrid[0 : scene.height, 0 : scene.width]
+    return _overlay(whole_polygons(scene), scene.width, scene.height, scene.background)
+
+
+def _overlay(polygons: list[_Whole], width: int, height: int, background: np.ndarray) -> np.ndarray:
+    rows, cols = np.mgrid[0:height, 0:width]
     pixels = shapely.box(cols.ravel(), rows.ravel(), cols.ravel() + 1.0, rows.ravel() + 1.0)
-    image = np.zeros((scene.height * scene.width, 3))
-    covered = np.zeros(scene.height * scene.width)
-    for p, region in zip(whole_polygons(scene), visible_regions(scene)):
+    image = np.zeros((height * width, 3))
+    covered = np.zeros(height * width)
+    for p, region in zip(polygons, _visible(polygons, width, height)):
         if region.is_empty:
             continue
         area = shapely.area(shapely.intersection(pixels, region))
         image += area[:, None] * p.color
         covered += area
-    image += (1.0 - covered)[:, None] * scene.background
-    return image.reshape(scene.height, scene.width, 3)
+    image += (1.0 - covered)[:, None] * background
+    return image.reshape(height, width, 3)
