@@ -6,13 +6,13 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
 
 from aaeval.scenes import SceneError, parse_scene
 from aaeval.scenes.generate import GENERATORS, MAX_POLYGONS, GeneratorError, generate_scene
+from aaeval.scenes.shaded import has_shaded
 
 
 def _inside(param, fraction):
@@ -32,7 +32,21 @@ def test_every_generator_builds_valid_scenes_across_its_difficulty_range(name):
             d = 1.0 + fraction  # periods that fit the default fence
         document = generate_scene(name, d)
         scene = parse_scene(document, source=f"{name}@{d}")
-        assert scene.width >= 4
+        assert scene.width >= 4 and scene.height >= 4
+        # something to look at: shaded objects, or polygons with one reaching into the image
+        if has_shaded(scene):
+            continue
+        assert scene.polygons, (name, d)
+        assert any(p.xy[:, 0].min() < scene.width and p.xy[:, 0].max() > 0
+                   and p.xy[:, 1].min() < scene.height and p.xy[:, 1].max() > 0 for p in scene.polygons), (name, d)
+
+
+@pytest.mark.parametrize("name", sorted(GENERATORS))
+def test_the_difficulty_changes_the_scene(name):
+    gen = GENERATORS[name]
+    low, high = (1.0, 1.9) if name == "picket" else (_inside(gen.difficulty_param, 0.1), _inside(gen.difficulty_param, 0.9))
+    assert low != high
+    assert generate_scene(name, low) != generate_scene(name, high), f"{name}: difficulty {low} and {high} give one scene"
 
 
 @pytest.mark.parametrize("name", sorted(GENERATORS))
@@ -72,10 +86,8 @@ HOSTILE = [
 
 @pytest.mark.parametrize("name, difficulty, params, words", HOSTILE)
 def test_bad_generator_input_is_refused_in_one_line_before_any_work(name, difficulty, params, words):
-    start = time.perf_counter()
     with pytest.raises(GeneratorError) as info:
         generate_scene(name, difficulty, **params)
-    assert time.perf_counter() - start < 1.0  # refused up front, not attempted
     message = str(info.value)
     assert "\n" not in message
     for word in words:
@@ -92,10 +104,8 @@ def test_a_config_with_an_absurd_difficulty_exits_2_with_one_line(tmp_path):
     )
     root = Path(__file__).parents[1]
     env = {**os.environ, "PYTHONPATH": str(root)}
-    start = time.perf_counter()
     result = subprocess.run([sys.executable, "-m", "aaeval", "sweep", str(config), "--out", str(tmp_path / "out"),
                              "--dry-run"], capture_output=True, text=True, cwd=root, env=env, timeout=120)
-    assert time.perf_counter() - start < 60
     assert result.returncode == 2, result.stderr
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and "Traceback" not in result.stderr
