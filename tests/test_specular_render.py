@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pathlib
+
 import copy
 
 import numpy as np
@@ -306,9 +308,14 @@ def test_modern_methods_widen_only_where_normals_turn(specular):
 
 
 def test_shaded_scene_files_load_and_render():
+    shipped = pathlib.Path(__file__).resolve().parents[1] / "configs" / "scenes" / "shaded"
     for name in ("cylinders", "cones"):
-        scene = load_scene(f"configs/scenes/shaded/{name}.toml")
+        scene = load_scene(shipped / f"{name}.toml")
         assert len(scene.extensions["shaded"].objects) >= 2 and scene.frames > 1
+        image = render(scene, "catmull:specular=none", frame=scene.frames - 1)
+        assert image.shape == (scene.height, scene.width, 3) and np.isfinite(image).all()
+        # the objects are lit: well above the background somewhere, with a highlight
+        assert (image - scene.background).max() > 0.1, name
 
 
 def test_detection_matches_the_analytic_normal_turn_of_a_cylinder():
