@@ -1,10 +1,16 @@
 """Hostile-but-fair inputs for the command line, and the one rule every case must meet.
 
 A case is a scene file (valid, mutated, or hostile: huge, tiny, NaN, duplicate, degenerate,
-self-crossing, deep overlaps, binary) and the arguments of ``aaeval render`` or
-``aaeval hidden-lines``. It must end in an image (exit 0, the file written and finite) or
-in a refusal (exit 2, the last stderr line ``aaeval CMD: error: ...``, nothing written),
-never in a traceback, another exit code, or a case over its time bound.
+self-crossing, deep overlaps, binary, a billion frames) put in place as a file, a symbolic
+link (to it, to ``/dev/zero``, dangling), a FIFO or a device, possibly with an SVG source
+(valid, NaN coordinates, a ``<use>`` bomb, an entity bomb, a huge path, not XML, naming a
+local image, or itself a FIFO or a link to ``/dev/zero``), and the arguments of ``aaeval
+render``, ``hidden-lines``, ``invariance``, ``compare``, ``import svg``, or ``sweep`` into a
+folder holding a damaged record (an unknown field) or planted links. It must end in an
+image or output (exit 0, the file written and finite) or in a refusal (exit 2, the last
+stderr line ``aaeval CMD: error: ...``, nothing written), never in a traceback, another exit
+code, or a case over its time bound; and nothing outside the case's folder may change
+(:func:`outside_digest` of the files links point at).
 
 Used by tests/test_fuzz.py (a few hundred cases in CI) and scripts/fuzz_cli.py (offline).
 """
@@ -145,17 +151,73 @@ def mutated(draw, doc):
     return doc
 
 
+# SVG sources of hostile kinds, for [svg].file (method resvg) and 'aaeval import svg'
+SVG_HEAD = '<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" width="24" height="24">'
+
+
+def _use_bomb(levels: int) -> str:
+    defs = ['<g id="l0"><rect width="1" height="1"/></g>']
+    defs += [f'<g id="l{n}">' + f'<use href="#l{n - 1}"/>' * 5 + "</g>" for n in range(1, levels + 1)]
+    return SVG_HEAD + "<defs>" + "".join(defs) + f'</defs><use href="#l{levels}"/></svg>'
+
+
+def _entity_bomb() -> str:
+    ents = "<!ENTITY a0 'aaaaaaaaaa'>" + "".join(f"<!ENTITY a{i + 1} '{('&a%d;' % i) * 10}'>" for i in range(8))
+    return f"<?xml version='1.0'?><!DOCTYPE svg [{ents}]>" + SVG_HEAD + "<title>&a8;</title></svg>"
+
+
+@st.composite
+def svg_source(draw):
+    """``(kind, text)`` of an SVG file."""
+    kind = draw(st.sampled_from(["rect", "rect", "nan", "use-bomb", "entity-bomb", "huge-path", "not-xml", "empty",
+                                 "image", "external-use", "viewbox", "huge-coords"]))
+    if kind == "rect":
+        x, y, w = draw(st.floats(0, 10)), draw(st.floats(0, 10)), draw(st.floats(0.5, 12))
+        return kind, SVG_HEAD + f'<rect x="{x!r}" y="{y!r}" width="{w!r}" height="{w!r}"/></svg>'
+    if kind == "nan":
+        where = draw(st.sampled_from(['<path d="M1 1 L NaN 4 L 8 2 Z"/>', '<rect x="NaN" width="4" height="4"/>',
+                                      '<circle cx="4" cy="4" r="inf"/>', '<rect width="4" height="4" stroke="#000" '
+                                      'stroke-width="1e300"/>', '<rect width="-4" height="4"/>']))
+        return kind, SVG_HEAD + where + "</svg>"
+    if kind == "use-bomb":
+        return kind, _use_bomb(draw(st.integers(4, 11)))
+    if kind == "entity-bomb":
+        return kind, _entity_bomb()
+    if kind == "huge-path":
+        n = draw(st.sampled_from([2000, 20000, 100000]))
+        pts = " ".join(f"L{12 + 10 * math.cos(i * 2.399):.4f} {12 + 10 * math.sin(i * 2.399):.4f}" for i in range(n))
+        return kind, SVG_HEAD + f'<path d="M12 2 {pts} Z"/></svg>'
+    if kind == "not-xml":
+        return kind, "this is not <svg at all"
+    if kind == "empty":
+        return kind, ""
+    if kind == "image":
+        return kind, SVG_HEAD + '<image href="secret.png" width="8" height="8"/><rect width="2" height="2"/></svg>'
+    if kind == "external-use":
+        return kind, SVG_HEAD + '<use href="other.svg#x"/><use xlink:href="http://127.0.0.1:9/x.svg#y"/></svg>'
+    if kind == "viewbox":
+        return kind, ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="' + draw(st.sampled_from(
+            ["0 0 10 10", "0 0 -10 10", "0 0 0 0", "nan 0 1 1"])) + '"><rect x="1" y="1" width="4" height="4"/></svg>')
+    return kind, SVG_HEAD + '<rect x="1e308" y="-1e308" width="1e308" height="4"/></svg>'
+
+
 @st.composite
 def scene_file(draw, max_vertices=400):
     """``(kind, bytes)`` of a scene file."""
     kind = draw(st.sampled_from(["valid", "valid", "valid", "mutated", "mutated", "mutated", "hostile-size",
-                                 "bytes", "truncated"]))
-    doc = draw(scene_document(max_vertices, sane=kind == "valid"))
+                                 "bytes", "truncated", "huge-frames", "svg"]))
+    doc = draw(scene_document(max_vertices, sane=kind in ("valid", "huge-frames", "svg")))
     if kind == "mutated":
         doc = draw(mutated(doc))
     if kind == "hostile-size":
         doc["image"] = {"width": draw(st.sampled_from([16384, 100000, 2**31, 0, -5])),
                         "height": draw(st.sampled_from([16384, 1, 2**31]))}
+    if kind == "huge-frames":  # a file's frame count, budgeted as a generator's
+        doc["animation"] = {"frames": draw(st.sampled_from([10**9, 2**40, 10**6, 5000])), "translate": [0.0, 0.0]}
+    if kind == "svg":  # an imported-looking scene whose source resvg draws
+        doc["image"] = {"width": 24, "height": 24, "background": [1.0, 1.0, 1.0]}
+        doc["svg"] = {"file": "src.svg", "scale": draw(st.sampled_from([1.0, 2.0, 0.5])), "tolerance": 0.0625,
+                      "ignored": []}
     text = toml_document(doc).encode()
     if kind == "bytes":
         return kind, draw(st.binary(min_size=0, max_size=200))
@@ -183,23 +245,63 @@ def method_spec(draw):
     return name + (":" + ",".join(chosen) if chosen else "")
 
 
+# How the scene (or the SVG) is put in place: hostile places a reader must refuse
+PLACES = ["file"] * 12 + ["link", "link-dev-zero", "dangling-link", "fifo", "dev-zero", "folder"]
+
+SWEEP_CONFIG = """[experiment]
+name = "fuzz"
+reference = "supersample:k=2"
+metrics = ["rmse"]
+temporal = []
+
+[[groups]]
+name = "g"
+scenes = [{generator = "edges", difficulty = [0.1], frames = 2, size = 8}]
+methods = ["point"]
+"""
+
+
 @st.composite
 def cli_case(draw, max_vertices=400):
     kind, data = draw(scene_file(max_vertices))
     sane = kind == "valid" and draw(st.booleans())  # half the valid scenes get plain arguments
-    command = draw(st.sampled_from(["render"] * 9 + ["hidden-lines"]))
+    place = "file" if sane else draw(st.sampled_from(PLACES))
+    svg_kind, svg = draw(svg_source()) if kind == "svg" or draw(st.integers(0, 19)) == 0 else (None, None)
+    svg_place = draw(st.sampled_from(PLACES)) if svg is not None else "file"
+    choices = (["render"] * 9 + ["hidden-lines"] if kind not in ("huge-frames", "svg")
+               else ["render", "invariance", "compare"] if kind == "huge-frames" else ["render", "render", "import"])
+    if not sane and kind not in ("huge-frames", "svg"):
+        choices += ["invariance", "compare", "sweep"]
+    command = draw(st.sampled_from(choices))
     frame = 0 if sane else draw(st.sampled_from([0, 0, 0, 1, 2, -1, 7, 10**20]))
     if command == "render":
         suffix = draw(st.sampled_from([".npy", ".npy", ".png"] + ([] if sane else [".txt"])))
         stats = draw(st.sampled_from([None, None, "stats.json"] + ([] if sane else ["SAME"])))
-        spec = draw(st.sampled_from(SANE_SPECS)) if sane else draw(method_spec())
+        spec = ("resvg" if kind == "svg" and draw(st.integers(0, 3)) else
+                draw(st.sampled_from(SANE_SPECS)) if sane else draw(method_spec()))
         args = ["render", "{scene}", "-m", spec, "--frame", str(frame), "-o", "{out}" + suffix]
         if stats:
             args += ["--stats", "{out}" + suffix if stats == "SAME" else "{dir}/" + stats]
-    else:
+    elif command == "hidden-lines":
         stroke = draw(st.sampled_from(["0.05", "1"] + ([] if sane else ["-1", "nan", "0"])))
         args = ["hidden-lines", "{scene}", "--frame", str(frame), "--stroke", stroke, "-o", "{out}.svg"]
-    return Case(kind, data, args)
+    elif command == "invariance":
+        args = ["invariance", "{scene}", "-m", draw(st.sampled_from(["point", "catmull", "abuffer"])), "--quiet"]
+    elif command == "compare":
+        args = ["compare", "{scene}", "-m", "point", "-r", draw(st.sampled_from(["catmull", "supersample:k=2"])),
+                "--frames", draw(st.sampled_from(["1", "all", "3"])), "--quiet", "--json", "{out}.json"]
+    elif command == "import":
+        svg_kind = svg_kind or "rect"
+        svg = svg if svg is not None else SVG_HEAD + '<rect width="4" height="4"/></svg>'
+        args = ["import", "svg", "{svg}", "-o", "{out}.toml",
+                *draw(st.sampled_from([[], ["--scale", "2"], ["--tolerance", "1e-300"], ["--strict"]]))]
+    else:  # a sweep into a folder with one damaged record or a planted link
+        damage = draw(st.sampled_from(["unknown-field", "link-lock", "link-cell", "link-quarantine", "fifo-cell",
+                                       "link-manifest"]))
+        args = ["sweep", "{dir}/exp.toml", "--out", "{dir}/sweep", "--workers", "1", "--quiet",
+                "--cache", "{dir}/cache", "#" + damage]
+    return Case(kind, data, args, place=place, svg=None if svg is None else svg.encode(), svg_kind=svg_kind,
+                svg_place=svg_place)
 
 
 # --- running a case -----------------------------------------------------------------------
@@ -210,11 +312,16 @@ class Case:
     kind: str
     scene: bytes
     args: list[str]
+    place: str = "file"  # how the scene file is put in place (PLACES)
+    svg: bytes | None = None  # the scene's SVG source (src.svg beside it), if any
+    svg_kind: str | None = None
+    svg_place: str = "file"
 
 
 @dataclass
 class Outcome:
-    verdict: str  # "image", "refused", or a failure: "traceback", "bad-exit", "not-one-line", "hang", "bad-output"
+    verdict: str  # "image", "refused", or a failure: "traceback", "bad-exit", "not-one-line", "hang", "bad-output",
+    # "outside-changed" (a file outside the case's folder written, truncated or moved)
     seconds: float
     code: int | None = None
     stderr: str = ""
@@ -243,18 +350,106 @@ def _raised_by_alarm(exc: BaseException) -> bool:
     return False
 
 
+def _clear(path: Path) -> None:
+    if path.is_symlink() or (path.exists() and not path.is_dir()):
+        path.unlink()
+    elif path.is_dir():
+        import shutil
+
+        shutil.rmtree(path)
+
+
+def _place(path: Path, data: bytes, place: str, outside: Path) -> Path:
+    """Put ``data`` at ``path`` as ``place`` says; returns the path to give the command."""
+    _clear(path)
+    if place == "dev-zero":
+        return Path("/dev/zero")
+    if place == "fifo":
+        os.mkfifo(path)  # no writer: opening it to read would block forever
+    elif place == "folder":
+        path.mkdir()
+    elif place == "link":  # a link to a real file outside the case folder
+        target = outside / f"linked-{path.name}"
+        target.write_bytes(data)
+        os.symlink(target, path)
+    elif place == "link-dev-zero":
+        os.symlink("/dev/zero", path)
+    elif place == "dangling-link":
+        os.symlink(outside / "no-such-file", path)
+    else:
+        path.write_bytes(data)
+    return path
+
+
+def outside_digest(outside: Path) -> dict[str, bytes]:
+    """The files of ``outside`` (the targets of the cases' links) and their bytes."""
+    return {p.name: p.read_bytes() for p in sorted(outside.iterdir()) if p.is_file()} if outside.is_dir() else {}
+
+
+def _sweep_folder(folder: Path, damage: str, outside: Path) -> None:
+    """``folder/sweep``: a finished sweep of SWEEP_CONFIG (copied from the warm-up's), then damaged."""
+    import json as _json
+    import shutil
+
+    sweep = folder / "sweep"
+    _clear(sweep)
+    (folder / "exp.toml").write_text(SWEEP_CONFIG)
+    template = folder.parent / "sweep-template"
+    if template.is_dir():
+        shutil.copytree(template, sweep, symlinks=True)
+    cells = sorted((sweep / "cells").glob("*.json")) if (sweep / "cells").is_dir() else []
+    if not cells:
+        return
+    if damage == "unknown-field":
+        record = _json.loads(cells[0].read_text())
+        record["x"] = 1
+        cells[0].write_text(_json.dumps(record))
+    elif damage == "link-lock":
+        _clear(sweep / "sweep.lock")
+        os.symlink(outside / "victim.txt", sweep / "sweep.lock")
+    elif damage == "link-cell":
+        cells[0].unlink()
+        os.symlink(outside / "victim.txt", cells[0])
+    elif damage == "fifo-cell":
+        cells[0].unlink()
+        os.mkfifo(cells[0])
+    elif damage == "link-quarantine":
+        cells[0].write_text("{broken")
+        os.symlink(outside / "dir", sweep / "quarantine")
+    elif damage == "link-manifest":
+        (sweep / "manifest.json").unlink()
+        os.symlink(outside / "victim.txt", sweep / "manifest.json")
+
+
 def run_case(case: Case, folder: Path, bound_s: float) -> Outcome:
     """Run one case through ``aaeval.cli.main`` in this process and judge it."""
     from aaeval.cli import main
 
     folder.mkdir(parents=True, exist_ok=True)
-    scene = folder / "scene.toml"
-    scene.write_bytes(case.scene)
+    outside = folder.parent / "outside"  # what the case's links point at: must not change
+    outside.mkdir(exist_ok=True)
+    (outside / "dir").mkdir(exist_ok=True)
+    (outside / "victim.txt").write_text("KEEP\n")
+    scene = _place(folder / "scene.toml", case.scene, case.place, outside)
+    svg = folder / "src.svg"
+    _clear(svg)
+    if case.svg is not None:
+        svg = _place(svg, case.svg, case.svg_place, outside)
     out = folder / "out"
-    args = [a.format(scene=scene, out=out, dir=folder) for a in case.args]
+    if case.args[0] == "sweep":
+        _sweep_folder(folder, case.args[-1][1:], outside)
+    before = outside_digest(outside)
+    args = [a.format(scene=scene, out=out, dir=folder, svg=svg) for a in case.args if not a.startswith("#")]
     outputs = {Path(a) for a in args if a.startswith(str(out)) or a.startswith(str(folder) + "/stats")}
     for p in outputs:
-        p.unlink(missing_ok=True)
+        _clear(p)
+    outcome = _run_judged(main, args, outputs, out, bound_s)
+    if outside_digest(outside) != before or sorted(p.name for p in (outside / "dir").iterdir()):
+        return Outcome("outside-changed", outcome.seconds, outcome.code, outcome.stderr)
+    return outcome
+
+
+def _run_judged(main, args, outputs, out, bound_s) -> Outcome:
     err, std = io.StringIO(), io.StringIO()
     previous = signal.signal(signal.SIGALRM, _alarm)
     signal.setitimer(signal.ITIMER_REAL, bound_s)
@@ -291,7 +486,13 @@ def run_case(case: Case, folder: Path, bound_s: float) -> Outcome:
         return Outcome("refused", seconds, code, lines[-1])
     if code != 0:
         return Outcome("bad-exit", seconds, code, text)
-    image_out = Path(args[args.index("-o") + 1])
+    if args[0] == "sweep":
+        table = Path(args[args.index("--out") + 1]) / "results.parquet"
+        return Outcome("image", seconds, code, text) if table.is_file() else Outcome(
+            "bad-output", seconds, code, "sweep exit 0 without results.parquet")
+    if args[0] == "invariance":
+        return Outcome("image", seconds, code, text)
+    image_out = Path(args[args.index("-o" if "-o" in args else "--json") + 1])
     if not image_out.is_file() or image_out.stat().st_size == 0:
         return Outcome("bad-output", seconds, code, f"exit 0 without {image_out.name}")
     if image_out.suffix == ".npy":
@@ -312,6 +513,10 @@ def warm_up(folder: Path) -> None:
         for method in METHODS:
             main(["render", str(scene), "-m", method, "-o", str(folder / "warm.npy")])
         main(["hidden-lines", str(scene), "-o", str(folder / "warm.svg")])
+        # the finished sweep that sweep cases copy and damage
+        (folder / "exp.toml").write_text(SWEEP_CONFIG)
+        main(["sweep", str(folder / "exp.toml"), "--out", str(folder / "sweep-template"), "--workers", "1",
+              "--quiet", "--cache", str(folder / "cache")])
 
 
 def fuzz_environment() -> dict[str, str]:

@@ -12,7 +12,8 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, event, given, settings
 
-from fuzzing import Case, cli_case, fuzz_environment, run_case, toml_document, warm_up
+from fuzzing import (PLACES, SVG_HEAD, Case, _entity_bomb, _use_bomb, cli_case, fuzz_environment, run_case,
+                     toml_document, warm_up)
 
 ROOT = Path(__file__).resolve().parents[1]
 BOUND_S = 20.0  # per case, generous for a loaded 2-core CI machine; most take milliseconds
@@ -64,3 +65,45 @@ def test_a_real_process_refuses_hostile_files_in_one_line(tmp_path, name):
     assert done.returncode == 2, done.stderr
     assert done.stderr.count("\n") == 1 and done.stderr.startswith("aaeval render: error: "), done.stderr
     assert str(scene) in done.stderr and not (tmp_path / "x.npy").exists()
+
+
+VALID = toml_document({"image": {"width": 12, "height": 12}, "polygons": [
+    {"color": [1.0, 0.5, 0.0], "vertices": [[1.5, 1.0, 1.0], [10.5, 2.0, 1.0], [3.0, 10.5, 1.0]]}]}).encode()
+SVG_SCENE = toml_document({"image": {"width": 24, "height": 24, "background": [1.0, 1.0, 1.0]},
+                           "svg": {"file": "src.svg", "scale": 1.0, "tolerance": 0.0625, "ignored": []},
+                           "polygons": [{"color": [0.0, 0.0, 0.0],
+                                         "vertices": [[1.0, 1.0, 1.0], [5.0, 1.0, 1.0], [5.0, 5.0, 1.0]]}]}).encode()
+BILLION = VALID.replace(b'"polygons"', b'"animation" = {"frames" = 1000000000, "translate" = [0.0, 0.0]}\n"polygons"')
+SVGS = {
+    "use bomb": _use_bomb(11), "entity bomb": _entity_bomb(), "not xml": "not <svg", "empty": "",
+    "nan": SVG_HEAD + '<path d="M1 1 L NaN 4 L 8 2 Z"/><rect x="NaN" width="4" height="4"/></svg>',
+    "huge path": SVG_HEAD + '<path d="M12 2 ' + " ".join(f"L{12 + (i % 7)} {2 + (i % 11)}" for i in range(100000))
+    + ' Z"/></svg>',
+    "image": SVG_HEAD + '<image href="secret.png" width="8" height="8"/></svg>',
+}
+CLASSES = (
+    [(f"scene as {place}", Case("valid", VALID, ["render", "{scene}", "-m", "point", "-o", "{out}.npy"], place=place))
+     for place in sorted(set(PLACES))]
+    + [(f"svg source as {place}", Case("svg", SVG_SCENE, ["render", "{scene}", "-m", "resvg", "-o", "{out}.npy"],
+                                       svg=SVG_HEAD.encode() + b'<rect width="4" height="4"/></svg>', svg_kind="rect",
+                                       svg_place=place)) for place in sorted(set(PLACES))]
+    + [(f"svg {name} under resvg", Case("svg", SVG_SCENE, ["render", "{scene}", "-m", "resvg", "-o", "{out}.npy"],
+                                        svg=text.encode(), svg_kind=name)) for name, text in SVGS.items()]
+    + [(f"svg {name} imported", Case("svg", SVG_SCENE, ["import", "svg", "{svg}", "-o", "{out}.toml"],
+                                     svg=text.encode(), svg_kind=name)) for name, text in SVGS.items()]
+    + [(f"billion frames {cmd[0]}", Case("huge-frames", BILLION, cmd)) for cmd in (
+        ["invariance", "{scene}", "-m", "point", "--quiet"],
+        ["compare", "{scene}", "-m", "point", "-r", "supersample:k=2", "--frames", "all", "--quiet", "--json",
+         "{out}.json"])]
+    + [(f"sweep folder {damage}", Case("valid", VALID, ["sweep", "{dir}/exp.toml", "--out", "{dir}/sweep",
+                                                        "--workers", "1", "--quiet", "--cache", "{dir}/cache",
+                                                        "#" + damage]))
+       for damage in ("unknown-field", "link-lock", "link-cell", "fifo-cell", "link-quarantine", "link-manifest")]
+)
+
+
+@pytest.mark.parametrize("name, case", CLASSES, ids=[name for name, _ in CLASSES])
+def test_each_hostile_class_ends_in_an_image_or_a_refusal_touching_nothing_outside(fuzz_dir, name, case):
+    """Each class of issue 21 once, deterministically (the generated cases draw them too)."""
+    outcome = run_case(case, fuzz_dir / "case", BOUND_S)
+    assert outcome.ok, (outcome.verdict, outcome.code, outcome.stderr[-2000:])
