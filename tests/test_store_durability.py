@@ -1,0 +1,57 @@
+"""Durability of the sweep store's own writes, checked through the store (not only
+``atomic_write``): every file a cell leaves is synced while still a temporary file in its
+folder and then renamed onto its name, the image before the record."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+from aaeval.experiments.store import SweepStore
+
+
+@pytest.fixture
+def spied(monkeypatch):
+    """Every fsync'd path and every rename, in order, as ('fsync', path) / ('replace', src, dst)."""
+    events = []
+    real_fsync, real_replace = os.fsync, os.replace
+
+    def fsync(fd):
+        events.append(("fsync", os.readlink(f"/proc/self/fd/{fd}")))
+        return real_fsync(fd)
+
+    def replace(src, dst, *args, **kwargs):
+        events.append(("replace", os.fspath(src), os.fspath(dst)))
+        return real_replace(src, dst, *args, **kwargs)
+
+    monkeypatch.setattr(os, "fsync", fsync)
+    monkeypatch.setattr(os, "replace", replace)
+    return events
+
+
+def _landed_atomically(events, path) -> int:
+    """Index of the rename that put ``path`` in place; fails unless the file renamed was a
+    temporary file beside it, synced before the rename."""
+    renames = [i for i, e in enumerate(events) if e[0] == "replace" and e[2] == os.fspath(path)]
+    assert renames, f"{path} was not written by a rename"
+    i = renames[-1]
+    tmp = events[i][1]
+    assert os.path.dirname(tmp) == os.path.dirname(os.fspath(path)) and tmp != os.fspath(path)
+    assert ("fsync", tmp) in events[:i], f"{tmp} was not synced before it became {path}"
+    return i
+
+
+def test_write_cell_syncs_and_renames_the_image_then_the_record(tmp_path, spied):
+    store = SweepStore(tmp_path / "out")
+    store.write_cell({"key": "k0", "value": 1.5}, np.ones((3, 4, 3)))
+    image_at = _landed_atomically(spied, store.image_path("k0"))
+    record_at = _landed_atomically(spied, store.cell_path("k0"))
+    assert image_at < record_at  # a record that exists always has its image
+
+
+def test_write_reference_syncs_and_renames(tmp_path, spied):
+    store = SweepStore(tmp_path / "out")
+    store.write_reference("r0", np.zeros((2, 2, 3)))
+    _landed_atomically(spied, store.reference_path("r0"))
