@@ -16,7 +16,9 @@ Frame ``k`` of an animation is frame ``warmup + k`` of the sequence: ``warmup`` 
 the scene held still at its first frame (jitter running) are rendered first, then frames
 ``0 .. k`` with the motion, so every frame's image is reproducible on its own, whatever
 was rendered before. Within one process the last history of each (scene, options) is
-kept, so rendering frames in order costs one frame each.
+kept, so rendering frames in order costs one frame each (when the scene moved back to its
+first frame is bit for bit the same from either frame; otherwise the frame is rendered
+from the start, so the cache never changes an image).
 
 ``[shaded]`` scenes are shaded at each sample; their history is reprojected by the
 translation only (a spinning object's surface motion is not reprojected, so its history
@@ -87,22 +89,31 @@ def reproject(history: np.ndarray, dx: float, dy: float, kind: str) -> tuple[np.
     return out, yin[:, None] & xin[None, :]
 
 
-def _neighbourhood(ycc: np.ndarray, mode: str, gamma: float) -> tuple[np.ndarray, np.ndarray]:
+def neighbourhood_box(current: np.ndarray, mode: str, gamma: float) -> tuple[np.ndarray, np.ndarray] | None:
+    """The YCoCg box the history is limited to, from the current frame's 3x3 neighbourhoods
+    (edge pixels repeated): ``(lo, hi)``, or None for ``mode="none"``."""
+    if mode == "none":
+        return None
+    ycc = rgb_to_ycocg(current)
     h, w = ycc.shape[:2]
     pad = np.pad(ycc, ((1, 1), (1, 1), (0, 0)), mode="edge")
-    stack = np.stack([pad[1 + dy : 1 + dy + h, 1 + dx : 1 + dx + w] for dy in (-1, 0, 1) for dx in (-1, 0, 1)])
+    views = [pad[1 + dy : 1 + dy + h, 1 + dx : 1 + dx + w] for dy in (-1, 0, 1) for dx in (-1, 0, 1)]
     if mode == "minmax":
-        return stack.min(axis=0), stack.max(axis=0)
-    mean = stack.mean(axis=0)
-    std = np.sqrt(np.maximum((stack**2).mean(axis=0) - mean**2, 0.0))
+        lo, hi = views[0].copy(), views[0].copy()
+        for v in views[1:]:
+            np.minimum(lo, v, out=lo)
+            np.maximum(hi, v, out=hi)
+        return lo, hi
+    mean = sum(views) / 9.0
+    std = np.sqrt(np.maximum(sum(v * v for v in views) / 9.0 - mean**2, 0.0))
     return mean - gamma * std, mean + gamma * std
 
 
-def _limit(history: np.ndarray, current: np.ndarray, mode: str, gamma: float) -> np.ndarray:
-    if mode == "none":
+def _limit(history: np.ndarray, box, mode: str) -> np.ndarray:
+    if box is None:
         return history
     hist = rgb_to_ycocg(history)
-    lo, hi = _neighbourhood(rgb_to_ycocg(current), mode, gamma)
+    lo, hi = box
     if mode == "minmax":
         limited = np.clip(hist, lo, hi)
     else:  # clip towards the box centre (keeps the history's hue direction)
@@ -116,8 +127,7 @@ def _limit(history: np.ndarray, current: np.ndarray, mode: str, gamma: float) ->
     return np.where(moved, ycocg_to_rgb(limited), history)
 
 
-def _scene_key(scene: Scene) -> str:
-    first = scene.at_frame(0)
+def _scene_key(first: Scene) -> str:
     digest = hashlib.sha256()
     for part in (first.arrays.vertices, first.arrays.colors, first.arrays.start, np.asarray(first.background),
                  np.asarray(first.translate), np.array([first.width, first.height, first.frames])):
@@ -148,7 +158,11 @@ def _scene_key(scene: Scene) -> str:
 )
 def render_taa(scene: Scene, phases: int = 8, alpha: float = 0.1, warmup: int = 64, resample: str = "catmull-rom",
                clamp: str = "minmax", gamma: float = 1.0) -> np.ndarray:
-    key = (_scene_key(scene), phases, alpha, warmup, resample, clamp, gamma)
+    # every frame is drawn from one base, the scene moved back to its first frame: a cached
+    # history is used only when its base is bit for bit this one (moving a scene to frame k
+    # and back can differ in the last bit), so a frame is the same alone or after the others
+    base = scene.at_frame(0)
+    key = (_scene_key(base), phases, alpha, warmup, resample, clamp, gamma)
     target = scene.frame
     with _CACHE_LOCK:
         cached = _CACHE.get(key)
@@ -159,16 +173,19 @@ def render_taa(scene: Scene, phases: int = 8, alpha: float = 0.1, warmup: int = 
         start = frame + 1
     else:
         history = None
-        sampler = OffsetSampler(scene.at_frame(0))
-        for t in range(warmup):  # the still first frame
-            current = sampler.sample(*jitter[t % phases])
-            history = _step(history, current, 0.0, 0.0, alpha, resample, clamp, gamma)
+        sampler = OffsetSampler(base)
+        # the still first frame: its images and neighbourhood boxes repeat with the jitter
+        still = [sampler.sample(*jitter[i]) for i in range(min(warmup, phases))]
+        boxes = [neighbourhood_box(image, clamp, gamma) for image in still]
+        for t in range(warmup):
+            history = _step(history, still[t % phases], boxes[t % phases], 0.0, 0.0, alpha, resample, clamp)
         start = 0
     for j in range(start, target + 1):
         t = warmup + j
-        current = OffsetSampler(scene.at_frame(j)).sample(*jitter[t % phases])
+        current = OffsetSampler(base.at_frame(j)).sample(*jitter[t % phases])
         moved = j > 0
-        history = _step(history, current, dx if moved else 0.0, dy if moved else 0.0, alpha, resample, clamp, gamma)
+        history = _step(history, current, neighbourhood_box(current, clamp, gamma), dx if moved else 0.0,
+                        dy if moved else 0.0, alpha, resample, clamp)
     with _CACHE_LOCK:
         _CACHE[key] = (target, history.copy())
         _CACHE.move_to_end(key)
@@ -177,11 +194,11 @@ def render_taa(scene: Scene, phases: int = 8, alpha: float = 0.1, warmup: int = 
     return history
 
 
-def _step(history, current, dx, dy, alpha, resample, clamp, gamma):
+def _step(history, current, box, dx, dy, alpha, resample, clamp):
     if history is None:
         return current
     if dx or dy:
         history, inside = reproject(history, dx, dy, resample)
         history = np.where(inside[:, :, None], history, current)
-    history = _limit(history, current, clamp, gamma)
+    history = _limit(history, box, clamp)
     return history + alpha * (current - history)
