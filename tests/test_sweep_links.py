@@ -198,3 +198,17 @@ def test_report_leaves_the_tables_of_a_running_sweep_alone(world, capsys):
     time.sleep(0.1)
     load_results(SweepStore(out))  # the lock is free again: rebuilt
     assert parquet.stat().st_mtime_ns != stamp[0]
+
+
+@pytest.mark.parametrize("name", ["figures", "tables", "viewer"])
+def test_report_refuses_a_linked_output_folder(world, capsys, name):
+    tmp_path, outside, config = world
+    out = tmp_path / "out"
+    assert sweep(tmp_path, config) == 0
+    os.symlink(outside / "dir", out / name)
+    before = snapshot(outside)
+    capsys.readouterr()
+    assert main(["report", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert str(out / name) in err and "symbolic link" in err
+    assert snapshot(outside) == before

@@ -24,6 +24,10 @@ def run(args) -> int:
 
     if Path(args.dir).is_dir():  # a folder the report cannot write into is refused before any work
         check_outputs({"DIR": args.dir}, folders=True)
+        for name in ("figures", "tables", "viewer"):  # written into: must be the folder's own
+            if (Path(args.dir) / name).is_symlink():
+                raise ValueError(f"{Path(args.dir) / name} is a symbolic link; the report writes only inside "
+                                 f"{args.dir} (remove the link)")
     index = write_report(args.dir, quiet=args.quiet)
     print(f"report: {index}")
     return 0
