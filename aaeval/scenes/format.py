@@ -209,12 +209,12 @@ def parse_scene(document: Mapping[str, Any], *, source: str = "<scene>") -> Scen
     height = _positive_int(image, "height", f"{source}: [image]")
     if width * height > MAX_PIXELS:
         raise SceneError(f"{source}: [image] {width}x{height} is over the limit of {MAX_PIXELS} pixels")
-    background = _rgb(image.get("background", [0.0, 0.0, 0.0]), f"{source}: [image].background")
+    background = rgb(image.get("background", [0.0, 0.0, 0.0]), f"{source}: [image].background")
 
     animation = _table(document, "animation", source, required=False)
     _no_unknown(animation, {"frames", "translate"}, f"{source}: [animation]")
     frames = _positive_int(animation, "frames", f"{source}: [animation]") if "frames" in animation else 1
-    translate = _vector(animation.get("translate", [0.0, 0.0]), 2, f"{source}: [animation].translate")
+    translate = vector(animation.get("translate", [0.0, 0.0]), 2, f"{source}: [animation].translate")
 
     raw_polygons = document.get("polygons", [])
     if not isinstance(raw_polygons, list):
@@ -271,7 +271,8 @@ def _positive_int(table: Mapping, key: str, where: str) -> int:
     return value
 
 
-def _number(value: Any, where: str) -> float:
+def number(value: Any, where: str) -> float:
+    """A finite TOML number (not a boolean) as float; SceneError naming ``where`` else."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise SceneError(f"{where}: expected a number, got {value!r}")
     if not math.isfinite(value):
@@ -279,17 +280,19 @@ def _number(value: Any, where: str) -> float:
     return float(value)
 
 
-def _vector(value: Any, n: int, where: str) -> np.ndarray:
+def vector(value: Any, n: int, where: str) -> np.ndarray:
+    """A list of ``n`` finite numbers as a float64 array (see :func:`number`)."""
     if not isinstance(value, list) or len(value) != n:
         raise SceneError(f"{where}: expected a list of {n} numbers, got {value!r}")
-    return np.array([_number(v, where) for v in value], dtype=np.float64)
+    return np.array([number(v, where) for v in value], dtype=np.float64)
 
 
-def _rgb(value: Any, where: str) -> np.ndarray:
-    rgb = _vector(value, 3, where)
-    if np.any((rgb < 0.0) | (rgb > 1.0)):
+def rgb(value: Any, where: str) -> np.ndarray:
+    """A linear RGB colour: three numbers in [0, 1]."""
+    colour = vector(value, 3, where)
+    if np.any((colour < 0.0) | (colour > 1.0)):
         raise SceneError(f"{where}: colour components must be in [0, 1] (linear RGB), got {value!r}")
-    return rgb
+    return colour
 
 
 def _check_animation_range(polygons, frames: int, translate: np.ndarray, where: str) -> None:
@@ -305,7 +308,8 @@ def _check_animation_range(polygons, frames: int, translate: np.ndarray, where: 
                          "(translate x frames too large)")
 
 
-def _polygon(raw: Any, i: int, source: str) -> Polygon:
+def parse_polygon(raw: Any, i: int, source: str) -> Polygon:
+    """Polygon ``i`` of ``source`` from its raw table, every rule of its outer ring checked."""
     where = f"{source}: polygons[{i}]"
     if not isinstance(raw, Mapping):
         raise SceneError(f"{where}: must be a table with 'color' and 'vertices'")
@@ -313,20 +317,20 @@ def _polygon(raw: Any, i: int, source: str) -> Polygon:
     for key in ("color", "vertices"):
         if key not in raw:
             raise SceneError(f"{where}: missing required key '{key}'")
-    color = _rgb(raw["color"], f"{where}.color")
+    color = rgb(raw["color"], f"{where}.color")
     vertices_raw = raw["vertices"]
     if not isinstance(vertices_raw, list):
         raise SceneError(f"{where}.vertices: expected a list of [x, y, z] points")
     if len(vertices_raw) < 3:
         raise SceneError(f"{where}: a polygon needs at least 3 vertices, got {len(vertices_raw)}")
     vertices = np.array(
-        [_vector(v, 3, f"{where}.vertices[{j}]") for j, v in enumerate(vertices_raw)]
+        [vector(v, 3, f"{where}.vertices[{j}]") for j, v in enumerate(vertices_raw)]
     )
     if np.abs(vertices).max() > MAX_COORDINATE:
         raise SceneError(f"{where}: coordinates beyond +-{MAX_COORDINATE:g} are not supported")
-    _check_no_repeats(vertices, where)
+    check_no_repeats(vertices, where)
     in_plane = _check_planar(vertices, where)
-    _check_simple(in_plane, where)
+    check_simple(in_plane, where)
     return Polygon(vertices=vertices, color=color, index=i, plane=_plane_of(vertices))
 
 
@@ -354,7 +358,8 @@ def _plane_of(vertices: np.ndarray) -> np.ndarray:
     return np.array([a, b, centre[2] - a * centre[0] - b * centre[1]])
 
 
-def _check_no_repeats(vertices: np.ndarray, where: str) -> None:
+def check_no_repeats(vertices: np.ndarray, where: str) -> None:
+    """Refuse a ring with a vertex equal to the next one (a zero-length edge)."""
     same = np.all(vertices == np.roll(vertices, -1, axis=0), axis=1)
     if same.any():
         j = int(np.flatnonzero(same)[0])
@@ -403,7 +408,7 @@ def _collinear_exactly(vertices: np.ndarray) -> bool:
     return True
 
 
-def _check_simple(xy: np.ndarray, where: str) -> None:
+def check_simple(xy: np.ndarray, where: str) -> None:
     """Refuse an outline whose non-adjacent edges cross or touch (in its own plane).
 
     O(n log n) (a sweep line beyond a few hundred edges): a 100000-vertex outline is

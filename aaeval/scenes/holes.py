@@ -26,10 +26,10 @@ from aaeval.scenes.format import (
     PLANARITY_RTOL,
     Polygon,
     SceneError,
-    _check_no_repeats,
-    _check_simple,
-    _polygon,
-    _vector,
+    check_no_repeats,
+    check_simple,
+    parse_polygon,
+    vector,
 )
 
 __all__ = ["HoledPolygon", "polygons_with_holes", "ring_area", "points_inside"]
@@ -90,7 +90,7 @@ def polygons_with_holes(raw_polygons: list, source: str) -> tuple[tuple[Polygon,
     polygons: list[Polygon] = []
     holed: list[HoledPolygon] = []
     for i, raw in enumerate(raw_polygons):
-        polygon = _polygon(raw, i, source)  # every rule of the outer ring and the other keys
+        polygon = parse_polygon(raw, i, source)  # every rule of the outer ring and the other keys
         first = len(polygons)
         if "holes" not in raw:
             polygons.append(polygon if polygon.index == first else replace(polygon, index=first))
@@ -126,7 +126,7 @@ def _hole_rings(raw: Any, outer: np.ndarray, where: str) -> list[np.ndarray]:
             j = int(distance.argmax())
             raise SceneError(f"{here}: hole is not in the polygon's plane (vertex {j} lies {distance.max():.3g} from it)")
         xy = (ring - centre) @ axes[:2].T
-        _check_simple(xy, here)
+        check_simple(xy, here)
         if abs(ring_area(xy)) <= SLIVER_RTOL * size * size:
             raise SceneError(f"{here}: degenerate hole (no area)")
         rings.append(ring)
@@ -140,10 +140,10 @@ def _ring(raw: Any, where: str) -> np.ndarray:
         raise SceneError(f"{where}: expected a list of [x, y, z] points")
     if len(raw) < 3:
         raise SceneError(f"{where}: a hole needs at least 3 vertices, got {len(raw)}")
-    ring = np.array([_vector(v, 3, f"{where}[{j}]") for j, v in enumerate(raw)])
+    ring = np.array([vector(v, 3, f"{where}[{j}]") for j, v in enumerate(raw)])
     if np.abs(ring).max() > MAX_COORDINATE:
         raise SceneError(f"{where}: coordinates beyond +-{MAX_COORDINATE:g} are not supported")
-    _check_no_repeats(ring, where)
+    check_no_repeats(ring, where)
     return ring
 
 

@@ -21,7 +21,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from aaeval.scenes.format import Polygon, Scene, SceneError, register_section
+from aaeval.scenes.format import Polygon, Scene, SceneError, number, register_section, vector
 
 __all__ = [
     "SECTION",
@@ -341,17 +341,17 @@ def _object(kind: str, raw: Any, where: str) -> ShadedObject:
         if len(normals) != len(vertices):
             raise SceneError(f"{where}: {len(normals)} normals for {len(vertices)} vertices")
         triangles = _triangles(raw["triangles"], len(vertices), f"{where}.triangles")
-        pivot = _vec(raw["pivot"], 3, f"{where}.pivot") if "pivot" in raw else vertices.mean(axis=0)
+        pivot = vector(raw["pivot"], 3, f"{where}.pivot") if "pivot" in raw else vertices.mean(axis=0)
     else:
         _require(raw, ("centre", "axis", "length", "segments", "radii" if kind == "cones" else "radius"), where)
-        centre = _vec(raw["centre"], 3, f"{where}.centre")
-        axis = _unit_rows(_vec(raw["axis"], 3, f"{where}.axis")[None], f"{where}.axis")[0]
+        centre = vector(raw["centre"], 3, f"{where}.centre")
+        axis = _unit_rows(vector(raw["axis"], 3, f"{where}.axis")[None], f"{where}.axis")[0]
         length = _positive(raw["length"], f"{where}.length")
         segments = raw["segments"]
         if isinstance(segments, bool) or not isinstance(segments, int) or not 3 <= segments <= MAX_SEGMENTS:
             raise SceneError(f"{where}.segments: must be an integer in 3..{MAX_SEGMENTS}, got {segments!r}")
         if kind == "cones":
-            radii = _vec(raw["radii"], 2, f"{where}.radii")
+            radii = vector(raw["radii"], 2, f"{where}.radii")
             if radii.min() < 0 or radii.max() <= 0:
                 raise SceneError(f"{where}.radii: need radii >= 0, not both 0, got {radii.tolist()}")
         else:
@@ -369,9 +369,9 @@ def _object(kind: str, raw: Any, where: str) -> ShadedObject:
             raise SceneError(f"{where}.spin: must be a table {{axis = [x, y, z], degrees = d}}")
         _no_unknown(spin, {"axis", "degrees"}, f"{where}.spin")
         _require(spin, ("degrees",), f"{where}.spin")
-        spin_degrees = _number(spin["degrees"], f"{where}.spin.degrees")
+        spin_degrees = number(spin["degrees"], f"{where}.spin.degrees")
         if "axis" in spin:
-            spin_axis = _unit_rows(_vec(spin["axis"], 3, f"{where}.spin.axis")[None], f"{where}.spin.axis")[0]
+            spin_axis = _unit_rows(vector(spin["axis"], 3, f"{where}.spin.axis")[None], f"{where}.spin.axis")[0]
     return ShadedObject(vertices, normals, triangles, material, pivot, spin_axis, spin_degrees)
 
 
@@ -380,11 +380,11 @@ def _material(raw: Any, where: str) -> Material:
         raise SceneError(f"{where}: must be a table {{color, ka, kd, ks, n}}")
     _no_unknown(raw, {"color", "ka", "kd", "ks", "n"}, where)
     _require(raw, ("color", "ka", "kd", "ks", "n"), where)
-    coefficients = {k: _number(raw[k], f"{where}.{k}") for k in ("ka", "kd", "ks")}
+    coefficients = {k: number(raw[k], f"{where}.{k}") for k in ("ka", "kd", "ks")}
     for k, v in coefficients.items():
         if v < 0:
             raise SceneError(f"{where}.{k}: must be >= 0, got {v}")
-    return Material(color=_vec(raw["color"], 3, f"{where}.color"), n=_positive(raw["n"], f"{where}.n"), **coefficients)
+    return Material(color=vector(raw["color"], 3, f"{where}.color"), n=_positive(raw["n"], f"{where}.n"), **coefficients)
 
 
 def _light(raw: Any, where: str) -> Light:
@@ -394,11 +394,11 @@ def _light(raw: Any, where: str) -> Light:
     if kind == "directional":
         _no_unknown(raw, {"type", "direction"}, where)
         _require(raw, ("direction",), where)
-        return Light("directional", _unit_rows(_vec(raw["direction"], 3, f"{where}.direction")[None], f"{where}.direction")[0])
+        return Light("directional", _unit_rows(vector(raw["direction"], 3, f"{where}.direction")[None], f"{where}.direction")[0])
     if kind == "point":
         _no_unknown(raw, {"type", "position"}, where)
         _require(raw, ("position",), where)
-        return Light("point", _vec(raw["position"], 3, f"{where}.position"))
+        return Light("point", vector(raw["position"], 3, f"{where}.position"))
     raise SceneError(f"{where}.type: must be 'directional' or 'point', got {kind!r}")
 
 
@@ -414,29 +414,17 @@ def _require(table: Mapping, keys, where: str) -> None:
             raise SceneError(f"{where}: missing required key '{key}'")
 
 
-def _number(value: Any, where: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise SceneError(f"{where}: expected a finite number, got {value!r}")
-    return float(value)
-
-
 def _positive(value: Any, where: str) -> float:
-    v = _number(value, where)
+    v = number(value, where)
     if v <= 0:
         raise SceneError(f"{where}: must be > 0, got {v}")
     return v
 
 
-def _vec(value: Any, n: int, where: str) -> np.ndarray:
-    if not isinstance(value, list) or len(value) != n:
-        raise SceneError(f"{where}: expected a list of {n} numbers, got {value!r}")
-    return np.array([_number(v, where) for v in value])
-
-
 def _points(value: Any, where: str) -> np.ndarray:
     if not isinstance(value, list) or not value:
         raise SceneError(f"{where}: expected a non-empty list of [x, y, z]")
-    return np.array([_vec(v, 3, f"{where}[{i}]") for i, v in enumerate(value)])
+    return np.array([vector(v, 3, f"{where}[{i}]") for i, v in enumerate(value)])
 
 
 def _unit_rows(v: np.ndarray, where: str) -> np.ndarray:

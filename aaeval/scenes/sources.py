@@ -25,7 +25,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from aaeval._toml import refuse_unknown_keys
-from aaeval.scenes.format import SceneError, _number, _rgb, _vector, register_section
+from aaeval.scenes.format import SceneError, number, register_section, rgb, vector
 
 __all__ = ["SvgSource", "TextSource", "SOURCE_TABLES", "font_path", "source_path"]
 
@@ -78,7 +78,7 @@ def _string(table: Mapping, key: str, where: str) -> str:
 def _positive(table: Mapping, key: str, where: str) -> float:
     if key not in table:
         raise SceneError(f"{where}: missing required key '{key}'")
-    value = _number(table[key], f"{where}.{key}")
+    value = number(table[key], f"{where}.{key}")
     if value <= 0:
         raise SceneError(f"{where}: '{key}' must be > 0, got {value}")
     return value
@@ -114,16 +114,16 @@ def _parse_text(value: Any, where: str, document: dict) -> TextSource:
     sizes, origins = value["sizes"], value["origins"]
     if not isinstance(sizes, list) or not isinstance(origins, list) or not (len(strings) == len(sizes) == len(origins)):
         raise SceneError(f"{where}: 'strings', 'sizes' and 'origins' must be lists of one entry per line")
-    sizes = tuple(_number(s, f"{where}.sizes") for s in sizes)
+    sizes = tuple(number(s, f"{where}.sizes") for s in sizes)
     if any(s <= 0 for s in sizes):
         raise SceneError(f"{where}: every size must be > 0")
     return TextSource(
         font=_string(value, "font", where),
-        color=_rgb(value["color"], f"{where}.color"),
+        color=rgb(value["color"], f"{where}.color"),
         tolerance=_positive(value, "tolerance", where),
         strings=strings,
         sizes=sizes,
-        origins=np.array([_vector(o, 2, f"{where}.origins") for o in origins]).reshape(-1, 2),
+        origins=np.array([vector(o, 2, f"{where}.origins") for o in origins]).reshape(-1, 2),
     )
 
 
