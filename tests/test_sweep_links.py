@@ -17,7 +17,6 @@ import pytest
 
 from aaeval.cli import main
 from aaeval.experiments import SweepStore
-from aaeval.experiments.store import FolderInUse
 from aaeval.experiments.table import load_results, write_results
 from sweep_util import write_config
 
@@ -171,6 +170,8 @@ def test_a_record_with_an_unknown_field_is_set_aside_and_rerun(world, capsys, co
 # --- case 13: report during a running sweep ---------------------------------------------------
 
 def test_report_leaves_the_tables_of_a_running_sweep_alone(world, capsys):
+    from aaeval.experiments.store import FolderInUse
+
     tmp_path, outside, config = world
     out = tmp_path / "out"
     assert sweep(tmp_path, config) == 0
