@@ -12,7 +12,6 @@ import numpy as np
 import pytest
 
 from aaeval.cli import main
-from aaeval.readlimits import FileLimitError, read_bytes
 
 SQUARE = """[image]
 width = 8
@@ -57,6 +56,8 @@ def refused(argv, capsys, *names):
 # --- the one bounded reader -------------------------------------------------------------
 
 def test_reader_refuses_devices_folders_fifos_and_big_files(tmp_path, monkeypatch):
+    from aaeval.readlimits import FileLimitError, read_bytes
+
     fifo = tmp_path / "pipe"
     os.mkfifo(fifo)
     for path, rule in [("/dev/zero", "character device"), (tmp_path, "folder"), (fifo, "FIFO")]:
@@ -275,6 +276,9 @@ def test_budget_refusal_is_one_line_before_any_work(identical_triangles, capsys,
                       "overlapping polygon pairs")
         assert "GiB of memory" in err
     assert not (tmp_path / "x.npy").exists()
+    # hidden-lines solves the scene with Weiler-Atherton too
+    refused(["hidden-lines", str(path), "-o", str(tmp_path / "x.svg")], capsys, path, "GiB of memory")
+    assert not (tmp_path / "x.svg").exists()
 
 
 def test_scene_load_counts_match_brute_force():

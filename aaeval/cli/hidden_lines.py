@@ -39,6 +39,10 @@ def run(args) -> int:
         raise ValueError(f"--stroke must be a positive line width in pixels, got {args.stroke}")
     check_outputs({"-o": out})
     scene = load_scene(args.scene).at_frame(args.frame)
+    # the same memory and time budget as the weiler-atherton method, before any work
+    from aaeval.renderers.registry import check_budget, resolve
+
+    check_budget(scene, *resolve(f"weiler-atherton:window={args.window}"))
     svg = hidden_line_svg(scene, window=args.window, stroke=args.stroke)
     atomic_write(out, lambda tmp: Path(tmp).write_text(svg))
     if not args.quiet:
