@@ -155,3 +155,35 @@ def test_screenshot_is_the_page_not_a_blank(browser_page):
     grey = image.mean(axis=2)
     assert grey.std() > 10 and len(np.unique(image.reshape(-1, 3), axis=0)) > 50
     assert (grey < 128).mean() > 0.01  # text and figures are drawn, not a white page
+
+
+def test_keys_belong_to_the_viewer_under_the_pointer_or_in_focus(browser_page):
+    """Issue 19: Space and arrows scroll the page unless a viewer has the pointer or the focus;
+    captions carry the full label; Tab reaches every panel and Enter shows it."""
+    page, _, problems = browser_page
+    group = figure_stem("edges")
+    viewer = page.locator(f".aav[data-group='{group}']")
+    page.locator("h1").click()  # focus on the page, the pointer over the title, far from any viewer
+    page.evaluate("window.scrollTo(0, 0)")
+    layouts = page.evaluate("[...document.querySelectorAll('.aav')].map(e => e.dataset.layout + e.dataset.shown)")
+    page.keyboard.press("Space")
+    page.wait_for_function("window.scrollY > 0")
+    page.keyboard.press("ArrowDown")
+    assert page.evaluate("[...document.querySelectorAll('.aav')].map(e => e.dataset.layout + e.dataset.shown)") \
+        == layouts
+    labels = page.evaluate(f"AAV.data['{group}'].scenes[0].panels.map(p => p.label)")
+    viewer.locator("select.aav-layout").select_option("grid")
+    caps = viewer.locator(".aav-cap")
+    for i in range(caps.count()):
+        assert caps.nth(i).get_attribute("title") == labels[i]
+        assert caps.nth(i).evaluate("e => e.scrollWidth <= e.clientWidth + 1")  # wrapped, never cut
+    canvases = viewer.locator("canvas")
+    canvases.first.focus()
+    reached = {canvases.first.get_attribute("data-panel")}
+    for _ in range(len(labels) - 1):
+        page.keyboard.press("Tab")
+        reached.add(page.evaluate("document.activeElement.dataset.panel"))
+    assert reached == {str(i) for i in range(len(labels))}
+    page.keyboard.press("Enter")
+    assert viewer.get_attribute("data-layout") == "ab" and viewer.get_attribute("data-shown") == labels[-1]
+    assert problems == []

@@ -78,12 +78,13 @@
     constructor(root, payload) {
       this.root = root;
       this.payload = payload;
-      this.scene = 0; this.frame = 0; this.mode = "image"; this.ev = 0; this.shared = false;
+      this.scene = 0; this.frame = 0; this.mode = "image"; this.ev = 0; this.shared = true;
       this.layout = "grid"; this.slice = false; this.shown = 0; this.previous = 1;
       this.zoom = 1; this.cx = null; this.cy = null; this.timer = null; this.row = null;
       root.tabIndex = 0;
-      root.addEventListener("mouseenter", () => { AAV.active = this; });
-      root.addEventListener("mousedown", () => { AAV.active = this; });
+      // keys act on the viewer under the pointer or holding the focus, never on the page
+      root.addEventListener("mouseenter", () => { AAV.hover = this; });
+      root.addEventListener("mouseleave", () => { if (AAV.hover === this) AAV.hover = null; });
       this.build();
     }
 
@@ -120,8 +121,9 @@
       mode.onchange = () => { this.mode = mode.value; this.redraw(); };
       this.modeSel = mode;
       const scale = el("select", { "aria-label": "error scale" }, bar);
-      el("option", { value: "own", text: "own scale" }, scale);
       el("option", { value: "shared", text: "shared scale" }, scale);
+      el("option", { value: "own", text: "each panel's own scale" }, scale);
+      scale.value = this.shared ? "shared" : "own";
       scale.onchange = () => { this.shared = scale.value === "shared"; this.redraw(); };
       const lay = el("select", { "aria-label": "layout", class: "aav-layout" }, bar);
       [["grid", "side by side"], ["ab", "A/B (keys)"]].forEach(([v, t]) => el("option", { value: v, text: t }, lay));
@@ -138,7 +140,7 @@
       reset.onclick = () => { this.fit(); this.redraw(); };
       this.readout = el("div", { class: "aav-readout", text: "move the cursor over an image for its linear values" }, r);
       this.stage = el("div", { class: "aav-stage" }, r);
-      el("div", { class: "aav-help", text: "keys: 0-9 panel, f/space flip A/B, n/p next/previous, [ ] frame, k play, m mode, +/- exposure, s space-time slice, z reset zoom; wheel zooms, drag pans" }, r);
+      el("div", { class: "aav-help", text: "keys (pointer over the viewer, or focus in it): 0-9 panel, n/p or arrows next/previous (every panel), Tab a panel and Enter to show it, f/space flip A/B, [ ] frame, k play, m mode, +/- exposure, s space-time slice, z reset zoom; wheel zooms, drag pans" }, r);
       this.setScene(0);
     }
 
@@ -171,6 +173,11 @@
         const c = el("canvas", { width: side, height: side }, box);
         const info = el("div", { class: "aav-info" }, box);
         c.dataset.panel = idx;
+        c.tabIndex = 0;  // Tab reaches every panel; Enter shows it alone
+        c.setAttribute("role", "img");
+        c.addEventListener("keydown", (ev) => {
+          if (ev.key === "Enter" && this.layout !== "ab") { this.show(idx); ev.preventDefault(); ev.stopPropagation(); }
+        });
         this.canvases.push({ canvas: c, cap, info, idx, off: document.createElement("canvas") });
         this.attach(c);
       }
@@ -293,6 +300,8 @@
       const other = sc.panels[this.previous] ? `[${this.previous}] ${sc.panels[this.previous].label}` : "";
       const ab = this.layout === "ab" ? ` [${entry.idx}] (f flips to ${other})` : ` [${entry.idx}]`;
       entry.cap.textContent = p.label + ab;
+      entry.cap.title = p.label;  // the full label on hover; the caption wraps as well
+      entry.canvas.setAttribute("aria-label", `panel ${entry.idx}: ${p.label}`);
       entry.cap.style.borderLeft = `6px solid ${p.colour}`;
       const parts = [mode === "image" ? (p.err ? "" : "ground truth")
         : `${MODE_NAMES[mode]}, ${this.shared ? "shared" : "own"} scale ${mode === "signed" ? "±" : "0.."}${fmt(scale)}`];
@@ -328,11 +337,20 @@
     }
   }
 
-  document.addEventListener("keydown", (ev) => {
+  // The viewer a key is for: the one holding the focus, else the one under the pointer;
+  // none (the key does what it does on the page: Space and arrows scroll) otherwise.
+  AAV.target = function (ev) {
     const t = ev.target && ev.target.tagName;
-    if (t === "INPUT" && ev.target.type !== "range" && ev.target.type !== "checkbox") return;
-    if (t === "SELECT") return;
-    const v = AAV.active || AAV.viewers[0];
+    if (t === "INPUT" && ev.target.type !== "range" && ev.target.type !== "checkbox") return null;
+    if (t === "SELECT" || t === "TEXTAREA" || ev.ctrlKey || ev.metaKey || ev.altKey) return null;
+    const focused = document.activeElement && document.activeElement.closest
+      ? document.activeElement.closest(".aav") : null;
+    if (focused) return AAV.viewers.find((v) => v.root === focused) || null;
+    return AAV.hover || null;
+  };
+
+  document.addEventListener("keydown", (ev) => {
+    const v = AAV.target(ev);
     if (v && v.key(ev)) ev.preventDefault();
   });
 

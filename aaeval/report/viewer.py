@@ -145,7 +145,8 @@ VIEWER_CSS = """
 .aav-bar{display:flex;flex-wrap:wrap;gap:.4em;align-items:center;font-size:12px}
 .aav-stage{display:flex;flex-wrap:wrap;gap:6px;margin-top:.4em}
 .aav-panel{display:inline-block} .aav-panel canvas{display:block;background:#777;cursor:crosshair;image-rendering:pixelated}
-.aav-cap{font-size:11px;padding-left:4px;max-width:560px;white-space:nowrap;overflow:hidden;text-overflow:ellipsis}
+.aav-cap{font-size:11px;padding-left:4px;max-width:560px;white-space:normal;overflow-wrap:anywhere}
+.aav-panel canvas:focus{outline:2px solid #36c}
 .aav-info{font-size:10px;color:#555} .aav-readout{font-family:monospace;font-size:11px;margin-top:.3em;min-height:1.2em}
 .aav-help{font-size:11px;color:#666;margin-top:.3em}
 """
