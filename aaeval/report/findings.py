@@ -197,7 +197,8 @@ def findings_section(results: pd.DataFrame, temporal: pd.DataFrame, speed: pd.Da
         tables["speed"] = speed.assign(group=speed["pass"].map(lambda i: "speed" if i == 0 else f"speed-{i}"))
     parts = ["<h2 id='findings'>Findings</h2>",
              "<p class='note'>Generated from <a href='results.parquet'>results.parquet</a>, "
-             "<a href='temporal.parquet'>temporal.parquet</a> and <a href='speed.parquet'>speed.parquet</a>: every "
+             "<a href='temporal.parquet'>temporal.parquet</a>"
+             + (" and <a href='speed.parquet'>speed.parquet</a>" if "speed" in tables else "") + ": every "
              "number is the mean of one group's cells (or animations) of one method and option, the same value the "
              "group's charts and tables show; it links to that group. Rows are methods with their options (a ladder "
              "is several rows), best first. The ground truth's own noise (RMS per pixel and channel, measured seed to "

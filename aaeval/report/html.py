@@ -630,7 +630,7 @@ def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
     parts.append(_provenance(store.root, results))
     parts.append("<p>Data: <a href='results.parquet'>results.parquet</a> (one row per cell), "
                  "<a href='temporal.parquet'>temporal.parquet</a> (one row per animation), "
-                 "<a href='speed.parquet'>speed.parquet</a> (the speed pass), "
+                 + ("<a href='speed.parquet'>speed.parquet</a> (the speed pass), " if not speed.empty else "") +
                  "<a href='experiment.toml'>experiment.toml</a> (the config as run), "
                  "<a href='manifest.json'>manifest.json</a>.</p>")
     if not results.empty:
