@@ -35,7 +35,7 @@ from collections import OrderedDict
 import numpy as np
 
 from aaeval.renderers.offsets import OffsetSampler, halton
-from aaeval.renderers.registry import Option, register_method
+from aaeval.renderers.registry import PAIR_SECONDS, Option, register_method, scene_load
 from aaeval.renderers.sampling import warmup_scene
 from aaeval.scenes import Scene
 
@@ -155,6 +155,7 @@ def _scene_key(first: Scene) -> str:
     warmup=lambda: render_taa(warmup_scene(), warmup=2),
     samples=lambda o: o["warmup"] + 1,
     memory=lambda scene, o: 40 * 8 * scene.width * scene.height,
+    seconds=lambda scene, o: _seconds(scene, o),
 )
 def render_taa(scene: Scene, phases: int = 8, alpha: float = 0.1, warmup: int = 64, resample: str = "catmull-rom",
                clamp: str = "minmax", gamma: float = 1.0) -> np.ndarray:
@@ -192,6 +193,14 @@ def render_taa(scene: Scene, phases: int = 8, alpha: float = 0.1, warmup: int = 
         while len(_CACHE) > _CACHE_SIZE:
             _CACHE.popitem(last=False)
     return history
+
+
+def _seconds(scene: Scene, o) -> float:
+    # frame k draws frames 0..k, each with its own near-tie pass (the registry counts one),
+    # and blends warmup + k + 1 images (~0.2 us a pixel each, measured on 256 x 256)
+    frames = scene.frame + 1
+    blends = scene.width * scene.height * (o["warmup"] + 2 * frames + o["phases"])
+    return PAIR_SECONDS * scene_load(scene).pairs * frames + 2e-7 * blends
 
 
 def _step(history, current, box, dx, dy, alpha, resample, clamp):
