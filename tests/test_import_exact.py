@@ -124,16 +124,20 @@ def _dejavu_blocks():
 
 
 def test_every_dejavu_character_imports_or_refuses_in_one_line():
+    """All 5906 characters DejaVu Sans maps (2437 of them composite), one string per block
+    of 128 code points: each block imports, or is refused in one line naming the reason."""
     done = refused = 0
-    for string in _dejavu_blocks():
-        for char in string:
-            try:
-                import_text(char, sizes=[11.0])
-                done += 1
-            except TextError as exc:
-                assert "\n" not in str(exc)
-                refused += 1
-    assert done > 5000 and refused < 100, (done, refused)
+    blocks = _dejavu_blocks()
+    assert sum(map(len, blocks)) > 5800
+    for string in blocks:
+        try:
+            result = import_text(string, sizes=[11.0])
+            assert result.document["polygons"] or string.isspace() or len(string) < 3
+            done += 1
+        except TextError as exc:
+            assert "\n" not in str(exc)
+            refused += 1
+    assert refused == 0 and done == len(blocks), (done, refused)
 
 
 # --- item 4: stroke joins on true tangents ----------------------------------------------

@@ -15,7 +15,9 @@ crossing becomes one new vertex, the intersection rounded once to float64.
    :data:`MAX_PAIRS`, a stated limit instead of a quadratic run).
 2. For each pair: an end point within the snap distance of the other edge's interior
    splits that edge at the end point itself; two edges crossing properly are both split
-   at their intersection. Collinear overlaps split each other at their end points.
+   at their intersection. Collinear overlaps split each other at their end points. This
+   is repeated on the pieces until nothing more is cut (an intersection rounded to float64
+   can cross a nearly parallel neighbour; the second pass cuts it).
 3. Sub-edges between the same two vertices are merged, their directions summed as a
    signed multiplicity (edges whose copies cancel disappear).
 4. The winding number on each side of each edge: a ray from the edge's midpoint (along
@@ -41,6 +43,9 @@ MAX_PAIRS = 40_000_000
 # A ring thinner than this (area over its extent squared) is a rounding crumb of a
 # crossing: the scene format refuses it as degenerate, and it covers nothing.
 CRUMB_RTOL = 2e-12
+# Cutting passes: the second finds the rare crossing that a rounded intersection point
+# made with a nearly parallel neighbour; later ones are a safeguard.
+MAX_PASSES = 6
 
 
 class FillError(ValueError):
@@ -78,7 +83,11 @@ def resolve_fill(rings, rule: str = "nonzero", weights=None):
     eps = snap_distance(scale)
     pts, ea, eb, keep = _vertices(a, b, eps)
     w = w[keep]
-    pts, ea, eb, w = _split(pts, ea, eb, w, eps)
+    active = None
+    for _ in range(MAX_PASSES):  # a crossing rounded to float64 may cross a neighbour: cut again
+        pts, ea, eb, w, active = _split(pts, ea, eb, w, eps, active)
+        if active is None or not active.any():
+            break
     ea, eb, w = _merge(ea, eb, w)
     if len(ea) == 0:
         return []
@@ -101,41 +110,51 @@ def _filled(rule):
 
 
 def _edges(rings, weights):
-    a_list, b_list, w_list = [], [], []
+    arrays, ws = [], []
     for k, ring in enumerate(rings):
         r = np.asarray(ring, dtype=np.float64).reshape(-1, 2)
-        if len(r) < 2:
-            continue
-        if not np.isfinite(r).all():
-            raise FillError("an outline has a coordinate that is not a finite number")
-        nxt = np.roll(r, -1, axis=0)
-        moving = np.any(r != nxt, axis=1)
-        a_list.append(r[moving])
-        b_list.append(nxt[moving])
-        w_list.append(np.full(int(moving.sum()), 1 if weights is None else int(weights[k]), dtype=np.int64))
-    if not a_list:
+        if len(r) >= 2:
+            arrays.append(r)
+            ws.append(1 if weights is None else int(weights[k]))
+    if not arrays:
         return np.zeros((0, 2)), np.zeros((0, 2)), np.zeros(0, np.int64)
-    return np.concatenate(a_list), np.concatenate(b_list), np.concatenate(w_list)
+    lengths = np.array([len(r) for r in arrays])
+    a = np.concatenate(arrays)
+    if not np.isfinite(a).all():
+        raise FillError("an outline has a coordinate that is not a finite number")
+    starts = np.cumsum(lengths) - lengths
+    nxt = np.arange(len(a)) + 1
+    nxt[starts + lengths - 1] = starts  # each ring closes on its first vertex
+    b = a[nxt]
+    w = np.repeat(np.array(ws, dtype=np.int64), lengths)
+    moving = np.any(a != b, axis=1)
+    return a[moving], b[moving], w[moving]
 
 
-def _cluster(points: np.ndarray, eps: float) -> np.ndarray:
-    """Label per point: points closer than ``eps`` (transitively) share the smallest label."""
+def _cluster(points: np.ndarray, eps: float):
+    """Unique points and a label per input point: points closer than ``eps`` in both
+    coordinates (transitively) share one label, the smallest index of the unique points.
+
+    Runs of x within ``eps`` (sorted by x), then runs of y within ``eps`` inside each x
+    run: two points within ``eps`` always fall into one run of each (every point between
+    them in the sort is closer still), so no close pair is missed; only chains of points
+    each within ``eps`` of the next are joined beyond it.
+    """
     uniq, inverse = np.unique(points, axis=0, return_inverse=True)
     inverse = inverse.reshape(-1)
-    labels = np.arange(len(uniq))
-    if len(uniq) > 1:
-        from scipy.sparse import coo_matrix
-        from scipy.sparse.csgraph import connected_components
-        from scipy.spatial import cKDTree
-
-        pairs = cKDTree(uniq).query_pairs(eps, output_type="ndarray")
-        if len(pairs):
-            n = len(uniq)
-            graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-            _, comp = connected_components(graph, directed=False)
-            first = np.full(comp.max() + 1, n, dtype=np.int64)
-            np.minimum.at(first, comp, np.arange(n))
-            labels = first[comp]
+    n = len(uniq)
+    labels = np.arange(n)
+    if n > 1:
+        x, y = uniq[:, 0], uniq[:, 1]  # np.unique sorted them by x, then y
+        run_x = np.concatenate([[0], np.cumsum(np.diff(x) > eps)])
+        if run_x[-1] < n - 1:  # some x run holds two points
+            order = np.lexsort((y, run_x))
+            ys, rx = y[order], run_x[order]
+            run = np.concatenate([[0], np.cumsum((np.diff(rx) != 0) | (np.diff(ys) > eps))])
+            first = np.full(n, n, dtype=np.int64)
+            np.minimum.at(first, run, order)
+            labels = np.empty(n, dtype=np.int64)
+            labels[order] = first[run]
     return uniq, labels[inverse]
 
 
@@ -150,14 +169,14 @@ def _vertices(a, b, eps):
     return pts, ea[keep], eb[keep], keep
 
 
-def _candidate_pairs(lo, hi, eps):
+def _candidate_pairs(lo, hi, eps, active=None):
     """Pairs (i < j) of boxes that overlap (with ``eps`` slack), from a uniform grid."""
     n = len(lo)
     if n < 2:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
     ext = np.maximum(hi - lo, 0.0).max(axis=1)
     span = float(max((hi.max(axis=0) - lo.min(axis=0)).max(), 1e-300))
-    cell = max(float(np.median(ext)) * 2.0, span / 4096.0, 1e-300)
+    cell = max(float(np.percentile(ext, 90)), span / 4096.0, 1e-300)
     origin = lo.min(axis=0)
     while True:
         c0 = np.floor((lo - eps - origin) / cell).astype(np.int64)
@@ -165,7 +184,7 @@ def _candidate_pairs(lo, hi, eps):
         nx, ny = c1[:, 0] - c0[:, 0] + 1, c1[:, 1] - c0[:, 1] + 1
         count = nx * ny
         total = int(count.sum())
-        if total <= max(8 * n, 1 << 22):
+        if total <= 4 * n + 1024:
             break
         cell *= 2.0
     edge = np.repeat(np.arange(n), count)
@@ -177,6 +196,12 @@ def _candidate_pairs(lo, hi, eps):
     key, edge = key[order], edge[order]
     starts = np.flatnonzero(np.r_[True, key[1:] != key[:-1]])
     ends = np.r_[starts[1:], len(key)]
+    if active is not None:  # only cells that hold an edge cut in the last pass
+        busy = np.maximum.reduceat(active[edge].astype(np.int8), starts) > 0
+        keep_entry = np.repeat(busy, ends - starts)
+        key, edge = key[keep_entry], edge[keep_entry]
+        starts = np.flatnonzero(np.r_[True, key[1:] != key[:-1]]) if len(key) else np.zeros(0, np.int64)
+        ends = np.r_[starts[1:], len(key)] if len(key) else np.zeros(0, np.int64)
     size = ends - starts
     pairs_total = int((size * (size - 1) // 2).sum())
     if pairs_total > MAX_PAIRS:
@@ -190,6 +215,8 @@ def _candidate_pairs(lo, hi, eps):
     i, j = edge[first], edge[second]
     i, j = np.minimum(i, j), np.maximum(i, j)
     ok = i != j
+    if active is not None:
+        ok &= active[i] | active[j]
     i, j = i[ok], j[ok]
     ok = np.all(lo[i] <= hi[j] + eps, axis=1) & np.all(lo[j] <= hi[i] + eps, axis=1)
     code = np.unique(i[ok] * n + j[ok])
@@ -200,11 +227,13 @@ def _cross(ux, uy, vx, vy):
     return ux * vy - uy * vx
 
 
-def _split(pts, ea, eb, w, eps):
-    """Cut edges where another edge's end point lies on them or where two edges cross."""
+def _split(pts, ea, eb, w, eps, active=None):
+    """Cut edges where another edge's end point lies on them or where two edges cross
+    (only pairs with an ``active`` edge, if given). Returns the new edges, whether any was
+    cut, and which new edges come from cut ones."""
     A, B = pts[ea], pts[eb]
     lo, hi = np.minimum(A, B), np.maximum(A, B)
-    i, j = _candidate_pairs(lo, hi, eps)
+    i, j = _candidate_pairs(lo, hi, eps, active)
     split_edge, split_vid, new_points, new_edges = [], [], [], []
     if len(i):
         # end points of one edge on the interior of the other (both ways)
@@ -256,12 +285,14 @@ def _split(pts, ea, eb, w, eps):
         split_edge += [ei, ej]
         split_vid += [vid, vid]
     if not split_edge or sum(len(s) for s in split_edge) == 0:
-        return pts, ea, eb, w
+        return pts, ea, eb, w, None
     se = np.concatenate(split_edge)
     sv = np.concatenate(split_vid)
     # drop splits at an edge's own end points (a crossing snapped onto one)
     ok = (sv != ea[se]) & (sv != eb[se])
     se, sv = se[ok], sv[ok]
+    if len(se) == 0:
+        return pts, ea, eb, w, None
     a, b = pts[ea[se]], pts[eb[se]]
     d = b - a
     t = ((pts[sv] - a) * d).sum(axis=1) / (d * d).sum(axis=1)
@@ -274,9 +305,12 @@ def _split(pts, ea, eb, w, eps):
     all_e, all_v = all_e[order], all_v[order]
     same = all_e[1:] == all_e[:-1]
     u, v = all_v[:-1][same], all_v[1:][same]
-    ww = w[all_e[:-1][same]]
+    parent = all_e[:-1][same]
+    ww = w[parent]
+    cut = np.zeros(m, dtype=bool)
+    cut[se] = True
     keep = u != v
-    return pts, u[keep], v[keep], ww[keep]
+    return pts, u[keep], v[keep], ww[keep], cut[parent][keep]
 
 
 def _merge(ea, eb, w):

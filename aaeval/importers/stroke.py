@@ -102,6 +102,9 @@ class Seg:
         """Unit tangents at ``t``; where the derivative vanishes (a control point on an end
         point, a cusp), the direction the curve actually leaves or enters in."""
         t = np.asarray(t, dtype=np.float64)
+        if self.kind == "line":
+            d = self.ctrl[-1] - self.ctrl[0]
+            return np.repeat((d / math.hypot(d[0], d[1]))[None, :], len(t), axis=0)
         d = self.derivative(t)
         norm = np.hypot(d[:, 0], d[:, 1])
         scale = max(1.0, float(np.abs(self.ctrl).max()))
@@ -197,6 +200,14 @@ def _cross2(u, v):
 
 def _band(seg: Seg, d: float, tol: float, budget) -> list[np.ndarray]:
     """The area swept by the normal segment of half-length d along one segment."""
+    if seg.kind == "line":  # a rectangle (the common case, kept cheap)
+        a, b = seg.ctrl[0], seg.ctrl[-1]
+        t = b - a
+        t = t / math.hypot(t[0], t[1])
+        n = d * np.array([-t[1], t[0]])
+        budget(4)
+        ring = _positive(np.array([a - n, b - n, b + n, a + n]))
+        return [] if ring is None else [ring]
     ts = sample(seg, d, tol, budget)
     p = seg.points(ts)
     n = _normals(seg.tangents(ts))

@@ -1,17 +1,23 @@
 """SVG files to scenes: ``aaeval import svg FILE.svg -o SCENE.toml``.
 
-svgelements parses the file and applies every transform (``reify``); each shape's
-segments are flattened here (:mod:`aaeval.importers.flatten`); Skia's path operations
-resolve the fill rule and stroke the outline (:mod:`aaeval.importers.shapes`). Each
-element paints its fill, then its stroke, each a layer in document order (later
-nearer). Colours are sRGB in the file and linear in the scene.
+The file is read by :func:`aaeval.readlimits.read_bytes` and checked as XML first (root
+``<svg>``, a valid ``viewBox``, at most :data:`~aaeval.importers.limits.MAX_ELEMENTS`
+elements once ``<use>`` is expanded, counted without expanding); then svgelements parses
+it and applies every transform (``reify``). Each shape's true segments are kept
+(:func:`shape_segments`): fills flatten them (:mod:`aaeval.importers.flatten`) and resolve
+the fill rule in float64 (:mod:`aaeval.importers.fill`); strokes are built from the
+segments themselves (:mod:`aaeval.importers.stroke`). Each element paints its fill, then
+its stroke, each a layer in document order (later nearer). Colours are sRGB in the file
+and linear in the scene.
 
 A nested ``<svg>`` (a new viewport, which places and clips its content) is refused.
 What the scene format cannot hold is never dropped silently: text, images, gradient
 and pattern paints, clip paths, masks, filters and dashes are left out, and opacity is
 drawn opaque; each is listed by element (``#id``, or ``tag[n]``: the n-th drawn element
 of that tag, 0-based, definitions such as clip-path contents not counted) in the result
-and in the scene's ``[svg].ignored``.
+and in the scene's ``[svg].ignored``. So is every malformed element SVG does not render
+(NaN or infinite numbers, negative sizes and radii), geometry beyond
+:data:`MAX_COORDINATE`, and ``<use>`` of anything outside the file (nothing is fetched).
 """
 
 from __future__ import annotations

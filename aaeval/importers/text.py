@@ -3,7 +3,9 @@
 A glyph is its outline: fontTools reads the font, each glyph's quadratic (TrueType) or
 cubic (CFF) outline is scaled to pixels, placed at its exact sub-pixel pen position and
 flattened to the tolerance like every other curve (:mod:`aaeval.importers.flatten`);
-Skia resolves the nonzero fill of its contours into polygons with holes. Pen positions
+the nonzero fill of its contours is resolved in float64 (:mod:`aaeval.importers.fill`)
+into polygons with holes. Composite glyphs are decomposed through the font's glyph set,
+each component drawn through its own transform. Pen positions
 are never rounded: the advance widths and the font's ``kern`` table pairs (no GPOS
 shaping; that would need HarfBuzz), scaled by size / units-per-em. :func:`layout` is the
 one layout both the importer and the ``freetype`` method use, so FreeType draws the same
