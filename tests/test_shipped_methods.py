@@ -206,6 +206,19 @@ def test_fxaa_works_in_srgb():
                                           rel=1e-12)
 
 
+def test_fxaa_luma_weights():
+    from aaeval.renderers.fxaa import fxaa
+
+    # a blue / black step: luma 0.114 with FXAA 3.11's pre-pass weights (0.299, 0.587, 0.114)
+    # passes fxaaQualityEdgeThresholdMin (0.0833) and gets the sub-pixel blend; Rec. 709 weights
+    # (0.0722) would not, nor would green as luma (0)
+    step = np.zeros((6, 8, 3))
+    step[:, :4, 2] = 1.0
+    out = fxaa(step)
+    assert out[2, 3, 2] == pytest.approx(1 - SUBPIX_STEP, abs=1e-12)
+    np.testing.assert_array_equal(fxaa(step, luma="green"), step)
+
+
 # --- TAA -----------------------------------------------------------------------------
 
 # Halton(2, 3) points 1..8 (radical inverses), the jitter being these minus 1/2
