@@ -47,6 +47,7 @@ class OffsetSampler:
         if has_shaded(scene):
             expanded = expand_shaded(scene)
             scene, self.field = expanded.scene, expanded.field
+        self.scene = scene  # with [shaded] objects expanded into their triangles
         start, length, x, y, planes, source, eps_z = kernel_inputs(scene)
         self._kernel = (start, length, x, y, planes, eps_z)
         self.source = source

@@ -20,9 +20,11 @@ kept, so rendering frames in order costs one frame each (when the scene moved ba
 first frame is bit for bit the same from either frame; otherwise the frame is rendered
 from the start, so the cache never changes an image).
 
-``[shaded]`` scenes are shaded at each sample; their history is reprojected by the
-translation only (a spinning object's surface motion is not reprojected, so its history
-is wrong by the spin and is held back only by the neighbourhood clamp).
+``[shaded]`` scenes are shaded at each sample. When their objects spin, the history is
+reprojected per pixel from the analytic motion: the surface point at each pixel centre
+(on the triangle visible there) is carried back to the previous frame by its barycentric
+coordinates in the same triangle one frame earlier (spin and translation, exactly), and
+the history is resampled there (:func:`motion_sources`, :func:`resample_at`).
 """
 
 from __future__ import annotations
@@ -61,18 +63,21 @@ def ycocg_to_rgb(ycc: np.ndarray) -> np.ndarray:
     return np.stack([y + co - cg, y + cg, y - co - cg], axis=-1)
 
 
+def _weights(t, kind: str) -> tuple[list[int], list]:
+    """Tap offsets and weights of the resampling kernel at fraction ``t`` past a texel."""
+    if kind == "bilinear":
+        return [0, 1], [1 - t, t]
+    # Catmull-Rom
+    return [-1, 0, 1, 2], [(-t + 2 * t * t - t**3) / 2, (2 - 5 * t * t + 3 * t**3) / 2,
+                           (t + 4 * t * t - 3 * t**3) / 2, (-t * t + t**3) / 2]
+
+
 def _taps(shift: float, n: int, kind: str) -> tuple[list[np.ndarray], list[float], np.ndarray]:
     """Source indices and weights along one axis for sampling at ``i - shift``, and which
     ``i`` fall inside the previous image."""
     pos = np.arange(n) - shift
     base = int(np.floor(-shift))
-    t = -shift - base
-    if kind == "bilinear":
-        offsets, weights = [0, 1], [1 - t, t]
-    else:  # Catmull-Rom
-        offsets = [-1, 0, 1, 2]
-        weights = [(-t + 2 * t * t - t**3) / 2, (2 - 5 * t * t + 3 * t**3) / 2, (t + 4 * t * t - 3 * t**3) / 2,
-                   (-t * t + t**3) / 2]
+    offsets, weights = _weights(-shift - base, kind)
     idx = [np.clip(np.arange(n) + base + o, 0, n - 1) for o in offsets]
     inside = (pos >= -0.5) & (pos <= n - 0.5)
     return idx, weights, inside
@@ -87,6 +92,58 @@ def reproject(history: np.ndarray, dx: float, dy: float, kind: str) -> tuple[np.
     rows = sum(wt * history[:, i] for i, wt in zip(xi, xw))
     out = sum(wt * rows[i] for i, wt in zip(yi, yw))
     return out, yin[:, None] & xin[None, :]
+
+
+def resample_at(history: np.ndarray, sx: np.ndarray, sy: np.ndarray, kind: str) -> tuple[np.ndarray, np.ndarray]:
+    """``history`` sampled at index coordinates ``(sx, sy)`` (H, W each; texel (r, c) is at
+    x = c, y = r), edge texels repeated, and where the points lie inside the image."""
+    h, w = history.shape[:2]
+    inside = (sx >= -0.5) & (sx <= w - 0.5) & (sy >= -0.5) & (sy <= h - 0.5)
+    x0, y0 = np.floor(sx), np.floor(sy)
+    xo, xw = _weights(sx - x0, kind)
+    yo, yw = _weights(sy - y0, kind)
+    x0, y0 = x0.astype(np.int64), y0.astype(np.int64)
+    out = np.zeros(history.shape)
+    for oy, wy in zip(yo, yw):
+        yi = np.clip(y0 + oy, 0, h - 1)
+        for ox, wx in zip(xo, xw):
+            out += (wy * wx)[:, :, None] * history[yi, np.clip(x0 + ox, 0, w - 1)]
+    return out, inside
+
+
+def motion_sources(now: OffsetSampler, before: OffsetSampler, dx: float, dy: float) -> tuple[np.ndarray, np.ndarray]:
+    """Where the surface seen at each pixel centre of a frame was one frame earlier, in index
+    coordinates: moved back by the translation ``(dx, dy)``, and on shaded triangles (which
+    also spin) carried back exactly: the point's barycentric coordinates in its triangle now,
+    applied to the same triangle the frame before (a rigid motion keeps them)."""
+    h, w = now.height, now.width
+    rows, cols = np.mgrid[0:h, 0:w]
+    x, y = cols + 0.5, rows + 0.5
+    px, py = x - dx, y - dy
+    if now.field is not None and len(now.scene.polygons) == len(before.scene.polygons):
+        ids = now.ids(0.0, 0.0)
+        hit = ids >= 0
+        poly = np.full(ids.shape, -1, np.int64)
+        poly[hit] = now.source[ids[hit]]
+        tri = hit & now.field.shaded[np.maximum(poly, 0)]
+        if tri.any():
+            p = poly[tri]
+            a, b = now.scene.arrays, before.scene.arrays
+            vn = a.vertices[a.start[p][:, None] + np.arange(3)]
+            vb = b.vertices[b.start[p][:, None] + np.arange(3)]
+            X, Y = x[tri], y[tri]
+            (x0, y0), (x1, y1), (x2, y2) = vn[:, 0, :2].T, vn[:, 1, :2].T, vn[:, 2, :2].T
+            d = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)  # not 0: an edge-on triangle is never seen
+            b1 = ((X - x0) * (y2 - y0) - (x2 - x0) * (Y - y0)) / d
+            b2 = ((x1 - x0) * (Y - y0) - (X - x0) * (y1 - y0)) / d
+            moved = (1 - b1 - b2)[:, None] * vb[:, 0] + b1[:, None] * vb[:, 1] + b2[:, None] * vb[:, 2]
+            px[tri], py[tri] = moved[:, 0], moved[:, 1]
+    return px - 0.5, py - 0.5
+
+
+def _spins(scene: Scene) -> bool:
+    section = scene.extensions.get("shaded")
+    return section is not None and any(obj.spin_degrees != 0.0 for obj in section.objects)
 
 
 def neighbourhood_box(current: np.ndarray, mode: str, gamma: float) -> tuple[np.ndarray, np.ndarray] | None:
@@ -181,12 +238,23 @@ def render_taa(scene: Scene, phases: int = 8, alpha: float = 0.1, warmup: int = 
         for t in range(warmup):
             history = _step(history, still[t % phases], boxes[t % phases], 0.0, 0.0, alpha, resample, clamp)
         start = 0
+    spinning = _spins(base)
+    before = None
     for j in range(start, target + 1):
         t = warmup + j
-        current = OffsetSampler(base.at_frame(j)).sample(*jitter[t % phases])
-        moved = j > 0
-        history = _step(history, current, neighbourhood_box(current, clamp, gamma), dx if moved else 0.0,
-                        dy if moved else 0.0, alpha, resample, clamp)
+        now = OffsetSampler(base.at_frame(j))
+        current = now.sample(*jitter[t % phases])
+        box = neighbourhood_box(current, clamp, gamma)
+        if j > 0 and spinning and history is not None:
+            before = before if before is not None else OffsetSampler(base.at_frame(j - 1))
+            sx, sy = motion_sources(now, before, dx, dy)
+            history, inside = resample_at(history, sx, sy, resample)
+            history = np.where(inside[:, :, None], history, current)
+            history = _step(history, current, box, 0.0, 0.0, alpha, resample, clamp)
+        else:
+            moved = j > 0
+            history = _step(history, current, box, dx if moved else 0.0, dy if moved else 0.0, alpha, resample, clamp)
+        before = now
     with _CACHE_LOCK:
         _CACHE[key] = (target, history.copy())
         _CACHE.move_to_end(key)
