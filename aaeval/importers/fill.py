@@ -416,13 +416,35 @@ def _trace(pts, src, dst):
         if used[e0]:
             continue
         ring, e = [], e0
-        while not used[e] and e >= 0:
+        while e >= 0 and not used[e]:
             used[e] = True
             ring.append(src[e])
             e = nxt[e]
-        if len(ring) >= 3:
-            rings.append(pts[np.array(ring)])
+        for part in _split_at_repeats(ring):
+            if len(part) >= 3:
+                rings.append(pts[np.array(part)])
     return rings
+
+
+def _split_at_repeats(ring: list) -> list[list]:
+    """A closed walk that passes a vertex twice (touching itself there, never crossing) as
+    the simple rings between its visits: a lobe, or a hole touching its outer ring."""
+    if len(set(ring)) == len(ring):
+        return [ring]
+    parts, stack, where = [], [], {}
+    for v in ring:
+        if v in where:
+            k = where[v]
+            part = stack[k:]
+            for u in part[1:]:
+                del where[u]
+            del stack[k + 1:]
+            parts.append(part)
+        else:
+            where[v] = len(stack)
+            stack.append(v)
+    parts.append(stack)
+    return parts
 
 
 def _area(r):
