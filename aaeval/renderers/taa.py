@@ -46,6 +46,7 @@ __all__ = ["render_taa", "jitter_sequence", "rgb_to_ycocg", "ycocg_to_rgb"]
 _CACHE: "OrderedDict[tuple, tuple[int, np.ndarray]]" = OrderedDict()
 _CACHE_LOCK = threading.Lock()
 _CACHE_SIZE = 4
+_CACHE_BYTES = 256 << 20  # histories kept in all
 
 
 def jitter_sequence(phases: int) -> np.ndarray:
@@ -258,7 +259,7 @@ def render_taa(scene: Scene, phases: int = 8, alpha: float = 0.1, warmup: int = 
     with _CACHE_LOCK:
         _CACHE[key] = (target, history.copy())
         _CACHE.move_to_end(key)
-        while len(_CACHE) > _CACHE_SIZE:
+        while len(_CACHE) > _CACHE_SIZE or sum(h.nbytes for _, h in _CACHE.values()) > _CACHE_BYTES:
             _CACHE.popitem(last=False)
     return history
 
