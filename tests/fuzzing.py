@@ -513,6 +513,14 @@ def warm_up(folder: Path) -> None:
         for method in METHODS:
             main(["render", str(scene), "-m", method, "-o", str(folder / "warm.npy")])
         main(["hidden-lines", str(scene), "-o", str(folder / "warm.svg")])
+        # compare and invariance pay one-time imports and warm-ups (seconds, more on a loaded
+        # machine) on their first call: outside any case's bound, as the methods' JIT is
+        for reference in ("catmull", "supersample:k=2"):
+            main(["compare", str(scene), "-m", "point", "-r", reference, "--quiet", "--json", str(folder / "w.json")])
+        main(["invariance", str(scene), "-m", "point", "--quiet"])
+        (folder / "warm.svg").write_text('<svg xmlns="http://www.w3.org/2000/svg" width="4" height="4">'
+                                         '<rect width="2" height="2"/></svg>')
+        main(["import", "svg", str(folder / "warm.svg"), "-o", str(folder / "warm-svg.toml")])
         # the finished sweep that sweep cases copy and damage
         (folder / "exp.toml").write_text(SWEEP_CONFIG)
         main(["sweep", str(folder / "exp.toml"), "--out", str(folder / "sweep-template"), "--workers", "1",
