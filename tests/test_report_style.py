@@ -163,7 +163,8 @@ def test_each_method_looks_the_same_in_every_figure(drawn):
         base_h, base_s = _hue(to_rgb(method_style(method).colour))
         for h, s in hues:
             if base_s > 0.1 and s > 0.1:  # greys (skia's black) have no hue
-                assert min(abs(h - base_h), 1 - abs(h - base_h)) < 0.02, (method, h, base_h)
+                # a method's family: ladders are shades of its hue, categorical choices turn it a little
+                assert min(abs(h - base_h), 1 - abs(h - base_h)) < 0.1, (method, h, base_h)
 
 
 def test_methods_differ_without_colour():
@@ -216,3 +217,34 @@ def test_every_registered_method_has_its_own_line():
 
     missing = sorted(set(METHODS) - set(METHOD_STYLES))
     assert not missing, f"add a line for {missing} to METHOD_STYLES in aaeval/report/style.py"
+
+
+def test_every_method_and_clamp_has_a_colour_of_its_own():
+    """Issue 19: colours compared with each other (CIELAB distance), not with the style table:
+    every registered method and every specular clamp of catmull, as one report would draw them."""
+    import colorsys
+
+    from skimage.color import rgb2lab
+
+    from aaeval.renderers import METHODS, resolve
+    from aaeval.specular.methods import SPECULAR_METHODS
+
+    specs = [(m, json.dumps(resolve(m)[1])) for m in METHODS]
+    specs += [("catmull", json.dumps(resolve(f"catmull:specular={s}")[1])) for s in SPECULAR_METHODS]
+    styles = Styles(specs)
+    colours = {(m, o): np.asarray(styles.spec(m, o).colour, float) for m, o in specs}
+    lab = {k: rgb2lab(c[None, None, :])[0, 0] for k, c in colours.items()}
+    for a, b in itertools.combinations(lab, 2):
+        assert np.linalg.norm(lab[a] - lab[b]) > 15, (a, b)
+    # the clamps stay in catmull's family: hues near each other, far from the other methods'
+    hue = lambda c: colorsys.rgb_to_hls(*c)[0]  # noqa: E731
+    clamps = [colours[("catmull", json.dumps(resolve(f"catmull:specular={s}")[1]))] for s in SPECULAR_METHODS]
+    assert max(hue(c) for c in clamps) - min(hue(c) for c in clamps) < 0.15
+
+
+def test_coincident_exact_methods_both_show():
+    """Weiler-Atherton's points sit exactly on catmull's: it is drawn hollow, larger and above."""
+    styles = Styles([("catmull", "{}"), ("weiler-atherton", "{}")])
+    cat, wa = styles.spec("catmull", "{}"), styles.spec("weiler-atherton", "{}")
+    assert wa.fillstyle == "none" and cat.fillstyle == "full" and wa.size > cat.size
+    assert wa.line()["zorder"] > 2

@@ -273,8 +273,9 @@ def accuracy_dots(summary: pd.DataFrame, path: Path, *, metric: str, title: str,
     ax.set_xlabel(f"{_metric_label(metric)} against the ground truth (dot: mean over cells; bar: best to worst cell)")
     ax.set_title(title)
     ax.grid(True, axis="x", which="major", alpha=0.3)
-    if ax.get_legend_handles_labels()[0]:
-        ax.legend(loc="lower right", fontsize=7)
+    if ax.get_legend_handles_labels()[0]:  # below the axis, never over a point
+        ax.legend(loc="upper right", bbox_to_anchor=(1.0, -0.5 / fig.get_figheight() - 0.05), fontsize=7,
+                  borderaxespad=0)
     return save_figure(fig, path)
 
 

@@ -8,8 +8,12 @@ never change its colour family or marker:
 - a numeric option ladder (``supersample:k=2..16``, ``mitsuba:spp=4..1024``) is drawn in
   shades of the method's colour, light for the smallest value and dark for the largest,
   with markers growing along the ladder;
-- a categorical option (``catmull:specular=none|amanatides|...``) changes the marker's
-  fill (full, none, left, right, bottom, top) in the order the method declares its choices.
+- a categorical option (``catmull:specular=none|amanatides|...``) gives each choice its own
+  colour of the method's family (the hue turned a little and the lightness stepped, in the
+  order the method declares its choices) and its own marker fill (full, none, left, right,
+  bottom, top), so every clamp is told apart by colour as well as by marker;
+- ``weiler-atherton``, the second exact road, is drawn hollow and larger and above
+  ``catmull``: where the two coincide both stay visible.
 
 :class:`Styles` is built once per report from every spec the report shows, so that a spec
 has the same shade in every group, and legends list specs in one order: by method, then by
@@ -34,6 +38,7 @@ class MethodStyle:
     colour: str
     marker: str
     dashes: tuple  # matplotlib dash pattern; () = solid
+    hollow: bool = False  # drawn as a larger empty marker above the others (it coincides with one)
 
 
 # The one table. Exact methods are blues, sampling methods warm colours, the ground
@@ -41,7 +46,7 @@ class MethodStyle:
 # differ for every method. A new method gets its line here.
 METHOD_STYLES: dict[str, MethodStyle] = {
     "catmull": MethodStyle("#0072B2", "o", ()),
-    "weiler-atherton": MethodStyle("#56B4E9", "s", (6, 2)),
+    "weiler-atherton": MethodStyle("#56B4E9", "s", (6, 2), hollow=True),
     "catmull-jagged": MethodStyle("#44AA99", "<", (1, 1.5)),
     "point": MethodStyle("#D55E00", "v", (4, 1.5, 1, 1.5)),
     "supersample": MethodStyle("#E69F00", "^", (3, 1.5)),
@@ -51,10 +56,13 @@ METHOD_STYLES: dict[str, MethodStyle] = {
     "mitsuba": MethodStyle("#999933", "h", (1, 3)),
     "freetype": MethodStyle("#332288", "*", (3, 1, 1, 1)),
     "resvg": MethodStyle("#661100", "d", (6, 1.5, 1, 1.5, 1, 1.5)),
+    "msaa": MethodStyle("#882255", "p", (4, 1, 4, 3)),
+    "fxaa": MethodStyle("#AA4499", "H", (1, 1, 1, 3)),
+    "taa": MethodStyle("#117733", ">", (7, 1.5, 2, 1.5)),
 }
 
-_SPARE_COLOURS = ["#882255", "#AA4499", "#117733", "#88CCEE", "#DDCC77", "#6699CC"]
-_SPARE_MARKERS = ["p", "H", ">", "8", "1", "2"]
+_SPARE_COLOURS = ["#88CCEE", "#DDCC77", "#6699CC", "#EE8866", "#BBBBBB", "#44BB99"]
+_SPARE_MARKERS = ["8", "1", "2", "3", "4", "+"]
 _FILLS = ["full", "none", "left", "right", "bottom", "top"]
 GROUND_TRUTH_COLOUR = "#555555"
 
@@ -83,12 +91,16 @@ class SpecStyle:
     fillstyle: str
     size: float
     dashes: tuple
+    hollow: bool = False
 
     def line(self) -> dict:
         """Keywords for ``ax.plot`` (line and markers), tagged with the method for checks."""
-        return {"color": self.colour, "marker": self.marker, "fillstyle": self.fillstyle, "ms": self.size,
-                "mec": _edge(self.colour), "mew": 0.6, "ls": (0, self.dashes) if self.dashes else "-",
-                "lw": 1.2, "gid": self.gid}
+        kw = {"color": self.colour, "marker": self.marker, "fillstyle": self.fillstyle, "ms": self.size,
+              "mec": _edge(self.colour), "mew": 0.6, "ls": (0, self.dashes) if self.dashes else "-",
+              "lw": 1.2, "gid": self.gid}
+        if self.hollow:  # an empty, larger marker in its own colour, above the method it coincides with
+            kw.update(mec=self.colour, mew=1.6, zorder=3)
+        return kw
 
     @property
     def gid(self) -> str:
@@ -115,6 +127,17 @@ def _shade(colour: str, t: float) -> tuple:
     lo, hi = min(l, 0.25), min(0.68, max(l, 0.6))
     light = hi + (lo - hi) * t
     return colorsys.hls_to_rgb(h, light, s)
+
+
+def _choice_colour(colour: str, i: int, n: int) -> tuple:
+    """Choice ``i`` of ``n`` of a categorical option: the family's hue turned by -0.02 to
+    +0.08 and its lightness stepped between dark and middle, so neighbours differ in both (the
+    steps chosen for the largest smallest CIELAB distance between every registered method and
+    specular clamp)."""
+    h, l, s = colorsys.rgb_to_hls(*to_rgb(colour))
+    turn = 0.0 if n <= 1 else (i / (n - 1) - 0.5) * 0.10 + 0.03
+    light = (0.18, 0.30, 0.42, 0.24, 0.36, 0.48)[i % 6] if n > 1 else l
+    return colorsys.hls_to_rgb((h + turn) % 1.0, light, min(1.0, max(s, 0.75)))
 
 
 def _numeric(value) -> bool:
@@ -145,7 +168,7 @@ class Styles:
     def spec(self, method: str, options) -> SpecStyle:
         opts = json.loads(options) if isinstance(options, str) else dict(options)
         base = method_style(method)
-        t, fill = 0.5, "full"
+        t, fill, choice = 0.5, "full", None
         for k in self._varying.get(method, []):
             values = self._ladders.get((method, k), set())
             v = opts.get(k)
@@ -154,11 +177,17 @@ class Styles:
                 t = ordered.index(v) / max(1, len(ordered) - 1) if v in ordered else 0.5
             elif not _numeric(v):
                 choices = _choices(method, k) or sorted(map(str, values))
-                fill = _FILLS[choices.index(v) % len(_FILLS)] if v in choices else "full"
+                if v in choices:
+                    fill = _FILLS[choices.index(v) % len(_FILLS)]
+                    choice = (choices.index(v), len(choices))
         ladder = any(_numeric(opts.get(k)) for k in self._varying.get(method, []))
-        colour = _shade(base.colour, t) if ladder else to_rgb(base.colour)
+        family = _choice_colour(base.colour, *choice) if choice else to_rgb(base.colour)
+        colour = _shade(family, t) if ladder else family
         size = 5.0 + 4.0 * t if ladder else 7.0
-        return SpecStyle(method, json.dumps(opts, sort_keys=True), colour, base.marker, fill, size, base.dashes)
+        if base.hollow:
+            fill, size = "none", size + 3.0
+        return SpecStyle(method, json.dumps(opts, sort_keys=True), colour, base.marker, fill, size, base.dashes,
+                         base.hollow)
 
     def order(self, method: str, options) -> tuple:
         """Sort key of legends: method (table order), then option values (numbers by value)."""
