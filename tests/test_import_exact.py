@@ -146,14 +146,14 @@ MITER_PATH = "M1.999 2.399C1.999 2.399 3.726 2.085 4.197 3.497L4.197 0.672"
 CUBIC = [(1.999, 2.399), (1.999, 2.399), (3.726, 2.085), (4.197, 3.497)]
 
 
-def _skia_stroke_area(points, width, miter):
+def _skia_stroke_area(points, width, miter, cap=skia.Paint.kButt_Cap):
     """Area of Skia's own stroke (miter join) of a polyline, its overlaps resolved by GEOS."""
     path = skia.Path()
     path.moveTo(*points[0])
     for x, y in points[1:]:
         path.lineTo(float(x), float(y))
     paint = skia.Paint(Style=skia.Paint.kStroke_Style, StrokeWidth=width, StrokeJoin=skia.Paint.kMiter_Join,
-                       StrokeMiter=miter)
+                       StrokeMiter=miter, StrokeCap=cap)
     out = skia.Path()
     paint.getFillPath(path, out)
     rings, cur = [], []
@@ -298,3 +298,38 @@ def test_fill_resolver_matches_geos_on_random_crossing_outlines(seed):
             got = shapely.unary_union([ShapelyPolygon(o, h) for o, h in regions])
             assert all(ShapelyPolygon(o, h).is_valid or len(h) for o, h in regions)
             assert got.symmetric_difference(expected).area <= 1e-9, (seed, trial, rule)
+
+
+def _fine_path(d, n=3000):
+    """A fine polyline of an SVG path (one subpath) from svgelements' own point evaluation."""
+    import svgelements as se
+
+    path = se.Path(d)
+    return np.array([(p.x, p.y) for p in (path.point(t) for t in np.linspace(0, 1, n))])
+
+
+@pytest.mark.parametrize("d, width, extra", [
+    ("M1 6 C 9 1 1 1 9 6", 1.2, ""),                       # a cusp at t = 1/2 (tangent reverses)
+    ("M1 7 C 9 0 1 0 9 7", 0.8, ""),                       # another cusp
+    ("M1 6 C 9 0 0 0 9 6", 1.0, ""),                       # a tight loop (no cusp)
+    ("M2 5 Q 5 -3 8 5", 3.0, ""),                          # inner offset folds (radius < width/2)
+    ("M2 5 A 3 2 0 1 1 8 5", 1.0, 'stroke-linecap="round"'),
+    ("M2 5 A 3 2 0 1 1 8 5", 1.0, 'stroke-linecap="square"'),
+    ("M1 1 C 1 1 4 1 7 5 S 2 8 5 2", 0.6, ""),             # C1 on the start point, smooth S join
+])
+def test_curved_strokes_match_geos_sweep_of_a_fine_flattening(tmp_path, d, width, extra):
+    """The stroke of a curve is the sweep of the width's normal segment along it (plus a
+    round join where a cubic turns back at a cusp): away from the ends that is every point
+    within width/2 of the curve, which GEOS's buffer of a 3000-point flattening gives
+    (round joins at its tiny turns, flat/round/square caps). Within tol x outline length."""
+    tol = 1e-3
+    f = tmp_path / "c.svg"
+    f.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"><path d="{d}" fill="none" '
+                 f'stroke="black" stroke-width="{width}" {extra}/></svg>')
+    got = _union(import_svg(f, tolerance=tol).document)
+    fine = _fine_path(d)
+    cap = {'stroke-linecap="round"': "round", 'stroke-linecap="square"': "square"}.get(extra, "flat")
+    expected = LineString(fine).buffer(width / 2, quad_segs=256, cap_style=cap, join_style="round")
+    length = 2 * np.hypot(*np.diff(fine, axis=0).T).sum() + 4 * width
+    assert abs(got.area - expected.area) <= tol * length, (got.area, expected.area, tol * length)
+    assert got.symmetric_difference(expected).area <= 2 * tol * length

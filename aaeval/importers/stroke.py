@@ -18,7 +18,9 @@ here from the segments themselves, never from their flattened chords:
   turn of ``a`` against ``stroke-miterlimit``; bevel beyond it; round joins as the circular
   sector on the outer side, inscribed within ``tol``.
 - Caps: butt, square (half a width beyond the end along the end tangent), round (a half
-  disc). A subpath of zero length draws a dot with round caps and an axis-aligned square
+  disc). Where a cubic stops and turns back inside a segment (a cusp: its derivative
+  vanishes), a disc of the stroke width is added, a round join over the reversal, as Skia
+  and GTK draw it. A subpath of zero length draws a dot with round caps and an axis-aligned square
   with square caps, as SVG says.
 
 Every piece is a positively oriented ring, so their union is the nonzero fill of all of
@@ -97,6 +99,29 @@ class Seg:
             return np.repeat(diff, len(t), axis=0)
         basis = np.stack([math.comb(k - 1, i) * t**i * (1 - t) ** (k - 1 - i) for i in range(k)], axis=1)
         return basis @ diff
+
+    def cusps(self) -> list[float]:
+        """Parameters in (0, 1) where a cubic's derivative vanishes: the curve stops and turns
+        back (its tangent reverses)."""
+        if self.kind != "bezier" or len(self.ctrl) != 4:
+            return []
+        p0, p1, p2, p3 = self.ctrl
+        # B'(t)/3 = a t^2 + b t + c per coordinate
+        a = -p0 + 3 * p1 - 3 * p2 + p3
+        b = 2 * (p0 - 2 * p1 + p2)
+        c = p1 - p0
+        scale = max(1.0, float(np.abs(self.ctrl).max()))
+        out = []
+        for k in (0, 1):
+            roots = np.roots([a[k], b[k], c[k]]) if np.any([a[k], b[k], c[k]]) else np.array([])
+            for r in roots:
+                if abs(r.imag) > 1e-12 or not (0.0 < r.real < 1.0):
+                    continue
+                t = float(r.real)
+                d = a * t * t + b * t + c
+                if math.hypot(d[0], d[1]) <= 1e-9 * scale and all(abs(t - u) > 1e-9 for u in out):
+                    out.append(t)
+        return sorted(out)
 
     def tangents(self, t: np.ndarray) -> np.ndarray:
         """Unit tangents at ``t``; where the derivative vanishes (a control point on an end
@@ -334,6 +359,9 @@ def stroke_pieces(subpaths, width: float, *, cap: str = "butt", join: str = "mit
         ends = [s.tangents(np.array([1.0]))[0] for s in live]
         for s in live:
             pieces.extend(_band(s, d, tol, budget))
+            for t in s.cusps():  # the tangent reverses: a round join over the turn, as Skia
+                # and GTK draw it (the sweep already covers the half behind the cusp)
+                pieces.extend(p for p in _dot(s.points(np.array([t]))[0], d, "round", tol) if p is not None)
         for k in range(len(live) - 1):
             pieces.extend(_join(live[k].end, ends[k], starts[k + 1], d, join, miter_limit, tol))
         if closed:
