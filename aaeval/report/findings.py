@@ -139,6 +139,15 @@ def leader_sentence(question: Question, table: pd.DataFrame, group: str) -> str:
     second = others.iloc[0]
     a, b = float(first["value"]), float(second["value"])
     metric = METRICS.get(question.column)
+    noise = first.get("noise", math.nan)
+    resolvable = (question.table != "speed" and metric is not None and metric.target is None
+                  and question.noise == "reference_noise_rmse" and question.column != "highlight_energy_flicker"
+                  and math.isfinite(noise) and noise > 0)
+    if a == b or (resolvable and abs(b - a) < noise):
+        why = "equal" if a == b else f"they differ by less than the ground truth's noise ({noise:.3g})"
+        return (f"{question.title} ({title}, group {group}): <b>{html.escape(first['label'])}</b> and "
+                f"<b>{html.escape(second['label'])}</b> tie ({_fmt(question.column, a)} and "
+                f"{_fmt(question.column, b)}: {why}).")
     if metric is not None and metric.target is not None:
         da, db = abs(a - metric.target), abs(b - metric.target)
         gap = f"{db - da:.3g} closer to {metric.target:g} than"
@@ -150,14 +159,8 @@ def leader_sentence(question: Question, table: pd.DataFrame, group: str) -> str:
         gap = f"{ratio:.3g}x {'better than' if ratio >= 1 else 'against'}"
     else:
         gap = f"{abs(b - a):.3g} better than"
-    noise = first.get("noise", math.nan)
-    tied = (question.table != "speed" and metric is not None and metric.target is None
-            and math.isfinite(noise) and noise > 0 and question.column not in ("sum_variation", "highlight_energy_flicker")
-            and abs(b - a) < noise)
     tail = (f", {gap} the next method, <b>{html.escape(second['label'])}</b> "
             f"({_fmt(question.column, b)})")
-    if tied:
-        tail += f": the two differ by less than the ground truth's noise ({noise:.3g}), a tie"
     return head + tail + "."
 
 
