@@ -239,7 +239,8 @@ def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str
     ax.set_yscale("log")
     ax.set_ylim(lo, hi)
     _log_ticks(ax.yaxis)
-    ax.set_xlabel("render time per megapixel (ms; median of the repeats, bar: fastest to slowest)")
+    ax.set_xlabel("render time per megapixel (ms; speed pass, one worker: median of the rounds, bar: fastest to "
+                  "slowest)")
     ax.set_ylabel(f"{_metric_label(metric)} against the ground truth (mean over cells)")
     ax.set_title(title)
     ax.grid(True, which="major", alpha=0.3)

@@ -150,7 +150,8 @@ def _fig_highlight_split(stem: Path, table: pd.DataFrame, styles: Styles, group:
         ax.plot([getattr(r, BIAS)], [getattr(r, FLICKER)], label=r.label, **kw)
     ax.set_xlabel(f"{METRICS[BIAS].title}: {METRICS[BIAS].direction}")
     ax.set_ylabel(f"{METRICS[FLICKER].title} (lower is better)")
-    ax.set_yscale("symlog", linthresh=1e-4)
+    if (table[FLICKER] > 0).all():
+        ax.set_yscale("log")
     ax.set_title(f"{group}: highlight bias and flicker (one answer per method)")
     ax.grid(True, alpha=0.3)
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7.5, borderaxespad=0)
