@@ -38,7 +38,7 @@ __all__ = ["resolve_fill", "snap_distance", "FillError", "MAX_PAIRS", "MAX_EDGES
 
 # Stated limits: an outline with more edges, or whose edges' boxes overlap in more
 # pairs (a quadratic number of crossings), is refused instead of running for hours.
-MAX_EDGES = 1_000_000
+MAX_EDGES = 300_000
 MAX_PAIRS = 40_000_000
 # A ring thinner than this (area over its extent squared) is a rounding crumb of a
 # crossing: the scene format refuses it as degenerate, and it covers nothing.

@@ -31,7 +31,8 @@ import numpy as np
 
 from aaeval.imageio import srgb_to_linear
 from aaeval.importers.flatten import DEFAULT_TOLERANCE, arc_points, bezier_points
-from aaeval.importers.limits import (MAX_ELEMENTS, ImportLimitError, VertexBudget, budget_scope,
+from aaeval.importers.fill import MAX_EDGES
+from aaeval.importers.limits import (MAX_ELEMENTS, MAX_VERTICES, ImportLimitError, VertexBudget, budget_scope, charge,
                                      check_tolerance)
 from aaeval.importers.scene import ImportResult, Layer, scene_document
 from aaeval.importers.shapes import STROKE_CAPS, STROKE_JOINS, Seg, Subpath, fill_regions, stroke_regions
@@ -47,6 +48,7 @@ MAX_COORDINATE = 1e9
 # attributes that hold numbers of an element's own geometry
 GEOMETRY_ATTRS = ("x", "y", "width", "height", "rx", "ry", "cx", "cy", "r", "x1", "y1", "x2", "y2",
                   "points", "d", "transform", "stroke-width", "stroke-miterlimit")
+NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 NOT_FINITE = re.compile(r"(?<![a-z])(nan|inf(inity)?)(?![a-z])", re.IGNORECASE)
 
 # attributes whose effect the scene format cannot hold: the element is left out
@@ -308,6 +310,7 @@ def flatten_segments(subpaths, tol: float) -> list[Subpath]:
     out = []
     for segs, closed in subpaths:
         points = [segs[0].start]
+        charge(len(segs))
         for seg in segs:
             if seg.kind == "line":
                 points.append(seg.end)
@@ -409,3 +412,19 @@ def _check_document(data: bytes, path: Path, ignored: list[str]) -> None:
         raise SvgError(f"{path}: {exc}") from None
     if n > MAX_ELEMENTS:
         raise SvgError(f"{path}: more than {MAX_ELEMENTS} elements once <use> references are expanded (the limit)")
+    # vertices, estimated from the numbers in path data and point lists (two per vertex),
+    # before svgelements builds an object per segment
+    total = 0
+    for el in root.iter():
+        for key in ("d", "points"):
+            raw = el.get(key)
+            if not raw:
+                continue
+            vertices = len(NUMBER.findall(raw)) // 2
+            total += vertices
+            if vertices > MAX_EDGES:
+                name = f"#{el.get('id')}" if el.get("id") else f"a <{_local_name(el.tag)}>"
+                raise SvgError(f"{path}: {name} has about {vertices} vertices, over the limit of {MAX_EDGES} "
+                               "for one outline")
+    if total > MAX_VERTICES:
+        raise SvgError(f"{path}: about {total} vertices in path data, over the limit of {MAX_VERTICES}")
