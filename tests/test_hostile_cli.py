@@ -81,6 +81,19 @@ def test_sweep_of_all_frames_of_a_billion_frame_file_is_refused(billion_frames, 
     assert not (tmp_path / "out").exists()
 
 
+def test_a_million_frames_of_a_deep_stack_are_refused_for_their_time(tmp_path, capsys, monkeypatch):
+    """Within the pixel budget (25 x 1 x 1e6 frames) but each frame a render: invariance and
+    compare estimate the whole run's time before the first frame (found by the fuzz run)."""
+    monkeypatch.chdir(tmp_path)
+    scene = tmp_path / "scene.toml"
+    square = "[[polygons]]\ncolor = [0.5, 0.5, 0.5]\nvertices = [[4, 4, 1.0], [40, 5, 1], [39, 40, 1], [3, 41, 1]]\n"
+    scene.write_text("[image]\nwidth = 25\nheight = 1\n\n[animation]\nframes = 1000000\ntranslate = [0.0, 0.0]\n\n"
+                     + square * 60)
+    refused(["invariance", str(scene), "-m", "catmull", "--quiet"], capsys, scene, "AAEVAL_MAX_SECONDS")
+    refused(["compare", str(scene), "-m", "point", "-r", "catmull", "--frames", "all", "--quiet"], capsys, scene,
+            "AAEVAL_MAX_SECONDS")
+
+
 def test_an_animation_within_the_budget_still_runs(tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
     scene = tmp_path / "scene.toml"

@@ -26,7 +26,8 @@ def run(args) -> int:
 
     resolve(args.method)
     scene = load_scene(args.scene)
-    check_frames(scene, scene.frames, "invariance renders every frame")  # budgeted as a generator's frames
+    # budgeted as a generator's frames, and the time of rendering every one of them
+    check_frames(scene, scene.frames, "invariance renders every frame", specs=(args.method,))
     sums = []
     for k in range(scene.frames):
         sums.append(intensity_sum(render(scene, args.method, frame=k)))

@@ -126,7 +126,8 @@ def plan_comparison(
     metrics = default_metrics("image", scene) if metrics is None else metrics
     temporal = default_metrics("temporal", scene) if temporal is None else temporal
     # a file's frame count is budgeted as a generator's, before the frame list is built
-    check_frames(scene, _frame_count(frames, scene.frames), f"--frames {frames}")
+    check_frames(scene, _frame_count(frames, scene.frames), f"--frames {frames}", specs=(reference, *methods),
+                 held=1 + len(methods))
     return ComparisonPlan(scene, methods, reference.strip(), parse_frames(frames, scene.frames), metrics,
                           temporal, repeats)
 

@@ -369,18 +369,54 @@ def _scene_load(scene: Scene) -> SceneLoad:
                      float(depth.sum() * c * c))
 
 
-def check_frames(scene: Scene, frames: int, where: str) -> None:
+# The least one render costs whatever the scene: Python's call, the budget check, the image
+# (seconds per render and per pixel; measured 0.5-0.8 ms of CPU per frame for point, abuffer
+# and catmull on a 25x1 scene); a run of many frames is budgeted with at least this.
+RENDER_SECONDS = 1e-3
+PIXEL_SECONDS = 1e-8
+
+
+def _render_seconds(scene: Scene, method: Method, options: Mapping[str, Any]) -> float:
+    """The estimated seconds of one render (the near-tie pass, the method's own estimate,
+    and the least any render costs)."""
+    seconds = RENDER_SECONDS + PIXEL_SECONDS * scene.width * scene.height
+    if _draws_polygons(method):
+        seconds += PAIR_SECONDS * scene_load(scene).pairs
+    if method.seconds is not None:
+        seconds += float(method.seconds(scene, options))
+    return seconds
+
+
+def check_frames(scene: Scene, frames: int, where: str, specs: tuple[str, ...] = (), held: int = 0) -> None:
     """Refuse rendering ``frames`` frames of ``scene`` when the pixels over all of them
     exceed the limit generated scenes have (``aaeval.scenes.generate.MAX_PIXEL_FRAMES``):
-    a scene file's ``[animation] frames`` is budgeted as a generator's is."""
+    a scene file's ``[animation] frames`` is budgeted as a generator's is. With ``specs``
+    (the methods rendering every frame), the whole run's estimated time must fit
+    ``AAEVAL_MAX_SECONDS`` too, and ``held`` images of every frame kept at once (compare
+    keeps each method's frames for the temporal metrics) must fit in memory."""
     from aaeval.scenes import SceneError
     from aaeval.scenes.generate import MAX_PIXEL_FRAMES
 
-    total = scene.width * scene.height * int(frames)
+    frames = int(frames)
+    total = scene.width * scene.height * frames
     if total > MAX_PIXEL_FRAMES:
-        raise SceneError(f"{scene.source}: {where}: {int(frames)} frames of {scene.width}x{scene.height} are "
+        raise SceneError(f"{scene.source}: {where}: {frames} frames of {scene.width}x{scene.height} are "
                          f"{total:.3g} pixels, over the limit of {MAX_PIXEL_FRAMES:.3g} pixels over all frames "
                          "(render fewer frames)")
+    if not specs:
+        return
+    seconds = sum(_render_seconds(scene, *resolve(spec)) for spec in specs) * frames
+    limit_s = _max_seconds()
+    if seconds > limit_s:
+        raise SceneError(f"{scene.source}: {where}: {frames} frames x {len(specs)} method(s) would take about "
+                         f"{seconds:.3g} s, over the limit of {limit_s:.3g} s (AAEVAL_MAX_SECONDS raises it; "
+                         "or render fewer frames)")
+    need = total * 3 * 8 * held
+    have = available_memory()
+    if need > have:
+        raise SceneError(f"{scene.source}: {where}: keeping {held} image(s) of {frames} frames needs about "
+                         f"{need / 2**30:.3g} GiB of memory, {have / 2**30:.3g} GiB available "
+                         "(AAEVAL_MAX_MEMORY may lower it; or render fewer frames)")
 
 
 def _draws_polygons(method: Method) -> bool:
@@ -407,14 +443,12 @@ def check_budget(scene: Scene, method: Method, options: Mapping[str, Any]) -> No
         detail = f", {load.pairs:.3g} overlapping polygon pairs" if load is not None and load.pairs > 1e5 else ""
         raise MethodError(f"{where} needs about {need / 2**30:.3g} GiB of memory ({len(scene.polygons)} polygons"
                           f"{detail}), {have / 2**30:.3g} GiB available (AAEVAL_MAX_MEMORY may lower it)")
-    seconds = PAIR_SECONDS * load.pairs if load is not None and _draws_polygons(method) else 0.0
-    if method.seconds is not None:
-        seconds += float(method.seconds(scene, options))
+    seconds = _render_seconds(scene, method, options)
     limit_s = _max_seconds()
     if seconds > limit_s:
-        raise MethodError(f"{where} would take about {seconds:.3g} s ({len(scene.polygons)} polygons, "
-                          f"{load.pairs:.3g} overlapping polygon pairs), over the limit of {limit_s:.3g} s "
-                          "(AAEVAL_MAX_SECONDS raises it)")
+        detail = f", {load.pairs:.3g} overlapping polygon pairs" if load is not None else ""
+        raise MethodError(f"{where} would take about {seconds:.3g} s ({len(scene.polygons)} polygons{detail}), "
+                          f"over the limit of {limit_s:.3g} s (AAEVAL_MAX_SECONDS raises it)")
 
 
 def render(scene: Scene, spec: str, *, frame: int | None = None) -> np.ndarray:
