@@ -17,12 +17,8 @@ import numpy as np
 from aaeval.importers.fill import resolve_fill
 from aaeval.importers.limits import charge
 from aaeval.importers.stroke import Seg, stroke_pieces
-from aaeval.scenes.holes import points_inside, ring_area
 
-__all__ = ["Subpath", "Region", "fill_regions", "stroke_regions", "nest", "STROKE_CAPS", "STROKE_JOINS", "Seg"]
-
-# Rings smaller than this (px^2) are rounding crumbs, not content.
-CRUMB_AREA = 1e-9
+__all__ = ["Subpath", "Region", "fill_regions", "stroke_regions", "STROKE_CAPS", "STROKE_JOINS", "Seg"]
 
 STROKE_CAPS = ("butt", "round", "square")
 STROKE_JOINS = ("miter", "round", "bevel")
@@ -60,39 +56,3 @@ def stroke_regions(
     pieces = stroke_pieces(subpaths, width, cap=cap, join=join, miter_limit=miter_limit, tol=tol, budget=charge)
     # every piece is positively oriented: their union is the nonzero fill
     return [Region(outer, holes) for outer, holes in resolve_fill(pieces, "nonzero")]
-
-
-def nest(rings: list[np.ndarray]) -> list[Region]:
-    """Sort non-crossing rings into outer rings (even nesting depth) and their holes.
-
-    A ring lies inside another when most of its vertices do (rings from ``Simplify`` may
-    touch at a vertex, never cross); its container is the smallest ring holding it.
-    """
-    order = sorted(range(len(rings)), key=lambda i: -abs(ring_area(rings[i])))
-    lo = [r.min(axis=0) for r in rings]
-    hi = [r.max(axis=0) for r in rings]
-    depth, regions, region_of = {}, [], {}
-    placed: list[int] = []
-    for i in order:
-        container = None
-        for j in reversed(placed):  # smallest first
-            if np.all(lo[j] <= lo[i]) and np.all(hi[i] <= hi[j]) and points_inside(rings[i], rings[j]).mean() > 0.5:
-                container = j
-                break
-        depth[i] = 0 if container is None else depth[container] + 1
-        if depth[i] % 2 == 0:
-            region_of[i] = len(regions)
-            regions.append(Region(rings[i], []))
-        else:
-            regions[region_of[container]].holes.append(rings[i])
-        placed.append(i)
-    return regions
-
-
-def _clean(ring: np.ndarray) -> np.ndarray | None:
-    """Drop repeated vertices (the closing one too); None for a ring without area."""
-    keep = np.any(ring != np.roll(ring, 1, axis=0), axis=1)
-    ring = ring[keep]
-    if len(ring) < 3 or abs(ring_area(ring)) <= CRUMB_AREA:
-        return None
-    return ring
