@@ -282,7 +282,9 @@ def _policy_section(page: _Page, results: pd.DataFrame) -> str:
     """Which ground truth every group uses, and the check that exact renderers agree with it."""
     out = ["<h2 id='ground-truth'>Ground truth</h2>",
            "<p>Policy: every method is judged against the <b>Mitsuba 3</b> render of the same scene frame at "
-           "high spp (box pixel filter, which converges to the exact area average), whose own noise is measured "
+           "high spp through the method's own pixel filter (the box, which converges to the exact area average, "
+           "unless the method renders through another filter F: then Mitsuba with filter F), whose own noise is "
+           "measured "
            "by rendering it a second time with the next seed (noise RMS = RMSE between the two / sqrt 2). An "
            "exact renderer may stand in for it only where the check below shows that, on that group's scenes, "
            "it agrees with the Mitsuba ground truth within the ground truth's noise.</p>"]
