@@ -74,6 +74,10 @@ def resolve_fill(rings, rule: str = "nonzero", weights=None):
     """
     if rule not in ("nonzero", "evenodd", "positive"):
         raise ValueError(f"unknown fill rule {rule!r}; use nonzero or evenodd")
+    if len(rings) == 1 and (weights is None or weights[0] == 1) and rule != "positive":
+        simple = _simple_ring(rings[0])
+        if simple is not None:  # one simple ring fills itself under either rule
+            return simple
     a, b, w = _edges(rings, weights)
     if len(a) == 0:
         return []
@@ -99,6 +103,24 @@ def resolve_fill(rings, rule: str = "nonzero", weights=None):
     dst = np.where(fl[keep], eb[keep], ea[keep])
     rings_out = _trace(pts, src, dst)
     return _nest(rings_out)
+
+
+def _simple_ring(ring):
+    """The region of one ring that neither crosses nor touches itself (the scene format's
+    own simplicity check): itself, oriented positively; None when that does not hold."""
+    from aaeval.scenes.simplicity import ring_contact
+
+    r = np.asarray(ring, dtype=np.float64).reshape(-1, 2)
+    if len(r) > 4096 or not np.isfinite(r).all():
+        return None
+    r = r[np.any(r != np.roll(r, 1, axis=0), axis=1)]
+    if len(r) < 3:
+        return []
+    a = _area(r)
+    ext = float(np.ptp(r, axis=0).max())
+    if abs(a) <= CRUMB_RTOL * ext * ext or ring_contact(r) is not None:
+        return None
+    return [(r if a > 0 else r[::-1].copy(), [])]
 
 
 def _filled(rule):

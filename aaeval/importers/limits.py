@@ -24,7 +24,7 @@ import math
 __all__ = ["ImportLimitError", "MAX_ELEMENTS", "MAX_VERTICES", "MAX_GLYPHS", "TOLERANCE_RTOL",
            "min_tolerance", "check_tolerance", "VertexBudget", "charge"]
 
-MAX_ELEMENTS = 50_000
+MAX_ELEMENTS = 20_000
 MAX_VERTICES = 2_000_000
 MAX_GLYPHS = 20_000
 TOLERANCE_RTOL = 1e-7
