@@ -204,3 +204,30 @@ def test_oversized_svg_is_refused_before_reading(tmp_path, capsys, monkeypatch):
     (tmp_path / "c.svg").write_text(SVG.format("<!--" + "x" * 100_000 + "-->"))
     refused(["import", "svg", "c.svg", "-o", "x.toml"], capsys, "c.svg")
     assert not (tmp_path / "x.toml").exists()
+
+
+@pytest.mark.parametrize("damage", ["truncate", "scramble"])
+def test_damaged_font_is_refused_in_one_line(tmp_path, capsys, monkeypatch, damage):
+    import numpy as np
+
+    from aaeval.importers.text import DEFAULT_FONT
+    from aaeval.scenes.sources import font_path
+
+    monkeypatch.chdir(tmp_path)
+    data = bytearray(font_path(".", DEFAULT_FONT).read_bytes())
+    if damage == "truncate":
+        data = data[: len(data) // 3]
+    else:  # overwrite a run of bytes in the middle (glyph data) with noise
+        rng = np.random.default_rng(1)
+        mid = len(data) // 2
+        data[mid:mid + 200_000] = rng.integers(0, 256, 200_000, dtype=np.uint8).tobytes()
+    (tmp_path / "bad.ttf").write_bytes(bytes(data))
+    text = "".join(chr(c) for c in range(0x41, 0x7B)) + "éμǅ" + "".join(chr(c) for c in range(0x400, 0x450))
+    capsys.readouterr()
+    code = main(["import", "text", text, "--font", "bad.ttf", "-o", "x.toml"])
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    if code == 2:
+        assert len(err.strip().splitlines()) == 1 and "bad.ttf" in err, err
+    else:
+        assert code == 0

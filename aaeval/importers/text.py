@@ -85,12 +85,18 @@ def layout(font_file: str | Path, string: str, size: float, origin) -> list[Plac
     ``origin`` is the pen's start on the baseline (image pixels, y down); ``size`` is
     pixels per em. Characters the font lacks raise :class:`TextError`.
     """
+    from fontTools.ttLib import TTLibError
+
     font = _font(str(font_file))
-    scale = float(size) / font["head"].unitsPerEm
-    cmap = font.getBestCmap() or {}
-    kern = _kerning(font)
-    order = {name: i for i, name in enumerate(font.getGlyphOrder())}
-    hmtx = font["hmtx"]
+    try:
+        scale = float(size) / font["head"].unitsPerEm
+        cmap = font.getBestCmap() or {}
+        kern = _kerning(font)
+        order = {name: i for i, name in enumerate(font.getGlyphOrder())}
+        hmtx = font["hmtx"]
+    except (TTLibError, KeyError, IndexError, ValueError, TypeError, ZeroDivisionError, struct.error,
+            AssertionError) as exc:
+        raise TextError(f"{font_file}: the font's tables cannot be read ({type(exc).__name__}: {exc})") from None
     x, y = float(origin[0]), float(origin[1])
     placed, previous = [], None
     for char in string:
@@ -109,6 +115,7 @@ def glyph_subpaths(font_file: str | Path, glyph: PlacedGlyph, tol: float) -> lis
     """A placed glyph's outline in image pixels, flattened to ``tol``."""
     from fontTools.pens.basePen import BasePen
     from fontTools.pens.transformPen import TransformPen
+    from fontTools.ttLib import TTLibError
 
     glyph_set = _font(str(font_file)).getGlyphSet()
 
@@ -151,9 +158,9 @@ def glyph_subpaths(font_file: str | Path, glyph: PlacedGlyph, tol: float) -> lis
         glyph_set[glyph.glyph].draw(TransformPen(pen, (s, 0, 0, -s, glyph.x, glyph.y)))
     except RecursionError:
         raise TextError(f"{font_file}: glyph {glyph.glyph!r} has components nested without end") from None
-    except (KeyError, IndexError, ValueError, TypeError, struct.error, AssertionError) as exc:
-        if isinstance(exc, TextError):
-            raise
+    except (TextError, ImportLimitError):
+        raise
+    except (KeyError, IndexError, ValueError, TypeError, struct.error, AssertionError, TTLibError) as exc:
         raise TextError(f"{font_file}: glyph {glyph.glyph!r} cannot be read ({type(exc).__name__}: {exc})") from None
     pen._finish()
     return pen.subpaths
