@@ -216,7 +216,7 @@ def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp
         p = figures.error_per_frame(animated, page.figdir / f"{slug}_error_per_frame", metric=page.primary,
                                     title=f"{group}: {page.primary} per frame", styles=page.styles)
         out.append(_figure(p, page.root, f"{page.primary} of every frame, one curve per method and option; the "
-                   f"thick grey curve is the ground truth's own noise in that frame. {ref}"))
+                   f"thick grey curve is the ground truth's own noise in that frame; {figures.UNIT}. {ref}"))
     p = figures.intensity_sums(animated, page.figdir / f"{slug}_intensity_sum",
                                title=f"{group}: intensity sum per frame", styles=page.styles)
     out.append(_figure(p, page.root, "Intensity sum of every frame divided by the ground truth's sum of the same "
@@ -230,7 +230,7 @@ def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp
                    "the animated scenes, linear axes; registered in aaeval/metrics, values from temporal.parquet): "
                    + "; ".join(f"<b>{html.escape(METRICS[m].title)}</b>: {html.escape(METRICS[m].summary)}"
                                for m in names)
-                   + f". The dashed line is the ground truth's own noise RMS where it applies. {ref}"))
+                   + f". The dashed line is the ground truth's own noise RMS where it applies; {figures.UNIT}. {ref}"))
     scene = animated["scene"].iloc[0]
     reference, series, frames = scene_series(animated, page.store, scene, page.styles)
     if reference is not None and series:
@@ -320,7 +320,7 @@ def _policy_section(page: _Page, results: pd.DataFrame) -> str:
     out.append(_figure(p, page.root, "Each exact method's RMSE against the Mitsuba ground truth (one point per "
                        "scene frame) over that ground truth's own measured noise. On the diagonal the exact "
                        "method agrees with the ground truth as well as two Mitsuba renders agree with each other "
-                       "(RMSE between an exact image and a noisy one is the noise RMS)."))
+                       f"(RMSE between an exact image and a noisy one is the noise RMS); {figures.UNIT}."))
     out.append(page.table(table, "ground_truth_validation",
                           "Exact renderers against the Mitsuba ground truth, with its seed-to-seed noise"))
     if page.shaded:
@@ -413,7 +413,7 @@ def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.Dat
         p = figures.stability(rows, page.figdir / f"{slug}_stability", metric=page.primary,
                               failed=failed.loc[rows.index], title=f"{group}: error and failures as difficulty grows",
                               styles=page.styles, definition=page.definition)
-        out.append(_figure(p, page.root, f"Mean {page.primary} (left; thick grey: the ground truth's noise) and "
+        out.append(_figure(p, page.root, f"Mean {page.primary} (left; thick grey: the ground truth's noise; {figures.UNIT}) and "
                    f"fraction of failed cells (right) against difficulty. {html.escape(page.definition)} {ref}"))
     grid = _grid(page, ok, slug, group, ref)
     if grid:
