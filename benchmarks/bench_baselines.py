@@ -17,6 +17,7 @@ import numpy as np
 
 from aaeval.renderers import render, render_timed
 from aaeval.scenes.generate import random_triangles
+from smoke import SMOKE, smallest
 
 DEFAULT_METHODS = [
     "catmull",
@@ -39,8 +40,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--methods", nargs="+", default=DEFAULT_METHODS)
-    args = parser.parse_args()
-    scenes = {name: random_triangles(**kw) for name, kw in SCENES.items()}
+    args = smallest(parser.parse_args(), repeats=1)
+    sizes = {"96x96, 40 triangles": dict(width=96, height=96, n=40, seed=1, size=20.0)} if SMOKE else SCENES
+    scenes = {name: random_triangles(**kw) for name, kw in sizes.items()}
     print(f"median ms per frame over {args.repeats} repeats (after warm-up)")
     print(f"{'method':<22}" + "".join(f"{name:>28}" for name in scenes))
     for spec in args.methods:

@@ -17,6 +17,7 @@ import numpy as np
 from aaeval.renderers import render
 from aaeval.renderers.catmull import visible_fragments
 from aaeval.scenes.generate import random_triangles
+from smoke import smallest
 
 
 def measure(scene, spec, repeats):
@@ -37,7 +38,7 @@ def main():
     parser.add_argument("--size", type=float, nargs="+", default=[20.0, 40.0, 60.0],
                         help="triangle extent in pixels (bounding box side); several values allowed")
     parser.add_argument("--seed", type=int, default=1)
-    args = parser.parse_args()
+    args = smallest(parser.parse_args(), triangles=50, size=[20.0], repeats=1)
     width = height = 512
     print(f"{args.triangles} random interpenetrating triangles, {width}x{height}, "
           f"median of {args.repeats} after warm-up, one core")

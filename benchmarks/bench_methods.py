@@ -39,6 +39,7 @@ from numba import njit
 from aaeval.renderers import render_timed
 from aaeval.renderers.catmull import available_cores
 from aaeval.scenes.generate import random_triangles
+from smoke import smallest
 
 METHODS = [
     "catmull:threads=1",
@@ -57,6 +58,7 @@ GROUPS = {
     "size": [(256, 2000, 20.0), (512, 2000, 40.0), (1024, 2000, 80.0), (2048, 2000, 160.0)],
     "depth": [(512, 2000, 10.0), (512, 2000, 20.0), (512, 2000, 40.0), (512, 2000, 80.0)],
 }
+SMOKE_GROUP = [(96, 40, 20.0)]  # AAEVAL_BENCH_SMOKE=1 (benchmarks/smoke.py)
 
 
 def covered_area(scene) -> float:
@@ -160,7 +162,7 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--plot-only", action="store_true", help="redraw the plot from --out's CSV")
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results"))
-    args = parser.parse_args()
+    args = smallest(parser.parse_args(), groups=["smoke"], repeats=1)
     args.out.mkdir(parents=True, exist_ok=True)
     fill = fill_seconds_per_pixel()
     if args.plot_only:
@@ -172,7 +174,7 @@ def main() -> None:
     print(f"{os.cpu_count()} cores; fill rate {fill * 1e9:.2f} ns per RGB float64 pixel; "
           f"median of {args.repeats} interleaved repeats after warm-up")
     print(f"parallel ceiling: pure arithmetic runs {ceiling:.2f}x faster on {cores} threads than on one")
-    scenes = list(dict.fromkeys(s for g in args.groups for s in GROUPS[g]))
+    scenes = list(dict.fromkeys(s for g in args.groups for s in {**GROUPS, "smoke": SMOKE_GROUP}[g]))
     rows = []
     for side, n, size in scenes:
         scene = random_triangles(n, side, side, size=size, depth_range=(0.0, 100.0), seed=args.seed)

@@ -27,6 +27,7 @@ import numpy as np
 from aaeval.renderers import render
 from aaeval.scenes.generate import random_triangles
 from aaeval.weiler_atherton import visible_arrays
+from smoke import smallest
 
 
 def interleaved(scene, specs, rounds):
@@ -52,7 +53,7 @@ def main():
     parser.add_argument("--image", type=int, default=512, help="image side in pixels")
     parser.add_argument("--rounds", type=int, default=7)
     parser.add_argument("--seed", type=int, default=1)
-    args = parser.parse_args()
+    args = smallest(parser.parse_args(), counts=[40], image=96, rounds=1)
     side = args.image
     base = "catmull:threads=1"
     specs = [base, "catmull", "weiler-atherton"] + [f"weiler-atherton:window={w}" for w in args.windows if w]

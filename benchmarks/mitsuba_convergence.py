@@ -22,6 +22,7 @@ from aaeval.groundtruth.flat import SAMPLERS, render_mitsuba
 from aaeval.groundtruth.variant import import_mitsuba
 from aaeval.renderers import METHODS, render
 from aaeval.scenes import Scene, load_scene, parse_scene
+from smoke import smallest
 
 TARGET_RMSE = 2e-4
 
@@ -73,9 +74,10 @@ def main(argv=None) -> None:
     parser.add_argument("--repeats", type=int, default=3, help="renders (seeds) per cell; medians are printed")
     parser.add_argument("--no-generated", action="store_true", help="skip the generated 256x256 scene")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
-    args = parser.parse_args(argv)
+    args = smallest(parser.parse_args(argv), spp="4,16", repeats=1, no_generated=True, quiet=True,
+                    scenes=[Path("configs/scenes/fan.toml")])
 
-    from tqdm import tqdm
+    from rich.progress import track  # rich: a dependency already (tqdm is not)
 
     spp_list = [int(s) for s in args.spp.split(",")]
     paths = args.scenes or sorted(Path("configs/scenes").glob("*.toml"))
@@ -87,7 +89,7 @@ def main(argv=None) -> None:
     print(f"Mitsuba {mi.__version__}, variant {mi.variant()}, sampler {args.sampler}, median of {args.repeats} seeds")
     header = f"{'scene':<28} {'size':>9} {'polys':>5} {'spp':>6} {'RMSE':>9} {'max|err|':>9} {'wall s':>8} {'cpu s':>8}"
     lines, failures = [header, "-" * len(header)], []
-    for scene in tqdm(scenes, disable=args.quiet, desc="scenes"):
+    for scene in (scenes if args.quiet else track(scenes, description="scenes")):
         name = Path(scene.source).stem if scene.source.endswith(".toml") else scene.source
         for spp, rmse, worst, seconds, cpu in measure(scene, spp_list, args.sampler, args.repeats):
             size = f"{scene.width}x{scene.height}"
