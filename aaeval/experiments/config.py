@@ -247,12 +247,7 @@ def _speed(raw: Any, where: str, base: Path, groups: set[str]) -> SpeedPass:
         if src.parsed.width * src.parsed.height < SPEED_MIN_PIXELS:
             raise ConfigError(f"{where}.scenes: {src.name} is {src.parsed.width}x{src.parsed.height}; the speed pass "
                               f"times images of at least {SPEED_MIN_PIXELS} pixels (256 x 256)")
-    methods = raw.get("methods")
-    if not isinstance(methods, list) or not methods or not all(isinstance(m, str) for m in methods):
-        raise ConfigError(f"{where}.methods: expected a non-empty list of method specs, got {methods!r}")
-    options = raw.get("options", {})
-    if not isinstance(options, Mapping):
-        raise ConfigError(f"{where}.options: expected a table of option = [values], got {options!r}")
+    methods, options = _methods_and_options(raw, where)
     repeats = _repeats(raw.get("repeats", 5), f"{where}.repeats")
     threads = raw.get("threads", 1)
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
@@ -267,6 +262,17 @@ def _speed(raw: Any, where: str, base: Path, groups: set[str]) -> SpeedPass:
     if accuracy is not None and accuracy not in groups:
         raise ConfigError(f"{where}.accuracy: {accuracy!r} is not a group of this experiment ({sorted(groups)})")
     return SpeedPass(scenes, tuple(specs), repeats, threads, accuracy)
+
+
+def _methods_and_options(raw: Mapping, where: str) -> tuple[list, Mapping]:
+    """A table's ``methods`` (a non-empty list of specs) and ``options`` (option = [values])."""
+    methods = raw.get("methods")
+    if not isinstance(methods, list) or not methods or not all(isinstance(m, str) for m in methods):
+        raise ConfigError(f"{where}.methods: expected a non-empty list of method specs, got {methods!r}")
+    options = raw.get("options", {})
+    if not isinstance(options, Mapping):
+        raise ConfigError(f"{where}.options: expected a table of option = [values], got {options!r}")
+    return methods, options
 
 
 def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str, ...], repeats: int,
@@ -284,12 +290,7 @@ def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str,
     scenes = _scenes(raw.get("scenes"), f"{where}.scenes", base)
     if "animate" in raw:
         scenes = _animate(scenes, raw["animate"], f"{where}.animate")
-    methods = raw.get("methods")
-    if not isinstance(methods, list) or not methods or not all(isinstance(m, str) for m in methods):
-        raise ConfigError(f"{where}.methods: expected a non-empty list of method specs, got {methods!r}")
-    options = raw.get("options", {})
-    if not isinstance(options, Mapping):
-        raise ConfigError(f"{where}.options: expected a table of option = [values], got {options!r}")
+    methods, options = _methods_and_options(raw, where)
     specs = _expand_specs(methods, options, f"{where}")
     frames = _frames(raw.get("frames", "all"), f"{where}.frames", scenes)
     if "repeats" in raw:
