@@ -82,7 +82,7 @@ def workspace(tmp_path_factory):
 
 def _run(command: str, cwd: Path) -> subprocess.CompletedProcess:
     if command.split()[:3] == ["python3", "-m", "pytest"]:
-        command = command + " --collect-only -q"  # the suite cannot run itself inside itself
+        command = command + " --collect-only -q -n 0"  # the suite cannot run itself inside itself
         cwd = ROOT
     # benchmarks at their smallest (benchmarks/smoke.py): the command runs, its numbers mean nothing
     env = {**os.environ, "AAEVAL_SKIP_INSTALL": "1", "PYTHONDONTWRITEBYTECODE": "1", "AAEVAL_BENCH_SMOKE": "1"}
