@@ -13,6 +13,8 @@ import pytest
 
 from aaeval.cli import main
 
+from cli_util import refused
+
 ANIMATED = """[image]
 width = 16
 height = 16
@@ -38,16 +40,6 @@ scenes = ["scene.toml"]
 methods = ["point"]
 frames = "all"
 """
-
-
-def refused(argv, capsys, *names):
-    code = main(argv)
-    err = capsys.readouterr().err
-    assert code == 2, err
-    assert err.count("\n") == 1 and "Traceback" not in err, err
-    for name in names:
-        assert str(name) in err, err
-    return err
 
 
 # --- case 7 --------------------------------------------------------------------------------

@@ -13,6 +13,8 @@ import pytest
 
 from aaeval.cli import main
 
+from cli_util import refused
+
 SQUARE = """[image]
 width = 8
 height = 8
@@ -40,17 +42,6 @@ vertices = [[1.0, 1.0, 1.0], [5.0, 1.0, 1.0], [5.0, 5.0, 1.0], [1.0, 5.0, 1.0]]
 """
 
 GOOD_SVG = '<svg xmlns="http://www.w3.org/2000/svg" width="8" height="8"><rect x="1" y="1" width="4" height="4"/></svg>'
-
-
-def refused(argv, capsys, *names):
-    """Run the CLI: exit 2, one line on stderr naming every one of ``names``, no traceback."""
-    code = main(argv)
-    err = capsys.readouterr().err
-    assert code == 2, err
-    assert err.count("\n") == 1 and "Traceback" not in err, err
-    for name in names:
-        assert str(name) in err, err
-    return err
 
 
 # --- the one bounded reader -------------------------------------------------------------
