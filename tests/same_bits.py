@@ -1,0 +1,114 @@
+"""The scene list and image digests behind the native port's same-bits regression (issue 20).
+
+Before a numba kernel family was deleted, its images on every scene here were recorded as
+SHA-256 digests (``tests/data/same_bits_<family>.json``) by the numba code; the native
+kernels must give the same bytes (``tests/test_same_bits.py``). Where a difference was
+explained instead, the entry holds the image's largest allowed deviation from the recorded
+numba image, kept beside it as ``.npz``.
+
+Record (only while the numba kernels still exist) with::
+
+    python3 -m tests.same_bits record <family>
+
+The scenes: random interpenetrating triangles and concave stars, degenerate placements
+(shared vertices, pixel-boundary edges, equal depths), near-coplanar stacks, every shipped
+scene (holes, content, shaded), generated benchmark-like scenes.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import sys
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import numpy as np
+
+from aaeval.scenes import Scene, load_scene, parse_scene
+from aaeval.scenes.generate import generate_scene
+from tests.randomscenes import degenerate_scene, random_scene
+
+ROOT = Path(__file__).resolve().parent.parent
+DATA = Path(__file__).resolve().parent / "data"
+
+FILTERS = ("tent", "bspline", "mitchell", "catmullrom", "gaussian")
+
+# the methods each kernel family renders: the digests of a family change only with its port
+FAMILY_METHODS: dict[str, tuple[str, ...]] = {
+    "catmull": ("catmull", "catmull-jagged", *(f"catmull:filter={f}" for f in FILTERS)),
+    "weiler_atherton": ("weiler-atherton",),
+    "samplers": ("point", "supersample:k=3", "jitter:k=4,seed=7", "abuffer", "msaa:samples=4"),
+}
+
+
+def near_tie_stack(seed: int, k: int = 4) -> Scene:
+    """k large quads over one plane, each tilted by about 1e-12: near-coplanar ties."""
+    rng = np.random.default_rng(seed)
+    polys = []
+    for i in range(k):
+        x0, y0 = rng.uniform(0, 4, 2)
+        xy = np.array([[x0, y0], [x0 + 9, y0 + 1], [x0 + 8, y0 + 8], [x0 - 1, y0 + 7]])
+        tilt = rng.uniform(-1e-12, 1e-12, 2)
+        z = 3.0 + tilt[0] * xy[:, 0] + tilt[1] * xy[:, 1]
+        polys.append({"color": rng.uniform(0, 1, 3).tolist(), "vertices": np.column_stack([xy, z]).tolist()})
+    return parse_scene({"image": {"width": 13, "height": 12}, "polygons": polys}, source=f"<stack {seed}>")
+
+
+def scenes() -> Iterator[tuple[str, Callable[[], Scene]]]:
+    """``(scene id, make)`` for every scene of the regression, in a fixed order."""
+    for seed in range(40):
+        yield f"random-{seed}", lambda seed=seed: random_scene(seed, tilt=0.0 if seed % 5 == 0 else 1.0)
+    for seed in range(30):
+        yield f"degenerate-{seed}", lambda seed=seed: degenerate_scene(seed)
+    for seed in range(10):
+        yield f"near-tie-{seed}", lambda seed=seed: near_tie_stack(seed, k=2 + seed % 4)
+    for path in sorted((ROOT / "configs" / "scenes").rglob("*.toml")):
+        name = path.relative_to(ROOT / "configs" / "scenes").as_posix()
+        yield f"shipped:{name}", lambda path=path: load_scene(path)
+    for name, difficulty in (("fan", 7), ("fan", 40), ("sliver", 3.0), ("sliver", 40.0), ("picket", 0.7),
+                             ("picket", 3.3), ("random", 30), ("random", 300), ("edges", 0.05), ("edges", 0.3),
+                             ("shininess", 50), ("curvature", 0.5)):
+        yield f"generated:{name}@{difficulty}", lambda n=name, d=difficulty: parse_scene(generate_scene(n, d))
+    yield "bench:512-2000x40", lambda: _benchmark_like(512, 2000, 40.0)
+
+
+def _benchmark_like(size: int, count: int, extent: float) -> Scene:
+    """bench_methods' random-triangle scene at one size (seeded)."""
+    from aaeval.scenes.generate import random_triangles
+
+    return random_triangles(count, size, size, size=extent, seed=0)
+
+
+def digest(image: np.ndarray) -> str:
+    """SHA-256 of the image's float64 bytes and shape."""
+    image = np.ascontiguousarray(image, dtype=np.float64)
+    return hashlib.sha256(repr(image.shape).encode() + image.tobytes()).hexdigest()
+
+
+def digests_of(family: str) -> Iterator[tuple[str, str]]:
+    """``(scene id|spec, digest)`` of every scene and method of ``family``; a method that
+    refuses a scene (a shaded scene for a flat method, say) records the refusal's type."""
+    from aaeval.renderers.registry import render
+
+    for scene_id, make in scenes():
+        scene = make()
+        for spec in FAMILY_METHODS[family]:
+            try:
+                yield f"{scene_id}|{spec}", digest(render(scene, spec))
+            except (ValueError, NotImplementedError) as error:
+                yield f"{scene_id}|{spec}", f"refused: {type(error).__name__}"
+
+
+def record(family: str) -> Path:
+    DATA.mkdir(exist_ok=True)
+    out = DATA / f"same_bits_{family}.json"
+    digests = dict(digests_of(family))
+    out.write_text(json.dumps(digests, indent=1, sort_keys=True) + "\n")
+    return out
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 3 or sys.argv[1] != "record" or sys.argv[2] not in FAMILY_METHODS:
+        raise SystemExit(f"usage: python3 -m tests.same_bits record {{{','.join(FAMILY_METHODS)}}}")
+    print(record(sys.argv[2]))

@@ -1,0 +1,26 @@
+"""The native kernels give the numba kernels' bits on the regression's 115 scenes (issue 20).
+
+The expected digests were recorded by the numba kernels before they were deleted
+(``tests/same_bits.py``); a mismatch names the scene and method.
+"""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from tests.same_bits import DATA, FAMILY_METHODS, digests_of
+
+RECORDED = sorted(f for f in FAMILY_METHODS if (DATA / f"same_bits_{f}.json").exists())
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("family", RECORDED)
+def test_native_images_have_the_recorded_bits(family):
+    expected = json.loads((DATA / f"same_bits_{family}.json").read_text())
+    got = dict(digests_of(family))
+    assert len(expected) >= 100 * len(FAMILY_METHODS[family]) // 2
+    differing = sorted(key for key in expected if got.get(key) != expected[key])
+    assert got.keys() == expected.keys()
+    assert not differing, f"{len(differing)} of {len(expected)} images differ, e.g. {differing[:5]}"
