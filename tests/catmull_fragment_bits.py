@@ -1,0 +1,47 @@
+"""Digests of the Catmull kernel's visible fragments on the same-bits scenes (issue 20).
+
+``tests/same_bits.py`` records images; this records what ``visible_fragments`` returns
+(pixel, polygon, area, centroid), with and without centroids, on the same 115 scenes, so
+the fragments sink is held to the numba kernel's bits as well. Recorded by the numba
+kernel before it was deleted (``tests/data/same_bits_catmull_fragments.json``) with::
+
+    python3 -m tests.catmull_fragment_bits record
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import sys
+from collections.abc import Iterator
+
+import numpy as np
+
+from aaeval.renderers.catmull import visible_fragments
+from tests.same_bits import DATA, scenes
+
+FILE = DATA / "same_bits_catmull_fragments.json"
+
+
+def fragments_digest(fragments) -> str:
+    """SHA-256 of every field's bytes (int64 / float64) and length."""
+    h = hashlib.sha256()
+    for field, dtype in zip(fragments, (np.int64, np.int64, np.float64, np.float64, np.float64)):
+        a = np.ascontiguousarray(field, dtype=dtype)
+        h.update(repr(a.shape).encode() + a.tobytes())
+    return h.hexdigest()
+
+
+def fragment_digests() -> Iterator[tuple[str, str]]:
+    for scene_id, make in scenes():
+        scene = make()
+        for centroids in (True, False):
+            key = f"{scene_id}|centroids={centroids}"
+            yield key, fragments_digest(visible_fragments(scene, centroids=centroids, threads=1))
+
+
+if __name__ == "__main__":
+    if sys.argv[1:] != ["record"]:
+        raise SystemExit("usage: python3 -m tests.catmull_fragment_bits record")
+    FILE.write_text(json.dumps(dict(fragment_digests()), indent=1, sort_keys=True) + "\n")
+    print(FILE)
