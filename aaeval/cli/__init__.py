@@ -84,10 +84,6 @@ def _one_line(message) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from aaeval.experiments.config import ConfigError
-    from aaeval.renderers.registry import MethodError
-    from aaeval.scenes import SceneError
-
     from aaeval.plugins import load_plugins
 
     load_plugins("aaeval.metrics")  # metrics of other packages (methods load with aaeval.renderers)
@@ -96,7 +92,9 @@ def main(argv: list[str] | None = None) -> int:
     try:
         with _signals_interrupt():
             return int(args.run(args) or 0)
-    except (SceneError, MethodError, ConfigError, ValueError) as exc:
+    # SceneError, MethodError and ConfigError are ValueErrors: caught here without importing
+    # the sweep machinery (pandas, scipy), which a plain render does not need at start-up
+    except ValueError as exc:
         print(f"aaeval {args.command}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
     except OSError as exc:  # a full disk, a vanished folder, permissions: named, no traceback
