@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Installs aaeval and everything it needs: the Python package with its test extras, and
-# on Debian-like machines the shared libLLVM that Mitsuba's LLVM variant loads.
+# Installs aaeval and everything it needs: the Python package with its test extras (its
+# C++ kernels compiled on the way, by scikit-build-core and CMake), and on Debian-like
+# machines a C++ compiler and CMake where missing and the shared libLLVM that Mitsuba's
+# LLVM variant loads.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=${PYTHON:-python3}
@@ -13,6 +15,17 @@ have_llvm() {  # a libLLVM >= 16 where aaeval.groundtruth.variant looks first
   done
   return 1
 }
+
+# the native kernels (src/, CMakeLists.txt) need a C++17 compiler and CMake >= 3.18
+if ! command -v c++ >/dev/null 2>&1 || ! command -v cmake >/dev/null 2>&1; then
+  if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
+    echo "installing a C++ compiler and CMake for the native kernels"
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq build-essential cmake >/dev/null
+  else
+    echo "error: the native kernels need a C++17 compiler and CMake (Debian: apt-get install build-essential cmake)" >&2
+    exit 1
+  fi
+fi
 
 if ! have_llvm && [ -z "${DRJIT_LIBLLVM_PATH:-}" ]; then
   if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
