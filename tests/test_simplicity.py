@@ -125,3 +125,40 @@ def test_a_100000_vertex_polygon_validates_in_seconds(tmp_path):
     scene = parse_scene(doc)
     assert len(scene.polygons[0].vertices) == 100_000
     assert time.process_time() - start < 30  # was: MemoryError (37 GiB asked)
+
+
+def test_the_sweep_gives_the_answers_recorded_before_the_port():
+    # tests/simplicity_cases.py: 491 outlines (random grids, floats, stars, holes, spirals,
+    # near-duplicates) whose answers the numba sweep gave, sweep forced and as shipped
+    import json
+
+    from tests.simplicity_cases import DATA, answers
+
+    expected = json.loads(DATA.read_text())
+    got = dict(answers())
+    assert len(expected) >= 300 and got.keys() == expected.keys()
+    differing = sorted(key for key in expected if got[key] != expected[key])
+    assert not differing, f"{len(differing)} of {len(expected)} answers differ, e.g. {differing[:5]}"
+
+
+@pytest.mark.parametrize("bad", [
+    lambda p, a, b, o, i: (p.astype(np.float32), a, b, o, i),
+    lambda p, a, b, o, i: (p[:, :1], a, b, o, i),
+    lambda p, a, b, o, i: (np.asfortranarray(np.c_[p, p])[:, :2], a, b, o, i),
+    lambda p, a, b, o, i: (p, a, b + 1, o, i),
+    lambda p, a, b, o, i: (p, a, b, o[:-1], i),
+    lambda p, a, b, o, i: (p, a, b, np.zeros_like(o), i),
+    lambda p, a, b, o, i: (p, a, b, o, i[::-1].copy()),
+    lambda p, a, b, o, i: (np.where(p == p[0], np.nan, p), a, b, o, i),
+])
+def test_the_native_sweep_refuses_inconsistent_arrays(bad):
+    from aaeval import _samplers
+
+    p = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
+    a = np.arange(4, dtype=np.int64)
+    b = np.array([1, 2, 3, 0], dtype=np.int64)
+    o = np.lexsort((p[:, 1], p[:, 0])).astype(np.int64)
+    i = np.array([3, 0, 1, 2], dtype=np.int64)
+    assert _samplers.sweep(p, a, b, o, i) == (-1, -1)
+    with pytest.raises(ValueError):
+        _samplers.sweep(*bad(p, a, b, o, i))

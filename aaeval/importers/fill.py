@@ -34,6 +34,8 @@ import math
 
 import numpy as np
 
+from aaeval.scenes.simplicity import ring_contact
+
 __all__ = ["resolve_fill", "snap_distance", "FillError", "MAX_PAIRS", "MAX_EDGES"]
 
 # Stated limits: an outline with more edges, or whose edges' boxes overlap in more
@@ -108,8 +110,6 @@ def resolve_fill(rings, rule: str = "nonzero", weights=None):
 def _simple_ring(ring):
     """The region of one ring that neither crosses nor touches itself (the scene format's
     own simplicity check): itself, oriented positively; None when that does not hold."""
-    from aaeval.scenes.simplicity import ring_contact
-
     r = np.asarray(ring, dtype=np.float64).reshape(-1, 2)
     if len(r) > 4096 or not np.isfinite(r).all():
         return None

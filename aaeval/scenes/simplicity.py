@@ -14,6 +14,7 @@ without the closing vertex, edge ``k`` running from vertex ``k`` to vertex ``k +
 ring is one polygon outline; several rings (an outline and its holes) are checked together,
 where no edge of one ring may meet any edge of another.
 
+The sweep runs in C++ (``src/samplers/simplicity.cpp``, module ``aaeval._samplers``).
 Orientation signs are computed in float64 the way the pairwise test computes them, so the
 two agree wherever the signs are exact (integer coordinates, tests/test_simplicity.py);
 a meeting or a miss within rounding error of a tie may be judged either way by either.
@@ -24,7 +25,8 @@ from __future__ import annotations
 from typing import Sequence
 
 import numpy as np
-from numba import njit
+
+from aaeval._samplers import sweep as _native_sweep
 
 __all__ = ["ring_contact", "rings_contact", "BRUTE_FORCE_EDGES"]
 
@@ -66,7 +68,7 @@ def rings_contact(rings: Sequence[np.ndarray]) -> tuple[int, int, int, int] | No
             order = np.lexsort((pts[:, 1], pts[:, 0]))
             incoming = np.empty(len(pts), dtype=np.int64)
             incoming[b] = a  # edge ending at vertex v; edge e starts at vertex e
-            e, f = _sweep(pts, a, b, order, incoming)
+            e, f = _native_sweep(pts, a, b, order.astype(np.int64), incoming)
             hit = None if e < 0 else (int(e), int(f))
     if hit is None:
         return None
@@ -112,121 +114,3 @@ def _orient(p, q, r):
 def _within(p, q, r):  # r on segment pq, given collinear
     return ((np.minimum(p[:, 0], q[:, 0]) <= r[:, 0]) & (r[:, 0] <= np.maximum(p[:, 0], q[:, 0]))
             & (np.minimum(p[:, 1], q[:, 1]) <= r[:, 1]) & (r[:, 1] <= np.maximum(p[:, 1], q[:, 1])))
-
-
-# --- the sweep line (numba) ----------------------------------------------------------
-
-
-@njit(cache=True)
-def _orient1(pts, u, v, w):
-    value = (pts[v, 0] - pts[u, 0]) * (pts[w, 1] - pts[u, 1]) - (pts[v, 1] - pts[u, 1]) * (pts[w, 0] - pts[u, 0])
-    return 1 if value > 0 else (-1 if value < 0 else 0)
-
-
-@njit(cache=True)
-def _within1(pts, u, v, w):
-    return (min(pts[u, 0], pts[v, 0]) <= pts[w, 0] <= max(pts[u, 0], pts[v, 0])
-            and min(pts[u, 1], pts[v, 1]) <= pts[w, 1] <= max(pts[u, 1], pts[v, 1]))
-
-
-@njit(cache=True)
-def _meet(pts, a, b, e, f):
-    """Whether edges e and f meet (consecutive ones: whether they fold along each other)."""
-    p, q, r, s = a[e], b[e], a[f], b[f]
-    if p == r or p == s or q == r or q == s:
-        near = p if (p == r or p == s) else q
-        far_e = q if near == p else p
-        far_f = s if near == r else r
-        return _orient1(pts, near, far_e, far_f) == 0 and (
-            _within1(pts, near, far_e, far_f) or _within1(pts, near, far_f, far_e))
-    o1, o2 = _orient1(pts, p, q, r), _orient1(pts, p, q, s)
-    o3, o4 = _orient1(pts, r, s, p), _orient1(pts, r, s, q)
-    if o1 * o2 < 0 and o3 * o4 < 0:
-        return True
-    return ((o1 == 0 and _within1(pts, p, q, r)) or (o2 == 0 and _within1(pts, p, q, s))
-            or (o3 == 0 and _within1(pts, r, s, p)) or (o4 == 0 and _within1(pts, r, s, q)))
-
-
-@njit(cache=True)
-def _side(pts, a, b, left, right, e, t, v):
-    """Edge e against edge t (in the list) at the sweep point v, a vertex of e:
-    +1 above, -1 below, 2 when v lies on t (a meeting, unless t shares v)."""
-    o = _orient1(pts, left[t], right[t], v)
-    if o != 0:
-        return o
-    if a[t] == v or b[t] == v:  # both edges leave (or both reach) v: order them by e's far end
-        far = b[e] if a[e] == v else a[e]
-        o = _orient1(pts, left[t], right[t], far)
-        return 2 if o == 0 else o
-    return 2
-
-
-@njit(cache=True)
-def _locate(pts, a, b, left, right, active, size, e, v):
-    """Binary search of the list at the sweep point v for edge e: ``(position, -1)``, where
-    e is (when listed) or goes, or ``(position, t)`` for an edge t that v lies on."""
-    lo, hi = 0, size
-    while lo < hi:
-        mid = (lo + hi) // 2
-        t = active[mid]
-        if t == e:
-            return mid, -1
-        c = _side(pts, a, b, left, right, e, t, v)
-        if c == 2:
-            return mid, t
-        if c > 0:
-            lo = mid + 1
-        else:
-            hi = mid
-    return lo, -1
-
-
-@njit(cache=True)
-def _sweep(pts, a, b, order, incoming):
-    n = len(a)
-    rank = np.empty(n, dtype=np.int64)
-    for i in range(n):
-        rank[order[i]] = i
-    left = np.empty(n, dtype=np.int64)
-    right = np.empty(n, dtype=np.int64)
-    for e in range(n):
-        if rank[a[e]] < rank[b[e]]:
-            left[e], right[e] = a[e], b[e]
-        else:
-            left[e], right[e] = b[e], a[e]
-    active = np.empty(n, dtype=np.int64)  # edges crossing the sweep line, bottom to top
-    size = 0
-    for i in range(n):
-        v = order[i]
-        for k in range(2):  # edges ending at v leave first
-            e = incoming[v] if k == 0 else v
-            if right[e] != v:
-                continue
-            pos, hit = _locate(pts, a, b, left, right, active, size, e, v)
-            if hit >= 0:
-                return e, hit
-            if pos >= size or active[pos] != e:  # rounding left the list unordered: look it up
-                pos = 0
-                while active[pos] != e:
-                    pos += 1
-            for m in range(pos, size - 1):
-                active[m] = active[m + 1]
-            size -= 1
-            if 0 < pos < size and _meet(pts, a, b, active[pos - 1], active[pos]):
-                return active[pos - 1], active[pos]
-        for k in range(2):  # then edges starting at v enter
-            e = incoming[v] if k == 0 else v
-            if left[e] != v:
-                continue
-            lo, hit = _locate(pts, a, b, left, right, active, size, e, v)
-            if hit >= 0:
-                return e, hit
-            for m in range(size, lo, -1):
-                active[m] = active[m - 1]
-            active[lo] = e
-            size += 1
-            if lo > 0 and _meet(pts, a, b, active[lo - 1], e):
-                return active[lo - 1], e
-            if lo + 1 < size and _meet(pts, a, b, e, active[lo + 1]):
-                return e, active[lo + 1]
-    return -1, -1

@@ -1,0 +1,219 @@
+// aaeval._samplers: the bindings of the point samplers, the A-buffer, the depth tie rule
+// and the simplicity sweep line. Every input is checked here, once, before a kernel runs
+// (dtype, C order, shape, lengths, index ranges, finiteness, sizes): a bad input is a
+// one-line ValueError, never an out-of-bounds access. The kernels run without the GIL.
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/pair.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "samplers/depth.hpp"
+#include "samplers/sampling.hpp"
+
+namespace nb = nanobind;
+using namespace aaeval::samplers;
+
+namespace {
+
+using Array = nb::ndarray<nb::ro, nb::device::cpu>;
+using OutArray = nb::ndarray<nb::numpy, double>;
+using IndexArray = nb::ndarray<nb::numpy, int64_t>;
+
+[[noreturn]] void fail(const std::string& message) { throw nb::value_error(message.c_str()); }
+
+// The array's data after checking dtype T, ndim, C order and (where >= 0) each extent.
+template <typename T>
+const T* checked(const Array& x, const char* name, std::initializer_list<int64_t> shape) {
+  const size_t ndim = shape.size();
+  if (x.dtype() != nb::dtype<T>())
+    fail(std::string(name) + ": expected " + (std::is_same_v<T, double> ? "float64" : "int64") + " values");
+  if (x.ndim() != ndim) fail(std::string(name) + ": expected " + std::to_string(ndim) + " dimension(s)");
+  bool empty = false;
+  for (size_t d = 0; d < ndim; ++d) empty = empty || x.shape(d) == 0;
+  int64_t expected_stride = 1;
+  for (size_t d = ndim; d-- > 0;) {
+    const int64_t want = shape.begin()[d];
+    if (want >= 0 && static_cast<int64_t>(x.shape(d)) != want)
+      fail(std::string(name) + ": expected extent " + std::to_string(want) + " in dimension " + std::to_string(d) +
+           ", got " + std::to_string(x.shape(d)));
+    if (!empty && x.shape(d) > 1 && x.stride(d) != expected_stride) fail(std::string(name) + ": expected a C-contiguous array");
+    expected_stride *= static_cast<int64_t>(x.shape(d));
+  }
+  return static_cast<const T*>(x.data());
+}
+
+void check_finite(const double* v, size_t n, const char* name) {
+  for (size_t i = 0; i < n; ++i)
+    if (!std::isfinite(v[i])) fail(std::string(name) + ": expected finite values");
+}
+
+void check_size(int64_t width, int64_t height, int64_t per_pixel) {
+  if (width < 0 || height < 0) fail("image size must not be negative");
+  // refuse sizes whose element counts could overflow before trying to allocate them
+  const double elements = static_cast<double>(width) * static_cast<double>(height) * static_cast<double>(per_pixel);
+  if (width > (int64_t(1) << 31) || height > (int64_t(1) << 31) || elements > 0x1p40)
+    fail("image too large: " + std::to_string(width) + " x " + std::to_string(height));
+}
+
+struct Scene {
+  Polygons polygons;
+  const double* colors;
+  const double* background;
+};
+
+Scene checked_scene(const Array& starts, const Array& lengths, const Array& xs, const Array& ys,
+                    const Array& planes, double eps_z, const Array& colors, const Array& background) {
+  const int64_t* s = checked<int64_t>(starts, "starts", {-1});
+  const int64_t n = static_cast<int64_t>(starts.shape(0));
+  const int64_t* l = checked<int64_t>(lengths, "lengths", {n});
+  const double* x = checked<double>(xs, "xs", {-1});
+  const int64_t nv = static_cast<int64_t>(xs.shape(0));
+  const double* y = checked<double>(ys, "ys", {nv});
+  const double* pl = checked<double>(planes, "planes", {n, 3});
+  const double* c = checked<double>(colors, "colors", {n, 3});
+  const double* bg = checked<double>(background, "background", {3});
+  for (int64_t p = 0; p < n; ++p)
+    if (s[p] < 0 || l[p] < 0 || s[p] > nv || l[p] > nv - s[p])
+      fail("polygon " + std::to_string(p) + ": vertices out of range");
+  check_finite(x, nv, "xs");
+  check_finite(y, nv, "ys");
+  check_finite(pl, 3 * n, "planes");
+  check_finite(c, 3 * n, "colors");
+  check_finite(bg, 3, "background");
+  if (!std::isfinite(eps_z)) fail("eps_z: expected a finite value");
+  return {{n, s, l, x, y, pl}, c, bg};
+}
+
+template <typename T, typename Framework>
+nb::ndarray<Framework, T> owned(std::vector<size_t> shape, T*& data) {
+  size_t total = 1;
+  for (size_t e : shape) total *= e;
+  data = new T[total > 0 ? total : 1]();
+  nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<T*>(p); });
+  return nb::ndarray<Framework, T>(data, shape.size(), shape.data(), owner);
+}
+
+OutArray py_sample_image(int64_t width, int64_t height, const Array& starts, const Array& lengths, const Array& xs,
+                         const Array& ys, const Array& planes, double eps_z, const Array& colors,
+                         const Array& background, int64_t k, bool jitter, int64_t seed, int64_t fkind, double fradius,
+                         const Array& fpieces, double falpha, double fbias) {
+  const Scene scene = checked_scene(starts, lengths, xs, ys, planes, eps_z, colors, background);
+  if (k < 1 || k > 4096) fail("k must be in 1..4096, got " + std::to_string(k));
+  check_size(width, height, 3);
+  check_size(width, k * k, 2);
+  if (fkind != KIND_BOX && fkind != KIND_POLYNOMIAL && fkind != KIND_GAUSSIAN)
+    fail("unknown filter kind " + std::to_string(fkind));
+  if (!(fradius > 0.0 && fradius <= 1e6)) fail("filter radius must be in (0, 1e6]");
+  if (!std::isfinite(falpha) || !std::isfinite(fbias)) fail("filter alpha and bias must be finite");
+  const double* pieces = checked<double>(fpieces, "filter pieces", {-1, -1});
+  const int64_t rows = static_cast<int64_t>(fpieces.shape(0)), cols = static_cast<int64_t>(fpieces.shape(1));
+  check_finite(pieces, rows * cols, "filter pieces");
+  if (fkind == KIND_POLYNOMIAL) {
+    // |t| < radius puts floor(t) in [-ceil(radius), ceil(radius) - 1]: rows r + that
+    const int64_t reach = static_cast<int64_t>(std::ceil(fradius));
+    if (cols < 1 || rows / 2 - reach < 0 || rows / 2 + reach - 1 >= rows)
+      fail("filter pieces: expected 2 x ceil(radius) rows of coefficients");
+  }
+  const Profile filter{fkind, fradius, pieces, rows, cols, falpha, fbias};
+  double* data;
+  OutArray image = owned<double, nb::numpy>({size_t(height), size_t(width), 3}, data);
+  bool ok;
+  {
+    nb::gil_scoped_release release;
+    ok = sample_image(width, height, scene.polygons, eps_z, scene.colors, scene.background, k, jitter, seed, filter,
+                      data);
+  }
+  if (!ok) {
+    PyErr_SetString(PyExc_ZeroDivisionError, "a pixel collected no filter weight");
+    throw nb::python_error();
+  }
+  return image;
+}
+
+OutArray py_abuffer_image(int64_t width, int64_t height, const Array& starts, const Array& lengths, const Array& xs,
+                          const Array& ys, const Array& planes, double eps_z, const Array& colors,
+                          const Array& background) {
+  const Scene scene = checked_scene(starts, lengths, xs, ys, planes, eps_z, colors, background);
+  check_size(width, height, 3);
+  double* data;
+  OutArray image = owned<double, nb::numpy>({size_t(height), size_t(width), 3}, data);
+  {
+    nb::gil_scoped_release release;
+    abuffer_image(width, height, scene.polygons, eps_z, scene.colors, scene.background, data);
+  }
+  return image;
+}
+
+IndexArray py_tied_latest_first(const Array& order, const Array& depth, const Array& index, double eps) {
+  const int64_t* o = checked<int64_t>(order, "order", {-1});
+  const int64_t n = static_cast<int64_t>(order.shape(0));
+  const double* d = checked<double>(depth, "depth", {-1});
+  const int64_t nd = static_cast<int64_t>(depth.shape(0));
+  const int64_t* ix = checked<int64_t>(index, "index", {nd});
+  for (int64_t i = 0; i < n; ++i)
+    if (o[i] < 0 || o[i] >= nd) fail("order: position " + std::to_string(o[i]) + " out of range");
+  int64_t* out;
+  IndexArray result = owned<int64_t, nb::numpy>({size_t(n)}, out);
+  std::memcpy(out, o, sizeof(int64_t) * n);
+  {
+    nb::gil_scoped_release release;
+    tied_latest_first(out, n, d, ix, eps);
+  }
+  return result;
+}
+
+std::pair<int64_t, int64_t> py_sweep(const Array& pts, const Array& a, const Array& b, const Array& order,
+                                     const Array& incoming) {
+  const double* p = checked<double>(pts, "pts", {-1, 2});
+  const int64_t n = static_cast<int64_t>(pts.shape(0));
+  const int64_t* pa = checked<int64_t>(a, "a", {n});
+  const int64_t* pb = checked<int64_t>(b, "b", {n});
+  const int64_t* po = checked<int64_t>(order, "order", {n});
+  const int64_t* pi = checked<int64_t>(incoming, "incoming", {n});
+  check_finite(p, 2 * n, "pts");
+  std::vector<char> seen(n, 0);
+  for (int64_t i = 0; i < n; ++i) {
+    if (pa[i] != i) fail("a: edge e must start at vertex e");
+    if (pb[i] < 0 || pb[i] >= n || po[i] < 0 || po[i] >= n || pi[i] < 0 || pi[i] >= n)
+      fail("ring arrays: vertex index out of range");
+    if (seen[po[i]]) fail("order: expected a permutation of the vertices");
+    seen[po[i]] = 1;
+  }
+  for (int64_t e = 0; e < n; ++e)
+    if (pi[pb[e]] != e) fail("incoming: expected the edge ending at each vertex");
+  int64_t e = -1, f = -1;
+  bool ok;
+  {
+    nb::gil_scoped_release release;
+    ok = sweep(n, p, pa, pb, po, pi, e, f);
+  }
+  if (!ok) fail("ring arrays: not closed rings");
+  return {e, f};
+}
+
+}  // namespace
+
+NB_MODULE(_samplers, m) {
+  m.doc() = "Point samplers, A-buffer, depth tie rule and simplicity sweep of aaeval (C++17, issue 20).";
+  m.def("sample_image", &py_sample_image, nb::arg("width"), nb::arg("height"), nb::arg("starts"),
+        nb::arg("lengths"), nb::arg("xs"), nb::arg("ys"), nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"),
+        nb::arg("background"), nb::arg("k"), nb::arg("jitter"), nb::arg("seed"), nb::arg("fkind"),
+        nb::arg("fradius"), nb::arg("fpieces"), nb::arg("falpha"), nb::arg("fbias"),
+        "Filtered image (height, width, 3) from k x k point samples per pixel (regular grid or jittered).");
+  m.def("abuffer_image", &py_abuffer_image, nb::arg("width"), nb::arg("height"), nb::arg("starts"),
+        nb::arg("lengths"), nb::arg("xs"), nb::arg("ys"), nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"),
+        nb::arg("background"), "The A-buffer image (height, width, 3) of the polygons (file order).");
+  m.def("tied_latest_first", &py_tied_latest_first, nb::arg("order"), nb::arg("depth"), nb::arg("index"),
+        nb::arg("eps"),
+        "A copy of order (positions sorted front to back on depth) with each run within eps of its "
+        "nearest depth listed latest index first.");
+  m.def("sweep", &py_sweep, nb::arg("pts"), nb::arg("a"), nb::arg("b"), nb::arg("order"), nb::arg("incoming"),
+        "Shamos-Hoey sweep over the ring edges (a[e], b[e]): two edges that meet, or (-1, -1).");
+  m.def("jitter_uniform", &jitter_uniform, nb::arg("seed"), nb::arg("row"), nb::arg("col"), nb::arg("sample"),
+        nb::arg("axis"), "A uniform number in [0, 1) fixed by (seed, row, col, sample, axis).");
+}
