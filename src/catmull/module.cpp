@@ -1,0 +1,297 @@
+// aaeval._catmull: the Catmull 1978 kernel (strips.hpp, buckets.hpp, sweep.hpp,
+// integrator.hpp) with its sinks (sink.hpp, moments.hpp), bound with nanobind.
+//
+// Every input is checked here, once, before any kernel runs: dtypes, shapes, C order,
+// polygon records inside the vertex arrays, finite coordinates and sizes; a bad input is a
+// ValueError, never a read out of bounds. The kernels run without the GIL, bands of rows on
+// a pool of C++ threads (bands.hpp), with the same bits for every thread count.
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/string.h>
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "catmull/bands.hpp"
+#include "catmull/moments.hpp"
+#include "catmull/sink.hpp"
+#include "catmull/sweep.hpp"
+
+namespace nb = nanobind;
+using namespace aaeval::catmull;
+
+namespace {
+
+using In = nb::ndarray<nb::ro, nb::device::cpu>;
+using Out = nb::ndarray<nb::device::cpu>;
+
+// coordinates and depth planes beyond this are refused: products of two stay finite
+constexpr double MAX_MAGNITUDE = 1e100;
+// pixels (times channels, times basis functions) an image may have
+constexpr int64_t MAX_ENTRIES = int64_t(1) << 34;
+
+[[noreturn]] void fail(const std::string& msg) { throw nb::value_error(("catmull: " + msg).c_str()); }
+
+template <class T> const char* type_name() { return std::is_same_v<std::remove_const_t<T>, double> ? "float64" : "int64"; }
+
+std::string shape_of(size_t ndim, const int64_t* shape) {
+    std::string s = "(";
+    for (size_t i = 0; i < ndim; ++i) s += std::to_string(shape[i]) + (ndim == 1 || i + 1 < ndim ? "," : "");
+    return s + ")";
+}
+
+// the array's data after checking dtype, dimensions, C order and (where >= 0) the shape
+template <class T, class A>
+T* data_of(A& a, const char* name, std::initializer_list<int64_t> shape) {
+    const size_t ndim = shape.size();
+    std::string want = std::string(name) + " must be a C-contiguous " + type_name<T>() + " array with " +
+                       std::to_string(ndim) + " dimension" + (ndim == 1 ? "" : "s");
+    if (a.dtype() != nb::dtype<std::remove_const_t<T>>()) fail(want + " (got another dtype)");
+    if (a.ndim() != ndim) fail(want + " (got " + std::to_string(a.ndim()) + ")");
+    size_t i = 0;
+    for (int64_t s : shape) {
+        if (s >= 0 && int64_t(a.shape(i)) != s)
+            fail(std::string(name) + " has shape " + shape_of(a.ndim(), a.shape_ptr()) + ", expected " +
+                 std::to_string(s) + " along axis " + std::to_string(i));
+        ++i;
+    }
+    if (a.size() > 0) {
+        int64_t expect = 1;
+        for (size_t d = ndim; d-- > 0;) {
+            if (a.shape(d) > 1 && a.stride(d) != expect) fail(want + " (got a strided view)");
+            expect *= int64_t(a.shape(d));
+        }
+    }
+    return static_cast<T*>(a.data());
+}
+
+void check_finite(const double* v, size_t n, const char* name) {
+    for (size_t i = 0; i < n; ++i)
+        if (!(std::fabs(v[i]) <= MAX_MAGNITUDE))
+            fail(std::string(name) + "[" + std::to_string(i) + "] is " + std::to_string(v[i]) +
+                 ": values must be finite and at most 1e100 in magnitude");
+}
+
+void check_size(int64_t width, int64_t height, int64_t per_pixel) {
+    if (width < 0 || height < 0) fail("image size must not be negative");
+    if (width > MAX_ENTRIES || height > MAX_ENTRIES || (width + 1) * (height + 1) > MAX_ENTRIES / per_pixel)
+        fail("image too large: " + std::to_string(width) + " x " + std::to_string(height));
+}
+
+void check_threads(int64_t threads) {
+    if (threads < 1 || threads > 4096) fail("threads must be between 1 and 4096");
+}
+
+// The kernel polygons, checked: records inside the vertex arrays, finite coordinates.
+Polygons polygons(In& start, In& length, In& x, In& y, In& planes) {
+    Polygons P;
+    const int64_t* st = data_of<const int64_t>(start, "start", {-1});
+    P.n = int64_t(start.shape(0));
+    const int64_t* ln = data_of<const int64_t>(length, "length", {P.n});
+    const double* xs = data_of<const double>(x, "x", {-1});
+    const int64_t nv = int64_t(x.shape(0));
+    const double* ys = data_of<const double>(y, "y", {nv});
+    const double* pl = data_of<const double>(planes, "planes", {P.n, 3});
+    for (int64_t p = 0; p < P.n; ++p)
+        if (st[p] < 0 || ln[p] < 1 || st[p] > nv || ln[p] > nv - st[p])
+            fail("polygon " + std::to_string(p) + " (start " + std::to_string(st[p]) + ", length " +
+                 std::to_string(ln[p]) + ") is not inside the " + std::to_string(nv) + " vertices");
+    check_finite(xs, size_t(nv), "x");
+    check_finite(ys, size_t(nv), "y");
+    check_finite(pl, size_t(3 * P.n), "planes");
+    P.start = st;
+    P.length = ln;
+    P.x = xs;
+    P.y = ys;
+    P.planes = pl;
+    return P;
+}
+
+double check_eps(double eps_z) {
+    if (!(eps_z >= 0.0 && eps_z <= MAX_MAGNITUDE)) fail("eps_z must be finite and not negative");
+    return eps_z;
+}
+
+const double* colors_of(In& colors, int64_t n_polys) {
+    const double* c = data_of<const double>(colors, "colors", {n_polys + 1, 3});
+    check_finite(c, size_t(3 * (n_polys + 1)), "colors");
+    return c;
+}
+
+Filter filter_of(int64_t kind, int64_t radius, int64_t k, double alpha, double bias) {
+    if (kind != KIND_POLYNOMIAL && kind != KIND_GAUSSIAN) fail("kind must be 1 (polynomial) or 2 (Gaussian)");
+    if (k < 1 || k > 64) fail("k (basis functions per axis) must be between 1 and 64");
+    if (radius < 0 || radius > 64) fail("radius must be between 0 and 64");
+    if (!std::isfinite(bias) || !std::isfinite(alpha)) fail("alpha and bias must be finite");
+    if (kind == KIND_GAUSSIAN && !(alpha < 0.0)) fail("a Gaussian's alpha must be negative");
+    return {kind, radius, k, alpha, bias};
+}
+
+template <class T>
+nb::ndarray<nb::numpy, T> to_numpy(std::vector<T>&& v, std::initializer_list<size_t> shape) {
+    if (v.empty()) v.reserve(1);
+    auto* owned = new std::vector<T>(std::move(v));
+    nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
+    return nb::ndarray<nb::numpy, T>(owned->data(), shape, owner);
+}
+
+template <class T>
+std::vector<T> concat(std::vector<FragmentSink>& sinks, std::vector<T> FragmentSink::*field) {
+    size_t n = 0;
+    for (FragmentSink& s : sinks) n += (s.*field).size();
+    std::vector<T> out;
+    out.reserve(n);
+    for (FragmentSink& s : sinks) {
+        out.insert(out.end(), (s.*field).begin(), (s.*field).end());
+        std::vector<T>().swap(s.*field);
+    }
+    return out;
+}
+
+nb::tuple fragments(In start, In length, In x, In y, In planes, double eps_z, int64_t width, int64_t height,
+                    bool jagged, bool centroids, int64_t threads) {
+    Polygons P = polygons(start, length, x, y, planes);
+    check_eps(eps_z);
+    check_size(width, height, 8);
+    check_threads(threads);
+    std::vector<FragmentSink> sinks;
+    {
+        nb::gil_scoped_release release;
+        sort_polygons(P);
+        sinks.resize(size_t((height + BAND_ROWS - 1) / BAND_ROWS));
+        run_bands(height, threads, [&](int64_t i, int64_t r0, int64_t r1) {
+            FragmentSink& out = sinks[size_t(i)];
+            const size_t cap = size_t((r1 - r0) * width + 16);
+            out.pix.reserve(cap);
+            out.src.reserve(cap);
+            out.area.reserve(cap);
+            out.cx.reserve(cap);
+            out.cy.reserve(cap);
+            scan_rows(P, width, r0, r1, eps_z, jagged, centroids, out);
+        });
+    }
+    std::vector<int64_t> pix = concat(sinks, &FragmentSink::pix);
+    std::vector<int64_t> src = concat(sinks, &FragmentSink::src);
+    std::vector<double> area = concat(sinks, &FragmentSink::area);
+    std::vector<double> cx = concat(sinks, &FragmentSink::cx);
+    std::vector<double> cy = concat(sinks, &FragmentSink::cy);
+    const size_t n = pix.size();
+    return nb::make_tuple(to_numpy(std::move(pix), {n}), to_numpy(std::move(src), {n}),
+                          to_numpy(std::move(area), {n}), to_numpy(std::move(cx), {n}), to_numpy(std::move(cy), {n}));
+}
+
+nb::ndarray<nb::numpy, double> render_flat(In start, In length, In x, In y, In planes, In colors, double eps_z,
+                                           int64_t width, int64_t height, bool jagged, int64_t threads) {
+    Polygons P = polygons(start, length, x, y, planes);
+    const double* c = colors_of(colors, P.n);
+    check_eps(eps_z);
+    check_size(width, height, 3);
+    check_threads(threads);
+    std::vector<double> image(size_t(width * height * 3), 0.0);
+    {
+        nb::gil_scoped_release release;
+        sort_polygons(P);
+        run_bands(height, threads, [&](int64_t, int64_t r0, int64_t r1) {
+            ColorSink out(image.data(), c, P.n + 1);
+            scan_rows(P, width, r0, r1, eps_z, jagged, false, out);
+            out.flush();
+        });
+    }
+    return to_numpy(std::move(image), {size_t(height), size_t(width), 3});
+}
+
+nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, In planes, double eps_z, In colors,
+                                              int64_t width, int64_t height, int64_t kind, int64_t radius, int64_t k,
+                                              double alpha, double bias, int64_t threads) {
+    Polygons P = polygons(start, length, x, y, planes);
+    const double* c = colors_of(colors, P.n);
+    check_eps(eps_z);
+    const Filter F = filter_of(kind, radius, k, alpha, bias);
+    check_size(width, height, 3 * k * k);
+    check_threads(threads);
+    std::vector<double> acc(size_t((height + 1) * (width + 1) * k * k * 3), 0.0);
+    {
+        nb::gil_scoped_release release;
+        sort_polygons(P);
+        // the scene moved by (1/2, 1/2) at (W + 1) x (H + 1) pixels: the knot cells
+        run_bands(height + 1, threads, [&](int64_t, int64_t r0, int64_t r1) {
+            MomentSink out(acc.data(), c, P.n + 1, width, height, F);
+            scan_rows(P, width + 1, r0, r1, eps_z, false, true, out);
+        });
+    }
+    return to_numpy(std::move(acc), {size_t(height + 1), size_t(width + 1), size_t(k), size_t(k), 3});
+}
+
+void piece_integrals_py(In xs, In ys, int64_t start, int64_t n, double ox, double oy, int64_t kind, int64_t radius,
+                        int64_t k, double alpha, double bias, Out out) {
+    const double* x = data_of<const double>(xs, "xs", {-1});
+    const double* y = data_of<const double>(ys, "ys", {int64_t(xs.shape(0))});
+    const int64_t nv = int64_t(xs.shape(0));
+    if (start < 0 || n < 0 || start > nv || n > nv - start) fail("the polygon is not inside the vertex arrays");
+    const Filter F = filter_of(kind, radius, k, alpha, bias);
+    double* o = data_of<double>(out, "out", {k, k});
+    check_finite(x + start, size_t(n), "xs");
+    check_finite(y + start, size_t(n), "ys");
+    if (!(std::fabs(ox) <= MAX_MAGNITUDE && std::fabs(oy) <= MAX_MAGNITUDE)) fail("ox, oy must be finite");
+    std::vector<double> phi(static_cast<size_t>(k)), psi(static_cast<size_t>(k));
+    piece_integrals(x, y, start, n, ox, oy, F, o, phi.data(), psi.data());
+}
+
+void accumulate_rings_py(In xs, In ys, In starts, In lengths, In weights, int64_t width, int64_t height, int64_t kind,
+                         int64_t radius, int64_t k, double alpha, double bias, Out acc) {
+    const double* x = data_of<const double>(xs, "xs", {-1});
+    const int64_t nv = int64_t(xs.shape(0));
+    const double* y = data_of<const double>(ys, "ys", {nv});
+    const int64_t* st = data_of<const int64_t>(starts, "starts", {-1});
+    const int64_t nr = int64_t(starts.shape(0));
+    const int64_t* ln = data_of<const int64_t>(lengths, "lengths", {nr});
+    const double* w = data_of<const double>(weights, "weights", {nr, -1});
+    const int64_t nch = int64_t(weights.shape(1));
+    const Filter F = filter_of(kind, radius, k, alpha, bias);
+    check_size(width, height, k * k * (nch > 0 ? nch : 1));
+    double* a = data_of<double>(acc, "acc", {height + 1, width + 1, k, k, nch});
+    for (int64_t r = 0; r < nr; ++r)
+        if (st[r] < 0 || ln[r] < 0 || st[r] > nv || ln[r] > nv - st[r])
+            fail("ring " + std::to_string(r) + " is not inside the " + std::to_string(nv) + " vertices");
+    check_finite(x, size_t(nv), "xs");
+    check_finite(y, size_t(nv), "ys");
+    check_finite(w, size_t(nr * nch), "weights");
+    nb::gil_scoped_release release;
+    accumulate_rings(x, y, st, ln, nr, w, nch, width, height, F, a);
+}
+
+}  // namespace
+
+void bind_stages(nb::module_& m);
+
+NB_MODULE(_catmull, m) {
+    m.doc() = "Catmull 1978 exact area sampling: the scanline kernel and its sinks (colour, fragments, filter "
+              "moments), native (see aaeval.catmull)";
+    m.attr("BAND_ROWS") = BAND_ROWS;
+    m.attr("BACKGROUND") = BACKGROUND;
+    m.def("fragments", &fragments, nb::arg("start"), nb::arg("length"), nb::arg("x"), nb::arg("y"), nb::arg("planes"),
+          nb::arg("eps_z"), nb::arg("width"), nb::arg("height"), nb::arg("jagged"), nb::arg("centroids"),
+          nb::arg("threads"),
+          "Visible fragments (pixel, kernel polygon or -1, area, centroid x, centroid y) in pixel order.");
+    m.def("render_flat", &render_flat, nb::arg("start"), nb::arg("length"), nb::arg("x"), nb::arg("y"),
+          nb::arg("planes"), nb::arg("colors"), nb::arg("eps_z"), nb::arg("width"), nb::arg("height"),
+          nb::arg("jagged"), nb::arg("threads"),
+          "The box-filtered flat-colour image (H, W, 3); colors: a row per kernel polygon, the background last.");
+    m.def("knot_grid_sums", &knot_grid_sums, nb::arg("start"), nb::arg("length"), nb::arg("x"), nb::arg("y"),
+          nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"), nb::arg("width"), nb::arg("height"),
+          nb::arg("kind"), nb::arg("radius"), nb::arg("k"), nb::arg("alpha"), nb::arg("bias"), nb::arg("threads"),
+          "Per-cell integrals (H+1, W+1, k, k, 3) of the visible colour of a scene moved by (1/2, 1/2).");
+    m.def("piece_integrals", &piece_integrals_py, nb::arg("xs"), nb::arg("ys"), nb::arg("start"), nb::arg("n"),
+          nb::arg("ox"), nb::arg("oy"), nb::arg("kind"), nb::arg("radius"), nb::arg("k"), nb::arg("alpha"),
+          nb::arg("bias"), nb::arg("out"), "Integrals of the basis over one polygon inside a knot cell, into out.");
+    m.def("accumulate_rings", &accumulate_rings_py, nb::arg("xs"), nb::arg("ys"), nb::arg("starts"),
+          nb::arg("lengths"), nb::arg("weights"), nb::arg("width"), nb::arg("height"), nb::arg("kind"),
+          nb::arg("radius"), nb::arg("k"), nb::arg("alpha"), nb::arg("bias"), nb::arg("acc"),
+          "Cut signed rings on the knot grid and add their integrals times weights to acc.");
+    bind_stages(m);
+}
+
+void bind_stages(nb::module_&) {}

@@ -1,0 +1,303 @@
+// Exact integration of visible pieces against a separable pixel filter, on knot cells
+// [m - 1/2, m + 1/2] x [n - 1/2, n + 1/2] (see aaeval/filters/integrate.py for the maths):
+// piece_integrals (one polygon inside a cell, by Green's theorem with Gauss-Legendre along
+// its edges), clip_box (a ring cut to a box), accumulate_rings (rings of any size cut on the
+// knot grid) and MomentSink, the Catmull kernel's sink that accumulates every visible piece's
+// integrals times its colour per cell.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "common/geometry.hpp"
+
+namespace aaeval::catmull {
+
+inline constexpr int64_t KIND_POLYNOMIAL = 1;
+inline constexpr int64_t KIND_GAUSSIAN = 2;
+
+// Gauss-Legendre nodes and weights on [0, 1] (numpy's leggauss, moved there): 4 points are
+// exact for the degree-7 edge polynomials of cubic filters; 12 for the Gaussian's edges.
+inline constexpr double POLY_T[4] = {0x1.1c6490c2719ecp-4, 0x1.51ee013116102p-2, 0x1.5708ff6774f7fp-1, 0x1.dc736de7b1cc2p-1};
+inline constexpr double POLY_W[4] = {0x1.64340f7e7b666p-3, 0x1.4de5f840c24cdp-2, 0x1.4de5f840c24cdp-2, 0x1.64340f7e7b666p-3};
+inline constexpr double GAUSS_T[12] = {0x1.2e1c4e37a2fe0p-7, 0x1.88bc58023ba68p-5, 0x1.d73d4449dc328p-4, 0x1.a6961f47f100ep-3, 0x1.43ab96faba732p-2, 0x1.bfe1681c273c7p-2, 0x1.200f4bf1ec61cp-1, 0x1.5e2a3482a2c67p-1, 0x1.965a782e03bfcp-1, 0x1.c5185776c479bp-1, 0x1.e7743a7fdc45ap-1, 0x1.fb478ec721740p-1};
+inline constexpr double GAUSS_W[12] = {0x1.8275d9dea6d53p-6, 0x1.b60602bce61afp-5, 0x1.47d7258f22d96p-4, 0x1.a0163e6b1ab6bp-4, 0x1.de3155c256aaep-4, 0x1.fe40ce6d4f022p-4, 0x1.fe40ce6d4f022p-4, 0x1.de3155c256aaep-4, 0x1.a0163e6b1ab6bp-4, 0x1.47d7258f22d96p-4, 0x1.b60602bce61afp-5, 0x1.8275d9dea6d53p-6};
+
+struct Filter {
+    int64_t kind, radius, k;
+    double alpha, bias;
+};
+
+// An antiderivative of exp(alpha t^2) - bias.
+inline double gauss_primitive(double t, double alpha, double bias) {
+    const double c = std::sqrt(-alpha);
+    return (0.8862269254527580 / c) * std::erf(c * t) - bias * t;  // sqrt(pi)/2
+}
+
+// Integrals of phi_a(u) psi_b(v) over one polygon xs/ys[start .. start+n) lying in the cell
+// centred at (ox, oy), written to out[a * k + b]; u = x - ox, v = y - oy. Polynomial:
+// phi_a = u^a, psi_b = v^b; Gaussian: phi_a(u) = k(u + a - radius + 1/2), the same in v.
+// phi, psi: scratch of k entries.
+inline void piece_integrals(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
+                            const Filter& F, double* out, double* phi, double* psi) {
+    const int64_t k = F.k;
+    for (int64_t a = 0; a < k * k; ++a) out[a] = 0.0;
+    const bool poly = F.kind == KIND_POLYNOMIAL;
+    const double* nodes = poly ? POLY_T : GAUSS_T;
+    const double* weights = poly ? POLY_W : GAUSS_W;
+    const int nq = poly ? 4 : 12;
+    for (int64_t i = 0; i < n; ++i) {
+        const int64_t j = start + (i + 1) % n;
+        const double u0 = xs[start + i] - ox;
+        const double v0 = ys[start + i] - oy;
+        const double du = xs[j] - ox - u0;
+        const double dv = ys[j] - oy - v0;
+        if (dv == 0.0) continue;  // the integral of Phi dv vanishes along a horizontal edge
+        for (int q = 0; q < nq; ++q) {
+            const double u = u0 + nodes[q] * du;
+            const double v = v0 + nodes[q] * dv;
+            const double w = weights[q] * dv;
+            if (poly) {
+                double up = u, vp = 1.0;
+                for (int64_t a = 0; a < k; ++a) {
+                    phi[a] = up / double(a + 1);
+                    psi[a] = vp;
+                    up *= u;
+                    vp *= v;
+                }
+            } else {
+                for (int64_t a = 0; a < k; ++a) {
+                    const double c = double(a - F.radius) + 0.5;
+                    phi[a] = gauss_primitive(u + c, F.alpha, F.bias);
+                    psi[a] = std::exp(F.alpha * (v + c) * (v + c)) - F.bias;
+                }
+            }
+            for (int64_t a = 0; a < k; ++a) {
+                const double wa = w * phi[a];
+                for (int64_t b = 0; b < k; ++b) out[a * k + b] += wa * psi[b];
+            }
+        }
+    }
+}
+
+// Scratch for clip_box: two halves of 16 n + 16 vertices each (a line clip adds at most one
+// vertex per edge: 4 clips stay below 16 n).
+struct BoxBuffers {
+    std::vector<double> x, y;
+    std::vector<uint8_t> f, flags;
+    int64_t half = 0;
+    void reserve_for(int64_t n) {
+        if (half < 16 * n + 16) {
+            half = 16 * n + 16;
+            x.resize(size_t(2 * half));
+            y.resize(size_t(2 * half));
+            f.resize(size_t(2 * half));
+        }
+    }
+};
+
+struct Ring {
+    int64_t start, n;
+};
+
+// Sutherland-Hodgman clip of one ring to [x0, x1] x [y0, y1]; (start, count) in the buffers,
+// count 0 when less than a polygon is left. A concave ring may come back with zero-width
+// bridges along the box's sides; they bound no area and cancel in every edge integral.
+inline Ring clip_box(const double* xs, const double* ys, int64_t start, int64_t n, double x0, double x1, double y0,
+                     double y1, BoxBuffers& B) {
+    B.reserve_for(n);
+    const int64_t half = B.half;
+    double* bx = B.x.data();
+    double* by = B.y.data();
+    uint8_t* bf = B.f.data();
+    B.flags.assign(size_t(n), 0);
+    int64_t m = geometry::clip_side(xs + start, ys + start, B.flags.data(), 0, n, 1.0, 0.0, -x0, 1, bx, by, bf, 0);
+    if (m < 3) return {0, 0};
+    m = geometry::clip_side(bx, by, bf, 0, m, 1.0, 0.0, -x1, -1, bx, by, bf, half);
+    if (m < 3) return {0, 0};
+    m = geometry::clip_side(bx, by, bf, half, m, 0.0, 1.0, -y0, 1, bx, by, bf, 0);
+    if (m < 3) return {0, 0};
+    m = geometry::clip_side(bx, by, bf, 0, m, 0.0, 1.0, -y1, -1, bx, by, bf, half);
+    if (m < 3) return {0, 0};
+    return {half, m};
+}
+
+inline int64_t floor_index(double v) {
+    const double f = std::floor(v);
+    if (!(f > -4.0e18)) return -int64_t(4000000000000000000LL);
+    if (f > 4.0e18) return int64_t(4000000000000000000LL);
+    return int64_t(f);
+}
+
+// Cut every ring on the knot grid (inside the image) and accumulate its integrals per cell:
+// acc[n, m, a, b, c] += weights[r, c] * integrals[a, b] of ring r's part in cell (m, n)
+// (acc of shape (H + 1, W + 1, k, k, nch)). Rings are signed: holes subtract.
+inline void accumulate_rings(const double* xs, const double* ys, const int64_t* starts, const int64_t* lengths,
+                             int64_t n_rings, const double* weights, int64_t nch, int64_t width, int64_t height,
+                             const Filter& F, double* acc) {
+    const int64_t k = F.k;
+    std::vector<double> out(static_cast<size_t>(k * k)), phi(static_cast<size_t>(k)), psi(static_cast<size_t>(k));
+    BoxBuffers band, cell;
+    for (int64_t r = 0; r < n_rings; ++r) {
+        const int64_t s = starts[r];
+        const int64_t n = lengths[r];
+        if (n < 3) continue;
+        double xmin = xs[s], xmax = xs[s], ymin = ys[s], ymax = ys[s];
+        for (int64_t i = s + 1; i < s + n; ++i) {
+            if (xs[i] < xmin) xmin = xs[i];
+            if (xs[i] > xmax) xmax = xs[i];
+            if (ys[i] < ymin) ymin = ys[i];
+            if (ys[i] > ymax) ymax = ys[i];
+        }
+        const int64_t m0 = geometry::pymax(int64_t(0), floor_index(xmin + 0.5));
+        const int64_t m1 = geometry::pymin(width, floor_index(xmax + 0.5));
+        const int64_t n0 = geometry::pymax(int64_t(0), floor_index(ymin + 0.5));
+        const int64_t n1 = geometry::pymin(height, floor_index(ymax + 0.5));
+        for (int64_t row = n0; row <= n1; ++row) {
+            const double y0 = geometry::pymax(double(row) - 0.5, 0.0);
+            const double y1 = geometry::pymin(double(row) + 0.5, double(height));
+            // the band of this cell row, then each cell of it
+            const Ring b = clip_box(xs, ys, s, n, 0.0, double(width), y0, y1, band);
+            if (b.n < 3) continue;
+            const double* bx = band.x.data();
+            double bmin = bx[b.start], bmax = bx[b.start];
+            for (int64_t i = b.start + 1; i < b.start + b.n; ++i) {
+                if (bx[i] < bmin) bmin = bx[i];
+                if (bx[i] > bmax) bmax = bx[i];
+            }
+            const int64_t c0 = geometry::pymax(m0, floor_index(bmin + 0.5));
+            const int64_t c1 = geometry::pymin(m1, floor_index(bmax + 0.5));
+            for (int64_t col = c0; col <= c1; ++col) {
+                const double x0 = geometry::pymax(double(col) - 0.5, 0.0);
+                const double x1 = geometry::pymin(double(col) + 0.5, double(width));
+                const Ring c = clip_box(band.x.data(), band.y.data(), b.start, b.n, x0, x1, y0, y1, cell);
+                if (c.n < 3) continue;
+                piece_integrals(cell.x.data(), cell.y.data(), c.start, c.n, double(col), double(row), F, out.data(),
+                                phi.data(), psi.data());
+                double* cellacc = acc + ((row * (width + 1) + col) * k * k) * nch;
+                for (int64_t a = 0; a < k; ++a)
+                    for (int64_t bb = 0; bb < k; ++bb)
+                        for (int64_t ch = 0; ch < nch; ++ch)
+                            cellacc[(a * k + bb) * nch + ch] += weights[r * nch + ch] * out[size_t(a * k + bb)];
+            }
+        }
+    }
+}
+
+// The Catmull kernel's sink for an exact filter. The kernel runs on the scene moved by
+// (1/2, 1/2) at (W + 1) x (H + 1) pixels, which are exactly the knot cells, so every visible
+// piece lies in one cell; its integrals times its colour go to acc[n, m, a, b, channel].
+// Cells on the image border are cut to the image first (samples lie only inside it).
+// colors: n_colors rows (the background last); `emitted` holds what the current cell has
+// received (for emit_rest). One sink per band: bands write disjoint rows of acc.
+struct MomentSink {
+    double* acc;
+    const double* colors;
+    int64_t n_colors, width, height;
+    Filter F;
+    std::vector<double> out, emitted, phi, psi;
+    int64_t pix = -1;
+    BoxBuffers box;
+    double sx[4], sy[4];
+
+    MomentSink(double* acc_, const double* colors_, int64_t n_colors_, int64_t width_, int64_t height_,
+               const Filter& F_)
+        : acc(acc_), colors(colors_), n_colors(n_colors_), width(width_), height(height_), F(F_),
+          out(size_t(F_.k * F_.k)), emitted(size_t(F_.k * F_.k), 0.0), phi(size_t(F_.k)), psi(size_t(F_.k)) {}
+
+    const double* color(int64_t s) const { return colors + 3 * (s < 0 ? n_colors + s : s); }
+
+    // add scale * out (one piece's integrals) to cell p in src's colour
+    void add(int64_t p, int64_t src, double scale) {
+        if (p != pix) {
+            pix = p;
+            std::fill(emitted.begin(), emitted.end(), 0.0);
+        }
+        const int64_t wc = width + 1;
+        const int64_t row = p / wc;
+        const int64_t col = p - row * wc;
+        const int64_t k = F.k;
+        const double* c = color(src);
+        double* cellacc = acc + (row * wc + col) * k * k * 3;
+        for (int64_t a = 0; a < k; ++a)
+            for (int64_t b = 0; b < k; ++b) {
+                const double v = scale * out[size_t(a * k + b)];
+                emitted[size_t(a * k + b)] += v;
+                for (int ch = 0; ch < 3; ++ch) cellacc[(a * k + b) * 3 + ch] += v * c[ch];
+            }
+    }
+    struct Window {
+        int64_t row, col;
+        double x0, x1, y0, y1;
+    };
+    // cell p's row, column and its square cut to the image (shifted coordinates)
+    Window window(int64_t p) const {
+        const int64_t wc = width + 1;
+        const int64_t row = p / wc;
+        const int64_t col = p - row * wc;
+        return {row, col, geometry::pymax(double(col), 0.5), geometry::pymin(double(col) + 1.0, double(width) + 0.5),
+                geometry::pymax(double(row), 0.5), geometry::pymin(double(row) + 1.0, double(height) + 0.5)};
+    }
+    // out = the piece's integrals, cut to the image if its cell is on the border
+    void integrate_piece(int64_t p, const double* xs, const double* ys, int64_t start, int64_t n) {
+        const Window w = window(p);
+        const double ox = double(w.col) + 0.5;
+        const double oy = double(w.row) + 0.5;
+        if (w.col > 0 && w.row > 0 && w.col < width && w.row < height) {
+            piece_integrals(xs, ys, start, n, ox, oy, F, out.data(), phi.data(), psi.data());
+            return;
+        }
+        const Ring r = clip_box(xs, ys, start, n, w.x0, w.x1, w.y0, w.y1, box);
+        if (r.n < 3) {
+            std::fill(out.begin(), out.end(), 0.0);
+            return;
+        }
+        piece_integrals(box.x.data(), box.y.data(), r.start, r.n, ox, oy, F, out.data(), phi.data(), psi.data());
+    }
+    // out = the integrals over the whole cell (cut to the image)
+    void cell_integrals(int64_t p) {
+        const Window w = window(p);
+        sx[0] = w.x0; sy[0] = w.y0;
+        sx[1] = w.x1; sy[1] = w.y0;
+        sx[2] = w.x1; sy[2] = w.y1;
+        sx[3] = w.x0; sy[3] = w.y1;
+        piece_integrals(sx, sy, 0, 4, double(w.col) + 0.5, double(w.row) + 0.5, F, out.data(), phi.data(), psi.data());
+    }
+
+    void emit_pixel(int64_t p, int64_t src, double, double) {
+        cell_integrals(p);
+        add(p, src, 1.0);
+    }
+    void emit_run(int64_t row, int64_t w, int64_t c0, int64_t c1, int64_t src) {
+        for (int64_t c = c0; c <= c1; ++c) emit_pixel(row * w + c, src, double(c), double(row));
+    }
+    void emit_piece(int64_t p, int64_t src, const double* xs, const double* ys, int64_t start, int64_t n) {
+        integrate_piece(p, xs, ys, start, n);
+        add(p, src, 1.0);
+    }
+    // the strip coverage's area is the polygon's own: its integrals come from the polygon
+    void emit_strip_piece(int64_t p, int64_t src, double, const double* xs, const double* ys, int64_t start,
+                          int64_t n) {
+        integrate_piece(p, xs, ys, start, n);
+        add(p, src, 1.0);
+    }
+    // reached only for a front piece whose clip to its column left nothing (area ~ 0), since
+    // the sink runs with centroids on: its area counts as the whole cell's share
+    void emit_area(int64_t p, int64_t src, double area, double, double) {
+        cell_integrals(p);
+        add(p, src, area);
+    }
+    void emit_rest(int64_t p, int64_t src, double, double) {
+        if (p != pix) {
+            pix = p;
+            std::fill(emitted.begin(), emitted.end(), 0.0);
+        }
+        const std::vector<double> done = emitted;
+        cell_integrals(p);
+        for (size_t i = 0; i < out.size(); ++i) out[i] -= done[i];
+        add(p, src, 1.0);
+    }
+};
+
+}  // namespace aaeval::catmull

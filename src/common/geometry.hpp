@@ -1,0 +1,170 @@
+// Polygon geometry shared by the native kernels: half-plane clipping with Catmull's clip
+// flags, the shoelace area and the area centroid (first moments). Written once here; the
+// Catmull kernel and its filter sink include it, the other ports may.
+//
+// A polygon is a run of vertices xs[start .. start+n), ys[...] with a flag per vertex:
+// flags[i] = 1 when the edge from vertex i to the next lies on a clipping line (or a pixel
+// boundary) and so must never be chosen as a clipping edge again. Lines are a x + b y + c = 0
+// with (a, b) a unit normal; side A is d < 0, side B d > 0 (Catmull 1978, "The Clipping
+// Algorithm"), and points within EPS_LINE of the line belong to both sides, so no
+// near-duplicate vertices are made.
+//
+// Every floating-point operation is in the order of the numba kernels these replace (the
+// images keep their bits); build with -ffp-contract=off.
+#pragma once
+
+#include <cstdint>
+
+namespace aaeval::geometry {
+
+// Distance (pixels) under which a point counts as lying on a clipping line: far above
+// float64 rounding of pixel coordinates, far below any area the tests resolve.
+inline constexpr double EPS_LINE = 1e-11;
+
+// Python's min/max of two values (the first unless the second is strictly smaller/larger).
+template <class T> inline T pymin(T a, T b) { return b < a ? b : a; }
+template <class T> inline T pymax(T a, T b) { return b > a ? b : a; }
+
+inline int side(double d) {
+    if (d < -EPS_LINE) return -1;
+    if (d > EPS_LINE) return 1;
+    return 0;
+}
+
+// An output edge lies on the line when both its ends do; else it keeps its flag.
+// Returns m, or 0 when fewer than 3 vertices are left.
+inline int64_t settle_flags(uint8_t* ofs, int64_t ostart, int64_t m) {
+    if (m < 3) return 0;
+    const bool first_on = ofs[ostart] >= 2;
+    for (int64_t k = 0; k < m; ++k) {
+        const uint8_t cur = ofs[ostart + k];
+        const bool nxt_on = k == m - 1 ? first_on : ofs[ostart + k + 1] >= 2;
+        ofs[ostart + k] = (cur >= 2 && nxt_on) ? uint8_t(1) : uint8_t(cur & 1);
+    }
+    return m;
+}
+
+struct SplitCounts {
+    int64_t a, b;
+};
+
+// Split a polygon by a line into its side-A and side-B parts in one pass. Writes the wanted
+// parts at astart / bstart and returns their vertex counts (0 for a part not wanted or with
+// fewer than 3 vertices; the caller checks the area, since a part may also degenerate to a
+// line). Edges lying on the line get flag 1; the others keep the flag of the edge they are
+// part of. The outputs must not overlap the input (they may share its buffers).
+inline SplitCounts clip_split(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
+                              double a, double b, double c, bool want_a, bool want_b,
+                              double* axs, double* ays, uint8_t* afs, int64_t astart,
+                              double* bxs, double* bys, uint8_t* bfs, int64_t bstart) {
+    int64_t ma = 0, mb = 0;
+    if (n > 0) {
+        int64_t prev = start + n - 1;
+        double dp = a * xs[prev] + b * ys[prev] + c;
+        int sp = side(dp);
+        for (int64_t i = start; i < start + n; ++i) {
+            const double d = a * xs[i] + b * ys[i] + c;
+            const int s = side(d);
+            if (sp * s < 0) {
+                // strict crossing: the intersection belongs to both parts; the edge leaving it
+                // continues the original edge prev->i (2 marks "on the line" until the end)
+                const double t = dp / (dp - d);
+                double x = xs[prev] + t * (xs[i] - xs[prev]);
+                double y = ys[prev] + t * (ys[i] - ys[prev]);
+                if (b == 0.0) {
+                    x = -c / a;
+                } else if (a == 0.0) {
+                    y = -c / b;
+                }
+                if (want_a) {
+                    axs[astart + ma] = x;
+                    ays[astart + ma] = y;
+                    afs[astart + ma] = uint8_t(2 + fs[prev]);
+                    ++ma;
+                }
+                if (want_b) {
+                    bxs[bstart + mb] = x;
+                    bys[bstart + mb] = y;
+                    bfs[bstart + mb] = uint8_t(2 + fs[prev]);
+                    ++mb;
+                }
+            }
+            const int on = s == 0 ? 2 : 0;
+            if (want_a && s <= 0) {
+                axs[astart + ma] = xs[i];
+                ays[astart + ma] = ys[i];
+                afs[astart + ma] = uint8_t(on + fs[i]);
+                ++ma;
+            }
+            if (want_b && s >= 0) {
+                bxs[bstart + mb] = xs[i];
+                bys[bstart + mb] = ys[i];
+                bfs[bstart + mb] = uint8_t(on + fs[i]);
+                ++mb;
+            }
+            prev = i;
+            dp = d;
+            sp = s;
+        }
+    }
+    // (numba evaluated both settles in this order; with one part unwanted its count is 0)
+    const int64_t ra = settle_flags(afs, astart, ma);
+    const int64_t rb = settle_flags(bfs, bstart, mb);
+    return {ra, rb};
+}
+
+// The part of a polygon on side keep (-1: A, +1: B) of a line, at ostart; its vertex count.
+// A clip adds at most one vertex per edge: leave 2 n + 2 entries.
+inline int64_t clip_side(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
+                         double a, double b, double c, int keep, double* oxs, double* oys, uint8_t* ofs,
+                         int64_t ostart) {
+    const SplitCounts m = clip_split(xs, ys, fs, start, n, a, b, c, keep < 0, keep > 0,
+                                     oxs, oys, ofs, ostart, oxs, oys, ofs, ostart);
+    return keep < 0 ? m.a : m.b;
+}
+
+// The part of a polygon inside the pixel column x0 <= x <= x0 + 1, written at `at`. The first
+// clip goes to the scratch space at `tmp`, which must not overlap the result: leave 2 n + 4
+// entries from each. Returns the vertex count (0 if nothing is left).
+inline int64_t clip_to_column(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
+                              double x0, double* oxs, double* oys, uint8_t* ofs, int64_t at, int64_t tmp) {
+    const int64_t m1 = clip_side(xs, ys, fs, start, n, 1.0, 0.0, -x0, 1, oxs, oys, ofs, tmp);
+    return clip_side(oxs, oys, ofs, tmp, m1, 1.0, 0.0, -(x0 + 1.0), -1, oxs, oys, ofs, at);
+}
+
+// Shoelace area (fan from the first vertex); positive for the orientation every polygon is
+// normalised to (y down). 0 for fewer than 3 vertices.
+inline double signed_area(const double* xs, const double* ys, int64_t start, int64_t n) {
+    double s = 0.0;
+    const double x0 = xs[start];
+    const double y0 = ys[start];
+    for (int64_t i = start + 1; i < start + n - 1; ++i)
+        s += (xs[i] - x0) * (ys[i + 1] - y0) - (xs[i + 1] - x0) * (ys[i] - y0);
+    return 0.5 * s;
+}
+
+struct AreaCentroid {
+    double area, cx, cy;
+};
+
+// Signed area and area centroid of a polygon (fan from its first vertex); the first vertex
+// as the centroid of a polygon of zero area.
+inline AreaCentroid area_centroid(const double* xs, const double* ys, int64_t start, int64_t n) {
+    const double x0 = xs[start];
+    const double y0 = ys[start];
+    double s = 0.0, sx = 0.0, sy = 0.0;
+    for (int64_t i = start + 1; i < start + n - 1; ++i) {
+        const double ax = xs[i] - x0;
+        const double ay = ys[i] - y0;
+        const double bx = xs[i + 1] - x0;
+        const double by = ys[i + 1] - y0;
+        const double cross = ax * by - bx * ay;
+        s += cross;
+        sx += cross * (ax + bx);
+        sy += cross * (ay + by);
+    }
+    if (s == 0.0) return {0.0, x0, y0};
+    return {0.5 * s, x0 + sx / (3.0 * s), y0 + sy / (3.0 * s)};
+}
+
+}  // namespace aaeval::geometry
