@@ -17,7 +17,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from aaeval.renderers.catmull import visible_fragments
+from aaeval.catmull import visible_fragments
 from tests.same_bits import DATA, scenes
 
 FILE = DATA / "same_bits_catmull_fragments.json"

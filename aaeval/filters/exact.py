@@ -11,7 +11,7 @@ divided by the filter weight it collected; see ``docs/filters.md``). The backgro
 whatever no piece covers: its share is the denominator minus the pieces' coverage.
 
 The visible pieces come from the Catmull kernel run on the knot grid
-(:mod:`aaeval.filters.catmull_sink`); any other exact source of visible polygons can be
+(:mod:`aaeval.catmull.filtered`); any other exact source of visible polygons can be
 passed as :class:`Rings` (the Weiler-Atherton solver's, :func:`weiler_atherton_rings`, is
 the cross-check in the tests).
 """
@@ -22,6 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from aaeval.catmull.filtered import knot_grid_sums
 from aaeval.filters.integrate import accumulate_rings, combine_cells, filter_kernel_args
 from aaeval.filters.registry import PixelFilter, axis_weights
 from aaeval.scenes import Scene
@@ -73,7 +74,7 @@ def divide_by_weight(sums: np.ndarray, scene: Scene, filt: PixelFilter) -> np.nd
     return sums / denom[..., None]
 
 
-def filtered_image(scene: Scene, filt: PixelFilter, rings: Rings | None = None) -> np.ndarray:
+def filtered_image(scene: Scene, filt: PixelFilter, rings: Rings | None = None, threads: int = 0) -> np.ndarray:
     """The exactly filtered image ``(H, W, 3)`` of the scene's visible pieces.
 
     Parameters
@@ -84,12 +85,12 @@ def filtered_image(scene: Scene, filt: PixelFilter, rings: Rings | None = None) 
         its own exact path, ``catmull``).
     rings : Rings, optional
         Visible pieces from another exact source; by default the Catmull kernel's.
+    threads : int
+        Threads of the Catmull kernel (0: all cores); the image does not depend on it.
     """
     kind, radius, k, alpha, bias = filter_kernel_args(filt)
     if rings is None:
-        from aaeval.filters.catmull_sink import knot_grid_sums
-
-        return divide_by_weight(combine_cells(knot_grid_sums(scene, filt), filt, scene.width, scene.height),
+        return divide_by_weight(combine_cells(knot_grid_sums(scene, filt, threads), filt, scene.width, scene.height),
                                 scene, filt)
     acc = np.zeros((scene.height + 1, scene.width + 1, k, k, 4))
     accumulate_rings(rings.x, rings.y, rings.start, rings.length, rings.weights,

@@ -29,6 +29,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from aaeval import _catmull
 from aaeval.groundtruth.variant import import_mitsuba
 from aaeval.scenes import Scene
 from aaeval.scenes.depth import depth_tolerance
@@ -100,27 +101,16 @@ class Triangles(NamedTuple):
 def clip_to_window(xy: np.ndarray, window: tuple[float, float, float, float]) -> np.ndarray:
     """The part of a polygon outline inside an axis-aligned window ``(x0, y0, x1, y1)``.
 
-    Sutherland-Hodgman clipping (Catmull's :func:`clip_side` kernel) against the four
-    sides; a concave polygon may come back with zero-width bridges along the window's
-    border, which cover no area. Returns an (k, 2) array, k == 0 when nothing is inside.
+    Sutherland-Hodgman clipping (Catmull's clipper, ``src/common/geometry.hpp``) against
+    the four sides; a concave polygon may come back with zero-width bridges along the
+    window's border, which cover no area. Returns an (k, 2) array, k == 0 when nothing is
+    inside.
     """
-    from aaeval.renderers._clip import clip_side
-
     x0, y0, x1, y1 = window
     if xy[:, 0].min() >= x0 and xy[:, 0].max() <= x1 and xy[:, 1].min() >= y0 and xy[:, 1].max() <= y1:
         return xy
-    # lines a x + b y + c = 0 with the inside on side d < 0
-    lines = ((-1.0, 0.0, x0), (1.0, 0.0, -x1), (0.0, -1.0, y0), (0.0, 1.0, -y1))
-    xs, ys = np.ascontiguousarray(xy[:, 0], dtype=np.float64), np.ascontiguousarray(xy[:, 1], dtype=np.float64)
-    flags = np.zeros(len(xs), dtype=np.int64)
-    for a, b, c in lines:
-        size = 2 * len(xs) + 4
-        oxs, oys, ofs = np.empty(size), np.empty(size), np.empty(size, dtype=np.int64)
-        m = clip_side(xs, ys, flags, 0, len(xs), a, b, c, -1, oxs, oys, ofs, 0)
-        if m == 0:
-            return np.zeros((0, 2))
-        xs, ys, flags = oxs[:m], oys[:m], ofs[:m]
-    return np.column_stack([xs, ys])
+    return _catmull.clip_to_window(np.ascontiguousarray(xy[:, 0], dtype=np.float64),
+                                   np.ascontiguousarray(xy[:, 1], dtype=np.float64), *map(float, window))
 
 
 def coplanar_ranks(scene: Scene, *, rtol: float = 1e-11) -> np.ndarray:

@@ -1,7 +1,7 @@
 """Phong-shaded Catmull rendering: exact edges, one shade per visible piece per pixel.
 
 Every visible piece of a polygon in a pixel (one row of
-:func:`aaeval.renderers.catmull.visible_fragments`, all of that polygon's visible area in
+:func:`aaeval.catmull.visible_fragments`, all of that polygon's visible area in
 the pixel) is shaded once, at its area centroid, with the parameters the chosen specular
 method gives it (Amanatides' "one shade per polygon per pixel"). ``crow`` instead shades
 flagged pieces (or all, ``region="all"``) on a K x K sub-pixel grid: the scene is scaled
@@ -17,7 +17,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from aaeval.renderers.catmull import Fragments, visible_fragments
+from aaeval.catmull import Fragments, visible_fragments
 from aaeval.scenes import Scene
 from aaeval.scenes.shaded import ShadedScene, ShadingField, expand_shaded
 from aaeval.specular.methods import SPECULAR_METHODS, specular_options

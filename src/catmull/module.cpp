@@ -8,6 +8,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
 
 #include <cmath>
 #include <cstdint>
@@ -267,6 +268,44 @@ void accumulate_rings_py(In xs, In ys, In starts, In lengths, In weights, int64_
 
 void bind_stages(nb::module_& m);
 
+namespace {
+
+// The part of a polygon inside the window [x0, x1] x [y0, y1]: clip_side against its four
+// sides in turn (inside: side A of -x + x0, x - x1, -y + y0, y - y1); (k, 2), k = 0 when
+// nothing is left.
+nb::ndarray<nb::numpy, double> clip_to_window(In xs, In ys, double x0, double y0, double x1, double y1) {
+    const double* x = data_of<const double>(xs, "xs", {-1});
+    const int64_t n = int64_t(xs.shape(0));
+    const double* y = data_of<const double>(ys, "ys", {n});
+    check_finite(x, size_t(n), "xs");
+    check_finite(y, size_t(n), "ys");
+    const double lines[4][3] = {{-1.0, 0.0, x0}, {1.0, 0.0, -x1}, {0.0, -1.0, y0}, {0.0, 1.0, -y1}};
+    std::vector<double> cx(x, x + n), cy(y, y + n);
+    std::vector<uint8_t> cf(size_t(n), 0);
+    int64_t m = n;
+    for (const auto& l : lines) {
+        const int64_t size = 2 * m + 4;
+        std::vector<double> ox(static_cast<size_t>(size)), oy(static_cast<size_t>(size));
+        std::vector<uint8_t> of(static_cast<size_t>(size));
+        m = aaeval::geometry::clip_side(cx.data(), cy.data(), cf.data(), 0, m, l[0], l[1], l[2], -1, ox.data(),
+                                        oy.data(), of.data(), 0);
+        if (m == 0) return to_numpy(std::vector<double>(), {0, 2});
+        cx.swap(ox);
+        cy.swap(oy);
+        cf.swap(of);
+    }
+    std::vector<double> out(size_t(2 * m));
+    for (int64_t i = 0; i < m; ++i) {
+        out[size_t(2 * i)] = cx[size_t(i)];
+        out[size_t(2 * i + 1)] = cy[size_t(i)];
+    }
+    return to_numpy(std::move(out), {size_t(m), 2});
+}
+
+}  // namespace
+
+#include "catmull/stages_py.hpp"
+
 NB_MODULE(_catmull, m) {
     m.doc() = "Catmull 1978 exact area sampling: the scanline kernel and its sinks (colour, fragments, filter "
               "moments), native (see aaeval.catmull)";
@@ -291,7 +330,12 @@ NB_MODULE(_catmull, m) {
           nb::arg("lengths"), nb::arg("weights"), nb::arg("width"), nb::arg("height"), nb::arg("kind"),
           nb::arg("radius"), nb::arg("k"), nb::arg("alpha"), nb::arg("bias"), nb::arg("acc"),
           "Cut signed rings on the knot grid and add their integrals times weights to acc.");
-    bind_stages(m);
+    m.def("far_apart", [](int64_t n, int64_t threads) {
+        if (n < 0 || threads < 1) fail("far_apart needs n >= 0 and threads >= 1");
+        return far_apart(n, threads);
+    }, nb::arg("n"), nb::arg("threads"), "The order the threads take n bands in.");
+    m.def("clip_to_window", &clip_to_window, nb::arg("xs"), nb::arg("ys"), nb::arg("x0"), nb::arg("y0"),
+          nb::arg("x1"), nb::arg("y1"), "A polygon's part inside an axis-aligned window, (k, 2).");
+    nb::module_ stages = m.def_submodule("stages", "The kernel's stages one by one, for the tests.");
+    bind_stages(stages);
 }
-
-void bind_stages(nb::module_&) {}

@@ -1,0 +1,151 @@
+"""Catmull 1978 exact area sampling: the scanline kernel's Python face.
+
+The kernel is native (``aaeval._catmull``, C++ under ``src/catmull/``), laid out by the
+paper's stages: ``strips.hpp`` (I./III.A/III.C: polygons in order of their first scanline,
+the active list, each scanline's strip pieces with their exact coverage of every pixel
+column), ``buckets.hpp`` (III.C.4: the x-bucket), ``sweep.hpp`` (III.D/E: the row sweep and
+its cheap cases), ``integrator.hpp`` (III.E.b: the pixel integrator, recursive clipping
+along the front polygon's edges and where depth planes cross; :mod:`.reference` is the same
+in plain Python) and ``sink.hpp`` (the sink protocol every result leaves through: colours,
+fragments or, in ``moments.hpp``, a filter's moments). ``src/common/geometry.hpp`` holds the
+half-plane clip, shoelace area and centroid.
+
+Here: :func:`kernel_inputs` (the scene as the kernel's flat arrays),
+:func:`visible_fragments` (every pixel's visible polygons with area and centroid),
+:func:`render_flat` (the box-filtered flat-colour image) and :func:`resolve_flat`. Bands of
+``BAND_ROWS`` rows run on C++ threads without the GIL; the result does not depend on the
+thread count. The exact filters' path is :mod:`aaeval.catmull.filtered`; the methods
+``catmull`` and ``catmull-jagged`` are registered by :mod:`aaeval.renderers.catmull`.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import NamedTuple
+
+import numpy as np
+
+from aaeval import _catmull
+from aaeval.scenes import Scene
+from aaeval.scenes.depth import depth_tolerance
+from aaeval.weiler_atherton.near_ties import resolve_flat_arrays
+
+__all__ = ["BACKGROUND", "BAND_ROWS", "Fragments", "kernel_inputs", "available_cores", "far_apart",
+           "visible_fragments", "resolve_flat", "render_flat"]
+
+BACKGROUND = _catmull.BACKGROUND  # the source of the background's fragments
+BAND_ROWS = _catmull.BAND_ROWS  # rows per band (bands run independently)
+
+
+class Fragments(NamedTuple):
+    """Visible pieces of polygons per pixel: one row per (pixel, polygon) pair.
+
+    ``pixel`` is ``row * width + col``; ``polygon`` indexes ``scene.polygons`` (-1 is the
+    background); ``area`` is the visible area inside the pixel (the pixel's areas sum to
+    1); ``cx, cy`` is that area's centroid (image coordinates).
+    """
+
+    pixel: np.ndarray
+    polygon: np.ndarray
+    area: np.ndarray
+    cx: np.ndarray
+    cy: np.ndarray
+
+
+def kernel_inputs(scene: Scene):
+    """Flat arrays of the drawable polygons, outlines normalised to positive area.
+
+    Returns ``(start, length, x, y, planes, source, eps_z)`` where ``source[k]`` is the
+    index in ``scene.polygons`` of kernel polygon ``k``. Polygons seen edge-on cover no
+    area and are left out. Vectorised: no Python loop over polygons.
+    """
+    arr = scene.arrays
+    source = np.flatnonzero(np.isfinite(arr.planes).all(axis=1))
+    length = arr.length[source]
+    start = np.zeros(len(source), dtype=np.int64)
+    start[1:] = np.cumsum(length)[:-1]
+    # gather each kept polygon's vertices; reverse the ones wound the other way
+    owner = np.repeat(np.arange(len(source)), length)
+    local = np.arange(length.sum()) - start[owner]
+    xy = arr.vertices[arr.start[source][owner] + local, :2]
+    area2 = np.add.reduceat(xy[:, 0] * _next_in_polygon(xy[:, 1], start, length, owner, local)
+                            - _next_in_polygon(xy[:, 0], start, length, owner, local) * xy[:, 1],
+                            start) if len(source) else np.zeros(0)
+    flip = area2[owner] < 0 if len(source) else np.zeros(0, bool)
+    local = np.where(flip, length[owner] - 1 - local, local)
+    xy = arr.vertices[arr.start[source][owner] + local, :2]
+    # depth differences below this count as one shared plane (the scene format's tie rule)
+    eps_z = depth_tolerance(arr.vertices[:, 2])
+    # stacks of nearly coplanar polygons are resolved by the rule before the pairwise sort
+    start, length, x, y, planes, source = resolve_flat_arrays(
+        start, length, np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]),
+        np.ascontiguousarray(arr.planes[source]), source, eps_z)
+    return start, length, x, y, planes, source, eps_z
+
+
+def _next_in_polygon(values, start, length, owner, local):
+    """``values`` shifted by one vertex within each polygon (cyclically)."""
+    return values[start[owner] + (local + 1) % length[owner]]
+
+
+def native_arrays(start, length, x, y, planes):
+    """The kernel inputs as the native module takes them (C order, int64 / float64)."""
+    return (np.ascontiguousarray(start, dtype=np.int64), np.ascontiguousarray(length, dtype=np.int64),
+            np.ascontiguousarray(x, dtype=np.float64), np.ascontiguousarray(y, dtype=np.float64),
+            np.ascontiguousarray(np.reshape(planes, (-1, 3)), dtype=np.float64))
+
+
+def available_cores() -> int:
+    """Cores this process may run on."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
+def thread_count(threads: int) -> int:
+    """``threads`` (0: all cores) as the kernel's thread count."""
+    if threads < 0:
+        raise ValueError(f"threads must be >= 0 (0: all cores), got {threads}")
+    return int(threads) or available_cores()
+
+
+def far_apart(n: int, threads: int) -> list[int]:
+    """The order the kernel's threads take n bands in: the image cut into ``threads`` runs
+    of bands, one band from each in turn, so that threads write far-apart memory
+    (neighbouring bands share the 2 MB pages of a new image: two threads first touching one
+    at the same time both zero it)."""
+    return list(_catmull.far_apart(n, threads))
+
+
+def visible_fragments(scene: Scene, *, jagged: bool = False, centroids: bool = True, threads: int = 0) -> Fragments:
+    """Run the Catmull scanline algorithm and return every pixel's visible fragments.
+
+    With ``centroids=False`` the cheap paths (a solid piece; one irregular piece over a
+    solid one) skip locating the visible pieces' centroids and report pixel centres;
+    areas are exact either way. ``threads``: bands of rows run in parallel (0: all
+    cores); the result does not depend on it.
+    """
+    starts, lengths, x, y, planes, source, eps_z = kernel_inputs(scene)
+    pix, src, area, cx, cy = _catmull.fragments(*native_arrays(starts, lengths, x, y, planes), float(eps_z),
+                                                scene.width, scene.height, bool(jagged), bool(centroids),
+                                                thread_count(threads))
+    polygon = np.where(src == BACKGROUND, BACKGROUND, source[np.maximum(src, 0)] if len(source) else src)
+    return Fragments(pix, polygon.astype(np.int64), area, cx, cy)
+
+
+def resolve_flat(scene: Scene, fragments: Fragments) -> np.ndarray:
+    """Area-weighted flat colours of the fragments: the box-filtered image (H, W, 3)."""
+    colors = np.vstack([scene.arrays.colors, scene.background])
+    rgb = colors[fragments.polygon]  # index -1 is the background row
+    n = scene.width * scene.height
+    image = np.empty((n, 3))
+    for ch in range(3):
+        image[:, ch] = np.bincount(fragments.pixel, weights=fragments.area * rgb[:, ch], minlength=n)
+    return image.reshape(scene.height, scene.width, 3)
+
+
+def render_flat(scene: Scene, *, jagged: bool = False, threads: int = 0) -> np.ndarray:
+    """The box-filtered flat-colour image (H, W, 3), written by the kernel straight into
+    the image (no fragment list): the same bits as ``resolve_flat(visible_fragments())``."""
+    starts, lengths, x, y, planes, source, eps_z = kernel_inputs(scene)
+    colors = np.ascontiguousarray(np.vstack([scene.arrays.colors[source], scene.background]), dtype=np.float64)
+    return _catmull.render_flat(*native_arrays(starts, lengths, x, y, planes), colors.reshape(-1, 3), float(eps_z),
+                                scene.width, scene.height, bool(jagged), thread_count(threads))

@@ -1,0 +1,37 @@
+"""Visible pieces from the Catmull kernel, integrated against a filter on the knot grid.
+
+The scene is shifted by half a pixel and rendered at ``(W + 1) x (H + 1)`` by the same
+scanline stages as ``catmull``: the pixels of that render are exactly the knot cells
+``[m - 1/2, m + 1/2] x [n - 1/2, n + 1/2]`` of the original image, so every visible piece
+the kernel emits lies inside one cell. The kernel's moment sink (``src/catmull/moments.hpp``)
+accumulates each one's integrals against the filter's basis times its colour per cell;
+cells on the image border are cut to the image first (samples lie only inside it).
+:func:`aaeval.filters.integrate.combine_cells` then turns cells into pixels.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from aaeval import _catmull
+from aaeval.catmull import kernel_inputs, native_arrays, thread_count
+from aaeval.filters.integrate import filter_kernel_args
+from aaeval.filters.registry import PixelFilter
+from aaeval.scenes import Scene
+
+__all__ = ["knot_grid_sums"]
+
+
+def knot_grid_sums(scene: Scene, filt: PixelFilter, threads: int = 0) -> np.ndarray:
+    """Per-cell integrals ``(H + 1, W + 1, k, k, 3)`` of the visible colour (background included)."""
+    start, length, x, y, planes, source, eps_z = kernel_inputs(scene)
+    kind, radius, k, alpha, bias = filter_kernel_args(filt)
+    start, length, x, y, planes = native_arrays(start, length, x, y, planes)
+    # the scene moved by (1/2, 1/2): z = a x + b y + c keeps its values at the moved points
+    shifted = planes.copy()
+    shifted[:, 2] -= 0.5 * (planes[:, 0] + planes[:, 1])
+    colors = np.vstack([scene.arrays.colors[source], np.asarray(scene.background, dtype=np.float64)])
+    return _catmull.knot_grid_sums(start, length, x + 0.5, y + 0.5, shifted, float(eps_z),
+                                   np.ascontiguousarray(colors, dtype=np.float64).reshape(-1, 3),
+                                   scene.width, scene.height, int(kind), int(radius), int(k), float(alpha),
+                                   float(bias), thread_count(threads))
