@@ -5,7 +5,7 @@ Usage: ``PYTHONPATH=. /usr/bin/time -v python3 benchmarks/bench_validate_large_p
 Writes a scene file holding one simple polygon, a tight double spiral of N vertices (the
 kind of outline where edges of neighbouring turns run close together), then times
 ``load_scene`` on it: TOML parsing, every per-vertex check and the O(n log n) self-crossing
-sweep. ``/usr/bin/time -v`` reports the peak resident memory ("Maximum resident set size").
+sweep (C++, ``aaeval._samplers``: nothing to compile first). ``/usr/bin/time -v`` reports the peak resident memory ("Maximum resident set size").
 The pairwise check this replaced needed 37 GiB at 100000 vertices.
 """
 
@@ -34,9 +34,7 @@ def main() -> None:
     parser.add_argument("--vertices", type=int, default=100_000)
     args = parser.parse_args()
     from aaeval.scenes import load_scene
-    from aaeval.scenes.simplicity import ring_contact
 
-    ring_contact(np.array([[0, 0], [1, 0], [1, 1], [0, 1]] * 100, float) + np.arange(400)[:, None])  # JIT
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "spiral.toml"
         path.write_text(spiral_scene(args.vertices))

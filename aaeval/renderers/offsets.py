@@ -2,7 +2,7 @@
 
 The shipped real-time methods (``msaa``, ``fxaa``, ``taa``) sample every pixel at the same
 sub-pixel offsets (a multisample pattern, the pixel centre, one jitter per frame). The
-point-sampling kernel (:func:`aaeval.renderers._sampling_kernel.sample_image`) samples
+point-sampling kernel (``aaeval._samplers.sample_image``, :mod:`aaeval.renderers.sampling`) samples
 pixel centres; a sample at ``(col + 1/2 + dx, row + 1/2 + dy)`` is the pixel centre of the
 scene moved by ``(-dx, -dy)``, so each offset is one centre-sampled pass over the moved
 kernel arrays (vertices shifted, depth planes rewritten for the shift: the same planes,
@@ -20,9 +20,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from aaeval._samplers import sample_image
 from aaeval.filters import get_filter
 from aaeval.filters.evaluate import profile_args
-from aaeval.renderers._sampling_kernel import sample_image
 from aaeval.renderers.catmull import kernel_inputs
 from aaeval.scenes import Scene
 

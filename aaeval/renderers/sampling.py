@@ -1,7 +1,33 @@
 """Point sampling of a scene at ``k x k`` samples per pixel, box-averaged or through a filter.
 
 The one entry point behind the methods ``point``, ``supersample`` and ``jitter``; the
-numba kernel is :mod:`aaeval.renderers._sampling_kernel`.
+kernel is C++ (``src/samplers/sampling.cpp``, module ``aaeval._samplers``).
+
+``point``, ``supersample`` and ``jitter`` differ only in where the samples of a pixel
+lie; the kernel takes that as ``(k, jitter, seed)`` and does the rest, a scanline
+algorithm whose cost follows what the polygons cover:
+
+- every polygon is listed on each pixel row its y extent meets, in file order;
+- per row and per *strip* (the band of one row of strata, height 1/k), each listed
+  polygon's edges that meet the strip are collected with the x range they span there;
+  only the pixel columns of that range are visited, and only those edges take part in
+  the inside test of a sample;
+- inside test: crossing parity with the half-open rule ``(y0 <= y) != (y1 <= y)`` and
+  ``x < x_cross``, the crossing computed from the edge's endpoints ordered by y. Two
+  polygons sharing an edge compute the same crossing, so a sample on the shared edge
+  belongs to exactly one of them; a polygon covers ``[ymin, ymax)`` vertically;
+- depth: ``z = a x + b y + c``; polygons are visited in file order and a later one wins
+  when its depth is within ``eps_z`` of the nearest so far or nearer (the scene format's
+  tie rule, relative to the nearest depth: :mod:`aaeval.scenes.depth`; ``eps_z`` comes
+  from :func:`aaeval.renderers.catmull.kernel_inputs`).
+
+Sample ``(i, j)`` of pixel ``(row, col)`` lies at ``x = (col k + i + u) / k``,
+``y = row + (j + v) / k``, with ``u = v = 1/2`` on the regular grid; jittered offsets
+``u, v`` come from a counter-based hash (splitmix64) of ``(seed, row, column, sample,
+axis)``: reproducible, independent of the order of work, and fixed in screen space, so
+every frame of an animation sees the same sample pattern for a given seed. The box filter
+averages each pixel's own samples; any other filter weights every sample by the filter
+of each pixel it reaches and divides by the weight collected (Mitsuba's film).
 """
 
 from __future__ import annotations
@@ -10,7 +36,7 @@ import numpy as np
 
 from aaeval.filters import DEFAULT_FILTER, get_filter
 from aaeval.filters.evaluate import profile_args
-from aaeval.renderers._sampling_kernel import sample_image
+from aaeval._samplers import sample_image
 from aaeval.renderers.catmull import kernel_inputs
 from aaeval.scenes import Scene, parse_scene
 

@@ -1,0 +1,139 @@
+"""The native samplers' bindings (aaeval._samplers, issue 20): bad inputs are one-line
+ValueErrors, never a crash; the jitter hash and the depth rule are the documented ones;
+a deep A-buffer stack is sorted in n log n with the insertion sort's order."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+
+from aaeval import _samplers
+from aaeval.filters import get_filter
+from aaeval.filters.evaluate import profile_args
+from aaeval.renderers.registry import render
+from aaeval.renderers.sampling import kernel_scene, warmup_scene
+from aaeval.scenes import parse_scene
+
+
+def _args():
+    return list(kernel_scene(warmup_scene()))
+
+
+BOX = profile_args(get_filter("box"))
+MITCHELL = profile_args(get_filter("mitchell"))
+
+
+def _sample(args, k=2, jitter=False, seed=0, filt=BOX):
+    return _samplers.sample_image(*args, k, jitter, seed, *filt)
+
+
+def test_the_warm_up_scene_renders():
+    args = _args()
+    assert _sample(args).shape == (4, 5, 3)
+    assert _samplers.abuffer_image(*args).shape == (4, 5, 3)
+    assert np.isfinite(_sample(args, 3, True, 7, MITCHELL)).all()
+
+
+def _with(i, value):
+    args = _args()
+    args[i] = value(args[i]) if callable(value) else value
+    return args
+
+
+BAD_SCENES = {
+    "negative width": lambda: _with(0, -1),
+    "huge image": lambda: _with(1, 1 << 40),
+    "starts float": lambda: _with(2, lambda a: a.astype(float)),
+    "starts 2-D": lambda: _with(2, lambda a: a[:, None]),
+    "start out of range": lambda: _with(2, lambda a: a + 1000),
+    "negative start": lambda: _with(2, lambda a: a - 100),
+    "length too long": lambda: _with(3, lambda a: a * 1000),
+    "negative length": lambda: _with(3, lambda a: -a),
+    "lengths short": lambda: _with(3, lambda a: a[:-1]),
+    "xs strided": lambda: _with(4, lambda a: np.repeat(a, 2)[::2]),
+    "ys short": lambda: _with(5, lambda a: a[:-1]),
+    "xs nan": lambda: _with(4, lambda a: np.where(np.arange(a.size) == 1, np.nan, a)),
+    "ys inf": lambda: _with(5, lambda a: np.where(np.arange(a.size) == 0, np.inf, a)),
+    "planes float32": lambda: _with(6, lambda a: a.astype(np.float32)),
+    "planes transposed": lambda: _with(6, lambda a: np.ascontiguousarray(a.T).T),
+    "planes nan": lambda: _with(6, lambda a: a * np.nan),
+    "eps nan": lambda: _with(7, float("nan")),
+    "colors short": lambda: _with(8, lambda a: a[:-1]),
+    "background 4": lambda: _with(9, np.zeros(4)),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_SCENES))
+def test_bad_scene_arrays_are_value_errors(case):
+    args = BAD_SCENES[case]()
+    with pytest.raises(ValueError) as info:
+        _sample(args)
+    assert "\n" not in str(info.value)
+    with pytest.raises(ValueError):
+        _samplers.abuffer_image(*args)
+
+
+@pytest.mark.parametrize("filt, k", [
+    ((0, 0.5, np.zeros((1, 1)), 0.0, 0.0), 0),
+    ((0, 0.5, np.zeros((1, 1)), 0.0, 0.0), 10**6),
+    ((7, 0.5, np.zeros((1, 1)), 0.0, 0.0), 2),
+    ((1, 2.0, np.zeros((1, 4)), 0.0, 0.0), 2),  # too few pieces for the radius
+    ((1, 2.0, np.zeros((4, 0)), 0.0, 0.0), 2),
+    ((1, float("inf"), np.zeros((4, 4)), 0.0, 0.0), 2),
+    ((1, -1.0, np.zeros((4, 4)), 0.0, 0.0), 2),
+    ((2, 2.0, np.zeros((1, 1)), float("nan"), 0.0), 2),
+    ((1, 2.0, np.full((4, 4), np.nan), 0.0, 0.0), 2),
+])
+def test_bad_filters_and_sample_counts_are_value_errors(filt, k):
+    with pytest.raises(ValueError):
+        _sample(_args(), k, False, 0, filt)
+
+
+def test_non_arrays_are_refused():
+    args = _args()
+    args[4] = [0.0, 1.0]
+    with pytest.raises((TypeError, ValueError)):
+        _sample(args)
+
+
+def test_jitter_is_splitmix64_of_seed_row_column_sample_axis():
+    def splitmix(z):
+        z = (z + 0x9E3779B97F4A7C15) % 2**64
+        z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) % 2**64
+        z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) % 2**64
+        return z ^ (z >> 31)
+
+    for seed, row, col, s, axis in [(0, 0, 0, 0, 0), (7, 3, 11, 5, 1), (2**62, 9, 1, 15, 0)]:
+        h = splitmix(seed)
+        for v in (row, col, 2 * s + axis):
+            h = splitmix(h ^ v)
+        assert _samplers.jitter_uniform(seed, row, col, s, axis) == (h >> 11) / 2.0**53
+
+
+def test_tied_latest_first_puts_the_latest_of_a_run_first():
+    depth = np.array([0.0, 0.8, 1.6, 5.0, 5.0])
+    index = np.arange(5, dtype=np.int64)
+    order = np.lexsort((-index, depth)).astype(np.int64)
+    assert _samplers.tied_latest_first(order, depth, index, 1.0).tolist() == [1, 0, 2, 4, 3]
+    with pytest.raises(ValueError):
+        _samplers.tied_latest_first(order + 5, depth, index, 1.0)
+    with pytest.raises(ValueError):
+        _samplers.tied_latest_first(order, depth, index[:-1], 1.0)
+
+
+def test_a_deep_abuffer_stack_is_fast_and_the_latest_tied_polygon_wins():
+    # 3000 coplanar triangles over one 12 x 12 image, each pixel's fragments in the worst
+    # order for an insertion sort (4.5 million moves a pixel); the merge sort gives the same
+    # order (distinct keys), and the tie rule's latest polygon is seen everywhere
+    n = 3000
+    polys = [{"color": [i / n, 0.5, 0.25], "vertices": [[-1, -1, 2.0], [30, -1, 2.0], [-1, 30, 2.0]]}
+             for i in range(n)]
+    scene = parse_scene({"image": {"width": 12, "height": 12}, "polygons": polys})
+    args = kernel_scene(scene)
+    start = time.perf_counter()
+    image = _samplers.abuffer_image(*args)
+    assert time.perf_counter() - start < 2.0
+    np.testing.assert_array_equal(image[..., 0], (n - 1) / n)
+    np.testing.assert_array_equal(render(scene, "abuffer"), image)
