@@ -14,7 +14,7 @@ pixel corners inside the polygon.
 
 Resolution, front to back: fragments are sorted on ``zmin`` by the scene format's tie
 rule (fragments within ``eps_z`` of the nearest ``zmin`` are tied, the later polygon in
-the file first: :func:`aaeval.scenes.depth.tied_latest_first`) and each one claims the subsamples of its mask that no nearer fragment has
+the file first: :func:`aaeval.scenes.depth.front_to_back`'s rule) and each one claims the subsamples of its mask that no nearer fragment has
 claimed. Where the z range of a fragment ``f`` overlaps that of the next fragment ``g``
 whose mask meets f's claimed bits, the two surfaces may cross inside the pixel, and the
 paper blends them on the shared bits by the fraction of f estimated to be in front,

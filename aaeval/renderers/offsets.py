@@ -23,7 +23,7 @@ import numpy as np
 from aaeval._samplers import sample_image
 from aaeval.filters import get_filter
 from aaeval.filters.evaluate import profile_args
-from aaeval.renderers.catmull import kernel_inputs
+from aaeval.catmull import kernel_inputs
 from aaeval.scenes import Scene
 
 __all__ = ["OffsetSampler", "halton"]

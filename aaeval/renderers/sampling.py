@@ -19,7 +19,7 @@ algorithm whose cost follows what the polygons cover:
 - depth: ``z = a x + b y + c``; polygons are visited in file order and a later one wins
   when its depth is within ``eps_z`` of the nearest so far or nearer (the scene format's
   tie rule, relative to the nearest depth: :mod:`aaeval.scenes.depth`; ``eps_z`` comes
-  from :func:`aaeval.renderers.catmull.kernel_inputs`).
+  from :func:`aaeval.catmull.kernel_inputs`).
 
 Sample ``(i, j)`` of pixel ``(row, col)`` lies at ``x = (col k + i + u) / k``,
 ``y = row + (j + v) / k``, with ``u = v = 1/2`` on the regular grid; jittered offsets
@@ -37,7 +37,7 @@ import numpy as np
 from aaeval.filters import DEFAULT_FILTER, get_filter
 from aaeval.filters.evaluate import profile_args
 from aaeval._samplers import sample_image
-from aaeval.renderers.catmull import kernel_inputs
+from aaeval.catmull import kernel_inputs
 from aaeval.scenes import Scene, parse_scene
 
 __all__ = ["point_sampled", "kernel_scene", "warmup_scene", "SAMPLE_BYTES"]
@@ -49,7 +49,7 @@ SAMPLE_BYTES = 8 + 8 + 16
 def kernel_scene(scene: Scene) -> tuple:
     """The scene as kernel arguments: ``(width, height, starts, lengths, x, y, planes, eps_z, colors, background)``.
 
-    Polygons are those of :func:`aaeval.renderers.catmull.kernel_inputs` (file order,
+    Polygons are those of :func:`aaeval.catmull.kernel_inputs` (file order,
     edge-on ones left out); ``colors[k]`` is kernel polygon ``k``'s colour.
     """
     starts, lengths, x, y, planes, source, eps_z = kernel_inputs(scene)
