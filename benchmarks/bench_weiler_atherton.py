@@ -10,7 +10,7 @@ single-threaded, so that is the one-core comparison; ``catmull`` with its defaul
 core) is listed too. Issue 11's goal: at 2000 triangles W-A within 3x of catmull.
 
 W-A's object-space cost grows with the number of overlapping polygon pairs it clips
-(compiled: :mod:`aaeval.weiler_atherton.clip_kernel`, ``solve_kernel``); catmull's with
+(native: ``src/weiler_atherton/clipper.cpp``, ``solver.cpp``); catmull's with
 the pixels each polygon covers. ``--windows`` adds W-A with screen subdivision
 (``window=N``: at most N polygons per window).
 

@@ -30,10 +30,10 @@ from aaeval.weiler_atherton import (
     shape_area,
     visible_pieces,
 )
-from aaeval.weiler_atherton.clip_kernel import clip_arrays, first_crossing
+from aaeval._weiler_atherton import INSIDE, OUTSIDE, clip_arrays, first_crossing
+from aaeval._weiler_atherton import separation as _separation
 from aaeval.weiler_atherton.clipper import to_arrays
 from aaeval.weiler_atherton.lines import visible_edges
-from aaeval.weiler_atherton.solve_kernel import INSIDE, OUTSIDE, _separation
 from randomscenes import degenerate_scene, random_scene
 
 DATA = Path(__file__).parent / "data"

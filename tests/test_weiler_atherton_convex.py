@@ -14,10 +14,9 @@ from shapely.geometry import Polygon as GeosPolygon
 from aaeval.renderers import render
 from aaeval.scenes import load_scene
 from aaeval.scenes.generate import random_triangles
+from aaeval._weiler_atherton import edge_line_values, later_neighbours, plane_line_values, split_convex, vertex_sides
 from aaeval.weiler_atherton import visible_pieces
-from aaeval.weiler_atherton.convex_kernel import edge_line_values, plane_line_values, split_convex, vertex_sides
 from aaeval.weiler_atherton.lines import visible_edges
-from aaeval.weiler_atherton.solve_kernel import later_neighbours
 from randomscenes import degenerate_scene, random_scene
 
 DATA = Path(__file__).parent / "data"

@@ -14,14 +14,6 @@ from aaeval.weiler_atherton import box_filter, visible_arrays
 __all__ = ["render_weiler_atherton"]
 
 
-def _warmup() -> None:
-    # compiles (or loads from numba's cache) the clipper, the solver and the box filter:
-    # a few interpenetrating triangles reach every stage
-    from aaeval.scenes.generate import random_triangles
-
-    render_weiler_atherton(random_triangles(6, 8, 8, size=6.0, seed=1))
-
-
 @register_method(
     "weiler-atherton",
     summary="Weiler-Atherton 1977: visible polygons solved in object space, exact box filter",
@@ -31,7 +23,6 @@ def _warmup() -> None:
                                      "(false: the paper's clipper for every pair)"),
     },
     exact=True,
-    warmup=_warmup,
     # the clipper holds and clips a piece per overlapping pair (1e4 identical triangles in
     # 16x16: 1.4 GB, i.e. 28 bytes per pair; 4000: about 0.12 microseconds per pair beyond
     # the near-tie pass)

@@ -4,10 +4,12 @@ polygon clipper; the output is the visible polygons themselves.
 - :mod:`.clipper`: concave polygons with holes clipped against each other.
 - :mod:`.hidden_surface`: polygon area sorting, recursive subdivision, cyclic overlap,
   interpenetration, screen subdivision.
-- :mod:`.convex_kernel`: the short road for a convex piece clipped by a convex outline
-  (cut edge line by edge line; the paper's clipper takes every other pair).
 - :mod:`.raster`: exact box filter of the visible polygons.
 - :mod:`.lines`: visible edges (hidden-line drawings).
+
+The kernels are C++ (``src/weiler_atherton/``: ``clipper.cpp``, ``solver.cpp`` with the
+convex pieces' short road in ``convex.hpp``, ``raster.cpp``), bound as
+:mod:`aaeval._weiler_atherton`; the functions above prepare their inputs.
 """
 
 from aaeval.weiler_atherton.clipper import InvalidShapeError, Shape, clip, oriented, polygons, ring_area, shape_area

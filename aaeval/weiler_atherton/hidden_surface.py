@@ -16,10 +16,11 @@ Then the outside list is processed the same way until it is empty. The output pi
 not overlap. :func:`visible_pieces` adds the paper's screen subdivision: the image is cut
 Warnock-style into windows holding at most ``window`` polygons, each solved separately.
 
-Each window is solved by compiled code (:mod:`.solve_kernel`, on the clipper's stages in
-:mod:`.clip_kernel`, and for convex pieces clipped by convex outlines the shorter road of
-:mod:`.convex_kernel`); this module prepares the problem and hands back the pieces, as
-flat arrays (:func:`visible_arrays`, for the renderer) or as :class:`Piece` objects.
+Each window is solved by the native solver (``aaeval._weiler_atherton.solve_window``,
+C++ in ``src/weiler_atherton/solver.cpp`` on the clipper of ``clipper.cpp``, and for
+convex pieces clipped by convex outlines the shorter road of ``convex.hpp``); this module
+prepares the problem and hands back the pieces, as flat arrays (:func:`visible_arrays`,
+for the renderer) or as :class:`Piece` objects.
 
 Edge labels (see :mod:`.clipper`) record where each output edge came from:
 :data:`EDGE_OWN` an edge of the piece's own polygon, :data:`EDGE_CROSSING` the line where
@@ -33,11 +34,11 @@ from typing import NamedTuple
 
 import numpy as np
 
+from aaeval._weiler_atherton import EDGE_CROSSING, EDGE_CUT, EDGE_OWN, originals, solve_window
 from aaeval.scenes import Scene
 from aaeval.scenes.depth import depth_tolerance
 from aaeval.weiler_atherton.clipper import Shape, from_arrays, ring_area, to_arrays
 from aaeval.weiler_atherton.near_ties import solve_by_rule, tie_groups
-from aaeval.weiler_atherton.solve_kernel import EDGE_CROSSING, EDGE_CUT, EDGE_OWN, originals, solve_window
 
 __all__ = [
     "Piece",
@@ -126,7 +127,8 @@ class _Problem:
         self.planes = np.ascontiguousarray(arrays.planes, dtype=np.float64)
         vertices = np.ascontiguousarray(arrays.vertices, dtype=np.float64).reshape(-1, 3)
         self.xs, self.ys, self.starts, self.bboxes, self.zmin, scale, _ = originals(
-            vertices, arrays.start, arrays.length, self.planes
+            vertices, np.ascontiguousarray(arrays.start, dtype=np.int64),
+            np.ascontiguousarray(arrays.length, dtype=np.int64), self.planes
         )
         self.sources = np.flatnonzero(np.diff(self.starts) > 0)
         # the scene format's tie band, as every method uses it
@@ -169,7 +171,7 @@ def visible_pieces(scene: Scene, *, window: int = 0, convex: bool = True) -> lis
         or where cutting them no longer separates their polygons (see ``SPLIT_GAIN``).
     convex : bool
         Clip a convex piece by a convex outline edge line by edge line, the outside then
-        coming as convex pieces (:mod:`.convex_kernel`; the same regions, faster); False
+        coming as convex pieces (``src/weiler_atherton/convex.hpp``; the same regions, faster); False
         clips every pair with the paper's clipper.
     """
     return visible_arrays(scene, window=window, convex=convex).pieces()

@@ -26,12 +26,9 @@ where crossing planes are split where their depths are equal.
 from __future__ import annotations
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
-from aaeval.weiler_atherton.clip_kernel import clip_arrays
+from aaeval._weiler_atherton import EDGE_CUT, EDGE_OWN, clip_arrays, components, half_plane, later_neighbours
 from aaeval.weiler_atherton.clipper import Shape, from_arrays, polygons, shape_area
-from aaeval.weiler_atherton.solve_kernel import EDGE_CUT, EDGE_OWN, half_plane, later_neighbours
 
 __all__ = ["NEAR_COPLANAR", "tie_groups", "solve_by_rule"]
 
@@ -55,9 +52,7 @@ def tie_groups(boxes: np.ndarray, planes: np.ndarray, sources: np.ndarray, eps_z
     if alike.sum() < 2 or not _near_pairs(boxes, planes, sources[alike], eps_z)[2].any():
         return sources[:0], sources
     first, rows, near = _near_pairs(boxes, planes, sources, eps_z)
-    n = len(sources)
-    graph = coo_matrix((np.ones(len(rows)), (first, rows)), shape=(n, n))
-    _, component = connected_components(graph, directed=False)
+    component = components(len(sources), first, rows)
     tied = np.isin(component, np.unique(component[first[near]]))
     return sources[tied], sources[~tied]
 

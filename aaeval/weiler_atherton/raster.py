@@ -1,5 +1,5 @@
 """Exact box filter of non-overlapping polygons: each pixel gets the area of every piece
-over its square, accumulated edge by edge (numba).
+over its square, accumulated edge by edge (native: ``src/weiler_atherton/raster.cpp``).
 
 Every directed edge adds, to each pixel of a row it crosses, the signed area between the
 edge and the pixel's right side, and the height it spans to every pixel farther right.
@@ -12,100 +12,12 @@ left of the image count as if on its left border and parts right of it not at al
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
-from numba import njit
 
+from aaeval._weiler_atherton import add_coverage
 from aaeval.scenes import Scene
 
 __all__ = ["coverage", "coverage_flat", "box_filter"]
-
-
-@njit(cache=True)
-def _unit_cells(lo, hi, n):
-    """First and last cell [k, k + 1), 0 <= k < n, that the interval lo < hi overlaps; each
-    overlaps it over a length > 0 (so no cell of the loops below gets an empty stretch)."""
-    return max(int(math.floor(lo)), 0), min(int(math.ceil(hi)) - 1, n - 1)
-
-
-@njit(cache=True)
-def _add_cell(diff, r, c, weight, area, height):
-    """Cell (r, c) gets ``area``, every cell right of it ``height``: as differences, area
-    at c and the rest of the height at c + 1, in every channel."""
-    for k in range(len(weight)):
-        diff[r, c, k] += weight[k] * area
-        diff[r, c + 1, k] += weight[k] * (height - area)
-
-
-@njit(cache=True)
-def _row_segment(r, xa, xb, dy, w, weight, diff):
-    """A segment spanning height ``dy`` (signed) of row r, from x = xa to xb."""
-    if xa == xb:
-        x = xa
-        if x <= 0.0:
-            for k in range(len(weight)):
-                diff[r, 0, k] += weight[k] * dy
-        elif x < w:
-            c = int(math.floor(x))
-            _add_cell(diff, r, c, weight, dy * ((c + 1) - x), dy)
-        return
-    lo = min(xa, xb)
-    hi = max(xa, xb)
-    per_x = dy / (hi - lo)  # height per unit of x
-    if lo < 0.0:
-        for k in range(len(weight)):
-            diff[r, 0, k] += weight[k] * (per_x * (min(hi, 0.0) - lo))
-    c0, c1 = _unit_cells(lo, hi, w)
-    for c in range(c0, c1 + 1):
-        u = max(lo, float(c))
-        v = min(hi, float(c + 1))
-        h = per_x * (v - u)
-        _add_cell(diff, r, c, weight, h * ((c + 1) - 0.5 * (u + v)), h)
-
-
-@njit(cache=True)
-def _accumulate(xs, ys, starts, lengths, weights, w, h, diff):
-    for k in range(len(starts)):
-        s = starts[k]
-        n = lengths[k]
-        wt = weights[k]  # one row: the contour's weight in every channel
-        for i in range(n):
-            x0 = xs[s + i]
-            y0 = ys[s + i]
-            j = s + (i + 1) % n
-            x1 = xs[j]
-            y1 = ys[j]
-            if y0 == y1:
-                continue
-            ylo = max(min(y0, y1), 0.0)
-            yhi = min(max(y0, y1), float(h))
-            if ylo >= yhi:
-                continue
-            dxdy = (x1 - x0) / (y1 - y0)
-            sign = 1.0 if y1 > y0 else -1.0
-            r0, r1 = _unit_cells(ylo, yhi, h)
-            for r in range(r0, r1 + 1):
-                ya = max(ylo, float(r))
-                yb = min(yhi, float(r + 1))
-                xa = x0 + (ya - y0) * dxdy
-                xb = x0 + (yb - y0) * dxdy
-                _row_segment(r, xa, xb, sign * (yb - ya), w, wt, diff)
-
-
-@njit(cache=True)
-def _settle(diff, out):
-    """Each cell's total: the running sum of the differences along its row, negated (the
-    accumulated area lies right of each edge; a positive contour's edges going down, y
-    growing, bound its interior from the right), added to ``out`` (h, w, k)."""
-    h, w, k = out.shape
-    run = np.zeros(k)
-    for r in range(h):
-        run[:] = 0.0
-        for c in range(w):
-            for ch in range(k):
-                run[ch] += diff[r, c, ch]
-                out[r, c, ch] -= run[ch]
 
 
 def coverage(rings, weights, width: int, height: int) -> np.ndarray:
@@ -136,13 +48,8 @@ def coverage_flat(xs, ys, starts, weights, width: int, height: int) -> np.ndarra
 
 def _add_coverage(xs, ys, starts, weights, out: np.ndarray) -> None:
     """out (H, W, k) += per-pixel sum of ``weights[ring] * area of ring over the pixel``."""
-    height, width, k = out.shape
-    starts = np.asarray(starts, dtype=np.int64)
-    diff = np.zeros((height, width + 1, k))
-    _accumulate(np.ascontiguousarray(xs, dtype=np.float64), np.ascontiguousarray(ys, dtype=np.float64),
-                starts[:-1].copy(), np.diff(starts), np.ascontiguousarray(weights, dtype=np.float64),
-                width, height, diff)
-    _settle(diff, out)
+    add_coverage(np.ascontiguousarray(xs, dtype=np.float64), np.ascontiguousarray(ys, dtype=np.float64),
+                 np.ascontiguousarray(starts, dtype=np.int64), np.ascontiguousarray(weights, dtype=np.float64), out)
 
 
 def box_filter(scene: Scene, pieces) -> np.ndarray:

@@ -1,0 +1,516 @@
+// The Weiler-Atherton clipper's stages: snapping, crossings and point ids (step 1), the
+// contours split at every point on them, the holding lists when no boundaries meet
+// (step 2), the edges classified and traced into the inside and outside contours (steps
+// 3-4). Inside clip_arrays every vertex is a point id: the index of its coordinates in
+// the sorted list of distinct points of both shapes and their crossings, so shared
+// vertices and edges are found by comparing integers.
+#include "clipper.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace wa {
+
+namespace {
+
+constexpr double TWO_PI = 2.0 * 3.141592653589793;
+constexpr i64 SMALL_SORT = 24;
+
+struct Crossing {
+    bool hit;
+    double x, y;
+};
+
+// Where two segments cross strictly inside both (each end farther than eps from the
+// other line); hit false otherwise.
+Crossing proper_crossing(double p0x, double p0y, double p1x, double p1y, double q0x, double q0y, double q1x,
+                         double q1y, double eps) {
+    double dpx = p1x - p0x, dpy = p1y - p0y, dqx = q1x - q0x, dqy = q1y - q0y;
+    double d0 = dpx * (q0y - p0y) - dpy * (q0x - p0x);
+    double d1 = dpx * (q1y - p0y) - dpy * (q1x - p0x);
+    if ((d0 >= 0.0 && d1 >= 0.0) || (d0 <= 0.0 && d1 <= 0.0)) return {false, 0.0, 0.0};
+    double e0 = dqx * (p0y - q0y) - dqy * (p0x - q0x);
+    double e1 = dqx * (p1y - q0y) - dqy * (p1x - q0x);
+    if ((e0 >= 0.0 && e1 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0)) return {false, 0.0, 0.0};
+    double lp = std::hypot(dpx, dpy), lq = std::hypot(dqx, dqy);
+    if (!((d0 > eps * lp && d1 < -eps * lp) || (d0 < -eps * lp && d1 > eps * lp))) return {false, 0.0, 0.0};
+    if (!((e0 > eps * lq && e1 < -eps * lq) || (e0 < -eps * lq && e1 > eps * lq))) return {false, 0.0, 0.0};
+    double tp = e0 / (e0 - e1), tq = d0 / (d0 - d1);
+    // the point from the shorter parametrisation's nearer end (less rounding)
+    if (pmin(tp, 1 - tp) * lp <= pmin(tq, 1 - tq) * lq) {
+        if (tp <= 0.5) return {true, p0x + tp * dpx, p0y + tp * dpy};
+        return {true, p1x - (1 - tp) * dpx, p1y - (1 - tp) * dpy};
+    }
+    if (tq <= 0.5) return {true, q0x + tq * dqx, q0y + tq * dqy};
+    return {true, q1x - (1 - tq) * dqx, q1y - (1 - tq) * dqy};
+}
+
+// Parameter t in (0, 1) of q on segment p0-p1 when q lies on it strictly between the
+// ends (distance <= eps from the line, > eps from both ends); else -1.
+double on_segment(double qx, double qy, double p0x, double p0y, double p1x, double p1y, double eps) {
+    double dx = p1x - p0x, dy = p1y - p0y;
+    double ll = dx * dx + dy * dy;
+    if (ll == 0.0) return -1.0;
+    double rx = qx - p0x, ry = qy - p0y;
+    double cr = dx * ry - dy * rx;
+    if (cr * cr > eps * eps * ll) return -1.0;
+    double t = (dx * rx + dy * ry) / ll;
+    double tol = eps / std::sqrt(ll);
+    if (t <= tol || t >= 1.0 - tol) return -1.0;
+    return t;
+}
+
+i64 lower_bound(const std::vector<double>& a, double v) {
+    i64 lo = 0, hi = (i64)a.size();
+    while (lo < hi) {
+        i64 mid = (lo + hi) >> 1;
+        if (a[mid] < v) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+i64 upper_bound(const std::vector<double>& a, double v) {
+    i64 lo = 0, hi = (i64)a.size();
+    while (lo < hi) {
+        i64 mid = (lo + hi) >> 1;
+        if (a[mid] <= v) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+bool contains(const std::vector<i64>& sorted, i64 key) {
+    auto it = std::lower_bound(sorted.begin(), sorted.end(), key);
+    return it != sorted.end() && *it == key;
+}
+
+// -- step 1: snapping, crossings, point ids
+
+// Clip vertices with each one that coincides with a subject vertex replaced by it, so
+// shared vertices are bitwise equal.
+void snap(const ShapeView& s, const ShapeView& c, double eps, std::vector<double>& ox, std::vector<double>& oy) {
+    ox.assign(c.x, c.x + c.n);
+    oy.assign(c.y, c.y + c.n);
+    for (i64 j = 0; j < c.n; ++j) {
+        double qx = c.x[j], qy = c.y[j];
+        bool exact = false;
+        for (i64 i = 0; i < s.n; ++i)
+            if (s.x[i] == qx && s.y[i] == qy) {
+                exact = true;
+                break;
+            }
+        if (exact) continue;
+        for (i64 i = 0; i < s.n; ++i)
+            if (std::fabs(s.x[i] - qx) <= eps && std::fabs(s.y[i] - qy) <= eps) {
+                ox[j] = s.x[i];
+                oy[j] = s.y[i];
+                break;
+            }
+    }
+}
+
+// Every vertex of both shapes and every proper crossing of a subject edge with a clip
+// edge (computed once, shared by both).
+void points(const ShapeView& s, const ShapeView& c, double eps, std::vector<double>& px, std::vector<double>& py) {
+    px.assign(s.x, s.x + s.n);
+    py.assign(s.y, s.y + s.n);
+    px.insert(px.end(), c.x, c.x + c.n);
+    py.insert(py.end(), c.y, c.y + c.n);
+    for (i64 r = 0; r + 1 < s.nst; ++r) {
+        i64 a = s.st[r], b = s.st[r + 1];
+        for (i64 v = a; v < b; ++v) {
+            i64 w = next_in_ring(v, a, b);
+            double p0x = s.x[v], p0y = s.y[v], p1x = s.x[w], p1y = s.y[w];
+            double sx0 = pmin(p0x, p1x), sx1 = pmax(p0x, p1x), sy0 = pmin(p0y, p1y), sy1 = pmax(p0y, p1y);
+            for (i64 rc = 0; rc + 1 < c.nst; ++rc) {
+                i64 ca = c.st[rc], cb = c.st[rc + 1];
+                for (i64 u = ca; u < cb; ++u) {
+                    i64 z = next_in_ring(u, ca, cb);
+                    double q0x = c.x[u], q0y = c.y[u], q1x = c.x[z], q1y = c.y[z];
+                    if (pmin(q0x, q1x) > sx1 + eps || pmax(q0x, q1x) < sx0 - eps) continue;
+                    if (pmin(q0y, q1y) > sy1 + eps || pmax(q0y, q1y) < sy0 - eps) continue;
+                    Crossing k = proper_crossing(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, eps);
+                    if (k.hit) {
+                        px.push_back(k.x);
+                        py.push_back(k.y);
+                    }
+                }
+            }
+        }
+    }
+}
+
+// Permutation sorting the points by x, then y, equal points in input order (what the
+// numba kernel's insertion sort and two stable argsorts both give).
+std::vector<i64> lex_order(const std::vector<double>& px, const std::vector<double>& py) {
+    i64 n = (i64)px.size();
+    std::vector<i64> o(n);
+    for (i64 i = 0; i < n; ++i) o[i] = i;
+    auto less = [&](i64 a, i64 b) { return px[a] < px[b] || (px[a] == px[b] && py[a] < py[b]); };
+    if (n <= SMALL_SORT) {
+        for (i64 i = 1; i < n; ++i) {
+            i64 k = o[i], j = i - 1;
+            while (j >= 0 && less(k, o[j])) {
+                o[j + 1] = o[j];
+                --j;
+            }
+            o[j + 1] = k;
+        }
+    } else {
+        std::stable_sort(o.begin(), o.end(), less);
+    }
+    return o;
+}
+
+// Distinct points sorted by (x, y) and the id of each input point.
+void point_ids(const std::vector<double>& px, const std::vector<double>& py, std::vector<double>& ux,
+               std::vector<double>& uy, std::vector<i64>& ids) {
+    i64 n = (i64)px.size();
+    std::vector<i64> o = lex_order(px, py);
+    ux.clear();
+    uy.clear();
+    ids.assign(n, 0);
+    for (i64 i = 0; i < n; ++i) {
+        i64 k = o[i];
+        if (ux.empty() || px[k] != ux.back() || py[k] != uy.back()) {
+            ux.push_back(px[k]);
+            uy.push_back(py[k]);
+        }
+        ids[k] = (i64)ux.size() - 1;
+    }
+}
+
+// -- steps 1 (cont.) and 3: the contours split at every point on them
+
+struct IdShape {
+    std::vector<i64> ids, lab, st;
+};
+
+// The contours (as point ids) with every point lying strictly inside an edge inserted
+// into it, ordered along the edge; returns the number of points inserted.
+i64 split(const i64* vid, const i64* labels, const i64* starts, i64 nst, const std::vector<double>& ux,
+          const std::vector<double>& uy, double eps, IdShape& out) {
+    i64 nu = (i64)ux.size();
+    out.ids.clear();
+    out.lab.clear();
+    out.st.assign(nst, 0);
+    std::vector<double> ts;
+    std::vector<i64> qs;
+    i64 inserted = 0;
+    for (i64 r = 0; r + 1 < nst; ++r) {
+        i64 a = starts[r], b = starts[r + 1];
+        out.st[r] = (i64)out.ids.size();
+        i64 first = (i64)out.ids.size();
+        for (i64 v = a; v < b; ++v) {
+            i64 i0 = vid[v], i1 = vid[next_in_ring(v, a, b)];
+            double p0x = ux[i0], p0y = uy[i0], p1x = ux[i1], p1y = uy[i1];
+            double x0 = pmin(p0x, p1x), x1 = pmax(p0x, p1x), y0 = pmin(p0y, p1y), y1 = pmax(p0y, p1y);
+            i64 lo = lower_bound(ux, x0 - eps), hi = upper_bound(ux, x1 + eps);
+            ts.clear();
+            qs.clear();
+            for (i64 j = lo; j < std::min(hi, nu); ++j) {
+                if (uy[j] < y0 - eps || uy[j] > y1 + eps || j == i0 || j == i1) continue;
+                double t = on_segment(ux[j], uy[j], p0x, p0y, p1x, p1y, eps);
+                if (t < 0.0) continue;
+                // insertion by (t, id): ordered along the edge
+                i64 z = (i64)ts.size();
+                ts.push_back(t);
+                qs.push_back(j);
+                while (z > 0 && (ts[z - 1] > t || (ts[z - 1] == t && qs[z - 1] > j))) {
+                    ts[z] = ts[z - 1];
+                    qs[z] = qs[z - 1];
+                    --z;
+                }
+                ts[z] = t;
+                qs[z] = j;
+            }
+            i64 k = (i64)ts.size();
+            inserted += k;
+            out.ids.push_back(i0);
+            out.lab.push_back(labels[v]);
+            for (i64 z = 0; z < k; ++z) {
+                if (qs[z] != out.ids.back()) {
+                    out.ids.push_back(qs[z]);
+                    out.lab.push_back(labels[v]);
+                }
+            }
+        }
+        // drop a closing duplicate (a split point equal to the first vertex)
+        while ((i64)out.ids.size() - first > 1 && out.ids.back() == out.ids[first]) {
+            out.ids.pop_back();
+            out.lab.pop_back();
+        }
+    }
+    out.st[nst - 1] = (i64)out.ids.size();
+    return inserted;
+}
+
+// -- steps 3-4: tracing the inside and outside contours
+
+struct Edges {
+    std::vector<i64> from, to, lab;
+    void add(i64 a, i64 b, i64 l) {
+        from.push_back(a);
+        to.push_back(b);
+        lab.push_back(l);
+    }
+};
+
+double turn(double back, i64 f, const std::vector<i64>& eb, const std::vector<double>& ux,
+            const std::vector<double>& uy, i64 v) {
+    double t = pmod(back - std::atan2(uy[eb[f]] - uy[v], ux[eb[f]] - ux[v]), TWO_PI);
+    return t == 0.0 ? TWO_PI : t;
+}
+
+// Link directed edges into closed contours, turning at shared vertices onto the first
+// edge clockwise from the way the walk came (keeps contours free of crossings); drop the
+// zero-area leftovers of degenerate contact.
+Shape trace(const Edges& edges, const std::vector<double>& ux, const std::vector<double>& uy, double eps) {
+    const std::vector<i64>& ea = edges.from;
+    const std::vector<i64>& eb = edges.to;
+    i64 m = (i64)ea.size(), nu = (i64)ux.size();
+    std::vector<i64> head, out_edges;
+    grouped(ea.data(), m, nu, head, out_edges);
+    std::vector<char> used(m, 0);
+    Shape out;
+    out.x.resize(m);
+    out.y.resize(m);
+    out.lab.resize(m);
+    out.st.reserve(m + 1);
+    i64 n = 0;
+    for (i64 e0 = 0; e0 < m; ++e0) {
+        if (used[e0]) continue;
+        i64 first = n, e = e0;
+        while (true) {
+            used[e] = 1;
+            out.x[n] = ux[ea[e]];
+            out.y[n] = uy[ea[e]];
+            out.lab[n] = edges.lab[e];
+            ++n;
+            i64 v = eb[e], best = -1, count = 0;
+            double best_turn = 0.0, back = 0.0;
+            for (i64 k = head[v]; k < head[v + 1]; ++k) {
+                i64 f = out_edges[k];
+                if (used[f]) continue;
+                ++count;
+                if (count == 1) {
+                    best = f;
+                    continue;
+                }
+                if (count == 2) {
+                    back = std::atan2(uy[ea[e]] - uy[v], ux[ea[e]] - ux[v]);
+                    best_turn = turn(back, best, eb, ux, uy, v);
+                }
+                double t = turn(back, f, eb, ux, uy, v);
+                if (t < best_turn) {
+                    best_turn = t;
+                    best = f;
+                }
+            }
+            if (best < 0) break;
+            e = best;
+        }
+        if (n - first >= 3 && std::fabs(ring_area_of(out.x.data(), out.y.data(), first, n)) > eps * eps)
+            out.st.push_back(first);
+        else
+            n = first;  // too short or zero area: dropped
+    }
+    out.st.push_back(n);
+    out.x.resize(n);
+    out.y.resize(n);
+    out.lab.resize(n);
+    return out;
+}
+
+// -- step 2: no boundaries meet
+
+// Copy contour a..b-1 to the output (reversed: walked backwards, each edge keeping its
+// label).
+void append_ring(const double* xs, const double* ys, const i64* labels, i64 a, i64 b, bool reverse, Shape& o) {
+    i64 k = b - a;
+    for (i64 i = 0; i < k; ++i) {
+        if (reverse) {
+            i64 src = b - 1 - i;
+            o.x.push_back(xs[src]);
+            o.y.push_back(ys[src]);
+            // reversed edge i runs from vertex b-1-i to b-2-i: the original edge b-2-i
+            o.lab.push_back(i < k - 1 ? labels[b - 2 - i] : labels[b - 1]);
+        } else {
+            o.x.push_back(xs[a + i]);
+            o.y.push_back(ys[a + i]);
+            o.lab.push_back(labels[a + i]);
+        }
+    }
+}
+
+// A point in the middle of the first edge of contour a..b-1 (a one-vertex contour: that
+// vertex).
+inline double first_mid(const double* v, i64 a, i64 b) { return 0.5 * (v[a] + v[a + 1 < b ? a + 1 : a]); }
+
+// The paper's step 2 when no boundaries meet: whole contours to the holding lists; clip
+// contours inside the subject go to both, reversed for the outside (a hole).
+std::pair<Shape, Shape> holding_lists(const ShapeView& s, const double* cx, const double* cy, const ShapeView& c) {
+    Shape in, out;
+    std::vector<char> s_in(s.nst - 1), c_in(c.nst - 1);
+    for (i64 r = 0; r + 1 < s.nst; ++r) {
+        i64 a = s.st[r], b = s.st[r + 1];
+        s_in[r] = winding(first_mid(s.x, a, b), first_mid(s.y, a, b), cx, cy, c.st, c.nst) > 0;
+    }
+    for (i64 r = 0; r + 1 < c.nst; ++r) {
+        i64 a = c.st[r], b = c.st[r + 1];
+        c_in[r] = winding(first_mid(cx, a, b), first_mid(cy, a, b), s.x, s.y, s.st, s.nst) > 0;
+    }
+    for (i64 r = 0; r + 1 < s.nst; ++r) {
+        Shape& o = s_in[r] ? in : out;
+        o.st.push_back((i64)o.x.size());
+        append_ring(s.x, s.y, s.lab, s.st[r], s.st[r + 1], false, o);
+    }
+    for (i64 r = 0; r + 1 < c.nst; ++r) {
+        if (!c_in[r]) continue;
+        in.st.push_back((i64)in.x.size());
+        append_ring(cx, cy, c.lab, c.st[r], c.st[r + 1], false, in);
+        out.st.push_back((i64)out.x.size());
+        append_ring(cx, cy, c.lab, c.st[r], c.st[r + 1], true, out);
+    }
+    in.st.push_back((i64)in.x.size());
+    out.st.push_back((i64)out.x.size());
+    return {std::move(in), std::move(out)};
+}
+
+// -- the edges classified
+
+// Sorted keys from * nu + to of the contours' edges of positive length.
+std::vector<i64> edge_keys(const IdShape& s, i64 nu) {
+    std::vector<i64> keys;
+    keys.reserve(s.ids.size());
+    for (size_t r = 0; r + 1 < s.st.size(); ++r) {
+        i64 a = s.st[r], b = s.st[r + 1];
+        for (i64 v = a; v < b; ++v) {
+            i64 w = s.ids[next_in_ring(v, a, b)];
+            if (s.ids[v] != w) keys.push_back(s.ids[v] * nu + w);
+        }
+    }
+    std::sort(keys.begin(), keys.end());
+    return keys;
+}
+
+// winding() about contours given as point ids.
+i64 winding_ids(double px, double py, const IdShape& s, const std::vector<double>& ux, const std::vector<double>& uy) {
+    i64 w = 0;
+    for (size_t r = 0; r + 1 < s.st.size(); ++r) {
+        i64 a = s.st[r], b = s.st[r + 1];
+        for (i64 i = a; i < b; ++i) {
+            i64 j = i == a ? s.ids[b - 1] : s.ids[i - 1];
+            w += winds(px, py, ux[j], uy[j], ux[s.ids[i]], uy[s.ids[i]]);
+        }
+    }
+    return w;
+}
+
+// The directed edges of the inside and outside contours: subject edges by where they lie
+// (shared edges by the side the clip shape's interior is on), clip edges inside the
+// subject to both, walked backwards for the outside.
+void classify(const IdShape& s, const IdShape& c, const std::vector<double>& ux, const std::vector<double>& uy,
+              Edges& ins, Edges& outs) {
+    i64 nu = (i64)ux.size();
+    std::vector<i64> s_keys = edge_keys(s, nu), c_keys = edge_keys(c, nu);
+    for (size_t r = 0; r + 1 < s.st.size(); ++r) {
+        i64 ra = s.st[r], rb = s.st[r + 1];
+        for (i64 v = ra; v < rb; ++v) {
+            i64 a = s.ids[v], b = s.ids[next_in_ring(v, ra, rb)];
+            if (a == b) continue;
+            bool inside;
+            if (contains(c_keys, a * nu + b)) inside = true;  // shared, same side
+            else if (contains(c_keys, b * nu + a)) inside = false;  // shared, opposite sides
+            else inside = winding_ids(0.5 * (ux[a] + ux[b]), 0.5 * (uy[a] + uy[b]), c, ux, uy) > 0;
+            (inside ? ins : outs).add(a, b, s.lab[v]);
+        }
+    }
+    for (size_t r = 0; r + 1 < c.st.size(); ++r) {
+        i64 ra = c.st[r], rb = c.st[r + 1];
+        for (i64 v = ra; v < rb; ++v) {
+            i64 a = c.ids[v], b = c.ids[next_in_ring(v, ra, rb)];
+            if (a == b || contains(s_keys, a * nu + b) || contains(s_keys, b * nu + a)) continue;
+            if (winding_ids(0.5 * (ux[a] + ux[b]), 0.5 * (uy[a] + uy[b]), s, ux, uy) > 0) {
+                ins.add(a, b, c.lab[v]);
+                outs.add(b, a, c.lab[v]);  // walked backwards: it bounds the outside part
+            }
+        }
+    }
+}
+
+bool shares_a_point(const std::vector<i64>& ids, i64 ns, i64 nc, i64 nu) {
+    std::vector<char> mark(nu, 0);
+    for (i64 i = 0; i < ns; ++i) mark[ids[i]] = 1;
+    for (i64 i = ns; i < ns + nc; ++i)
+        if (mark[ids[i]]) return true;
+    return false;
+}
+
+}  // namespace
+
+void grouped(const i64* keys, i64 m, i64 n, std::vector<i64>& starts, std::vector<i64>& order) {
+    starts.assign(n + 1, 0);
+    for (i64 e = 0; e < m; ++e) starts[keys[e] + 1] += 1;
+    for (i64 i = 0; i < n; ++i) starts[i + 1] += starts[i];
+    std::vector<i64> fill(starts.begin(), starts.begin() + n);
+    order.assign(m, 0);
+    for (i64 e = 0; e < m; ++e) order[fill[keys[e]]++] = e;
+}
+
+std::pair<Shape, Shape> clip_arrays(const ShapeView& s, const ShapeView& c, double eps) {
+    if (s.nst < 2 || s.n == 0) return {Shape::empty(), Shape::empty()};
+    if (c.nst < 2 || c.n == 0) return {Shape::empty(), Shape::of(s)};
+    Box sb = shape_bbox(s.x, s.y, s.n), cb = shape_bbox(c.x, c.y, c.n);
+    if (cb.x0 >= sb.x1 - eps || cb.x1 <= sb.x0 + eps || cb.y0 >= sb.y1 - eps || cb.y1 <= sb.y0 + eps)
+        return {Shape::empty(), Shape::of(s)};
+    std::vector<double> cx, cy, px, py, ux, uy;
+    std::vector<i64> ids;
+    snap(s, c, eps, cx, cy);
+    ShapeView cs{cx.data(), cy.data(), c.lab, c.st, c.n, c.nst};
+    points(s, cs, eps, px, py);
+    point_ids(px, py, ux, uy, ids);
+    IdShape s2, c2;
+    i64 s_ins = split(ids.data(), s.lab, s.st, s.nst, ux, uy, eps, s2);
+    i64 c_ins = split(ids.data() + s.n, c.lab, c.st, c.nst, ux, uy, eps, c2);
+    if (s_ins == 0 && c_ins == 0 && !shares_a_point(ids, s.n, c.n, (i64)ux.size()))
+        return holding_lists(s, cx.data(), cy.data(), c);
+    Edges ins, outs;
+    classify(s2, c2, ux, uy, ins, outs);
+    return {trace(ins, ux, uy, eps), trace(outs, ux, uy, eps)};
+}
+
+std::pair<i64, i64> first_crossing(const double* xs, const double* ys, i64 n, const i64* starts, i64 nst,
+                                   double eps) {
+    // edges sorted by their left end: only edges whose x ranges overlap are compared
+    std::vector<i64> e0(n), e1(n), order(n);
+    std::vector<double> lo(n);
+    for (i64 r = 0; r + 1 < nst; ++r) {
+        i64 a = starts[r], b = starts[r + 1];
+        for (i64 v = a; v < b; ++v) {
+            i64 w = next_in_ring(v, a, b);
+            e0[v] = v;
+            e1[v] = w;
+            lo[v] = pmin(xs[v], xs[w]);
+        }
+    }
+    for (i64 i = 0; i < n; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](i64 a, i64 b) { return lo[a] < lo[b]; });
+    for (i64 i = 0; i < n; ++i) {
+        i64 u = order[i], a0 = e0[u], a1 = e1[u];
+        double hi = pmax(xs[a0], xs[a1]);
+        for (i64 j = i + 1; j < n; ++j) {
+            i64 w = order[j];
+            if (lo[w] > hi + eps) break;
+            i64 b0 = e0[w], b1 = e1[w];
+            if (pmax(ys[b0], ys[b1]) < pmin(ys[a0], ys[a1]) - eps || pmin(ys[b0], ys[b1]) > pmax(ys[a0], ys[a1]) + eps)
+                continue;
+            if (proper_crossing(xs[a0], ys[a0], xs[a1], ys[a1], xs[b0], ys[b0], xs[b1], ys[b1], eps).hit)
+                return {std::min(u, w), std::max(u, w)};
+        }
+    }
+    return {-1, -1};
+}
+
+}  // namespace wa

@@ -1,0 +1,24 @@
+// The Weiler-Atherton (1977) general polygon clipper (aaeval.weiler_atherton.clipper is
+// the Python API and describes the paper's steps). No validation here: the bindings
+// check their inputs once (module.cpp).
+#pragma once
+
+#include <utility>
+
+#include "shape.hpp"
+
+namespace wa {
+
+// Clip the subject shape by the clip shape: (inside shape, outside shape).
+std::pair<Shape, Shape> clip_arrays(const ShapeView& s, const ShapeView& c, double eps);
+
+// The first pair of edges (global vertex indices of their starts) of one shape that
+// cross properly, each strictly inside the other; (-1, -1) when none do.
+std::pair<i64, i64> first_crossing(const double* xs, const double* ys, i64 n, const i64* starts, i64 nst,
+                                   double eps);
+
+// Item indices grouped by key (0 <= key < n), each group in input order (a counting
+// sort): starts (n + 1 entries) and the indices.
+void grouped(const i64* keys, i64 m, i64 n, std::vector<i64>& starts, std::vector<i64>& order);
+
+}  // namespace wa

@@ -1,0 +1,404 @@
+// aaeval._weiler_atherton: the Weiler-Atherton kernels bound with nanobind.
+//
+// Every input is checked here, once, before a kernel runs (dtype, dimensions, C order,
+// consistent lengths, contour starts, indices in range, finite coordinates) and refused
+// with a one-line ValueError; the kernels themselves trust their inputs and run without
+// the GIL.
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/array.h>
+
+#include <cmath>
+#include <string>
+
+#include "clipper.hpp"
+#include "convex.hpp"
+#include "raster.hpp"
+#include "solver.hpp"
+
+namespace nb = nanobind;
+using namespace nb::literals;
+using wa::i64;
+
+namespace {
+
+using In = nb::ndarray<nb::ro, nb::device::cpu>;
+using Out = nb::ndarray<nb::device::cpu>;
+
+[[noreturn]] void refuse(const std::string& msg) { throw nb::value_error(msg.c_str()); }
+
+template <class T>
+const char* dtype_name() {
+    return std::is_same_v<std::remove_const_t<T>, double> ? "float64" : "int64";
+}
+
+// The array's data as T*, after checking its dtype, dimensions and C order; shape[d] must
+// equal dims[d] where that is >= 0.
+template <class T, class A>
+T* checked(A& a, const char* name, size_t ndim, std::initializer_list<i64> dims = {}) {
+    if (a.dtype() != nb::dtype<T>())
+        refuse(std::string(name) + " must be a " + dtype_name<T>() + " array");
+    if (a.ndim() != ndim)
+        refuse(std::string(name) + " must have " + std::to_string(ndim) + " dimension(s), not " +
+               std::to_string(a.ndim()));
+    i64 expect = 1;
+    if (a.size() > 0)  // (an empty array is contiguous whatever its strides)
+        for (size_t d = ndim; d-- > 0;) {
+            if (a.shape(d) != 1 && a.stride(d) != expect) refuse(std::string(name) + " must be C-contiguous");
+            expect *= (i64)a.shape(d);
+        }
+    size_t d = 0;
+    for (i64 want : dims) {
+        if (want >= 0 && (i64)a.shape(d) != want)
+            refuse(std::string(name) + " has " + std::to_string(a.shape(d)) + " entries along axis " +
+                   std::to_string(d) + ", expected " + std::to_string(want));
+        ++d;
+    }
+    return (T*)a.data();
+}
+
+void check_finite(const double* p, i64 n, const char* name) {
+    for (i64 i = 0; i < n; ++i)
+        if (!std::isfinite(p[i])) refuse(std::string(name) + " must be finite (entry " + std::to_string(i) + " is not)");
+}
+
+// a tolerance: a number >= 0 (not NaN; infinite is allowed, as the kernels never index by it)
+void check_scalar(double v, const char* name) {
+    if (!(v >= 0)) refuse(std::string(name) + " must be a number >= 0");
+}
+
+// Contour starts into n vertices: 0 first, non-decreasing, n last; every contour holds at
+// least `min_len` vertices. An empty array stands for no contours (n must be 0).
+const i64* checked_starts(const In& a, const char* name, i64 n, i64& nst, i64 min_len = 1) {
+    const i64* st = checked<const i64>(a, name, 1);
+    nst = (i64)a.shape(0);
+    if (nst == 0) {
+        if (n != 0) refuse(std::string(name) + " is empty but there are vertices");
+        return st;
+    }
+    if (st[0] != 0) refuse(std::string(name) + " must start at 0");
+    for (i64 r = 0; r + 1 < nst; ++r)
+        if (st[r + 1] - st[r] < min_len)
+            refuse(std::string(name) + ": contour " + std::to_string(r) + " has " + std::to_string(st[r + 1] - st[r]) +
+                   " vertices (at least " + std::to_string(min_len) + " needed; starts must not decrease)");
+    if (st[nst - 1] != n)
+        refuse(std::string(name) + " must end at the number of vertices (" + std::to_string(n) + "), not " +
+               std::to_string(st[nst - 1]));
+    return st;
+}
+
+// A shape's four arrays, checked.
+wa::ShapeView shape(const In& xs, const In& ys, const In& labels, const In& starts, const char* name) {
+    std::string nm(name);
+    wa::ShapeView s;
+    s.x = checked<const double>(xs, (nm + " xs").c_str(), 1);
+    s.n = (i64)xs.shape(0);
+    s.y = checked<const double>(ys, (nm + " ys").c_str(), 1, {s.n});
+    s.lab = checked<const i64>(labels, (nm + " labels").c_str(), 1, {s.n});
+    s.st = checked_starts(starts, (nm + " starts").c_str(), s.n, s.nst, s.n > 0 ? 1 : 0);
+    check_finite(s.x, s.n, (nm + " xs").c_str());
+    check_finite(s.y, s.n, (nm + " ys").c_str());
+    return s;
+}
+
+// A new numpy array owning the vector's data.
+template <class T>
+nb::object numpy_of(std::vector<T>&& v, std::initializer_list<size_t> shape = {}) {
+    v.reserve(1);  // a real pointer even when empty
+    auto* owned = new std::vector<T>(std::move(v));
+    nb::capsule owner(owned, [](void* p) noexcept { delete (std::vector<T>*)p; });
+    if (shape.size() == 0) {
+        size_t n = owned->size();
+        return nb::cast(nb::ndarray<nb::numpy, T>(owned->data(), {n}, owner));
+    }
+    return nb::cast(nb::ndarray<nb::numpy, T>(owned->data(), shape, owner));
+}
+
+nb::tuple shape_tuple(wa::Shape&& s) {
+    return nb::make_tuple(numpy_of(std::move(s.x)), numpy_of(std::move(s.y)), numpy_of(std::move(s.lab)),
+                          numpy_of(std::move(s.st)));
+}
+
+nb::tuple clip_arrays(const In& sx, const In& sy, const In& sl, const In& ss, const In& cx, const In& cy,
+                      const In& cl, const In& cs, double eps) {
+    wa::ShapeView s = shape(sx, sy, sl, ss, "subject");
+    wa::ShapeView c = shape(cx, cy, cl, cs, "clip shape");
+    check_scalar(eps, "eps");
+    std::pair<wa::Shape, wa::Shape> r;
+    {
+        nb::gil_scoped_release release;
+        r = wa::clip_arrays(s, c, eps);
+    }
+    nb::tuple in = shape_tuple(std::move(r.first)), out = shape_tuple(std::move(r.second));
+    return nb::make_tuple(in[0], in[1], in[2], in[3], out[0], out[1], out[2], out[3]);
+}
+
+nb::tuple first_crossing(const In& xs, const In& ys, const In& starts, double eps) {
+    const double* x = checked<const double>(xs, "xs", 1);
+    i64 n = (i64)xs.shape(0), nst;
+    const double* y = checked<const double>(ys, "ys", 1, {n});
+    const i64* st = checked_starts(starts, "starts", n, nst, n > 0 ? 1 : 0);
+    check_finite(x, n, "xs");
+    check_finite(y, n, "ys");
+    check_scalar(eps, "eps");
+    std::pair<i64, i64> r;
+    {
+        nb::gil_scoped_release release;
+        r = wa::first_crossing(x, y, n, st, nst, eps);
+    }
+    return nb::make_tuple(r.first, r.second);
+}
+
+double ring_area_of(const In& xs, const In& ys, i64 a, i64 b) {
+    const double* x = checked<const double>(xs, "xs", 1);
+    i64 n = (i64)xs.shape(0);
+    const double* y = checked<const double>(ys, "ys", 1, {n});
+    if (a < 0 || b > n || a > b) refuse("vertex range " + std::to_string(a) + ".." + std::to_string(b) +
+                                        " is not within 0.." + std::to_string(n));
+    return wa::ring_area_of(x, y, a, b);
+}
+
+i64 winding(double px, double py, const In& xs, const In& ys, const In& starts) {
+    const double* x = checked<const double>(xs, "xs", 1);
+    i64 n = (i64)xs.shape(0), nst;
+    const double* y = checked<const double>(ys, "ys", 1, {n});
+    const i64* st = checked_starts(starts, "starts", n, nst, 0);
+    return wa::winding(px, py, x, y, st, nst);
+}
+
+nb::tuple half_plane(double a, double b, double c, const std::array<double, 4>& bbox) {
+    return shape_tuple(wa::half_plane(a, b, c, wa::Box{bbox[0], bbox[1], bbox[2], bbox[3]}));
+}
+
+// boxes (m, 4) and an order of indices into them
+const i64* checked_order(const In& order, const char* name, i64 m, i64& n) {
+    const i64* o = checked<const i64>(order, name, 1);
+    n = (i64)order.shape(0);
+    for (i64 i = 0; i < n; ++i)
+        if (o[i] < 0 || o[i] >= m)
+            refuse(std::string(name) + " holds " + std::to_string(o[i]) + ", not an index below " + std::to_string(m));
+    return o;
+}
+
+nb::tuple later_neighbours(const In& obb, const In& order) {
+    const double* bb = checked<const double>(obb, "boxes", 2, {-1, 4});
+    i64 m = (i64)obb.shape(0), n;
+    const i64* o = checked_order(order, "order", m, n);
+    std::vector<i64> starts, rows;
+    {
+        nb::gil_scoped_release release;
+        wa::later_neighbours(bb, o, n, starts, rows);
+    }
+    return nb::make_tuple(numpy_of(std::move(starts)), numpy_of(std::move(rows)));
+}
+
+nb::tuple originals(const In& vertices, const In& start, const In& length, const In& planes) {
+    const double* v = checked<const double>(vertices, "vertices", 2, {-1, 3});
+    i64 nv = (i64)vertices.shape(0);
+    const i64* st = checked<const i64>(start, "start", 1);
+    i64 n = (i64)start.shape(0);
+    const i64* ln = checked<const i64>(length, "length", 1, {n});
+    const double* pl = checked<const double>(planes, "planes", 2, {n, 3});
+    check_finite(v, 3 * nv, "vertices");
+    for (i64 p = 0; p < n; ++p)
+        if (st[p] < 0 || ln[p] < 1 || st[p] > nv - ln[p])
+            refuse("polygon " + std::to_string(p) + ": vertices " + std::to_string(st[p]) + " + " +
+                   std::to_string(ln[p]) + " are not a non-empty range of the " + std::to_string(nv) + " vertices");
+    wa::Originals o;
+    {
+        nb::gil_scoped_release release;
+        o = wa::originals(v, st, ln, n, pl);
+    }
+    return nb::make_tuple(numpy_of(std::move(o.xs)), numpy_of(std::move(o.ys)), numpy_of(std::move(o.starts)),
+                          numpy_of(std::move(o.boxes), {(size_t)n, 4}), numpy_of(std::move(o.zmin)), o.scale, o.zmax);
+}
+
+nb::tuple solve_window(const In& oxs, const In& oys, const In& osts, const In& obbs, const In& planes_,
+                       const In& order_, const std::array<double, 4>& win, double eps, double eps_z,
+                       bool convex_road) {
+    const double* ox = checked<const double>(oxs, "outline xs", 1);
+    i64 nv = (i64)oxs.shape(0), nst;
+    const double* oy = checked<const double>(oys, "outline ys", 1, {nv});
+    const i64* ost = checked_starts(osts, "outline starts", nv, nst, 0);
+    if (nst == 0) refuse("outline starts must hold one entry more than there are polygons");
+    i64 npoly = nst - 1;
+    const double* obb = checked<const double>(obbs, "boxes", 2, {npoly, 4});
+    const double* planes = checked<const double>(planes_, "planes", 2, {npoly, 3});
+    i64 norder;
+    const i64* order = checked_order(order_, "order", npoly, norder);
+    check_finite(ox, nv, "outline xs");
+    check_finite(oy, nv, "outline ys");
+    check_finite(obb, 4 * npoly, "boxes");
+    check_finite(win.data(), 4, "window");
+    check_scalar(eps, "eps");
+    check_scalar(eps_z, "eps_z");
+    for (i64 k = 0; k < norder; ++k) {
+        i64 s = order[k];
+        if (ost[s + 1] == ost[s]) refuse("polygon " + std::to_string(s) + " in the order has an empty outline");
+        check_finite(planes + 3 * s, 3, "planes of the ordered polygons");
+    }
+    wa::Visible v;
+    {
+        nb::gil_scoped_release release;
+        v = wa::solve_window(ox, oy, ost, npoly, obb, planes, order, norder, win, eps, eps_z, convex_road);
+    }
+    return nb::make_tuple(numpy_of(std::move(v.xs)), numpy_of(std::move(v.ys)), numpy_of(std::move(v.labels)),
+                          numpy_of(std::move(v.starts)), numpy_of(std::move(v.piece_rings)),
+                          numpy_of(std::move(v.sources)));
+}
+
+void add_coverage(const In& xs, const In& ys, const In& starts, const In& weights, Out& out) {
+    const double* x = checked<const double>(xs, "xs", 1);
+    i64 n = (i64)xs.shape(0), nst;
+    const double* y = checked<const double>(ys, "ys", 1, {n});
+    const i64* st = checked_starts(starts, "starts", n, nst, 0);
+    if (nst == 0) refuse("starts must hold one entry more than there are contours");
+    double* o = checked<double>(out, "out", 3);
+    i64 h = (i64)out.shape(0), w = (i64)out.shape(1), k = (i64)out.shape(2);
+    const double* wt = checked<const double>(weights, "weights", 2, {nst - 1, k});
+    check_finite(x, n, "xs");
+    check_finite(y, n, "ys");
+    nb::gil_scoped_release release;
+    wa::add_coverage(x, y, st, nst - 1, wt, o, h, w, k);
+}
+
+// Connected components of the graph on n nodes with edges a[i] - b[i]: each node's label
+// is the smallest node of its component (union-find).
+nb::object components(i64 n, const In& a_, const In& b_) {
+    if (n < 0) refuse("n must be >= 0");
+    i64 m;
+    const i64* a = checked_order(a_, "a", n, m);
+    i64 mb;
+    const i64* b = checked_order(b_, "b", n, mb);
+    if (mb != m) refuse("a and b must have the same length");
+    std::vector<i64> parent(n);
+    {
+        nb::gil_scoped_release release;
+        for (i64 i = 0; i < n; ++i) parent[i] = i;
+        auto find = [&](i64 x) {
+            while (parent[x] != x) {
+                parent[x] = parent[parent[x]];
+                x = parent[x];
+            }
+            return x;
+        };
+        for (i64 e = 0; e < m; ++e) {
+            i64 ra = find(a[e]), rb = find(b[e]);
+            if (ra < rb) parent[rb] = ra;
+            else if (rb < ra) parent[ra] = rb;
+        }
+        for (i64 i = 0; i < n; ++i) parent[i] = find(i);
+    }
+    return numpy_of(std::move(parent));
+}
+
+// -- the convex road's pieces, exposed for the tests
+
+const double* first_n(const In& a, const char* name, i64 n) {
+    const double* p = checked<const double>(a, name, 1);
+    if ((i64)a.shape(0) < n) refuse(std::string(name) + " holds fewer than n entries");
+    return p;
+}
+
+nb::tuple split_convex(const In& xs, const In& ys, const In& labels, i64 n, const In& d, double tol, i64 line_label,
+                       Out& lx, Out& ly, Out& ll, Out& rx, Out& ry, Out& rl) {
+    if (n < 0) refuse("n must be >= 0");
+    const double* x = first_n(xs, "xs", n);
+    const double* y = first_n(ys, "ys", n);
+    const i64* lab = checked<const i64>(labels, "labels", 1);
+    if ((i64)labels.shape(0) < n) refuse("labels holds fewer than n entries");
+    const double* dd = first_n(d, "d", n);
+    std::vector<double> bx(2 * n + 2), by(2 * n + 2), cx(2 * n + 2), cy(2 * n + 2);
+    std::vector<i64> bl(2 * n + 2), cl(2 * n + 2);
+    auto [nl, nr] = wa::split_convex(x, y, lab, n, dd, tol, line_label, bx.data(), by.data(), bl.data(), cx.data(),
+                                     cy.data(), cl.data());
+    double* outs_f[4] = {checked<double>(lx, "lx", 1), checked<double>(ly, "ly", 1), checked<double>(rx, "rx", 1),
+                         checked<double>(ry, "ry", 1)};
+    i64* outs_i[2] = {checked<i64>(ll, "ll", 1), checked<i64>(rl, "rl", 1)};
+    if ((i64)lx.shape(0) < nl || (i64)ly.shape(0) < nl || (i64)ll.shape(0) < nl || (i64)rx.shape(0) < nr ||
+        (i64)ry.shape(0) < nr || (i64)rl.shape(0) < nr)
+        refuse("the output rows are too short for the parts (" + std::to_string(nl) + " and " + std::to_string(nr) +
+               " vertices)");
+    std::copy(bx.begin(), bx.begin() + nl, outs_f[0]);
+    std::copy(by.begin(), by.begin() + nl, outs_f[1]);
+    std::copy(bl.begin(), bl.begin() + nl, outs_i[0]);
+    std::copy(cx.begin(), cx.begin() + nr, outs_f[2]);
+    std::copy(cy.begin(), cy.begin() + nr, outs_f[3]);
+    std::copy(cl.begin(), cl.begin() + nr, outs_i[1]);
+    return nb::make_tuple(nl, nr);
+}
+
+double edge_line_values(const In& xs, const In& ys, i64 n, double ax, double ay, double bx, double by, Out& d) {
+    if (n < 0) refuse("n must be >= 0");
+    const double* x = first_n(xs, "xs", n);
+    const double* y = first_n(ys, "ys", n);
+    double* dd = checked<double>(d, "d", 1);
+    if ((i64)d.shape(0) < n) refuse("d holds fewer than n entries");
+    return wa::edge_line_values(x, y, n, ax, ay, bx, by, dd);
+}
+
+double plane_line_values(const In& xs, const In& ys, i64 n, double a, double b, double c, Out& d) {
+    if (n < 0) refuse("n must be >= 0");
+    const double* x = first_n(xs, "xs", n);
+    const double* y = first_n(ys, "ys", n);
+    double* dd = checked<double>(d, "d", 1);
+    if ((i64)d.shape(0) < n) refuse("d holds fewer than n entries");
+    return wa::plane_line_values(x, y, n, a, b, c, dd);
+}
+
+nb::tuple vertex_sides(const In& d, i64 n, double tol) {
+    if (n < 0) refuse("n must be >= 0");
+    auto [below, above] = wa::vertex_sides(first_n(d, "d", n), n, tol);
+    return nb::make_tuple(below, above);
+}
+
+int separation(const In& sxs, const In& sys, const In& cxs, const In& cys, double eps) {
+    const double* sx = checked<const double>(sxs, "subject xs", 1);
+    i64 ns = (i64)sxs.shape(0);
+    const double* sy = checked<const double>(sys, "subject ys", 1, {ns});
+    const double* cx = checked<const double>(cxs, "clip xs", 1);
+    i64 nc = (i64)cxs.shape(0);
+    const double* cy = checked<const double>(cys, "clip ys", 1, {nc});
+    return wa::separation(sx, sy, ns, cx, cy, nc, eps);
+}
+
+}  // namespace
+
+NB_MODULE(_weiler_atherton, m) {
+    m.doc() = "Weiler-Atherton kernels: the polygon clipper, the hidden-surface solver and the exact box filter";
+    m.attr("EDGE_CUT") = wa::EDGE_CUT;
+    m.attr("EDGE_OWN") = wa::EDGE_OWN;
+    m.attr("EDGE_CROSSING") = wa::EDGE_CROSSING;
+    m.attr("OUTSIDE") = wa::OUTSIDE;
+    m.attr("INSIDE") = wa::INSIDE;
+    m.def("clip_arrays", &clip_arrays, "sx"_a, "sy"_a, "sl"_a, "ss"_a, "cx"_a, "cy"_a, "cl"_a, "cs"_a, "eps"_a,
+          "Clip the subject shape (xs, ys, labels, starts) by the clip shape: the inside shape's four arrays, "
+          "then the outside shape's.");
+    m.def("first_crossing", &first_crossing, "xs"_a, "ys"_a, "starts"_a, "eps"_a,
+          "The first pair of edges of one shape that cross properly, (-1, -1) when none do.");
+    m.def("ring_area_of", &ring_area_of, "xs"_a, "ys"_a, "a"_a, "b"_a,
+          "Shoelace area of the contour of vertices a..b-1 (positive: main contour).");
+    m.def("winding", &winding, "px"_a, "py"_a, "xs"_a, "ys"_a, "starts"_a,
+          "Winding number of the point about the oriented contours.");
+    m.def("half_plane", &half_plane, "a"_a, "b"_a, "c"_a, "bbox"_a,
+          "The part a x + b y + c <= 0 of the box grown by one unit, its edge along the line labelled EDGE_CROSSING.");
+    m.def("later_neighbours", &later_neighbours, "boxes"_a, "order"_a,
+          "For each position of the order, the later positions whose boxes overlap: (row starts, positions).");
+    m.def("originals", &originals, "vertices"_a, "start"_a, "length"_a, "planes"_a,
+          "Every polygon's outline as the solver takes it: (xs, ys, starts, boxes, nearest depth, scale, zmax).");
+    m.def("solve_window", &solve_window, "ox"_a, "oy"_a, "ost"_a, "obb"_a, "planes"_a, "order"_a, "win"_a, "eps"_a,
+          "eps_z"_a, "convex_road"_a = true,
+          "Visible pieces of the depth-sorted polygons inside the window, flattened: (xs, ys, labels, starts, "
+          "piece_rings, sources).");
+    m.def("add_coverage", &add_coverage, "xs"_a, "ys"_a, "starts"_a, "weights"_a, "out"_a,
+          "out (h, w, k) += per-pixel sum of weights[ring] * the ring's area over the pixel.");
+    m.def("components", &components, "n"_a, "a"_a, "b"_a,
+          "Connected components of the graph with edges a[i] - b[i]: each node's smallest node of its component.");
+    m.def("split_convex", &split_convex, "xs"_a, "ys"_a, "labels"_a, "n"_a, "d"_a, "tol"_a, "line_label"_a, "lx"_a,
+          "ly"_a, "ll"_a, "rx"_a, "ry"_a, "rl"_a, "Split a convex contour by a line (for the tests).");
+    m.def("edge_line_values", &edge_line_values, "xs"_a, "ys"_a, "n"_a, "ax"_a, "ay"_a, "bx"_a, "by"_a, "d"_a);
+    m.def("plane_line_values", &plane_line_values, "xs"_a, "ys"_a, "n"_a, "a"_a, "b"_a, "c"_a, "d"_a);
+    m.def("vertex_sides", &vertex_sides, "d"_a, "n"_a, "tol"_a);
+    m.def("separation", &separation, "sx"_a, "sy"_a, "cx"_a, "cy"_a, "eps"_a,
+          "OUTSIDE, INSIDE or 0: a piece's place against a convex clip contour, decided without clipping.");
+}

@@ -1,0 +1,132 @@
+// Shapes as the Weiler-Atherton kernels take them, and the small geometry they share.
+//
+// A shape is four arrays: xs, ys (the vertices, contour after contour), labels (labels[v]
+// labels the edge from vertex v to the next one of its contour) and starts (contour i is
+// vertices starts[i]..starts[i + 1] - 1). Main contours have positive shoelace area,
+// holes negative. Every function here repeats the floating-point operations of the
+// numba kernels it replaced in the same order (no reassociation, no FMA: the family is
+// built with -ffp-contract=off), so the results are the same bits.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace wa {
+
+using i64 = std::int64_t;
+
+// A read-only view of a shape's arrays (n vertices, nst = contours + 1 starts).
+struct ShapeView {
+    const double* x = nullptr;
+    const double* y = nullptr;
+    const i64* lab = nullptr;
+    const i64* st = nullptr;
+    i64 n = 0;
+    i64 nst = 0;
+};
+
+// A shape that owns its arrays.
+struct Shape {
+    std::vector<double> x, y;
+    std::vector<i64> lab, st;
+    ShapeView view() const {
+        return ShapeView{x.data(), y.data(), lab.data(), st.data(), (i64)x.size(), (i64)st.size()};
+    }
+    static Shape empty() {
+        Shape s;
+        s.st.push_back(0);
+        return s;
+    }
+    static Shape of(const ShapeView& v) {
+        Shape s;
+        s.x.assign(v.x, v.x + v.n);
+        s.y.assign(v.y, v.y + v.n);
+        s.lab.assign(v.lab, v.lab + v.n);
+        s.st.assign(v.st, v.st + v.nst);
+        return s;
+    }
+};
+
+// Python's min(a, b) and max(a, b) (numba's too): the first argument unless the second
+// compares strictly smaller (larger).
+inline double pmin(double a, double b) { return b < a ? b : a; }
+inline double pmax(double a, double b) { return b > a ? b : a; }
+
+// Python's float a % b (the remainder takes the divisor's sign), as numba computes it.
+inline double pmod(double vx, double wx) {
+    double mod = std::fmod(vx, wx);
+    if (mod != 0.0) {
+        if ((wx < 0) != (mod < 0)) mod += wx;
+    } else {
+        mod = std::copysign(0.0, wx);
+    }
+    return mod;
+}
+
+// int(x) of a float64 as numba compiles it on x86-64 (cvttsd2si): truncation, and
+// INT64_MIN for NaN or anything out of range (instead of C++'s undefined behaviour).
+inline i64 to_int(double x) {
+    if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0)) return INT64_MIN;
+    return (i64)x;
+}
+
+// Shoelace area of the contour made of vertices a..b-1 (positive: main contour).
+inline double ring_area_of(const double* xs, const double* ys, i64 a, i64 b) {
+    if (b - a < 3) return 0.0;
+    double x0 = xs[a], y0 = ys[a], s = 0.0;
+    for (i64 i = a + 1; i < b - 1; ++i)
+        s += (xs[i] - x0) * (ys[i + 1] - y0) - (xs[i + 1] - x0) * (ys[i] - y0);
+    return 0.5 * s;
+}
+
+// What edge (x0, y0)-(x1, y1) adds to the winding number of the point: +1 crossing its
+// horizontal line upwards with the point on the left, -1 downwards on the right.
+inline int winds(double px, double py, double x0, double y0, double x1, double y1) {
+    if (y0 <= py) {
+        if (y1 > py && (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0) > 0) return 1;
+    } else if (y1 <= py && (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0) < 0) {
+        return -1;
+    }
+    return 0;
+}
+
+// Winding number of the point about the oriented contours (1 inside a shape).
+inline i64 winding(double px, double py, const double* xs, const double* ys, const i64* starts, i64 nst) {
+    i64 w = 0;
+    for (i64 r = 0; r + 1 < nst; ++r) {
+        i64 a = starts[r], b = starts[r + 1];
+        for (i64 i = a; i < b; ++i) {
+            i64 j = i == a ? b - 1 : i - 1;
+            w += winds(px, py, xs[j], ys[j], xs[i], ys[i]);
+        }
+    }
+    return w;
+}
+
+// numpy's a.min() / a.max() of a float64 array (the first extreme; n > 0).
+inline double arr_min(const double* a, i64 n) {
+    double m = a[0];
+    for (i64 i = 1; i < n; ++i)
+        if (a[i] < m) m = a[i];
+    return m;
+}
+inline double arr_max(const double* a, i64 n) {
+    double m = a[0];
+    for (i64 i = 1; i < n; ++i)
+        if (a[i] > m) m = a[i];
+    return m;
+}
+
+struct Box {
+    double x0, y0, x1, y1;
+};
+
+inline Box shape_bbox(const double* xs, const double* ys, i64 n) {
+    return Box{arr_min(xs, n), arr_min(ys, n), arr_max(xs, n), arr_max(ys, n)};
+}
+
+// The vertex after v in the contour of vertices a..b-1.
+inline i64 next_in_ring(i64 v, i64 a, i64 b) { return v + 1 == b ? a : v + 1; }
+
+}  // namespace wa

@@ -1,0 +1,572 @@
+// The hidden-surface loop: pieces live in an arena (pools of vertices, labels, contour
+// starts; per piece its ranges, source polygon and box) and are referred to by index. The
+// paper's recursion (solve the inside list again with an offending polygon as the clip
+// polygon) is a stack of tasks, each a list of piece indices and the stack of clip
+// polygons still being processed; taking the newest task first visits them in the order
+// the recursion would.
+#include "solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "clipper.hpp"
+#include "convex.hpp"
+
+namespace wa {
+
+namespace {
+
+struct Arena {
+    struct Meta {
+        i64 v0, v1, r0, r1, source;
+    };
+    std::vector<double> x, y;
+    std::vector<i64> lab, st;
+    std::vector<Meta> meta;
+    std::vector<Box> box;
+
+    Arena() {
+        x.reserve(1024);
+        y.reserve(1024);
+        lab.reserve(1024);
+        st.reserve(256);
+        meta.reserve(128);
+        box.reserve(128);
+    }
+    i64 size() const { return (i64)meta.size(); }
+    i64 source(i64 k) const { return meta[k].source; }
+
+    // the vertices just appended (v0..) close piece k: its box
+    i64 close(i64 v0, i64 r0, i64 source) {
+        i64 v1 = (i64)x.size();
+        meta.push_back(Meta{v0, v1, r0, (i64)st.size(), source});
+        box.push_back(v1 > v0 ? shape_bbox(x.data() + v0, y.data() + v0, v1 - v0) : Box{0, 0, 0, 0});
+        return size() - 1;
+    }
+    // Store a piece (not a view into this arena); its index.
+    i64 add(const Shape& s, i64 source) {
+        i64 v0 = (i64)x.size(), r0 = (i64)st.size();
+        x.insert(x.end(), s.x.begin(), s.x.end());
+        y.insert(y.end(), s.y.begin(), s.y.end());
+        lab.insert(lab.end(), s.lab.begin(), s.lab.end());
+        st.insert(st.end(), s.st.begin(), s.st.end());
+        return close(v0, r0, source);
+    }
+    // Store a piece of one contour, the first n vertices of xs, ys, labels; its index.
+    i64 add_contour(const double* xs, const double* ys, const i64* labels, i64 n, i64 source) {
+        i64 v0 = (i64)x.size(), r0 = (i64)st.size();
+        x.insert(x.end(), xs, xs + n);
+        y.insert(y.end(), ys, ys + n);
+        lab.insert(lab.end(), labels, labels + n);
+        st.push_back(0);
+        st.push_back(n);
+        return close(v0, r0, source);
+    }
+    // (xs, ys, labels, starts) of piece k: valid until the next piece is added
+    ShapeView piece(i64 k) const {
+        const Meta& m = meta[k];
+        return ShapeView{x.data() + m.v0, y.data() + m.v0, lab.data() + m.v0, st.data() + m.r0, m.v1 - m.v0,
+                         m.r1 - m.r0};
+    }
+};
+
+bool disjoint(const Box& p, const Box& b) { return p.x0 >= b.x1 || p.x1 <= b.x0 || p.y0 >= b.y1 || p.y1 <= b.y0; }
+
+bool within(const Box& bb, const std::array<double, 4>& win) {
+    return bb.x0 >= win[0] && bb.x1 <= win[2] && bb.y0 >= win[1] && bb.y1 <= win[3];
+}
+
+// Whether the contour (positive area) turns left or goes straight at every vertex.
+bool is_convex(const double* xs, const double* ys, i64 n) {
+    for (i64 i = 0; i < n; ++i) {
+        i64 j = (i + 1) % n, k = (i + 2) % n;
+        if ((xs[j] - xs[i]) * (ys[k] - ys[j]) - (ys[j] - ys[i]) * (xs[k] - xs[j]) < 0) return false;
+    }
+    return true;
+}
+
+// -- the short road for convex pairs (convex.hpp)
+
+constexpr i64 WORK_VERTICES = 64;  // a convex piece and outline with more vertices together take the paper's road
+
+// Scratch rows for cutting one convex piece: current x, y; left part x, y; right part x,
+// y; line values; labels current, left, right. Rows grow (never shrink) to what a split
+// can write, so no input can write past them.
+struct Work {
+    std::vector<double> f[7];
+    std::vector<i64> l[3];
+    void ensure(i64 n) {
+        size_t need = (size_t)(2 * n + 2);
+        if (f[0].size() >= need) return;
+        for (auto& r : f) r.resize(need);
+        for (auto& r : l) r.resize(need);
+    }
+    i64 load(const ShapeView& s) {
+        ensure(s.n);
+        std::copy(s.x, s.x + s.n, f[0].begin());
+        std::copy(s.y, s.y + s.n, f[1].begin());
+        std::copy(s.lab, s.lab + s.n, l[0].begin());
+        return s.n;
+    }
+    // the left part becomes the current contour
+    i64 keep_left(i64 nl) {
+        ensure(nl);
+        std::copy(f[2].begin(), f[2].begin() + nl, f[0].begin());
+        std::copy(f[3].begin(), f[3].begin() + nl, f[1].begin());
+        std::copy(l[1].begin(), l[1].begin() + nl, l[0].begin());
+        return nl;
+    }
+    std::pair<i64, i64> split(i64 n, double tol, i64 line_label) {
+        return split_convex(f[0].data(), f[1].data(), l[0].data(), n, f[6].data(), tol, line_label, f[2].data(),
+                            f[3].data(), l[1].data(), f[4].data(), f[5].data(), l[2].data());
+    }
+};
+
+// Whether a piece is one convex contour small enough for the scratch rows, with `extra`
+// vertices (those of the outline) added by the cuts.
+bool takes_convex_road(const ShapeView& s, i64 extra) {
+    return s.nst == 2 && s.n + extra + 2 <= WORK_VERTICES && is_convex(s.x, s.y, s.n);
+}
+
+struct Outline {
+    std::vector<double> x, y;
+    std::vector<i64> lab, st;
+    ShapeView view() const {
+        return ShapeView{x.data(), y.data(), lab.data(), st.data(), (i64)x.size(), (i64)st.size()};
+    }
+};
+
+// Piece pid (one convex contour) clipped by a convex outline, edge line by edge line:
+// the part beyond each line goes to the outside list, what is left at the end to the
+// inside list (a part of area eps**2 or less is dropped, as the clipper drops it). A
+// piece no line cuts goes whole to its list.
+void cut_by_outline(Arena& arena, i64 pid, i64 source, const Outline& o, double eps, Work& w,
+                    std::vector<i64>& inside, std::vector<i64>& outside) {
+    i64 n = w.load(arena.piece(pid));
+    double tiny = eps * eps;
+    i64 m = (i64)o.x.size();
+    bool cut = false;
+    for (i64 i = 0; i < m; ++i) {
+        i64 j = i + 1 < m ? i + 1 : 0;
+        double tol = eps * edge_line_values(w.f[0].data(), w.f[1].data(), n, o.x[i], o.y[i], o.x[j], o.y[j],
+                                            w.f[6].data());
+        auto [below, above] = vertex_sides(w.f[6].data(), n, tol);
+        if (!above) continue;
+        if (!below) {  // the rest lies beyond this edge: all of it outside
+            outside.push_back(cut ? arena.add_contour(w.f[0].data(), w.f[1].data(), w.l[0].data(), n, source) : pid);
+            return;
+        }
+        auto [nl, nr] = w.split(n, tol, o.lab[i]);
+        if (ring_area_of(w.f[4].data(), w.f[5].data(), 0, nr) > tiny)
+            outside.push_back(arena.add_contour(w.f[4].data(), w.f[5].data(), w.l[2].data(), nr, source));
+        n = w.keep_left(nl);
+        cut = true;
+    }
+    if (!cut) inside.push_back(pid);
+    else if (ring_area_of(w.f[0].data(), w.f[1].data(), 0, n) > tiny)
+        inside.push_back(arena.add_contour(w.f[0].data(), w.f[1].data(), w.l[0].data(), n, source));
+}
+
+// The part a x + b y + c <= 0 of piece pid (one convex contour), its edge along the line
+// labelled EDGE_CROSSING, stored as a new piece: its index, or -1 when it has area eps**2
+// or less. Only for a piece the line crosses (its relation is 0).
+i64 cut_by_plane_line(Arena& arena, i64 pid, i64 source, double a, double b, double c, double eps, Work& w) {
+    i64 n = w.load(arena.piece(pid));
+    double tol = eps * plane_line_values(w.f[0].data(), w.f[1].data(), n, a, b, c, w.f[6].data());
+    auto [below, above] = vertex_sides(w.f[6].data(), n, tol);
+    if (!below) return -1;
+    if (!above) return pid;
+    i64 nl = w.split(n, tol, EDGE_CROSSING).first;
+    if (ring_area_of(w.f[2].data(), w.f[3].data(), 0, nl) <= eps * eps) return -1;
+    return arena.add_contour(w.f[2].data(), w.f[3].data(), w.l[1].data(), nl, source);
+}
+
+// Piece pid (its box meeting the outline's box) split by an outline, its parts appended
+// to the inside and outside lists.
+void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps, bool convex_road, Work& w,
+                std::vector<i64>& inside, std::vector<i64>& outside) {
+    i64 source = arena.source(pid);
+    ShapeView s = arena.piece(pid);
+    if (convex) {
+        int side = separation(s.x, s.y, s.n, o.x.data(), o.y.data(), (i64)o.x.size(), eps);
+        if (side == OUTSIDE) {
+            outside.push_back(pid);
+            return;
+        }
+        if (side == INSIDE) {
+            inside.push_back(pid);
+            return;
+        }
+        if (convex_road && takes_convex_road(s, (i64)o.x.size())) {
+            cut_by_outline(arena, pid, source, o, eps, w, inside, outside);
+            return;
+        }
+    }
+    auto [in, out] = clip_arrays(s, o.view(), eps);
+    if (in.st.size() > 1) inside.push_back(arena.add(in, source));
+    if (out.st.size() > 1) outside.push_back(arena.add(out, source));
+}
+
+Outline outline_of(const double* ox, const double* oy, const i64* ost, i64 src) {
+    i64 a = ost[src], b = ost[src + 1];
+    Outline o;
+    o.x.assign(ox + a, ox + b);
+    o.y.assign(oy + a, oy + b);
+    o.lab.assign(b - a, EDGE_CUT);
+    o.st = {0, b - a};
+    return o;
+}
+
+Box box_of(const double* obb, i64 s) { return Box{obb[4 * s], obb[4 * s + 1], obb[4 * s + 2], obb[4 * s + 3]}; }
+
+// -- step c: depth comparison
+
+// FRONT, BEHIND or 0 (planes cross inside the piece) relative to polygon src.
+int relation(const ShapeView& s, i64 source, i64 src, const double* planes, double eps_z) {
+    double da = planes[3 * source] - planes[3 * src];
+    double db = planes[3 * source + 1] - planes[3 * src + 1];
+    double dc = planes[3 * source + 2] - planes[3 * src + 2];
+    bool front = false, behind = false;
+    for (i64 i = 0; i < s.n; ++i) {
+        double d = da * s.x[i] + db * s.y[i] + dc;
+        if (d < -eps_z) front = true;
+        else if (d > eps_z) behind = true;
+    }
+    if (front && behind) return 0;
+    if (front) return FRONT;
+    if (behind) return BEHIND;
+    return source > src ? FRONT : BEHIND;  // one plane: later in file in front
+}
+
+struct Solver {
+    Arena arena;
+    const double *ox, *oy;
+    const i64* ost;
+    const double *obb, *planes;
+    double eps, eps_z;
+    bool convex_road;
+    Work work;
+    std::vector<i64> visible;
+    std::vector<std::vector<i64>> task_ids, task_stack;
+
+    // The task's pieces split by polygon src's original outline: (inside, outside).
+    void clip_list(const std::vector<i64>& ids, i64 src, const Outline& o, std::vector<i64>& inside,
+                   std::vector<i64>& outside) {
+        Box box = box_of(obb, src);
+        bool convex = is_convex(o.x.data(), o.y.data(), (i64)o.x.size());
+        for (i64 pid : ids) {
+            if (arena.source(pid) == src) inside.push_back(pid);  // a piece always lies in its own outline
+            else if (disjoint(arena.box[pid], box)) outside.push_back(pid);
+            else clip_piece(arena, pid, convex, o, eps, convex_road, work, inside, outside);
+        }
+    }
+
+    // Step c: inside pieces behind polygon src dropped, those crossing its plane split
+    // along the crossing line: (kept pieces, pieces of other polygons in front).
+    void resolve_inside(i64 src, const std::vector<i64>& inside, std::vector<i64>& kept, std::vector<i64>& offenders) {
+        for (i64 pid : inside) {
+            i64 source = arena.source(pid);
+            if (source == src) {
+                kept.push_back(pid);
+                continue;
+            }
+            ShapeView s = arena.piece(pid);
+            int rel = relation(s, source, src, planes, eps_z);
+            double a = planes[3 * source] - planes[3 * src];
+            double b = planes[3 * source + 1] - planes[3 * src + 1];
+            double c = planes[3 * source + 2] - planes[3 * src + 2];
+            if (rel == FRONT) {
+                kept.push_back(pid);
+                offenders.push_back(pid);
+            } else if (rel == 0 && convex_road && takes_convex_road(s, 0)) {
+                i64 f = cut_by_plane_line(arena, pid, source, a, b, c, eps, work);
+                if (f >= 0) {
+                    kept.push_back(f);
+                    offenders.push_back(f);
+                }
+            } else if (rel == 0) {
+                Shape h = half_plane(a, b, c, arena.box[pid]);
+                Shape f = clip_arrays(s, h.view(), eps).first;
+                if (f.st.size() > 1) {
+                    i64 k = arena.add(f, source);
+                    kept.push_back(k);
+                    offenders.push_back(k);
+                }
+            }
+        }
+    }
+
+    // Steps c and d for the inside list of polygon src: the visible pieces appended, or
+    // the list pushed as a task with its first offender as the clip polygon.
+    void settle(i64 src, const std::vector<i64>& inside, const std::vector<i64>& stack) {
+        std::vector<i64> kept, offenders;
+        resolve_inside(src, inside, kept, offenders);
+        i64 first = -1;
+        for (i64 pid : offenders) {
+            i64 s = arena.source(pid);
+            if (std::find(stack.begin(), stack.end(), s) == stack.end()) {
+                first = pid;
+                break;
+            }
+        }
+        if (first < 0) {
+            // no offender, or only polygons on the stack (cyclic overlap): all that lay
+            // behind them is gone already, so what is left does not overlap
+            visible.insert(visible.end(), kept.begin(), kept.end());
+            return;
+        }
+        std::vector<i64> again{first};
+        for (i64 pid : kept)
+            if (pid != first) again.push_back(pid);
+        std::vector<i64> deeper(stack);
+        deeper.push_back(src);
+        task_ids.push_back(std::move(again));
+        task_stack.push_back(std::move(deeper));
+    }
+
+    // Solve the stacked tasks (an inside list and what it spawns) to the end.
+    void run_tasks() {
+        while (!task_ids.empty()) {
+            std::vector<i64> ids = std::move(task_ids.back());
+            std::vector<i64> stack = std::move(task_stack.back());
+            task_ids.pop_back();
+            task_stack.pop_back();
+            if (ids.empty()) continue;
+            i64 src = arena.source(ids[0]);
+            Outline o = outline_of(ox, oy, ost, src);
+            std::vector<i64> inside, outside;
+            clip_list(ids, src, o, inside, outside);
+            // the rest of this list after the inside list (pushed first: taken last)
+            task_ids.push_back(std::move(outside));
+            task_stack.push_back(stack);
+            settle(src, inside, stack);
+        }
+    }
+
+    // Indices of the visible pieces (they do not overlap). The first list (every
+    // polygon's piece in depth order) is kept as one chain of pieces per polygon, so that
+    // a clip polygon meets only the polygons whose boxes overlap its own.
+    void solve(const std::vector<i64>& first, const i64* order, i64 n, i64 npoly) {
+        std::vector<i64> position(npoly, 0);
+        for (i64 p = 0; p < n; ++p) position[order[p]] = p;
+        std::vector<i64> head(n, -1), link(2 * first.size() + 16, -1);
+        for (i64 i = (i64)first.size() - 1; i >= 0; --i) {
+            i64 pid = first[i], p = position[arena.source(pid)];
+            link[pid] = head[p];
+            head[p] = pid;
+        }
+        std::vector<i64> starts, rows;
+        later_neighbours(obb, order, n, starts, rows);
+        std::vector<i64> inside, parts;
+        const std::vector<i64> empty;
+        for (i64 p = 0; p < n; ++p) {
+            if (head[p] < 0) continue;
+            i64 src = order[p];
+            Outline o = outline_of(ox, oy, ost, src);
+            Box box = box_of(obb, src);
+            bool convex = is_convex(o.x.data(), o.y.data(), (i64)o.x.size());
+            inside.clear();
+            for (i64 pid = head[p]; pid >= 0; pid = link[pid]) inside.push_back(pid);
+            head[p] = -1;
+            for (i64 r = starts[p]; r < starts[p + 1]; ++r) {
+                i64 q = rows[r], prev = -1, pid = head[q];
+                while (pid >= 0) {
+                    i64 after = link[pid];
+                    if (disjoint(arena.box[pid], box)) {
+                        prev = pid;
+                        pid = after;
+                        continue;
+                    }
+                    parts.clear();
+                    clip_piece(arena, pid, convex, o, eps, convex_road, work, inside, parts);
+                    // the piece's outside parts take its place in its polygon's chain
+                    if ((i64)link.size() < arena.size() + 1) link.resize(arena.size() + 1, -1);
+                    for (i64 k : parts) {
+                        if (prev < 0) head[q] = k;
+                        else link[prev] = k;
+                        prev = k;
+                    }
+                    if (prev < 0) head[q] = after;
+                    else link[prev] = after;
+                    pid = after;
+                }
+            }
+            settle(src, inside, empty);
+            run_tasks();
+        }
+    }
+};
+
+}  // namespace
+
+int separation(const double* sx, const double* sy, i64 ns, const double* cx, const double* cy, i64 nc, double eps) {
+    bool inside = true;
+    for (i64 i = 0; i < nc; ++i) {
+        i64 j = i + 1 < nc ? i + 1 : 0;
+        double ex = cx[j] - cx[i], ey = cy[j] - cy[i];
+        double margin = 2.0 * eps * std::hypot(ex, ey);
+        bool beyond = true;
+        for (i64 v = 0; v < ns; ++v) {
+            double d = ex * (sy[v] - cy[i]) - ey * (sx[v] - cx[i]);  // > 0: left, the inner side
+            if (d >= -margin) beyond = false;
+            if (d <= margin) inside = false;
+            if (!beyond && !inside) break;
+        }
+        if (beyond) return OUTSIDE;
+    }
+    return inside ? INSIDE : 0;
+}
+
+Shape half_plane(double a, double b, double c, const Box& bbox) {
+    double x0 = bbox.x0 - 1, y0 = bbox.y0 - 1, x1 = bbox.x1 + 1, y1 = bbox.y1 + 1;
+    const double bx[4] = {x0, x1, x1, x0}, by[4] = {y0, y0, y1, y1};  // positive shoelace area already
+    double xs[8], ys[8];
+    bool on_line[8] = {false};
+    int n = 0;
+    for (int k = 0; k < 4; ++k) {
+        int j = (k + 1) % 4;
+        double dp = a * bx[k] + b * by[k] + c;
+        double dq = a * bx[j] + b * by[j] + c;
+        if (dp <= 0) {
+            xs[n] = bx[k];
+            ys[n] = by[k];
+            on_line[n] = dp == 0;
+            ++n;
+        }
+        if ((dp < 0 && 0 < dq) || (dq < 0 && 0 < dp)) {
+            double t = dp / (dp - dq);
+            xs[n] = bx[k] + t * (bx[j] - bx[k]);
+            ys[n] = by[k] + t * (by[j] - by[k]);
+            on_line[n] = true;
+            ++n;
+        }
+    }
+    Shape s;
+    s.x.assign(xs, xs + n);
+    s.y.assign(ys, ys + n);
+    for (int k = 0; k < n; ++k) s.lab.push_back(on_line[k] && on_line[(k + 1) % n] ? EDGE_CROSSING : EDGE_CUT);
+    s.st = {0, n};
+    return s;
+}
+
+void later_neighbours(const double* obb, const i64* order, i64 n, std::vector<i64>& starts, std::vector<i64>& rows) {
+    std::vector<Box> bx(n);
+    for (i64 i = 0; i < n; ++i) bx[i] = box_of(obb, order[i]);
+    std::vector<i64> by_x(n);
+    for (i64 i = 0; i < n; ++i) by_x[i] = i;
+    std::stable_sort(by_x.begin(), by_x.end(), [&](i64 a, i64 b) { return bx[a].x0 < bx[b].x0; });
+    std::vector<i64> lo, hi;
+    for (i64 i = 0; i < n; ++i) {
+        i64 p = by_x[i];
+        for (i64 j = i + 1; j < n; ++j) {
+            i64 q = by_x[j];
+            if (bx[q].x0 >= bx[p].x1) break;
+            if (bx[q].y0 >= bx[p].y1 || bx[q].y1 <= bx[p].y0 || bx[q].x1 <= bx[p].x0) continue;
+            lo.push_back(std::min(p, q));
+            hi.push_back(std::max(p, q));
+        }
+    }
+    std::vector<i64> by_lo;
+    grouped(lo.data(), (i64)lo.size(), n, starts, by_lo);
+    rows.resize(by_lo.size());
+    for (size_t k = 0; k < by_lo.size(); ++k) rows[k] = hi[by_lo[k]];
+    for (i64 p = 0; p < n; ++p) std::sort(rows.begin() + starts[p], rows.begin() + starts[p + 1]);
+}
+
+Originals originals(const double* vertices, const i64* start, const i64* length, i64 n, const double* planes) {
+    Originals o;
+    o.starts.assign(n + 1, 0);
+    o.boxes.assign(4 * n, 0.0);
+    o.zmin.assign(n, 0.0);
+    auto vx = [&](i64 i) { return vertices[3 * i]; };
+    auto vy = [&](i64 i) { return vertices[3 * i + 1]; };
+    auto vz = [&](i64 i) { return vertices[3 * i + 2]; };
+    for (i64 p = 0; p < n; ++p) {
+        i64 a = start[p], b = a + length[p];
+        double zm = vz(a);
+        for (i64 i = a + 1; i < b; ++i)
+            if (vz(i) < zm) zm = vz(i);
+        o.zmin[p] = zm;
+        if (!(std::isfinite(planes[3 * p]) && std::isfinite(planes[3 * p + 1]) && std::isfinite(planes[3 * p + 2]))) {
+            o.starts[p + 1] = (i64)o.xs.size();
+            continue;
+        }
+        i64 first = (i64)o.xs.size();
+        for (i64 i = a; i < b; ++i) {
+            i64 j = i == a ? b - 1 : i - 1;
+            if (vx(i) != vx(j) || vy(i) != vy(j)) {
+                o.xs.push_back(vx(i));
+                o.ys.push_back(vy(i));
+            }
+        }
+        if ((i64)o.xs.size() == first) {  // all one point
+            o.xs.push_back(vx(a));
+            o.ys.push_back(vy(a));
+        }
+        i64 m = (i64)o.xs.size();
+        if (ring_area_of(o.xs.data(), o.ys.data(), first, m) < 0) {
+            std::reverse(o.xs.begin() + first, o.xs.end());
+            std::reverse(o.ys.begin() + first, o.ys.end());
+        }
+        o.starts[p + 1] = m;
+        Box bb = shape_bbox(o.xs.data() + first, o.ys.data() + first, m - first);
+        o.boxes[4 * p] = bb.x0;
+        o.boxes[4 * p + 1] = bb.y0;
+        o.boxes[4 * p + 2] = bb.x1;
+        o.boxes[4 * p + 3] = bb.y1;
+        for (i64 i = a; i < b; ++i) {
+            o.scale = pmax(pmax(o.scale, std::fabs(vx(i))), std::fabs(vy(i)));
+            o.zmax = pmax(o.zmax, std::fabs(vz(i)));
+        }
+    }
+    return o;
+}
+
+Visible solve_window(const double* ox, const double* oy, const i64* ost, i64 npoly, const double* obb,
+                     const double* planes, const i64* order, i64 norder, const std::array<double, 4>& win,
+                     double eps, double eps_z, bool convex_road) {
+    Solver S;
+    S.ox = ox;
+    S.oy = oy;
+    S.ost = ost;
+    S.obb = obb;
+    S.planes = planes;
+    S.eps = eps;
+    S.eps_z = eps_z;
+    S.convex_road = convex_road;
+    // each polygon (in depth order) clipped to the window, its edges labelled EDGE_OWN
+    const double wxs[4] = {win[0], win[2], win[2], win[0]}, wys[4] = {win[1], win[1], win[3], win[3]};
+    const i64 wl[4] = {EDGE_CUT, EDGE_CUT, EDGE_CUT, EDGE_CUT}, ws[2] = {0, 4};
+    ShapeView window{wxs, wys, wl, ws, 4, 2};
+    std::vector<i64> first;
+    for (i64 k = 0; k < norder; ++k) {
+        i64 s = order[k], a = ost[s], b = ost[s + 1];
+        Shape piece;
+        piece.x.assign(ox + a, ox + b);
+        piece.y.assign(oy + a, oy + b);
+        piece.lab.assign(b - a, EDGE_OWN);
+        piece.st = {0, b - a};
+        if (!within(box_of(obb, s), win)) piece = clip_arrays(piece.view(), window, eps).first;
+        if (piece.st.size() > 1) first.push_back(S.arena.add(piece, s));
+    }
+    S.solve(first, order, norder, npoly);
+    // the visible pieces flattened
+    Visible out;
+    const Arena& A = S.arena;
+    out.piece_rings.push_back(0);
+    out.starts.reserve(S.visible.size() + 1);
+    for (i64 pid : S.visible) {
+        const Arena::Meta& m = A.meta[pid];
+        i64 v = (i64)out.xs.size();
+        out.sources.push_back(m.source);
+        out.xs.insert(out.xs.end(), A.x.begin() + m.v0, A.x.begin() + m.v1);
+        out.ys.insert(out.ys.end(), A.y.begin() + m.v0, A.y.begin() + m.v1);
+        out.labels.insert(out.labels.end(), A.lab.begin() + m.v0, A.lab.begin() + m.v1);
+        for (i64 j = m.r0; j + 1 < m.r1; ++j) out.starts.push_back(v + A.st[j]);
+        out.piece_rings.push_back((i64)out.starts.size());
+    }
+    out.starts.push_back((i64)out.xs.size());
+    return out;
+}
+
+}  // namespace wa
