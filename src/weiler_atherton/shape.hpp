@@ -12,6 +12,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/geometry.hpp"
+
 namespace wa {
 
 using i64 = std::int64_t;
@@ -49,9 +51,9 @@ struct Shape {
 };
 
 // Python's min(a, b) and max(a, b) (numba's too): the first argument unless the second
-// compares strictly smaller (larger).
-inline double pmin(double a, double b) { return b < a ? b : a; }
-inline double pmax(double a, double b) { return b > a ? b : a; }
+// compares strictly smaller (larger); common/geometry.hpp's.
+inline double pmin(double a, double b) { return aaeval::geometry::pymin(a, b); }
+inline double pmax(double a, double b) { return aaeval::geometry::pymax(a, b); }
 
 // Python's float a % b (the remainder takes the divisor's sign), as numba computes it.
 inline double pmod(double vx, double wx) {
@@ -71,13 +73,11 @@ inline i64 to_int(double x) {
     return (i64)x;
 }
 
-// Shoelace area of the contour made of vertices a..b-1 (positive: main contour).
+// Shoelace area of the contour made of vertices a..b-1 (positive: main contour): the fan
+// from the first vertex of common/geometry.hpp, the numba kernel's sum in its order.
 inline double ring_area_of(const double* xs, const double* ys, i64 a, i64 b) {
-    if (b - a < 3) return 0.0;
-    double x0 = xs[a], y0 = ys[a], s = 0.0;
-    for (i64 i = a + 1; i < b - 1; ++i)
-        s += (xs[i] - x0) * (ys[i + 1] - y0) - (xs[i + 1] - x0) * (ys[i] - y0);
-    return 0.5 * s;
+    if (b - a < 3) return 0.0;  // (no vertex read: a may be the end of the arrays)
+    return aaeval::geometry::signed_area(xs, ys, a, b - a);
 }
 
 // What edge (x0, y0)-(x1, y1) adds to the winding number of the point: +1 crossing its
