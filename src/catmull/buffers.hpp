@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/geometry.hpp"
+
 namespace aaeval::catmull {
 
 template <class T>
@@ -49,7 +51,7 @@ struct Verts {
 };
 
 // a double's floor or ceil as an integer, clamped far outside any image (no overflow)
-inline int64_t to_index(double v) {
+AAEVAL_INLINE int64_t to_index(double v) {
     constexpr double LIMIT = 4.0e18;
     if (!(v > -LIMIT)) return -int64_t(4000000000000000000LL);
     if (v > LIMIT) return int64_t(4000000000000000000LL);

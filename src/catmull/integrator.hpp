@@ -28,7 +28,7 @@ inline constexpr double SLIVER_SLACK = EPS_LINE;
 // Safety bound on integrator steps for one pixel; never reached on valid scenes.
 inline constexpr int64_t MAX_STEPS = 100000;
 
-inline double depth(const double* planes, int64_t p, double x, double y) {
+AAEVAL_INLINE double depth(const double* planes, int64_t p, double x, double y) {
     return planes[3 * p] * x + planes[3 * p + 1] * y + planes[3 * p + 2];
 }
 

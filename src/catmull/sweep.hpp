@@ -58,7 +58,7 @@ inline int64_t update_zlist(int64_t* zl, double* zdepth, int64_t n_zl, const Str
     return n_zl;
 }
 
-inline double coverage(const Strip& S, int64_t k, int64_t col) { return S.cov[size_t(S.span[k][2] + col - S.span[k][0])]; }
+AAEVAL_INLINE double coverage(const Strip& S, int64_t k, int64_t col) { return S.cov[size_t(S.span[k][2] + col - S.span[k][0])]; }
 
 struct PixelList {
     int64_t n, solid;

@@ -15,6 +15,14 @@
 
 #include <cstdint>
 
+// hot helpers are inlined into every caller, where the constant lines (pixel columns) and
+// the wanted sides fold away
+#if defined(__GNUC__)
+#define AAEVAL_INLINE inline __attribute__((always_inline))
+#else
+#define AAEVAL_INLINE inline
+#endif
+
 namespace aaeval::geometry {
 
 // Distance (pixels) under which a point counts as lying on a clipping line: far above
@@ -22,10 +30,10 @@ namespace aaeval::geometry {
 inline constexpr double EPS_LINE = 1e-11;
 
 // Python's min/max of two values (the first unless the second is strictly smaller/larger).
-template <class T> inline T pymin(T a, T b) { return b < a ? b : a; }
-template <class T> inline T pymax(T a, T b) { return b > a ? b : a; }
+template <class T> AAEVAL_INLINE T pymin(T a, T b) { return b < a ? b : a; }
+template <class T> AAEVAL_INLINE T pymax(T a, T b) { return b > a ? b : a; }
 
-inline int side(double d) {
+AAEVAL_INLINE int side(double d) {
     if (d < -EPS_LINE) return -1;
     if (d > EPS_LINE) return 1;
     return 0;
@@ -33,7 +41,7 @@ inline int side(double d) {
 
 // An output edge lies on the line when both its ends do; else it keeps its flag.
 // Returns m, or 0 when fewer than 3 vertices are left.
-inline int64_t settle_flags(uint8_t* ofs, int64_t ostart, int64_t m) {
+AAEVAL_INLINE int64_t settle_flags(uint8_t* ofs, int64_t ostart, int64_t m) {
     if (m < 3) return 0;
     const bool first_on = ofs[ostart] >= 2;
     for (int64_t k = 0; k < m; ++k) {
@@ -53,7 +61,7 @@ struct SplitCounts {
 // fewer than 3 vertices; the caller checks the area, since a part may also degenerate to a
 // line). Edges lying on the line get flag 1; the others keep the flag of the edge they are
 // part of. The outputs must not overlap the input (they may share its buffers).
-inline SplitCounts clip_split(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
+AAEVAL_INLINE SplitCounts clip_split(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
                               double a, double b, double c, bool want_a, bool want_b,
                               double* axs, double* ays, uint8_t* afs, int64_t astart,
                               double* bxs, double* bys, uint8_t* bfs, int64_t bstart) {
@@ -115,7 +123,7 @@ inline SplitCounts clip_split(const double* xs, const double* ys, const uint8_t*
 
 // The part of a polygon on side keep (-1: A, +1: B) of a line, at ostart; its vertex count.
 // A clip adds at most one vertex per edge: leave 2 n + 2 entries.
-inline int64_t clip_side(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
+AAEVAL_INLINE int64_t clip_side(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
                          double a, double b, double c, int keep, double* oxs, double* oys, uint8_t* ofs,
                          int64_t ostart) {
     const SplitCounts m = clip_split(xs, ys, fs, start, n, a, b, c, keep < 0, keep > 0,
@@ -134,7 +142,7 @@ inline int64_t clip_to_column(const double* xs, const double* ys, const uint8_t*
 
 // Shoelace area (fan from the first vertex); positive for the orientation every polygon is
 // normalised to (y down). 0 for fewer than 3 vertices.
-inline double signed_area(const double* xs, const double* ys, int64_t start, int64_t n) {
+AAEVAL_INLINE double signed_area(const double* xs, const double* ys, int64_t start, int64_t n) {
     double s = 0.0;
     const double x0 = xs[start];
     const double y0 = ys[start];
