@@ -92,3 +92,96 @@ def test_split_convex_refuses_rows_too_short():
 def test_components_labels_each_node_with_its_smallest():
     assert wa.components(5, np.array([3, 1]), np.array([4, 3])).tolist() == [0, 1, 2, 1, 1]
     refused(lambda: wa.components(2, np.array([0]), np.array([2])), "index below")
+
+
+def hostile_calls(seed: int, count: int):
+    """``count`` random calls of the bindings, half of them with inconsistent arrays (wrong
+    dtypes, shapes, strides, lengths, starts, indices, non-finite values): each a thunk."""
+    rng = np.random.default_rng(seed)
+
+    def arr(n, kind):
+        r = rng.random()
+        if r < 0.05:
+            return np.zeros(n, np.float32 if kind == "f" else np.int32)
+        if r < 0.08:
+            return np.zeros((n, 2))
+        if r < 0.1:
+            return np.zeros(2 * n + 1)[::2] if kind == "f" else np.zeros(2 * n + 1, np.int64)[::2]
+        if kind == "i":
+            return rng.integers(-2, n + 3, n).astype(np.int64)
+        v = [rng.uniform(-5, 5, n), rng.integers(-3, 4, n).astype(float), rng.normal(size=n) * 1e8,
+             np.full(n, 1.0)][int(rng.integers(4))]
+        if rng.random() < 0.05 and n:
+            v[rng.integers(n)] = rng.choice([np.nan, np.inf, 1e300, -1e300, 5e-324])
+        return v
+
+    def starts(n):
+        if rng.random() < 0.7:
+            cuts = np.sort(rng.integers(0, n + 1, int(rng.integers(0, 4))))
+            return np.concatenate([[0], cuts, [n]]).astype(np.int64)
+        return rng.integers(-1, n + 2, int(rng.integers(0, 5))).astype(np.int64)
+
+    def shape():
+        n = int(rng.integers(0, 12))
+        return (arr(n, "f"), arr(n + (rng.random() < 0.05), "f"),
+                rng.integers(0, 3, n + (rng.random() < 0.05)).astype(np.int64), starts(n))
+
+    for _ in range(count):
+        f = int(rng.integers(0, 6))
+        if f == 0:
+            a, b, eps = shape(), shape(), float(rng.choice([1e-12, 0.0, 0.3, np.inf, -1.0, np.nan]))
+            yield lambda a=a, b=b, eps=eps: wa.clip_arrays(*a, *b, eps)
+        elif f == 1:
+            s = shape()
+            yield lambda s=s: wa.first_crossing(s[0], s[1], s[3], 1e-12)
+        elif f == 2:
+            n = int(rng.integers(0, 8))
+            bx = rng.uniform(0, 10, (n, 4))
+            bx[:, 2:] += bx[:, :2]
+            bx = bx if rng.random() < 0.9 else bx[:, :3].copy()
+            order = arr(int(rng.integers(0, 10)), "i")
+            yield lambda bx=bx, order=order: wa.later_neighbours(bx, order)
+        elif f == 3:
+            npoly, nv = int(rng.integers(1, 8)), int(rng.integers(0, 30))
+            v = np.column_stack([rng.integers(-2, 12, nv).astype(float), rng.integers(-2, 12, nv).astype(float),
+                                 rng.uniform(0, 5, nv)])
+            st, ln = rng.integers(-1, nv + 1, npoly).astype(np.int64), rng.integers(0, 6, npoly).astype(np.int64)
+            pl = rng.normal(size=(npoly, 3))
+            pl[rng.random(npoly) < 0.2] = np.nan
+            win = tuple(rng.uniform(-2, 12, 4))
+            eps, eps_z, road = float(rng.choice([1e-12, 0.0, 0.5])), float(rng.choice([1e-11, 0.0, 1.0])), rng.random() < 0.5
+            bad_order = rng.integers(-1, npoly + 1, 3).astype(np.int64) if rng.random() < 0.1 else None
+
+            def solve(v=v, st=st, ln=ln, pl=pl, win=win, eps=eps, eps_z=eps_z, road=road, bad_order=bad_order):
+                ox, oy, ost, obb, _, _, _ = wa.originals(v, st, ln, pl)
+                order = np.flatnonzero(np.diff(ost) > 0).astype(np.int64) if bad_order is None else bad_order
+                return wa.solve_window(ox, oy, ost, obb, pl, order, win, eps, eps_z, bool(road))
+
+            yield solve
+        elif f == 4:
+            s = shape()
+            nr, k = max(len(s[3]) - 1, 0), int(rng.integers(0, 4))
+            weights = rng.normal(size=(nr + (rng.random() < 0.05), k))
+            out = np.zeros((int(rng.integers(0, 6)), int(rng.integers(0, 6)), k))
+            yield lambda s=s, weights=weights, out=out: wa.add_coverage(s[0], s[1], s[3], weights, out)
+        else:
+            n = int(rng.integers(0, 8))
+            m = int(rng.integers(0, 2 * n + 3))
+            outs = [np.zeros(m), np.zeros(m), np.zeros(m, np.int64), np.zeros(m), np.zeros(m), np.zeros(m, np.int64)]
+            args = (arr(n, "f"), arr(n, "f"), rng.integers(0, 3, n).astype(np.int64), int(rng.integers(-1, n + 2)),
+                    rng.normal(size=n), float(rng.choice([1e-12, -1.0, 0.5])), 7, *outs)
+            yield lambda args=args: wa.split_convex(*args)
+
+
+def test_hostile_inputs_are_answered_or_refused_with_a_value_error():
+    """3000 random calls, many inconsistent: each answers or raises a one-line ValueError
+    (the same corpus ran 60000 cases through an ASan + UBSan build without a report)."""
+    answered = refused_count = 0
+    for call in hostile_calls(seed=11, count=3000):
+        try:
+            call()
+            answered += 1
+        except ValueError as error:
+            assert "\n" not in str(error)
+            refused_count += 1
+    assert answered > 500 and refused_count > 500
