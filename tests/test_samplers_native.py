@@ -137,3 +137,13 @@ def test_a_deep_abuffer_stack_is_fast_and_the_latest_tied_polygon_wins():
     assert time.perf_counter() - start < 2.0
     np.testing.assert_array_equal(image[..., 0], (n - 1) / n)
     np.testing.assert_array_equal(render(scene, "abuffer"), image)
+
+
+def test_jitter_seeds_are_64_bit():
+    from aaeval.renderers.sampling import point_sampled
+
+    scene = warmup_scene()
+    assert np.array_equal(point_sampled(scene, 2, seed=2**64 - 1), point_sampled(scene, 2, seed=-1))
+    assert not np.array_equal(point_sampled(scene, 2, seed=2**63), point_sampled(scene, 2, seed=0))
+    with pytest.raises(ValueError):
+        point_sampled(scene, 2, seed=2**64)

@@ -67,7 +67,8 @@ def point_sampled(scene: Scene, k: int, *, seed: int | None = None, filter: str 
     k : int
         Samples per pixel side (``k >= 1``).
     seed : int, optional
-        Jitter seed: one uniform sample per stratum of the ``k x k`` grid. ``None`` puts
+        Jitter seed (below ``2**64``; a negative one counts as its 64-bit two's
+        complement): one uniform sample per stratum of the ``k x k`` grid. ``None`` puts
         each sample at its stratum's centre.
     filter : str
         A filter of :data:`aaeval.filters.FILTERS`. ``box`` is the plain mean of each
@@ -80,7 +81,9 @@ def point_sampled(scene: Scene, k: int, *, seed: int | None = None, filter: str 
     """
     if k < 1:
         raise ValueError(f"k must be >= 1, got {k}")
-    return sample_image(*kernel_scene(scene), int(k), seed is not None, 0 if seed is None else int(seed),
+    if seed is not None and not -(2**63) <= int(seed) < 2**64:
+        raise ValueError(f"seed must be below 2**64, got {seed}")
+    return sample_image(*kernel_scene(scene), int(k), seed is not None, 0 if seed is None else int(seed) % 2**64,
                         *profile_args(get_filter(filter)))
 
 

@@ -100,7 +100,7 @@ nb::ndarray<Framework, T> owned(std::vector<size_t> shape, T*& data) {
 
 OutArray py_sample_image(int64_t width, int64_t height, const Array& starts, const Array& lengths, const Array& xs,
                          const Array& ys, const Array& planes, double eps_z, const Array& colors,
-                         const Array& background, int64_t k, bool jitter, int64_t seed, int64_t fkind, double fradius,
+                         const Array& background, int64_t k, bool jitter, uint64_t seed, int64_t fkind, double fradius,
                          const Array& fpieces, double falpha, double fbias) {
   const Scene scene = checked_scene(starts, lengths, xs, ys, planes, eps_z, colors, background);
   if (k < 1 || k > 4096) fail("k must be in 1..4096, got " + std::to_string(k));

@@ -54,8 +54,8 @@ void splat_row(int64_t r, int64_t k, bool jitter, const std::vector<double>& off
 
 }  // namespace
 
-double jitter_uniform(int64_t seed, int64_t row, int64_t col, int64_t sample, int64_t axis) {
-  uint64_t h = splitmix64(static_cast<uint64_t>(seed));
+double jitter_uniform(uint64_t seed, int64_t row, int64_t col, int64_t sample, int64_t axis) {
+  uint64_t h = splitmix64(seed);
   h = splitmix64(h ^ static_cast<uint64_t>(row));
   h = splitmix64(h ^ static_cast<uint64_t>(col));
   h = splitmix64(h ^ (static_cast<uint64_t>(sample) * 2u + static_cast<uint64_t>(axis)));
@@ -63,7 +63,7 @@ double jitter_uniform(int64_t seed, int64_t row, int64_t col, int64_t sample, in
 }
 
 bool sample_image(int64_t width, int64_t height, const Polygons& P, double eps_z, const double* colors,
-                  const double* background, int64_t k, bool jitter, int64_t seed, const Profile& filter,
+                  const double* background, int64_t k, bool jitter, uint64_t seed, const Profile& filter,
                   double* image) {
   std::vector<int64_t> row_start, polys;
   row_buckets(height, P, row_start, polys);

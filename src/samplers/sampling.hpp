@@ -194,11 +194,11 @@ inline double profile_at(const Profile& f, double t) {
 // (zeroed by the caller); returns false when a pixel's collected filter weight is zero
 // (the numba kernel raised ZeroDivisionError there).
 bool sample_image(int64_t width, int64_t height, const Polygons& P, double eps_z, const double* colors,
-                  const double* background, int64_t k, bool jitter, int64_t seed, const Profile& filter,
+                  const double* background, int64_t k, bool jitter, uint64_t seed, const Profile& filter,
                   double* image);
 
 // A uniform number in [0, 1) fixed by (seed, row, col, sample, axis).
-double jitter_uniform(int64_t seed, int64_t row, int64_t col, int64_t sample, int64_t axis);
+double jitter_uniform(uint64_t seed, int64_t row, int64_t col, int64_t sample, int64_t axis);
 
 // The A-buffer image (height, width, 3) of the polygons (abuffer.cpp).
 void abuffer_image(int64_t width, int64_t height, const Polygons& P, double eps_z, const double* colors,
