@@ -200,6 +200,8 @@ struct MomentSink {
     int64_t pix = -1;
     BoxBuffers box;
     double sx[4], sy[4];
+    std::vector<double> inner_integrals;
+    bool have_inner = false;
 
     MomentSink(double* acc_, const double* colors_, int64_t n_colors_, int64_t width_, int64_t height_,
                const Filter& F_)
@@ -255,14 +257,25 @@ struct MomentSink {
         }
         piece_integrals(box.x.data(), box.y.data(), r.start, r.n, ox, oy, F, out.data(), phi.data(), psi.data());
     }
-    // out = the integrals over the whole cell (cut to the image)
+    // out = the integrals over the whole cell (cut to the image). An interior cell is the
+    // unit square around its centre: every input of the quadrature (u0 = -1/2, du = 1, ...)
+    // and so every bit of the result is the same for all of them, found once.
     void cell_integrals(int64_t p) {
         const Window w = window(p);
+        const bool inner = w.col > 0 && w.row > 0 && w.col < width && w.row < height;
+        if (inner && have_inner) {
+            out = inner_integrals;
+            return;
+        }
         sx[0] = w.x0; sy[0] = w.y0;
         sx[1] = w.x1; sy[1] = w.y0;
         sx[2] = w.x1; sy[2] = w.y1;
         sx[3] = w.x0; sy[3] = w.y1;
         piece_integrals(sx, sy, 0, 4, double(w.col) + 0.5, double(w.row) + 0.5, F, out.data(), phi.data(), psi.data());
+        if (inner) {
+            inner_integrals = out;
+            have_inner = true;
+        }
     }
 
     void emit_pixel(int64_t p, int64_t src, double, double) {
