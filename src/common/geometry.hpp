@@ -13,7 +13,11 @@
 // images keep their bits); build with -ffp-contract=off.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 // hot helpers are inlined into every caller, where the constant lines (pixel columns) and
 // the wanted sides fold away
@@ -32,6 +36,16 @@ inline constexpr double EPS_LINE = 1e-11;
 // Python's min/max of two values (the first unless the second is strictly smaller/larger).
 template <class T> AAEVAL_INLINE T pymin(T a, T b) { return b < a ? b : a; }
 template <class T> AAEVAL_INLINE T pymax(T a, T b) { return b > a ? b : a; }
+
+// The correctly rounded square root (IEEE), as one instruction: std::sqrt keeps a library
+// call for errno on negative input, which the kernels never pass.
+AAEVAL_INLINE double sqrt(double v) {
+#if defined(__SSE2__)
+    return _mm_cvtsd_f64(_mm_sqrt_sd(_mm_setzero_pd(), _mm_set_sd(v)));
+#else
+    return std::sqrt(v);
+#endif
+}
 
 AAEVAL_INLINE int side(double d) {
     if (d < -EPS_LINE) return -1;
