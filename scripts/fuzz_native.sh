@@ -12,7 +12,7 @@
 # $ASAN_DIR/pkg gets the sanitized modules (a family not rebuilt keeps its plain module,
 # and is named as such); a sitecustomize.py there puts the copy first on sys.path and drops
 # the editable install's import redirect, so `import aaeval` finds the copy. Then
-# scripts/fuzz_cli.py runs (10,000 cases by default) with libasan preloaded, leak checks
+# scripts/fuzz_cli.py runs (10,000 cases by default) with libasan (and libstdc++) preloaded, leak checks
 # off (Python's interned objects live to the end) and UBSan halting on the first error.
 # Prints a summary: the modules sanitized, the fuzz verdicts and every sanitizer report.
 # The log is $ASAN_DIR/fuzz.log; failing cases go to $ASAN_DIR/failures/.
@@ -61,8 +61,12 @@ for so in sorted((root / "aaeval").glob("*.so")):
     "sys.path.insert(0, here)\n")
 PY
 
+# libstdc++ preloaded too: python3 does not link it, and ASan's __cxa_throw interceptor,
+# set up when libasan starts, then finds no real __cxa_throw ("CHECK failed:
+# asan_interceptors.cpp ... real___cxa_throw") at the first C++ exception (matplotlib's)
 libasan=$(gcc -print-file-name=libasan.so)
-export LD_PRELOAD=$libasan
+libstdcxx=$(gcc -print-file-name=libstdc++.so)
+export LD_PRELOAD="$libasan $libstdcxx"
 export ASAN_OPTIONS=detect_leaks=0:halt_on_error=1:abort_on_error=0:symbolize=1
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 export PYTHONPATH=$pkg
@@ -81,7 +85,7 @@ python3 "$root/scripts/fuzz_cli.py" --failures "$failures" "$@" >"$log" 2>&1
 code=$?
 end=$(date +%s)
 
-asan=$(grep -c "ERROR: AddressSanitizer" "$log")
+asan=$(grep -c "ERROR: AddressSanitizer\|AddressSanitizer: CHECK failed" "$log")
 ubsan=$(grep -c "runtime error:" "$log")
 echo "== summary"
 echo "  fuzz_cli exit code: $code ($((end - start)) s)"
@@ -89,7 +93,7 @@ grep -E "^[0-9]+ cases in|^  (image|refused|traceback|bad-exit|not-one-line|hang
 echo "  AddressSanitizer reports: $asan"
 echo "  UndefinedBehaviorSanitizer reports: $ubsan"
 if [ "$asan" -gt 0 ] || [ "$ubsan" -gt 0 ]; then
-  grep -E -A25 "ERROR: AddressSanitizer|runtime error:" "$log" | head -80
+  grep -E -A25 "ERROR: AddressSanitizer|AddressSanitizer: CHECK failed|runtime error:" "$log" | head -80
 fi
 if [ "$code" -ne 0 ] && [ "$asan" -eq 0 ] && [ "$ubsan" -eq 0 ]; then
   echo "  (no sanitizer report; the end of the log:)"

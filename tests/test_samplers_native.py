@@ -147,3 +147,41 @@ def test_jitter_seeds_are_64_bit():
     assert not np.array_equal(point_sampled(scene, 2, seed=2**63), point_sampled(scene, 2, seed=0))
     with pytest.raises(ValueError):
         point_sampled(scene, 2, seed=2**64)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_random_and_extreme_inputs_give_an_image_or_a_value_error(seed):
+    # pixel-boundary and huge coordinates (1e300: crossings overflow to inf and nan, int()
+    # of them saturates as numba's did), zero-length polygons, ties, eps of 0 and 1e300;
+    # run under scripts/fuzz_native.sh's sanitized build this checks every access
+    rng = np.random.default_rng(seed)
+    filters = [BOX, MITCHELL, profile_args(get_filter("gaussian")), profile_args(get_filter("tent"))]
+    for case in range(150):
+        w, h, n = (int(v) for v in rng.integers(0, 10, 3))
+        lengths = rng.integers(0 if case % 7 == 0 else 3, 8, n).astype(np.int64)
+        starts = np.concatenate([[0], np.cumsum(lengths)[:-1]]).astype(np.int64)[:n]
+        scale = [1.0, 1e-9, 1e15, 1e300][case % 4]
+        xs = rng.uniform(-0.5, 1.5, lengths.sum()) * max(w, 1) * (scale if case % 3 == 0 else 1.0)
+        ys = rng.uniform(-0.5, 1.5, lengths.sum()) * max(h, 1) * (scale if case % 3 == 1 else 1.0)
+        if case % 5 == 0:
+            xs, ys = np.round(xs * 2) / 2, np.round(ys * 2) / 2
+        planes = rng.normal(size=(n, 3)) * (scale if case % 4 == 0 else 1.0)
+        args = (w, h, starts, lengths, xs, ys, planes, float(rng.choice([0.0, 1e-11, 1e300])),
+                rng.uniform(0, 1, (n, 3)), rng.uniform(0, 1, 3))
+        for run in (lambda: _samplers.sample_image(*args, int(rng.integers(1, 5)), bool(case % 2), case,
+                                                   *filters[case % len(filters)]),
+                    lambda: _samplers.abuffer_image(*args)):
+            try:
+                image = run()
+            except (ValueError, ZeroDivisionError):
+                continue
+            assert image.shape == (h, w, 3)
+        m = int(rng.integers(1, 30))
+        pts = (rng.integers(0, 4, (m, 2)) if case % 2 else rng.normal(size=(m, 2))) * scale
+        a = np.arange(m, dtype=np.int64)
+        b = np.roll(a, -1)
+        try:
+            e, f = _samplers.sweep(pts, a, b, np.lexsort((pts[:, 1], pts[:, 0])).astype(np.int64), np.roll(a, 1))
+        except ValueError:
+            continue
+        assert -1 <= e < m and -1 <= f < m
