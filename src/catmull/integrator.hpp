@@ -62,7 +62,7 @@ inline int depth_relation(const double* planes, int64_t q, int64_t f, const doub
     const double da = planes[3 * q] - planes[3 * f];
     const double db = planes[3 * q + 1] - planes[3 * f + 1];
     const double dc = planes[3 * q + 2] - planes[3 * f + 2];
-    const double g = geometry::sqrt(da * da + db * db);
+    const double g = geometry::sqrt_ieee(da * da + db * db);
     double lo = std::numeric_limits<double>::infinity();
     double hi = -std::numeric_limits<double>::infinity();
     for (int64_t v = start; v < start + n; ++v) {
@@ -184,7 +184,7 @@ inline Line first_clip_edge(const double* wx, const double* wy, const uint8_t* w
             const int64_t k2 = fs + (k + 1) % fn;
             const double ex = wx[k2] - wx[fs + k];
             const double ey = wy[k2] - wy[fs + k];
-            const double norm = geometry::sqrt(ex * ex + ey * ey);
+            const double norm = geometry::sqrt_ieee(ex * ex + ey * ey);
             if (norm > EPS_LINE) {
                 l.a = ey / norm;
                 l.b = -ex / norm;
@@ -268,7 +268,7 @@ inline int64_t integrate_pixel(PixelWork& W, int64_t n_init, int64_t n_vert, con
                     // q crosses F's depth plane: split along the line z_q = z_F
                     const double da = planes[3 * sq] - planes[3 * src_f];
                     const double db = planes[3 * sq + 1] - planes[3 * src_f + 1];
-                    const double norm = geometry::sqrt(da * da + db * db);
+                    const double norm = geometry::sqrt_ieee(da * da + db * db);
                     a = da / norm;
                     b = db / norm;
                     c = (planes[3 * sq + 2] - planes[3 * src_f + 2]) / norm;

@@ -195,7 +195,7 @@ inline double two_layer_overlap(const Strip& S, int64_t ka, int64_t kb, double x
                 const int64_t j = (i + 1) % ma;
                 const double ex = wx[j] - wx[i];
                 const double ey = wy[j] - wy[i];
-                const double norm = geometry::sqrt(ex * ex + ey * ey);
+                const double norm = geometry::sqrt_ieee(ex * ex + ey * ey);
                 if (wf[i] == 0 && norm > EPS_LINE && m > 0) {
                     const double a = ey / norm;
                     const double b = -ex / norm;

@@ -39,7 +39,7 @@ template <class T> AAEVAL_INLINE T pymax(T a, T b) { return b > a ? b : a; }
 
 // The correctly rounded square root (IEEE), as one instruction: std::sqrt keeps a library
 // call for errno on negative input, which the kernels never pass.
-AAEVAL_INLINE double sqrt(double v) {
+AAEVAL_INLINE double sqrt_ieee(double v) {
 #if defined(__SSE2__)
     return _mm_cvtsd_f64(_mm_sqrt_sd(_mm_setzero_pd(), _mm_set_sd(v)));
 #else
