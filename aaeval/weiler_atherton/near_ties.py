@@ -106,37 +106,50 @@ def solve_by_rule(xs, ys, starts, boxes, planes, window, sources, eps, eps_z):
     frame = (np.array([x0, x1, x1, x0]), np.array([y0, y0, y1, y1]), np.full(4, EDGE_CUT, np.int64),
              np.array([0, 4], np.int64))
 
-    def outline(s):
-        a, b = starts[s], starts[s + 1]
-        return xs[a:b].copy(), ys[a:b].copy(), np.full(b - a, EDGE_OWN, np.int64), np.array([0, b - a], np.int64)
+    outlines = {}
 
-    claimed = []
+    def outline(s):
+        if s not in outlines:
+            a, b = starts[s], starts[s + 1]
+            outlines[s] = (xs[a:b].copy(), ys[a:b].copy(), np.full(b - a, EDGE_OWN, np.int64),
+                           np.array([0, b - a], np.int64))
+        return outlines[s]
+
+    order = [int(j) for j in sources]
+    box_of = {j: tuple(float(v) for v in boxes[j]) for j in order}
+    claimed = []  # (region, its box)
     out = []
-    for i in sorted((int(s) for s in sources), reverse=True):  # later polygons claim first
+    for i in sorted(order, reverse=True):  # later polygons claim first
         region = clip_arrays(*outline(i), *frame, eps)[:4]
-        for j in sources:
-            j = int(j)
-            if j == i or len(region[3]) < 2 or not _boxes_meet(boxes[j], _bbox(region)):
+        box = _bbox(region)  # None once the region is empty
+        for j in order:
+            if j == i or box is None or not _boxes_meet(box_of[j], box):
                 continue
             a, b, c = planes[j] - planes[i]
-            nearer = half_plane(a, b, c + eps_z, np.asarray(_bbox(region)))  # z_j < z_i - eps
+            nearer = half_plane(a, b, c + eps_z, box)  # z_j < z_i - eps
             if len(nearer[0]) < 3:
                 continue
             cut = clip_arrays(*outline(j), *nearer, eps)[:4]
             if len(cut[3]) > 1:
                 region = clip_arrays(*region, *cut, eps)[4:]
-        for taken in claimed:
-            if len(region[3]) > 1 and _boxes_meet(_bbox(taken), _bbox(region)):
+                box = _bbox(region)
+        for taken, taken_box in claimed:
+            if box is not None and _boxes_meet(taken_box, box):
                 region = clip_arrays(*region, *taken, eps)[4:]
-        if len(region[3]) > 1:
+                box = _bbox(region)
+        if box is not None:
             shape = from_arrays(*region)
             if shape_area(shape) > 0:
-                claimed.append(region)
+                claimed.append((region, box))
                 out.extend((i, part) for part in polygons(shape))
     return out
 
 
-def _bbox(region) -> tuple[float, float, float, float]:
+def _bbox(region) -> tuple[float, float, float, float] | None:
+    """The region's box, None when it has no contour (computed once per region: a stack
+    of 120 asks for it some 35000 times)."""
+    if len(region[3]) < 2:
+        return None
     xs, ys = region[0], region[1]
     return float(xs.min()), float(ys.min()), float(xs.max()), float(ys.max())
 
