@@ -185,3 +185,21 @@ def test_random_and_extreme_inputs_give_an_image_or_a_value_error(seed):
         except ValueError:
             continue
         assert -1 <= e < m and -1 <= f < m
+
+
+def test_the_native_profile_is_the_filters_profile():
+    # the splat weight the samplers use, bound as profile_array: the same bits as
+    # aaeval.filters.evaluate's (so that module can take it instead of its numba loop)
+    from aaeval.filters import FILTERS
+    from aaeval.filters import evaluate
+
+    t = np.concatenate([np.linspace(-5, 5, 20001), np.random.default_rng(0).uniform(-4, 4, 20000),
+                        [np.inf, -np.inf, 0.5, -0.5, 2.0, -2.0, 1.5, -1.5, -0.0]])
+    for name in FILTERS:
+        args = profile_args(get_filter(name))
+        native = _samplers.profile_array(*args, t)
+        if hasattr(evaluate, "profile_array") and evaluate.profile_array is not _samplers.profile_array:
+            assert native.tobytes() == evaluate.profile_array(*args, t).tobytes(), name
+        assert np.all(native[np.abs(t) > max(args[1], 0.5)] == 0.0), name
+    with pytest.raises(ValueError):
+        _samplers.profile_array(*BOX, np.array([np.nan]))

@@ -98,14 +98,8 @@ nb::ndarray<Framework, T> owned(std::vector<size_t> shape, T*& data) {
   return nb::ndarray<Framework, T>(data, shape.size(), shape.data(), owner);
 }
 
-OutArray py_sample_image(int64_t width, int64_t height, const Array& starts, const Array& lengths, const Array& xs,
-                         const Array& ys, const Array& planes, double eps_z, const Array& colors,
-                         const Array& background, int64_t k, bool jitter, uint64_t seed, int64_t fkind, double fradius,
-                         const Array& fpieces, double falpha, double fbias) {
-  const Scene scene = checked_scene(starts, lengths, xs, ys, planes, eps_z, colors, background);
-  if (k < 1 || k > 4096) fail("k must be in 1..4096, got " + std::to_string(k));
-  check_size(width, height, 3);
-  check_size(width, k * k, 2);
+// A filter profile (aaeval.filters.evaluate.profile_args) after its checks.
+Profile checked_filter(int64_t fkind, double fradius, const Array& fpieces, double falpha, double fbias) {
   if (fkind != KIND_BOX && fkind != KIND_POLYNOMIAL && fkind != KIND_GAUSSIAN)
     fail("unknown filter kind " + std::to_string(fkind));
   if (!(fradius > 0.0 && fradius <= 1e6)) fail("filter radius must be in (0, 1e6]");
@@ -119,7 +113,18 @@ OutArray py_sample_image(int64_t width, int64_t height, const Array& starts, con
     if (cols < 1 || rows / 2 - reach < 0 || rows / 2 + reach - 1 >= rows)
       fail("filter pieces: expected 2 x ceil(radius) rows of coefficients");
   }
-  const Profile filter{fkind, fradius, pieces, rows, cols, falpha, fbias};
+  return Profile{fkind, fradius, pieces, rows, cols, falpha, fbias};
+}
+
+OutArray py_sample_image(int64_t width, int64_t height, const Array& starts, const Array& lengths, const Array& xs,
+                         const Array& ys, const Array& planes, double eps_z, const Array& colors,
+                         const Array& background, int64_t k, bool jitter, uint64_t seed, int64_t fkind, double fradius,
+                         const Array& fpieces, double falpha, double fbias) {
+  const Scene scene = checked_scene(starts, lengths, xs, ys, planes, eps_z, colors, background);
+  if (k < 1 || k > 4096) fail("k must be in 1..4096, got " + std::to_string(k));
+  check_size(width, height, 3);
+  check_size(width, k * k, 2);
+  const Profile filter = checked_filter(fkind, fradius, fpieces, falpha, fbias);
   double* data;
   OutArray image = owned<double, nb::numpy>({size_t(height), size_t(width), 3}, data);
   bool ok;
@@ -165,6 +170,22 @@ IndexArray py_tied_latest_first(const Array& order, const Array& depth, const Ar
     tied_latest_first(out, n, d, ix, eps);
   }
   return result;
+}
+
+OutArray py_profile_array(int64_t fkind, double fradius, const Array& fpieces, double falpha, double fbias,
+                          const Array& t) {
+  const Profile filter = checked_filter(fkind, fradius, fpieces, falpha, fbias);
+  const double* tv = checked<double>(t, "t", {-1});
+  const size_t n = t.shape(0);
+  for (size_t i = 0; i < n; ++i)
+    if (std::isnan(tv[i])) fail("t: expected numbers, not NaN");
+  double* data;
+  OutArray out = owned<double, nb::numpy>({n}, data);
+  {
+    nb::gil_scoped_release release;
+    for (size_t i = 0; i < n; ++i) data[i] = profile_at(filter, tv[i]);
+  }
+  return out;
 }
 
 std::pair<int64_t, int64_t> py_sweep(const Array& pts, const Array& a, const Array& b, const Array& order,
@@ -214,6 +235,9 @@ NB_MODULE(_samplers, m) {
         "nearest depth listed latest index first.");
   m.def("sweep", &py_sweep, nb::arg("pts"), nb::arg("a"), nb::arg("b"), nb::arg("order"), nb::arg("incoming"),
         "Shamos-Hoey sweep over the ring edges (a[e], b[e]): two edges that meet, or (-1, -1).");
+  m.def("profile_array", &py_profile_array, nb::arg("fkind"), nb::arg("fradius"), nb::arg("fpieces"),
+        nb::arg("falpha"), nb::arg("fbias"), nb::arg("t"),
+        "k(t) of a filter profile (the samplers' splat weight) at every t of a flat float64 array.");
   m.def("jitter_uniform", &jitter_uniform, nb::arg("seed"), nb::arg("row"), nb::arg("col"), nb::arg("sample"),
         nb::arg("axis"), "A uniform number in [0, 1) fixed by (seed, row, col, sample, axis).");
 }
