@@ -39,7 +39,7 @@ from numba import njit
 from aaeval.renderers import render_timed
 from aaeval.renderers.catmull import available_cores
 from aaeval.scenes.generate import random_triangles
-from smoke import smallest
+from smoke import SMOKE, smallest
 
 METHODS = [
     "catmull:threads=1",
@@ -170,7 +170,9 @@ def main() -> None:
             plot(list(csv.DictReader(fh)), fill, args.out / "bench_methods.png")
         return
     cores = available_cores()
-    ceiling = parallel_ceiling(cores) if cores > 1 else 1.0
+    # smoke: one short repeat (the full measurement is 15 x 1e8 iterations, about 10 s)
+    smoke = {"repeats": 1, "n": 1_000_000} if SMOKE else {}
+    ceiling = parallel_ceiling(cores, **smoke) if cores > 1 else 1.0
     print(f"{os.cpu_count()} cores; fill rate {fill * 1e9:.2f} ns per RGB float64 pixel; "
           f"median of {args.repeats} interleaved repeats after warm-up")
     print(f"parallel ceiling: pure arithmetic runs {ceiling:.2f}x faster on {cores} threads than on one")

@@ -7,7 +7,6 @@ Images are (H, W, 3) linear RGB, the renderers' output. PSNR and SSIM are scikit
 from __future__ import annotations
 
 import numpy as np
-from skimage.metrics import peak_signal_noise_ratio, structural_similarity
 
 from aaeval.metrics._checks import check_image_pair, check_positive
 
@@ -63,6 +62,10 @@ def psnr(image_true, image_test, *, data_range: float = 1.0) -> float:
     """
     image_true, image_test = check_image_pair(image_true, image_test)
     check_positive("data_range", data_range)
+    # scikit-image imports scipy.stats (about 1 s): loaded on first use, not with aaeval.metrics,
+    # so a command or a sweep worker that never computes PSNR or SSIM does not pay for it
+    from skimage.metrics import peak_signal_noise_ratio
+
     with np.errstate(divide="ignore"):  # identical images: MSE 0, PSNR inf, not a warning
         return float(peak_signal_noise_ratio(image_true, image_test, data_range=data_range))
 
@@ -98,6 +101,8 @@ def ssim(image_true, image_test, *, data_range: float = 1.0, win_size: int = 7) 
     fitted = min(win_size, side if side % 2 else side - 1)
     if fitted < 3:
         raise ValueError(f"SSIM needs images at least 3 pixels on each side, got {image_true.shape[:2]}")
+    from skimage.metrics import structural_similarity  # on first use (see psnr)
+
     return float(
         structural_similarity(image_true, image_test, data_range=data_range, channel_axis=-1, win_size=fitted)
     )

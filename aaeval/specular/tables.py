@@ -23,7 +23,6 @@ import math
 from functools import lru_cache
 
 import numpy as np
-from scipy.special import gammaln
 
 __all__ = [
     "power_spectrum",
@@ -147,6 +146,10 @@ def _cutoff_of(n, power: float) -> np.ndarray:
 
 
 def _lgamma(x):
+    # scipy.special takes about 0.5 s to import: loaded when a table is first built, not with
+    # aaeval.renderers (every command and sweep worker imports this module through it)
+    from scipy.special import gammaln
+
     return gammaln(np.asarray(x, dtype=np.float64))
 
 
