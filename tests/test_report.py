@@ -3,6 +3,7 @@ are checked against it, figures and tables come in paper formats."""
 
 from __future__ import annotations
 
+import json
 from html.parser import HTMLParser
 from pathlib import Path
 from urllib.parse import unquote, urlparse
@@ -144,10 +145,15 @@ def test_report_of_a_partial_sweep(tmp_path):
     exp = load_experiment(write_config(tmp_path))
     out = tmp_path / "sweep"
     run_sweep(exp, out, workers=1, quiet=True, cache_dir=tmp_path / "cache")
-    for p in sorted((out / "cells").glob("*.json"))[:4]:
+    cells = sorted((out / "cells").glob("*.json"))
+    group = {p: json.loads(p.read_text())["group"] for p in cells}
+    stability = [p for p in cells if group[p] == "stability"]
+    assert len(stability) == 3
+    for p in stability + [next(p for p in cells if group[p] == "edges")]:  # a whole group and one more cell
         p.unlink()
     text = write_report(out).read_text()
     assert "5 of 9 distinct cells finished" in text and "4 pending" in text
+    assert ">stability</h2>" in text  # the group with nothing finished keeps its heading
 
 
 def test_pareto_front_matches_brute_force():

@@ -112,9 +112,11 @@ SLOW_SWEEP = """
 import sys, time
 from aaeval.renderers import register_method, render
 
+PAUSE = float(sys.argv[4])
+
 @register_method("test-slow", summary="catmull after a pause, so a sweep can be killed mid-way")
 def slow(scene):
-    time.sleep(0.25)
+    time.sleep(PAUSE)
     return render(scene, "catmull")
 
 from aaeval.cli import main
@@ -134,9 +136,12 @@ methods = ["test-slow"]
 """
 
 
-def _sweep_process(config, out, cache):
+def _sweep_process(config, out, cache, pause=0.25):
+    """The sweep in a process of its own; each cell pauses ``pause`` s (the rerun needs none:
+    it only has to finish)."""
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    return subprocess.Popen([sys.executable, "-c", SLOW_SWEEP, str(config), str(out), str(cache)], cwd=ROOT, env=env,
+    return subprocess.Popen([sys.executable, "-c", SLOW_SWEEP, str(config), str(out), str(cache), str(pause)],
+                            cwd=ROOT, env=env,
                             start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
 
 
@@ -159,7 +164,7 @@ def test_sigkill_loses_no_finished_cell_and_duplicates_none(tmp_path, test_metho
     before = _cell_files(out)
     assert 3 <= len(before) < 14, "the kill must land mid-sweep"
 
-    rerun = _sweep_process(config, out, cache)
+    rerun = _sweep_process(config, out, cache, pause=0)
     output = rerun.communicate(timeout=120)[0].decode()
     assert rerun.returncode == 0, output
     assert f"{len(before)} already done" in output
