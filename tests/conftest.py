@@ -5,6 +5,23 @@ import os
 import pytest
 
 
+@pytest.fixture(autouse=True)
+def _no_fsync(request, monkeypatch):
+    """``os.fsync`` does nothing in this process unless the test is marked ``durability``.
+
+    An fsync costs about 11 ms on ext4, two per cell the store writes: most of the time of
+    the tests that run every shipped config through the engine, which test what is
+    written, not that it survives a power cut. The durability tests
+    (tests/test_store_durability.py, the atomic-write test) keep the real one and spy on it.
+    """
+    if request.node.get_closest_marker("durability") is None:
+        monkeypatch.setattr(os, "fsync", _skip_fsync)
+
+
+def _skip_fsync(fd: int) -> None:
+    os.fstat(fd)  # a bad descriptor still fails, as the real fsync would
+
+
 @pytest.fixture(autouse=True, scope="session")
 def _private_cache(tmp_path_factory):
     """Ground-truth and reference caches go to a temporary folder, never the user's.

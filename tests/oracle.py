@@ -96,6 +96,22 @@ def document_oracle_image(document: dict, frame: int = 0) -> np.ndarray:
                     np.asarray(image.get("background", [0.0, 0.0, 0.0]), dtype=float))
 
 
+def document_visible_areas(document: dict, frame: int = 0) -> np.ndarray:
+    """Per pixel, the area each polygon of a raw scene document shows in it, and last the
+    background's: shape (H, W, polygons + 1), by GEOS on the document alone."""
+    image = document["image"]
+    width, height = image["width"], image["height"]
+    polygons = document_polygons(document, frame)
+    rows, cols = np.mgrid[0:height, 0:width]
+    pixels = shapely.box(cols.ravel(), rows.ravel(), cols.ravel() + 1.0, rows.ravel() + 1.0)
+    areas = np.zeros((height * width, len(polygons) + 1))
+    for i, region in enumerate(_visible(polygons, width, height)):
+        if not region.is_empty:
+            areas[:, i] = shapely.area(shapely.intersection(pixels, region))
+    areas[:, -1] = 1.0 - areas[:, :-1].sum(axis=1)
+    return areas.reshape(height, width, -1)
+
+
 def visible_regions(scene: Scene) -> list[shapely.Geometry]:
     """The exactly visible region of every polygon of the scene (GEOS), holes included."""
     return _visible(whole_polygons(scene), scene.width, scene.height)

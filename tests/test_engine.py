@@ -15,9 +15,9 @@ from aaeval.cli import main
 from aaeval.experiments import SweepStore, load_experiment, plan, run_sweep
 from aaeval.experiments.config import ConfigError, parse_experiment
 from aaeval.experiments.record import SCHEMA_VERSION, TIMING_FIELDS, CellRecord, RecordError
-from aaeval.experiments.runner import _identity, manifest
+from aaeval.experiments.runner import manifest, record_identity
 from aaeval.experiments.table import read_table, results_frame
-from aaeval.metrics import METRICS, register_metric, unregister_metric
+from aaeval.metrics import METRICS, register_metric
 from sweep_util import write_config
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -57,7 +57,7 @@ def _fake_record(p, ref_meta=None) -> dict:
                 "ms_per_mpix": 1.0, "intensity_sum": 1.0, "metrics": {m: 0.5 for m in p.cell.metrics},
                 "metric_errors": {}, "error": None, "traceback": None}
     run = {"host": "h", "pid": 1, "executor": "this process", "workers": 1, "finished_at": "now"}
-    return CellRecord(**_identity(p, ref_meta or {}), **measured, **run).to_json()
+    return CellRecord(**record_identity(p, ref_meta or {}), **measured, **run).to_json()
 
 
 @pytest.mark.parametrize("config", SHIPPED, ids=[p.stem for p in SHIPPED])
@@ -76,7 +76,7 @@ def test_every_cell_of_every_shipped_config_is_one_row_with_its_own_label(config
     assert len(table) == len(planned) == len(store.read_manifest()["cells"])
     assert not table["key"].duplicated().any()
     # every (group, scene, difficulty, spec, frame) of the config is there exactly once
-    wanted = sorted((c.group, c.scene.name, c.scene.difficulty, c.spec, c.frame) for c in experiment.cells())
+    wanted = sorted((c.group, c.scene_source.name, c.scene_source.difficulty, c.spec, c.frame) for c in experiment.cells())
     got = sorted(zip(table["group"], table["scene"], [None if math.isnan(d) else d for d in table["difficulty"]],
                      table["spec"], table["frame"]))
     assert got == wanted
@@ -245,7 +245,7 @@ def _toy(image_true, image_test) -> float:
 def toy_metric():
     register_metric("toy_mad", _toy, kind="image", title="TOY MAD", fmt=".5f")
     yield
-    unregister_metric("toy_mad")
+    METRICS.unregister("toy_mad")
 
 
 def test_a_metric_registered_once_shows_in_compare_sweep_and_report(toy_metric, tmp_path, capsys):
@@ -325,6 +325,7 @@ def test_highlight_metrics_run_in_a_sweep_over_the_ground_truth_highlight(tmp_pa
     assert row["highlight_flicker"] == pytest.approx(math.sqrt(float(np.mean(change**2))), rel=1e-12)
 
 
+@pytest.mark.slow
 def test_warm_up_renders_every_option_combination_before_its_clock(monkeypatch):
     """Issue 23 item 8: catmull's own warm-up compiles the box path only; a timed
     catmull:filter=tent (or any other option) must have rendered that very spec untimed first."""

@@ -12,6 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
@@ -60,6 +61,7 @@ def test_period_one_fence_flickers_only_through_the_gaussian():
         assert (value < 1e-12) if filt.partition_of_unity else (value > 1e-4), (name, value)
 
 
+@pytest.mark.slow
 def test_section_reads_the_tables_and_judges_each_filter_by_its_own_truth(tmp_path_factory):
     from findings_util import findings_report
 
@@ -71,3 +73,14 @@ def test_section_reads_the_tables_and_judges_each_filter_by_its_own_truth(tmp_pa
         assert word in section
     assert (out / "tables" / "filters_filters.csv").is_file()
     assert filters_section(out, out / "figures") != ""  # reads results.parquet itself when not given
+    # the numbers of the section's table are the sweep tables' own: per spec, the mean over
+    # the group's finished cells (results.parquet) or animations (temporal.parquet)
+    table = pd.read_csv(out / "tables" / "filters_filters.csv")
+    results, temporal = pd.read_parquet(out / "results.parquet"), pd.read_parquet(out / "temporal.parquet")
+    for frame, column, title in ((results, "rmse", "RMSE"), (temporal, "image_flicker", "image flicker (interior)")):
+        rows = frame[(frame["group"] == "filters") & frame["error"].isna()] if "error" in frame else \
+            frame[frame["group"] == "filters"]
+        expected = sorted(rows.groupby("spec")[column].mean().dropna())
+        shown = sorted(table[title].dropna())
+        assert len(shown) == len(table) == len(expected) > 0, (column, shown, expected)
+        assert shown == pytest.approx(expected, rel=1e-12), column

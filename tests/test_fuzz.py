@@ -33,6 +33,7 @@ def fuzz_dir(tmp_path_factory):
             os.environ[k] = v
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None, database=None,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow,
                                  HealthCheck.data_too_large])

@@ -17,8 +17,8 @@ from aaeval.scenes.shaded import has_shaded
 
 def _inside(param, fraction):
     """A value inside a parameter's range (a fraction of the way from low to a cap)."""
-    low = param.low if param.low is not None else 0.0
-    high = param.high if param.high is not None else low + 50
+    low = param.minimum if param.minimum is not None else 0.0
+    high = param.maximum if param.maximum is not None else low + 50
     value = low + fraction * (min(high, low + 50) - low)
     return int(round(value)) if param.type is int else value
 
@@ -55,7 +55,7 @@ def test_declared_defaults_are_documented_and_inside_their_own_ranges(name):
     assert gen.difficulty and gen.difficulty_param.doc
     for key, param in gen.params.items():
         assert param.doc, key
-        assert param.check(param.default, key) == param.default
+        assert param.convert(param.default, key) == param.default
 
 
 HOSTILE = [

@@ -6,7 +6,6 @@ naming the user's path (case 10); malformed import options are refused naming th
 from __future__ import annotations
 
 import os
-import time
 from pathlib import Path
 
 import pytest
@@ -53,13 +52,11 @@ def billion_frames(tmp_path, monkeypatch):
 
 
 def test_compare_all_frames_of_a_billion_frame_file_is_refused(billion_frames, capsys):
-    start = time.monotonic()
     refused(["compare", str(billion_frames), "-m", "point", "-r", "supersample:k=2", "--frames", "all",
              "--json", "c.json", "--quiet"], capsys, billion_frames, "frames")
     refused(["compare", str(billion_frames), "-m", "point", "-r", "supersample:k=2", "--frames", "999999999",
              "--quiet"], capsys, billion_frames, "frames")
     assert not Path("c.json").exists()
-    assert time.monotonic() - start < 600  # a hang guard only: the refusal itself is immediate
 
 
 def test_invariance_of_a_billion_frame_file_is_refused(billion_frames, capsys):

@@ -277,7 +277,7 @@ def test_scene_load_counts_match_brute_force():
     import shapely
     from shapely.geometry import box
 
-    from aaeval.renderers.registry import _scene_load
+    from aaeval.renderers.registry import scene_load
     from aaeval.scenes.generate import random_triangles
 
     for n, size, w in [(300, 6.0, 40), (3000, 30.0, 256)]:
@@ -293,7 +293,7 @@ def test_scene_load_counts_match_brute_force():
         tree = shapely.STRtree(geoms)
         left, right = tree.query(geoms, predicate="intersects")
         exact_pairs = int((left < right).sum())
-        load = _scene_load(scene)
+        load = scene_load(scene)
         if n <= 2048:
             assert load.pairs == exact_pairs
         else:  # sampled: within a fifth

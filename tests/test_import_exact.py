@@ -318,6 +318,7 @@ def _fine_path(d, n=3000):
     return np.array([(p.x, p.y) for p in (path.point(t) for t in np.linspace(0, 1, n))])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("d, width, extra", [
     ("M1 6 C 9 1 1 1 9 6", 1.2, ""),                       # a cusp at t = 1/2 (tangent reverses)
     ("M1 7 C 9 0 1 0 9 7", 0.8, ""),                       # another cusp

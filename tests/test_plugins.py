@@ -79,6 +79,7 @@ def test_plugin_method_and_metric_through_compare(site, tmp_path):
     assert rows["blur:strength=0.5"]["rmse"] != rows["point"]["rmse"]
 
 
+@pytest.mark.slow
 def test_plugin_through_a_sweep_and_the_report(site, tmp_path):
     config = tmp_path / "plugin.toml"
     config.write_text(f"""

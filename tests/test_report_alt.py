@@ -15,11 +15,11 @@ class _Alt(HTMLParser):
 
 
 def test_alt_text_is_the_captions_plain_text(tmp_path):
-    from aaeval.report.html import _figure
+    from aaeval.report.html import figure_html
 
     name = 'scene "A" & <b>'
     caption = f"Slices of {html.escape(name)}: see <a href='#speed'>Speed</a>."
-    page = _figure(tmp_path / "figures" / "f.png", tmp_path, caption)
+    page = figure_html(tmp_path / "figures" / "f.png", tmp_path, caption)
     parser = _Alt()
     parser.feed(page)
     assert parser.alt == f"Slices of {name}: see Speed."  # as a browser reads the attribute

@@ -176,7 +176,7 @@ def toy_clamp():
 
     register_specular("toy-halve", summary="half the exponent everywhere (test)", clamp=halve)
     yield "toy-halve"
-    del SPECULAR_METHODS["toy-halve"]
+    SPECULAR_METHODS.unregister("toy-halve")
 
 
 def test_a_clamp_registered_in_the_specular_module_is_a_catmull_option(toy_clamp):

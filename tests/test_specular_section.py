@@ -7,7 +7,8 @@ import re
 import pandas as pd
 import pytest
 
-from aaeval.report.specular_section import specular_section, specular_table
+from aaeval.metrics import METRICS
+from aaeval.report.specular_section import BIAS, ERROR, FLICKER, specular_section, specular_table
 from aaeval.report.style import Styles
 from findings_util import findings_report
 
@@ -38,5 +39,20 @@ def test_section_states_one_ground_truth_and_ranks_by_flicker(out):
     assert flicker == sorted(flicker) and len(flicker) == 3
     shown = re.findall(r"<tr><td>([^<]+)</td>", section[section.index("<table class='specular'"):])
     assert shown[:3] == table["label"].to_list()
+    # every number of the section is the tables' own: per spec, the mean over the group's
+    # finished cells (results.parquet) or animations (temporal.parquet), shown in the metric's format
+    cells = results[(results["group"] == "specular") & results["error"].isna()]
+    series = temporal[temporal["group"] == "specular"]
+    rows = re.findall(r"<tr><td>([^<]+)</td><td class='num'>([^<]+)</td><td class='num'>([^<]+)</td>"
+                      r"<td class='num'>([^<]+)</td>", section[section.index("<table class='specular'"):])
+    assert len(rows) == 3
+    for (label, error, bias, flick), spec in zip(rows, table["spec"]):
+        expected = {ERROR: cells.loc[cells["spec"] == spec, ERROR].mean(),
+                    BIAS: series.loc[series["spec"] == spec, BIAS].mean(),
+                    FLICKER: series.loc[series["spec"] == spec, FLICKER].mean()}
+        row = table[table["spec"] == spec].iloc[0]
+        for name, value in expected.items():
+            assert row[name] == pytest.approx(value, rel=1e-12), (spec, name)
+        assert (error, bias, flick) == tuple(METRICS[n].format(expected[n]) for n in (ERROR, BIAS, FLICKER)), spec
     for src in re.findall(r"<img src='([^']+)'", section):
         assert (out / src).stat().st_size > 1000

@@ -11,6 +11,8 @@ import pytest
 
 from aaeval.experiments.store import SweepStore
 
+pytestmark = pytest.mark.durability  # the real os.fsync (tests/conftest.py)
+
 
 @pytest.fixture
 def spied(monkeypatch):

@@ -15,7 +15,7 @@ def test_small_config_expands_scenes_methods_frames(tmp_path):
     # edges: 1 scene x 2 methods x 3 frames; stability: 3 scenes x 1 method x 1 frame
     assert len(cells) == 6 + 3
     assert {short_label(c.spec) for c in cells} == {"catmull", "catmull-jagged"}
-    assert sorted(c.scene.difficulty for c in cells if c.group == "stability") == [3, 6, 12]
+    assert sorted(c.scene_source.difficulty for c in cells if c.group == "stability") == [3, 6, 12]
 
 
 def test_options_expand_only_for_methods_that_declare_them(tmp_path):
@@ -106,7 +106,7 @@ def test_animate_sets_static_scenes_moving(tmp_path):
     exp = load_experiment(write_config(tmp_path, text))
     edges = [c for c in exp.cells() if c.group == "edges"]
     assert sorted({c.frame for c in edges}) == [0, 1, 2, 3, 4]
-    assert edges[0].scene.scene().frames == 5
+    assert edges[0].scene_source.parsed.frames == 5
     bad = text.replace("translate = [0.1, 0.05]", "translate = [0.1]")
     path = write_config(tmp_path, bad, "bad.toml")
     with pytest.raises(ConfigError) as err:

@@ -68,6 +68,7 @@ def test_a_scheduler_without_workers_is_refused_after_the_stated_wait(tmp_path, 
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.slow
 def test_a_scheduler_killed_mid_sweep_is_named_and_the_rerun_finishes(tmp_path, capsys):
     config = write_config(tmp_path, MANY)
     out = tmp_path / "out"

@@ -17,7 +17,7 @@ import pytest
 
 from aaeval.cli import main
 from aaeval.experiments import SweepStore
-from aaeval.experiments.table import load_results, write_results
+from aaeval.experiments.table import rebuild_results, write_results
 from sweep_util import write_config
 
 TINY = """
@@ -138,7 +138,7 @@ def test_a_linked_top_level_file_is_replaced_never_written_through(world, capsys
     assert sweep(tmp_path, config) == 0, capsys.readouterr().err
     assert snapshot(outside) == before
     assert (out / name).is_file() and not (out / name).is_symlink()
-    load_results(SweepStore(out))  # what 'aaeval report' rebuilds
+    rebuild_results(SweepStore(out))  # what 'aaeval report' rebuilds
     assert snapshot(outside) == before
 
 
@@ -155,7 +155,7 @@ def test_a_record_with_an_unknown_field_is_set_aside_and_rerun(world, capsys, co
     cell.write_text(json.dumps(record))
     capsys.readouterr()
     if command == "report":  # the tables 'aaeval report' rebuilds first
-        load_results(SweepStore(out))
+        rebuild_results(SweepStore(out))
         err = capsys.readouterr().err
         assert len(pd.read_parquet(out / "results.parquet")) == 1  # pending, not an error for the folder
     else:
@@ -185,7 +185,7 @@ def test_report_leaves_the_tables_of_a_running_sweep_alone(world, capsys):
     try:
         assert holder.stdout.readline().strip() == "held"
         capsys.readouterr()
-        results, _ = load_results(SweepStore(out))  # what 'aaeval report' reads
+        results, _ = rebuild_results(SweepStore(out))  # what 'aaeval report' reads
         err = capsys.readouterr().err
         assert "running sweep" in err and str(holder.pid) in err
         assert len(results) == 2
@@ -197,7 +197,7 @@ def test_report_leaves_the_tables_of_a_running_sweep_alone(world, capsys):
         holder.kill()
         holder.wait()
     time.sleep(0.1)
-    load_results(SweepStore(out))  # the lock is free again: rebuilt
+    rebuild_results(SweepStore(out))  # the lock is free again: rebuilt
     assert parquet.stat().st_mtime_ns != stamp[0]
 
 

@@ -36,10 +36,10 @@ def test_methods():
     """Methods for these tests only, removed afterwards so other tests never see them."""
     added = {"test-fails-on-fans": _fails_on_fans, "test-slow": _slow}
     for name, func in added.items():
-        register_method(name, summary="test only")(func)
+        register_method(name, func, summary="test only")
     yield
     for name in added:
-        METHODS.pop(name, None)
+        METHODS.unregister(name)
 
 
 def _run(tmp_path, text=SMALL, **kw):
@@ -63,7 +63,7 @@ def test_sweep_writes_one_file_per_cell_and_a_tidy_table(tmp_path):
     assert (table[table["method"] == "catmull-jagged"]["rmse"] > 0).all()
     # the stored image is what the method renders
     row = exact.iloc[0]
-    scene = next(c.scene for c in exp.cells() if c.scene.name == row["scene"]).scene()
+    scene = next(c.scene_source for c in exp.cells() if c.scene_source.name == row["scene"]).parsed
     np.testing.assert_array_equal(store.load_image(row["key"]), render(scene, "catmull", frame=int(row["frame"])))
     temporal = pd.read_parquet(out / "temporal.parquet")
     assert set(temporal["label"]) == {"catmull", "catmull-jagged"}
@@ -151,6 +151,7 @@ def _cell_files(out):
     return {p.name: p.read_bytes() for p in cells.glob("*.json") if not p.name.startswith(".")} if cells.is_dir() else {}
 
 
+@pytest.mark.slow
 def test_sigkill_loses_no_finished_cell_and_duplicates_none(tmp_path, test_methods):
     config, out, cache = write_config(tmp_path, KILL_CONFIG), tmp_path / "out", tmp_path / "cache"
     proc = _sweep_process(config, out, cache)
@@ -234,7 +235,7 @@ def test_a_seeded_reference_states_its_measured_noise(tmp_path):
     table = pd.read_parquet(out / "results.parquet")
     assert (table["reference_kind"] == "stochastic").all() and (table["reference_seed"] == 3).all()
     row = table[table["scene"] == "fan@6"].iloc[0]
-    scene = next(c.scene for c in exp.cells() if c.scene.name == "fan@6").scene()
+    scene = next(c.scene_source for c in exp.cells() if c.scene_source.name == "fan@6").parsed
     a, b = render(scene, "jitter:k=2,seed=3"), render(scene, "jitter:k=2,seed=4")
     assert row["reference_noise_rmse"] == pytest.approx(np.sqrt(np.mean((a - b) ** 2)) / math.sqrt(2), rel=1e-12)
     assert row["reference_noise_rmse"] > 0

@@ -45,6 +45,7 @@ methods = ["test-slow"]
 """
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("signum, code", [(signal.SIGTERM, 143), (signal.SIGHUP, 129)])
 def test_kill_ends_the_workers_keeps_finished_cells_and_says_interrupted(tmp_path, signum, code):
     script, config, out = tmp_path / "sweep.py", tmp_path / "exp.toml", tmp_path / "out"

@@ -98,6 +98,7 @@ def test_atomic_write_follows_the_umask(tmp_path):
         os.umask(old)
 
 
+@pytest.mark.durability
 def test_atomic_write_syncs_the_file_and_its_folder_before_the_rename(tmp_path, monkeypatch):
     # os.fsync is the real one, only watched: which descriptors it saw, and before what
     events = []

@@ -40,9 +40,10 @@ def run(args) -> int:
     check_outputs({"-o": out})
     scene = load_scene(args.scene).at_frame(args.frame)
     # the same memory and time budget as the weiler-atherton method, before any work
-    from aaeval.renderers.registry import check_budget, resolve
+    from aaeval.renderers.registry import MethodSpec, check_budget
 
-    check_budget(scene, *resolve(f"weiler-atherton:window={args.window}"))
+    spec = MethodSpec.parse(f"weiler-atherton:window={args.window}")
+    check_budget(scene, spec.method, spec.options)
     svg = hidden_line_svg(scene, window=args.window, stroke=args.stroke)
     atomic_write(out, lambda tmp: Path(tmp).write_text(svg))
     if not args.quiet:

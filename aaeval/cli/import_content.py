@@ -112,7 +112,7 @@ def _check_options(args) -> None:
 
 
 def run_svg(args) -> int:
-    from aaeval.importers.scene import write_scene_document
+    from aaeval.scenes.write import write_scene_document
     from aaeval.importers.svg import import_svg
 
     _check_common(args)
@@ -129,7 +129,7 @@ def run_svg(args) -> int:
 
 
 def run_text(args) -> int:
-    from aaeval.importers.scene import write_scene_document
+    from aaeval.scenes.write import write_scene_document
     from aaeval.importers.text import import_text
 
     _check_common(args)

@@ -18,21 +18,21 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    from aaeval.metrics import intensity_sum, sum_variation
-    from aaeval.renderers import render, resolve
+    from aaeval.metrics import intensity_sum, relative_variation
+    from aaeval.renderers import MethodSpec, render
     from aaeval.scenes import load_scene
 
     from aaeval.renderers.registry import check_frames
 
-    resolve(args.method)
+    spec = MethodSpec.parse(args.method)  # the spec enters here
     scene = load_scene(args.scene)
     # budgeted as a generator's frames, and the time of rendering every one of them
-    check_frames(scene, scene.frames, "invariance renders every frame", specs=(args.method,))
+    check_frames(scene, scene.frames, "invariance renders every frame", specs=(spec,))
     sums = []
     for k in range(scene.frames):
-        sums.append(intensity_sum(render(scene, args.method, frame=k)))
+        sums.append(intensity_sum(render(scene, spec, frame=k)))
         if not args.quiet:
             print(f"frame {k:4d}  sum {sums[-1]:.15g}")
-    variation = sum_variation(sums)
+    variation = relative_variation(sums)
     print(f"{args.scene}  {args.method}  frames {scene.frames}  relative variation {variation:.3e}")
     return 0

@@ -10,9 +10,7 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    from aaeval.renderers import METHODS, resolve
-
-    resolve("catmull")  # loads the registry
+    from aaeval.renderers import METHODS  # importing the package registers every method
     for name in sorted(METHODS):
         m = METHODS[name]
         print(f"{name}{'  [exact]' if m.exact else ''}: {m.summary}")

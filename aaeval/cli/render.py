@@ -29,7 +29,7 @@ def add_parser(sub) -> None:
 
 def run(args) -> int:
     from aaeval.imageio import SUFFIXES, atomic_write, check_outputs, save_image
-    from aaeval.renderers import render_timed, resolve
+    from aaeval.renderers import MethodSpec, render_timed
     from aaeval.scenes import load_scene
 
     out = Path(args.output)
@@ -43,22 +43,22 @@ def run(args) -> int:
         if not path.parent.is_dir() and not args.mkdir:
             raise ValueError(f"{path.parent}: no such folder; create it or pass --mkdir")
     check_outputs({"-o": out, "--stats": args.stats})  # before any work: a refusal costs nothing
-    method, options = resolve(args.method)  # fail on a bad spec before any work
+    spec = MethodSpec.parse(args.method)  # the spec enters here: a bad one fails before any work
     scene = load_scene(args.scene)
     _check_enlargement(scene, args.scale)
     if args.stats:  # render_s is the render alone: the spec itself is warmed up first (its kernels compiled)
         from aaeval.experiments.measure import render_measured
 
-        image, timing = render_measured(scene, args.method, args.frame)
+        image, timing = render_measured(scene, spec, args.frame)
         seconds = timing.render_s
     else:
-        image, seconds = render_timed(scene, args.method, frame=args.frame)
+        image, seconds = render_timed(scene, spec, frame=args.frame)
     save_image(out, _enlarged(image, args.scale))
     if args.stats:
         stats = {
             "scene": str(args.scene),
-            "method": method.name,
-            "options": options,
+            "method": spec.name,
+            "options": dict(spec.options),
             "frame": args.frame,
             "width": scene.width,
             "height": scene.height,
@@ -66,7 +66,7 @@ def run(args) -> int:
         }
         atomic_write(args.stats, lambda tmp: Path(tmp).write_text(json.dumps(stats, indent=2) + "\n"))
     size = f"{scene.width}x{scene.height}" + (f" shown {args.scale}x" if args.scale > 1 else "")
-    print(f"wrote {out} ({size}, {method.name}, frame {args.frame}, {seconds * 1e3:.1f} ms)")
+    print(f"wrote {out} ({size}, {spec.name}, frame {args.frame}, {seconds * 1e3:.1f} ms)")
     return 0
 
 

@@ -52,10 +52,9 @@ def run(args) -> int:
         raise ValueError(str(exc)) from None
     finally:
         if scheduler is not None:
-            from aaeval.experiments.executors import _quietly
+            from aaeval.experiments.executors import close_quietly
 
-            with _quietly():
-                scheduler.close(timeout=5)
+            close_quietly(scheduler)
     if any("SchedulerLost" in line for line in summary.lost):
         print(f"aaeval sweep: the Dask scheduler at {args.scheduler} was lost: {len(summary.lost)} cell(s) not run; "
               "finished cells are kept, rerun when it is back", file=sys.stderr)
@@ -70,16 +69,14 @@ def run(args) -> int:
 
 def dry_run(experiment, out) -> int:
     from aaeval.experiments import SweepStore, plan
-    from aaeval.experiments.table import short_label
-
     planned = plan(experiment)
     done = set(SweepStore(out).check(heal=False))  # sound cells only; a dry run moves nothing
     rows: dict[tuple, list] = {}
     for p in planned:
-        rows.setdefault((p.cell.group, p.cell.scene.name, short_label(p.cell.spec)), []).append(p.key in done)
+        rows.setdefault((p.cell.group, p.cell.scene_source.name, p.cell.spec.label()), []).append(p.key in done)
     print(f"{experiment.name}: {len(planned)} cells in {len(experiment.groups)} groups, "
           f"{len({p.key for p in planned})} distinct, {len({p.key for p in planned} & done)} done "
-          f"(reference: {', '.join(sorted({short_label(g.reference) for g in experiment.groups}))})")
+          f"(reference: {', '.join(sorted({g.reference.label() for g in experiment.groups}))})")
     width = max(len(f"{g}  {s}") for g, s, _ in rows) if rows else 0
     for (group, scene, spec), flags in rows.items():
         print(f"  {f'{group}  {scene}':<{width}}  {spec:<40} frames {sum(flags):3d}/{len(flags):<3d} done")

@@ -9,7 +9,7 @@ from aaeval.experiments.provenance import read_provenance
 from aaeval.experiments.record import SCHEMA_VERSION, CellRecord, RecordError
 from aaeval.experiments.runner import SweepSummary, plan, run_sweep
 from aaeval.experiments.store import SweepStore, code_version
-from aaeval.experiments.table import load_results, write_results
+from aaeval.experiments.table import rebuild_results, write_results
 
 __all__ = [
     "CellRecord",
@@ -22,7 +22,7 @@ __all__ = [
     "SweepSummary",
     "code_version",
     "load_experiment",
-    "load_results",
+    "rebuild_results",
     "parse_experiment",
     "plan",
     "run_sweep",

@@ -21,8 +21,8 @@ from aaeval.experiments.measure import (
     render_reference,
     series_metrics,
 )
-from aaeval.metrics import MASKS, METRICS, sum_variation
-from aaeval.renderers import format_spec, resolve
+from aaeval.metrics import MASKS, METRICS, relative_variation
+from aaeval.renderers import MethodSpec
 from aaeval.renderers.registry import check_frames
 from aaeval.scenes import Scene, load_scene
 
@@ -41,8 +41,8 @@ class ComparisonPlan:
     """A validated comparison: the scene, the specs, the frames and metrics to measure."""
 
     scene: Scene
-    methods: tuple[str, ...]
-    reference: str
+    methods: tuple[MethodSpec, ...]  # parsed once, canonical
+    reference: MethodSpec
     frames: tuple[int, ...]
     metrics: tuple[str, ...]
     temporal: tuple[str, ...]
@@ -106,15 +106,14 @@ def plan_comparison(
     """
     if not methods:
         raise ValueError("give at least one --method to compare")
-    methods = tuple(spec.strip() for spec in methods)
-    resolve(reference)
-    seen: dict[str, str] = {}
-    for spec in methods:
-        method, options = resolve(spec)
-        canonical = format_spec(method.name, options)
-        if canonical in seen:
-            raise ValueError(f"method {spec!r} is the same as {seen[canonical]!r}; give each method once")
-        seen[canonical] = spec
+    reference = MethodSpec.parse(reference)  # the specs enter here, parsed once
+    seen: dict[MethodSpec, str] = {}
+    for text in methods:
+        spec = MethodSpec.parse(text.strip())
+        if spec in seen:
+            raise ValueError(f"method {text.strip()!r} is the same as {seen[spec]!r}; give each method once")
+        seen[spec] = text.strip()
+    methods = tuple(seen)
     if metrics is not None:
         metrics = check_image_metrics(metrics)
     if temporal is not None:
@@ -128,7 +127,7 @@ def plan_comparison(
     # a file's frame count is budgeted as a generator's, before the frame list is built
     check_frames(scene, _frame_count(frames, scene.frames), f"--frames {frames}", specs=(reference, *methods),
                  held=1 + len(methods))
-    return ComparisonPlan(scene, methods, reference.strip(), parse_frames(frames, scene.frames), metrics,
+    return ComparisonPlan(scene, methods, reference, parse_frames(frames, scene.frames), metrics,
                           temporal, repeats)
 
 
@@ -174,7 +173,7 @@ def run_comparison(plan: ComparisonPlan, *, on_render: Callable[[str, int], None
             fields = measured.fields(scene.width, scene.height)
             rows.append({"method": spec, "frame": k, **fields.pop("metrics"), **fields})
             rows[-1].pop("traceback")
-    reference_variation = sum_variation([r["intensity_sum"] for r in reference_rows])
+    reference_variation = relative_variation([r["intensity_sum"] for r in reference_rows])
     summary = []
     for spec in plan.methods:
         own = [r for r in rows if r["method"] == spec]

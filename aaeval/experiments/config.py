@@ -42,7 +42,7 @@ from typing import Any, Mapping
 from aaeval._toml import read_toml, refuse_unknown_keys
 from aaeval.scenes.generate import GENERATORS, generate_scene
 from aaeval.metrics import MetricError, check_metric_names
-from aaeval.renderers import MethodError, format_spec, parse_spec, resolve
+from aaeval.renderers import MethodError, MethodSpec, parse_spec
 from aaeval.scenes import Scene, SceneError, parse_scene
 
 __all__ = ["ConfigError", "Experiment", "Group", "SceneSource", "Cell", "SpeedPass", "load_experiment",
@@ -74,9 +74,6 @@ class SceneSource:
         """The parsed scene, parsed once (raises :class:`SceneError`)."""
         return parse_scene(self.document, source=self.source)
 
-    def scene(self) -> Scene:
-        return self.parsed
-
     @property
     def frames(self) -> int:
         return self.parsed.frames
@@ -87,10 +84,10 @@ class Cell:
     """One unit of work: one scene frame rendered by one method, compared with the reference."""
 
     group: str
-    scene: SceneSource
-    spec: str  # canonical method spec
+    scene_source: SceneSource  # the scene's document and name (a CellRecord's ``scene`` is its name)
+    spec: MethodSpec  # parsed where the config was read; a canonical spec string
     frame: int
-    reference: str  # canonical reference spec
+    reference: MethodSpec  # the same for the reference
     metrics: tuple[str, ...]
     repeats: int = 1
 
@@ -101,8 +98,9 @@ class Cell:
         happen to build the same scene (a generator clamping two difficulties to one
         radius) stay two rows, each with its own label, never one row counted twice.
         """
-        return {"group": self.group, "scene_name": self.scene.name, "difficulty": self.scene.difficulty,
-                "scene": self.scene.digest, "frame": self.frame, "method": self.spec,
+        source = self.scene_source
+        return {"group": self.group, "scene_name": source.name, "difficulty": source.difficulty,
+                "scene": source.digest, "frame": self.frame, "method": self.spec,
                 "reference": self.reference, "metrics": sorted(self.metrics), "repeats": self.repeats}
 
 
@@ -110,9 +108,9 @@ class Cell:
 class Group:
     name: str
     scenes: tuple[SceneSource, ...]
-    specs: tuple[str, ...]
+    specs: tuple[MethodSpec, ...]
     frames: Any  # "all" or tuple of ints
-    reference: str
+    reference: MethodSpec
     metrics: tuple[str, ...]
     repeats: int = 1
     temporal: tuple[str, ...] = ()  # temporal metrics of this group's animations
@@ -128,7 +126,7 @@ class Group:
         return out
 
 
-def reference_for(spec: str, reference: str) -> str:
+def reference_for(spec: MethodSpec, reference: MethodSpec) -> MethodSpec:
     """The reference a cell of ``spec`` is judged against: ``reference`` through the same
     pixel filter as the method (``catmull:filter=tent`` against ``mitsuba:filter=tent``).
 
@@ -136,12 +134,10 @@ def reference_for(spec: str, reference: str) -> str:
     image measures the filters' difference, not the method. A reference that takes no
     ``filter`` option, or a method without one (the box), leaves ``reference`` as given.
     """
-    method, options = resolve(spec)
-    ref_method, ref_options = resolve(reference)
-    wanted = options.get("filter", "box")
-    if "filter" not in ref_method.options or ref_options.get("filter", "box") == wanted:
+    wanted = spec.options.get("filter", "box")
+    if "filter" not in reference.method.options or reference.options.get("filter", "box") == wanted:
         return reference
-    return format_spec(ref_method.name, {**ref_options, "filter": wanted})
+    return reference.with_options(filter=wanted)
 
 
 @dataclass(frozen=True)
@@ -151,7 +147,7 @@ class SpeedPass:
     ``accuracy``: the group whose errors the speed-accuracy chart pairs with these times."""
 
     scenes: tuple[SceneSource, ...]
-    specs: tuple[str, ...]
+    specs: tuple[MethodSpec, ...]
     repeats: int = 5
     threads: int = 1
     accuracy: str | None = None
@@ -253,10 +249,9 @@ def _speed(raw: Any, where: str, base: Path, groups: set[str]) -> SpeedPass:
     if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
         raise ConfigError(f"{where}.threads: expected a whole number of threads >= 1, got {threads!r}")
     specs = []
-    for spec in _expand_specs(methods, options, where):
-        method, opts = resolve(spec)
-        if "threads" in method.options and "threads" not in parse_spec(spec)[1]:
-            spec = format_spec(method.name, {**opts, "threads": threads})
+    for spec, given in _expand_specs(methods, options, where, with_given=True):
+        if "threads" in spec.method.options and "threads" not in given:
+            spec = spec.with_options(threads=threads)
         specs.append(spec)
     accuracy = raw.get("accuracy")
     if accuracy is not None and accuracy not in groups:
@@ -275,7 +270,7 @@ def _methods_and_options(raw: Mapping, where: str) -> tuple[list, Mapping]:
     return methods, options
 
 
-def _group(raw: Any, where: str, base: Path, reference: str, metrics: tuple[str, ...], repeats: int,
+def _group(raw: Any, where: str, base: Path, reference: MethodSpec, metrics: tuple[str, ...], repeats: int,
            temporal: tuple[str, ...]) -> Group:
     if not isinstance(raw, Mapping):
         raise ConfigError(f"{where}: must be a table")
@@ -304,8 +299,11 @@ def _repeats(raw: Any, where: str) -> int:
     return raw
 
 
-def _expand_specs(methods: list[str], options: Mapping[str, Any], where: str) -> list[str]:
-    """Each method spec times the option values it takes (values given in the spec win).
+def _expand_specs(methods: list[str], options: Mapping[str, Any], where: str,
+                  with_given: bool = False) -> list:
+    """Each method spec times the option values it takes (values given in the spec win),
+    parsed: the config's specs enter here. With ``with_given``, pairs of the spec and the
+    option names its text set.
 
     ``options = { k = [2, 4] }`` applies to every method that declares ``k``;
     ``options.supersample = { k = [2, 4] }`` to ``supersample`` only.
@@ -313,11 +311,12 @@ def _expand_specs(methods: list[str], options: Mapping[str, Any], where: str) ->
     shared = {k: v for k, v in options.items() if not isinstance(v, Mapping)}
     scoped = {k: v for k, v in options.items() if isinstance(v, Mapping)}
     used: set[str] = set()
-    specs: list[str] = []
+    specs: list[MethodSpec] = []
+    given_of: dict[str, set] = {}
     resolved = []
     for j, spec in enumerate(methods):
         try:
-            resolved.append((spec, resolve(spec)[0]))
+            resolved.append((spec, MethodSpec.parse(spec).method))
         except MethodError as exc:
             raise ConfigError(f"{where}.methods[{j}]: {exc}") from None
     names = {m.name for _, m in resolved}
@@ -350,18 +349,18 @@ def _expand_specs(methods: list[str], options: Mapping[str, Any], where: str) ->
             values.append(vals)
         for combo in itertools.product(*values):
             try:
-                _, opts = resolve(spec, **dict(zip(axes, combo)))
+                canonical = MethodSpec.parse(spec, **dict(zip(axes, combo)))
             except MethodError as exc:
                 raise ConfigError(f"{where}.options: {exc}") from None
-            canonical = format_spec(method.name, opts)
             if canonical in specs:
                 raise ConfigError(f"{where}.methods[{j_of[spec]}]: method {canonical!r} is already in this group "
                                   "(given twice, or made twice by options); give each method once")
             specs.append(canonical)
+            given_of[canonical] = given | set(axes)
     unused = sorted(set(shared) - used)
     if unused:
         raise ConfigError(f"{where}.options: option(s) {unused} are declared by none of the methods {methods}")
-    return specs
+    return [(spec, given_of[spec]) for spec in specs] if with_given else specs
 
 
 def _scenes(raw: Any, where: str, base: Path) -> tuple[SceneSource, ...]:
@@ -479,12 +478,11 @@ def _frames(raw: Any, where: str, scenes: tuple[SceneSource, ...]) -> Any:
     return tuple(raw)
 
 
-def _spec(spec: str, where: str) -> str:
+def _spec(spec: str, where: str) -> MethodSpec:
     try:
-        method, options = resolve(spec)
+        return MethodSpec.parse(spec)
     except MethodError as exc:
         raise ConfigError(f"{where}: {exc}") from None
-    return format_spec(method.name, options)
 
 
 def _metric_list(raw: Any, where: str, *, temporal: bool) -> tuple[str, ...]:

@@ -19,7 +19,8 @@ import time
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any, Callable, Iterator, Sequence
 
-__all__ = ["SerialExecutor", "ProcessExecutor", "DaskExecutor", "SchedulerLost", "connect", "make_executor"]
+__all__ = ["SerialExecutor", "ProcessExecutor", "DaskExecutor", "SchedulerLost", "connect", "make_executor",
+           "close_quietly"]
 
 Outcome = tuple[int, Any, BaseException | None]
 
@@ -233,8 +234,7 @@ class DaskExecutor:
 
     def close(self) -> None:
         if self._own:
-            with _quietly():
-                self.client.close(timeout=5)
+            close_quietly(self.client)
 
 
 class _quietly:
@@ -245,6 +245,12 @@ class _quietly:
 
     def __exit__(self, *exc):
         return exc[0] is not None and not issubclass(exc[0], (KeyboardInterrupt, SystemExit))
+
+
+def close_quietly(client: Any, timeout: float = 5) -> None:
+    """Close a Dask client, ignoring any error (its scheduler may be gone)."""
+    with _quietly():
+        client.close(timeout=timeout)
 
 
 def make_executor(workers: int | None = None, scheduler: Any = None):

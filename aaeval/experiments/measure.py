@@ -25,7 +25,7 @@ import math
 import statistics
 import traceback
 from dataclasses import dataclass, field
-from typing import Any, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import numpy as np
 
@@ -38,6 +38,9 @@ from aaeval.metrics import (
     intensity_sum,
     rmse,
 )
+
+if TYPE_CHECKING:
+    from aaeval.renderers.registry import MethodSpec
 
 __all__ = ["Timing", "FrameMeasurement", "SceneCache", "warm_up", "render_measured", "render_reference",
            "reference_kind", "noise_spec", "frame_metrics", "series_metrics", "measure_frame",
@@ -104,7 +107,7 @@ SCENES = SceneCache()
 _WARMED: set[tuple] = set()
 
 
-def warm_up(scene, spec: str, frame: int = 0) -> bool:
+def warm_up(scene, spec: MethodSpec, frame: int = 0) -> bool:
     """One untimed render of ``spec`` on ``scene`` the first time this process meets (spec,
     width, height, shaded or flat); True if it rendered.
 
@@ -124,7 +127,7 @@ def warm_up(scene, spec: str, frame: int = 0) -> bool:
     return True
 
 
-def render_measured(scene, spec: str, frame: int, repeats: int = 1) -> tuple[np.ndarray, Timing]:
+def render_measured(scene, spec: MethodSpec, frame: int, repeats: int = 1) -> tuple[np.ndarray, Timing]:
     """Render ``scene`` at ``frame`` with ``spec``: :func:`warm_up`, then ``repeats`` timed renders.
 
     The image returned is the last timed render's.
@@ -141,35 +144,31 @@ def render_measured(scene, spec: str, frame: int, repeats: int = 1) -> tuple[np.
     return image, Timing.of(seconds)
 
 
-def reference_kind(spec: str) -> str:
+def reference_kind(spec: MethodSpec) -> str:
     """``exact`` (no noise), ``stochastic`` (has a seed: noise is measured) or ``deterministic``."""
-    from aaeval.renderers import resolve
-
-    method, options = resolve(spec)
-    if method.exact:
+    if spec.method.exact:
         return "exact"
-    return "stochastic" if "seed" in options else "deterministic"
+    return "stochastic" if "seed" in spec.options else "deterministic"
 
 
-def noise_spec(spec: str) -> str | None:
+def noise_spec(spec: MethodSpec) -> MethodSpec | None:
     """The same reference with the next seed, to measure its noise; None if it has no seed."""
-    from aaeval.renderers import format_spec, resolve
-
-    method, options = resolve(spec)
-    if method.exact or "seed" not in options:
+    if spec.method.exact or "seed" not in spec.options:
         return None
-    return format_spec(method.name, {**options, "seed": int(options["seed"]) + 1})
+    return spec.with_options(seed=int(spec.options["seed"]) + 1)
 
 
-def render_reference(scene, spec: str, frame: int, *, estimate_noise: bool) -> dict:
-    """The reference image of one frame, its render time and noise level.
+def render_reference(scene, spec: MethodSpec | str, frame: int, *, estimate_noise: bool) -> dict:
+    """The reference image of one frame, its render time and noise level (``spec`` a
+    string only where it arrives from another process that could not parse it).
 
     ``noise_rmse`` is 0 for an exact reference; for a seeded one (with ``estimate_noise``)
     the RMS per-pixel noise of one render, ``rmse(a, b) / sqrt(2)`` against a second render
     with the next seed; NaN when not measured.
     """
-    from aaeval.renderers import render_timed
+    from aaeval.renderers import MethodSpec, render_timed
 
+    spec = MethodSpec.parse(spec)
     image, seconds = render_timed(scene, spec, frame=frame)
     noise = 0.0 if reference_kind(spec) == "exact" else math.nan
     twin = noise_spec(spec) if estimate_noise else None
@@ -247,7 +246,7 @@ class FrameMeasurement:
                 "metric_errors": self.metric_errors, "error": self.error, "traceback": self.traceback}
 
 
-def measure_frame(scene, spec: str, frame: int, reference: np.ndarray | None, metrics: Sequence[str], *,
+def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | None, metrics: Sequence[str], *,
                   digest: str, repeats: int = 1, cache: SceneCache | None = None,
                   reference_error: str | None = None) -> FrameMeasurement:
     """Render one frame (timed), then measure it against ``reference``; never raises for the

@@ -76,12 +76,12 @@ def write_provenance(root: str | Path, executor: str, workers: int) -> dict:
 
 def read_provenance(root: str | Path) -> dict | None:
     """The sweep folder's provenance, or None for a folder written before it existed."""
-    from aaeval.experiments.store import _read_own_file
+    from aaeval.experiments.store import read_own_file
 
     path = Path(root) / PROVENANCE_FILE
     if not os.path.lexists(path):
         return None
     try:  # never through a link or from a FIFO planted in the folder
-        return json.loads(_read_own_file(path).decode("utf-8"))
+        return json.loads(read_own_file(path).decode("utf-8"))
     except (OSError, ValueError) as exc:
         raise ValueError(f"{path}: not a readable provenance file ({exc}); run the sweep again to rewrite it") from None

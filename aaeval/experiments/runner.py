@@ -21,9 +21,9 @@ from aaeval.experiments.measure import reference_kind
 from aaeval.experiments.provenance import write_provenance
 from aaeval.experiments.record import SCHEMA_VERSION, json_safe
 from aaeval.experiments.store import ReferenceCache, SweepStore, cell_key, code_version, reference_key
-from aaeval.experiments.tasks import render_reference, run_cell
+from aaeval.experiments.tasks import run_cell, run_reference
 
-__all__ = ["PlannedCell", "plan", "manifest", "run_sweep", "SweepSummary", "progress_bar"]
+__all__ = ["PlannedCell", "plan", "manifest", "record_identity", "run_sweep", "SweepSummary", "progress_bar"]
 
 
 @dataclass
@@ -34,10 +34,10 @@ class PlannedCell:
 
     def manifest_row(self) -> dict:
         c = self.cell
-        return {"key": self.key, "group": c.group, "scene": c.scene.name, "difficulty": c.scene.difficulty,
-                "difficulty_label": c.scene.difficulty_label, "scene_digest": c.scene.digest, "spec": c.spec,
+        return {"key": self.key, "group": c.group, "scene": c.scene_source.name, "difficulty": c.scene_source.difficulty,
+                "difficulty_label": c.scene_source.difficulty_label, "scene_digest": c.scene_source.digest, "spec": c.spec,
                 "frame": c.frame, "reference": c.reference, "reference_key": self.reference_key,
-                "frames": c.scene.frames, "repeats": c.repeats}
+                "frames": c.scene_source.frames, "repeats": c.repeats}
 
 
 def plan(experiment: Experiment) -> list[PlannedCell]:
@@ -50,14 +50,14 @@ def plan(experiment: Experiment) -> list[PlannedCell]:
     """
     version = code_version()
     planned = [PlannedCell(c, cell_key(c.identity(), version),
-                           reference_key(c.scene.digest, c.frame, c.reference, version))
+                           reference_key(c.scene_source.digest, c.frame, c.reference, version))
                for c in experiment.cells()]
     seen: dict[str, PlannedCell] = {}
     for p in planned:
         if p.key in seen:
             a, b = seen[p.key].cell, p.cell
-            raise ConfigError(f"{experiment.path}: group {b.group!r} scene {b.scene.name!r} {b.spec} frame {b.frame} "
-                              f"is given twice (also as group {a.group!r} scene {a.scene.name!r}); give each cell once")
+            raise ConfigError(f"{experiment.path}: group {b.group!r} scene {b.scene_source.name!r} {b.spec} frame {b.frame} "
+                              f"is given twice (also as group {a.group!r} scene {a.scene_source.name!r}); give each cell once")
         seen[p.key] = p
     return planned
 
@@ -70,7 +70,7 @@ def manifest(experiment: Experiment, planned: list[PlannedCell]) -> dict:
     """
     scenes = {}
     for p in planned:
-        scenes.setdefault(p.cell.scene.digest, {"source": p.cell.scene.source, "document": p.cell.scene.document})
+        scenes.setdefault(p.cell.scene_source.digest, {"source": p.cell.scene_source.source, "document": p.cell.scene_source.document})
     return {"experiment": experiment.name, "description": experiment.description, "config": experiment.path,
             "schema_version": SCHEMA_VERSION, "code_version": code_version(), "primary": experiment.primary,
             "fail_above": experiment.fail_above,
@@ -151,29 +151,21 @@ def progress_bar(quiet: bool):
         yield progress
 
 
-def _option(spec: str, name: str) -> Any:
-    from aaeval.renderers import resolve
-
-    return resolve(spec)[1].get(name)
-
-
-def _identity(p: PlannedCell, ref_meta: dict) -> dict:
+def record_identity(p: PlannedCell, ref_meta: dict) -> dict:
     """The record fields known before the cell runs (:class:`~aaeval.experiments.record.CellRecord`)."""
-    from aaeval.renderers import resolve
-
     c = p.cell
-    method, options = resolve(c.spec)
+    options = dict(c.spec.options)
     return {
-        "key": p.key, "group": c.group, "code_version": code_version(), "scene": c.scene.name,
-        "scene_source": c.scene.source, "scene_digest": c.scene.digest, "difficulty": c.scene.difficulty,
-        "difficulty_label": c.scene.difficulty_label,
-        "method": method.name, "spec": c.spec, "options": options, "frame": c.frame,
+        "key": p.key, "group": c.group, "code_version": code_version(), "scene": c.scene_source.name,
+        "scene_source": c.scene_source.source, "scene_digest": c.scene_source.digest, "difficulty": c.scene_source.difficulty,
+        "difficulty_label": c.scene_source.difficulty_label,
+        "method": c.spec.name, "spec": c.spec, "options": options, "frame": c.frame,
         "spp": options.get("spp"), "seed": options.get("seed"),
         "reference": c.reference, "reference_key": p.reference_key, "reference_kind": reference_kind(c.reference),
-        "reference_spp": _option(c.reference, "spp"), "reference_seed": _option(c.reference, "seed"),
+        "reference_spp": c.reference.options.get("spp"), "reference_seed": c.reference.options.get("seed"),
         "reference_noise_rmse": ref_meta.get("noise_rmse", math.nan),
         "reference_intensity_sum": ref_meta.get("intensity_sum", math.nan),
-        "width": c.scene.parsed.width, "height": c.scene.parsed.height,
+        "width": c.scene_source.parsed.width, "height": c.scene_source.parsed.height,
     }
 
 
@@ -251,9 +243,9 @@ def _references(experiment, todo, store, cache, executor, progress, summary) -> 
         else:
             missing.append(p)
     task = progress.add_task("references", total=len(missing)) if progress and missing else None
-    payloads = [(p.cell.scene.document, p.cell.scene.source, p.cell.frame, p.cell.reference,
-                 experiment.noise_estimate, p.cell.scene.digest) for p in missing]
-    for i, result, exc in executor.run(render_reference, payloads):
+    payloads = [(p.cell.scene_source.document, p.cell.scene_source.source, p.cell.frame, p.cell.reference,
+                 experiment.noise_estimate, p.cell.scene_source.digest) for p in missing]
+    for i, result, exc in executor.run(run_reference, payloads):
         key = missing[i].reference_key
         if exc is not None:  # the worker died: its cells wait for the next run
             meta[key] = {"lost": f"{type(exc).__name__}: {exc}"}
@@ -283,8 +275,8 @@ def _cells(todo, refs, store, executor, progress, summary) -> None:
             info = refs.get(p.reference_key, {})
             if p.reference_key not in loaded and "error" not in info:
                 loaded[p.reference_key] = store.load_reference(p.reference_key)
-            yield ({"identity": _identity(p, info), "run": run, "document": p.cell.scene.document,
-                    "source": p.cell.scene.source, "metrics": list(p.cell.metrics), "repeats": p.cell.repeats,
+            yield ({"identity": record_identity(p, info), "run": run, "document": p.cell.scene_source.document,
+                    "source": p.cell.scene_source.source, "metrics": list(p.cell.metrics), "repeats": p.cell.repeats,
                     "reference_image": loaded.get(p.reference_key), "reference_error": info.get("error")},)
 
     lost = [p for p in todo if "lost" in refs.get(p.reference_key, {})]

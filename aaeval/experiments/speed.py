@@ -23,11 +23,15 @@ import os
 import platform
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import pandas as pd
 
 from aaeval.experiments.config import Experiment, SpeedPass
 from aaeval.imageio import atomic_write
+
+if TYPE_CHECKING:
+    from aaeval.renderers.registry import MethodSpec
 
 __all__ = ["SPEED_FILE", "run_speed_pass", "read_speed", "speed_summary", "speed_identity", "accuracy_spec"]
 
@@ -66,28 +70,33 @@ def _restore(restore: list) -> None:
             numba.set_num_threads(value)
 
 
-def accuracy_spec(spec: str) -> str:
+def accuracy_spec(spec: MethodSpec) -> MethodSpec:
     """``spec`` as the accuracy cells name it: the thread count (which changes no pixel) at
     its default, so a timing pairs with the same method's errors."""
-    from aaeval.renderers import format_spec, resolve
-
-    method, options = resolve(spec)
-    if "threads" in method.options:
-        options = {**options, "threads": method.options["threads"].default}
-    return format_spec(method.name, options)
+    if "threads" in spec.method.options:
+        return spec.with_options(threads=spec.method.options["threads"].default)
+    return spec
 
 
 def _time_table(index: int, speed: SpeedPass, log) -> list[dict]:
     from aaeval.experiments.measure import warm_up
-    from aaeval.experiments.table import short_label
-    from aaeval.renderers import render_timed, resolve
+    from aaeval.renderers import render_timed
 
     rows = []
+
+    def row(src, scene, spec, r, seconds, error=None) -> dict:
+        paired = accuracy_spec(spec)
+        return {"pass": index, "scene": src.name, "difficulty": src.difficulty,
+                "scene_digest": src.digest, "width": scene.width, "height": scene.height,
+                "spec": str(paired), "timed_spec": str(spec), "label": paired.label(), "method": spec.name,
+                "options": json.dumps(dict(paired.options), sort_keys=True), "round": r, "threads": speed.threads,
+                "render_s": seconds, "ms_per_mpix": seconds * 1e3 / (scene.width * scene.height / 1e6),
+                "accuracy_group": speed.accuracy, "error": error}
+
     restore = _set_threads(speed.threads)
     try:
         for src in speed.scenes:
             scene = src.parsed
-            mpix = scene.width * scene.height / 1e6
             specs, failed = [], {}
             for spec in speed.specs:
                 try:
@@ -101,23 +110,9 @@ def _time_table(index: int, speed: SpeedPass, log) -> list[dict]:
                 order = specs[r % len(specs):] + specs[:r % len(specs)] if specs else []
                 for spec in order:
                     _, seconds = render_timed(scene, spec, frame=0)
-                    method, options = resolve(spec)
-                    rows.append({"pass": index, "scene": src.name, "difficulty": src.difficulty,
-                                 "scene_digest": src.digest, "width": scene.width, "height": scene.height,
-                                 "spec": accuracy_spec(spec), "timed_spec": spec,
-                                 "label": short_label(accuracy_spec(spec)), "method": method.name,
-                                 "options": json.dumps(resolve(accuracy_spec(spec))[1], sort_keys=True), "round": r,
-                                 "threads": speed.threads, "render_s": seconds, "ms_per_mpix": seconds * 1e3 / mpix,
-                                 "accuracy_group": speed.accuracy, "error": None})
+                    rows.append(row(src, scene, spec, r, seconds))
             for spec, error in failed.items():
-                method, options = resolve(spec)
-                rows.append({"pass": index, "scene": src.name, "difficulty": src.difficulty,
-                             "scene_digest": src.digest, "width": scene.width, "height": scene.height,
-                             "spec": accuracy_spec(spec), "timed_spec": spec,
-                             "label": short_label(accuracy_spec(spec)), "method": method.name,
-                             "options": json.dumps(resolve(accuracy_spec(spec))[1], sort_keys=True), "round": -1, "threads": speed.threads,
-                             "render_s": math.nan, "ms_per_mpix": math.nan, "accuracy_group": speed.accuracy,
-                             "error": error})
+                rows.append(row(src, scene, spec, -1, math.nan, error))
     finally:
         _restore(restore)
     return rows

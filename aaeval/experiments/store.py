@@ -137,7 +137,7 @@ _NOFOLLOW = getattr(os, "O_NOFOLLOW", 0)
 _CLOEXEC = getattr(os, "O_CLOEXEC", 0)
 
 
-def _read_own_file(path: Path, limit: int = _MAX_RECORD_BYTES) -> bytes:
+def read_own_file(path: Path, limit: int = _MAX_RECORD_BYTES) -> bytes:
     """The bytes of ``path``, a regular file that is not a symbolic link (``OSError`` or
     ``ValueError`` saying why not): a sweep never reads through a link planted in its folder,
     and never blocks on a FIFO or reads a device."""
@@ -287,7 +287,7 @@ class SweepStore:
         from aaeval.experiments.record import CellRecord, RecordError
 
         try:
-            record = json.loads(_read_own_file(path).decode("utf-8"))
+            record = json.loads(read_own_file(path).decode("utf-8"))
         except (OSError, ValueError) as exc:  # UnicodeDecodeError and JSONDecodeError are ValueErrors
             return {}, f"not a cell record ({exc})"
         if not isinstance(record, dict) or record.get("key") != path.stem:
@@ -386,7 +386,7 @@ class SweepStore:
         if not os.path.lexists(p):
             raise FileNotFoundError(f"{self.root}: no manifest.json; is this a sweep folder (aaeval sweep CONFIG --out DIR)?")
         try:
-            manifest = json.loads(_read_own_file(p).decode("utf-8"))
+            manifest = json.loads(read_own_file(p).decode("utf-8"))
         except (OSError, ValueError) as exc:
             raise StoreError(f"{p}: damaged manifest ({exc}); run the sweep again to rewrite it") from None
         if not isinstance(manifest, dict) or not isinstance(manifest.get("cells"), list):
@@ -419,7 +419,7 @@ class SweepStore:
         """Write the config and its cells; an earlier, different config moves to ``history/``."""
         old = self.root / "experiment.toml"
         try:
-            old_text = _read_own_file(old) if os.path.lexists(old) else None
+            old_text = read_own_file(old) if os.path.lexists(old) else None
         except (OSError, ValueError):
             old_text = b""  # a link or a damaged file: kept in history/ like another config
         if old_text is not None and old_text != experiment_text.encode():
@@ -450,7 +450,7 @@ class SweepStore:
     def owner(self) -> dict:
         """Who holds the lock, as it wrote itself into ``sweep.lock`` ({} if unknown)."""
         try:
-            return json.loads(_read_own_file(self.lock_path, 4096).decode() or "{}")
+            return json.loads(read_own_file(self.lock_path, 4096).decode() or "{}")
         except (OSError, ValueError):
             return {}
 
@@ -509,7 +509,7 @@ class SweepStore:
         if not os.path.lexists(p):
             return
         try:
-            previous = json.loads(_read_own_file(p).decode("utf-8")).get("experiment")
+            previous = json.loads(read_own_file(p).decode("utf-8")).get("experiment")
         except (OSError, ValueError, AttributeError):
             previous = None  # a damaged manifest is rewritten by this run
         if previous is not None and previous != name and not force:

@@ -21,12 +21,12 @@ from pathlib import Path
 import pandas as pd
 
 from aaeval.experiments.measure import SceneCache, series_metrics
-from aaeval.metrics import sum_variation
+from aaeval.metrics import relative_variation
 from aaeval.experiments.record import SCHEMA_VERSION, TABLE_FIELDS, CellRecord, RecordError
 from aaeval.experiments.store import SweepStore
 from aaeval.imageio import atomic_write
 
-__all__ = ["results_frame", "temporal_frame", "write_results", "load_results", "read_table", "short_label",
+__all__ = ["results_frame", "temporal_frame", "write_results", "rebuild_results", "read_table", "short_label",
            "varying_options", "RESULTS_COLUMNS", "TEMPORAL_COLUMNS"]
 
 #: Columns of ``results.parquet`` besides one per metric.
@@ -71,22 +71,15 @@ def results_frame(store: SweepStore, *, heal: bool = True) -> pd.DataFrame:
     return frame
 
 
-# Options that only say how a result was obtained, not what was rendered.
-_INCIDENTAL = {"cache"}
-
-
 def short_label(spec: str, keep: set[str] = frozenset()) -> str:
-    """The spec with the options in ``keep`` and those that differ from the defaults."""
-    from aaeval.renderers import MethodError, resolve
+    """The label of a spec (:meth:`aaeval.renderers.MethodSpec.label`): the options in
+    ``keep`` and those that differ from the defaults. A stored spec enters here (parsed)."""
+    from aaeval.renderers import MethodError, MethodSpec
 
     try:
-        method, options = resolve(spec)
+        return MethodSpec.parse(spec).label(keep)
     except MethodError:  # a method this checkout lacks: show the spec as stored
         return spec
-    shown = {k: v for k, v in options.items()
-             if k not in _INCIDENTAL and (k in keep or v != method.options[k].default)}
-    # written out here: format_spec leaves defaults out, and a varying option must show
-    return method.name + "".join(f"{':' if i == 0 else ','}{k}={shown[k]}" for i, k in enumerate(sorted(shown)))
 
 
 def varying_options(options_json) -> list[str]:
@@ -96,11 +89,13 @@ def varying_options(options_json) -> list[str]:
 
 
 def _labels(frame: pd.DataFrame) -> pd.Series:
-    """Short labels: per group and method, the options that vary or are not the default."""
+    """The label of every row: the options that are not the default, and those that vary
+    among the method's rows anywhere in the sweep. One label per spec, whichever table,
+    figure, section or viewer shows it."""
     labels = pd.Series(index=frame.index, dtype=object)
-    for _, rows in frame.groupby(["group", "method"], sort=False):
+    for _, rows in frame.groupby("method", sort=False):
         varying = set(varying_options(rows["options"]))
-        for idx, spec in zip(rows.index, rows["spec"]):
+        for spec, idx in rows.groupby("spec", sort=False).groups.items():  # a stored spec, parsed once
             labels[idx] = short_label(spec, varying)
     return labels
 
@@ -130,7 +125,7 @@ def temporal_frame(store: SweepStore, results: pd.DataFrame) -> pd.DataFrame:
                "method": first["method"], "frames": len(series), "reference": first["reference"],
                "reference_noise_rmse": first["reference_noise_rmse"],
                "failed_frames": int(series["error"].notna().sum()),
-               "reference_sum_variation": sum_variation(series["reference_intensity_sum"].to_numpy(float)),
+               "reference_sum_variation": relative_variation(series["reference_intensity_sum"].to_numpy(float)),
                "metric_errors": None}
         row.update({name: math.nan for name in names})  # a metric another group asked for
         if not row["failed_frames"]:
@@ -189,8 +184,9 @@ def write_results(store: SweepStore) -> pd.DataFrame:
     return results
 
 
-def load_results(store: SweepStore) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Both tables, rebuilt first so they match the cell files on disk.
+def rebuild_results(store: SweepStore) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Both tables, rebuilt from the cell files on disk (``results.parquet`` and
+    ``temporal.parquet`` rewritten, :func:`write_results`) and returned.
 
     While a sweep writes the folder (it holds the lock) nothing of it is rewritten or
     moved: both tables are built in memory from the cells finished so far, and the sweep

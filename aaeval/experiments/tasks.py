@@ -12,25 +12,29 @@ from __future__ import annotations
 import os
 import socket
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from aaeval.experiments.measure import SCENES, measure_frame, noise_spec, reference_kind, render_reference as _reference
+from aaeval.experiments.measure import SCENES, measure_frame, render_reference
 from aaeval.experiments.record import CellRecord
 
-__all__ = ["render_reference", "run_cell", "reference_kind", "noise_spec"]
+if TYPE_CHECKING:
+    from aaeval.renderers.registry import MethodSpec
+
+__all__ = ["run_reference", "run_cell"]
 
 
-def render_reference(document: dict, source: str, frame: int, spec: str, estimate_noise: bool,
-                     digest: str) -> dict:
-    """Render a reference frame; for a seeded reference also its noise level.
+def run_reference(document: dict, source: str, frame: int, spec: MethodSpec, estimate_noise: bool,
+                  digest: str) -> dict:
+    """Render a reference frame (:func:`aaeval.experiments.measure.render_reference` on the
+    scene document); for a seeded reference also its noise level.
 
     A reference that fails comes back as ``{"error": ...}``.
     """
     try:
         scene = SCENES.scene(digest, document, source)
-        result = _reference(scene, spec, frame, estimate_noise=estimate_noise)
+        result = render_reference(scene, spec, frame, estimate_noise=estimate_noise)
     except Exception as exc:  # noqa: BLE001 - the cells that need it record this as their error
         return {"error": f"{type(exc).__name__}: {exc}", "host": socket.gethostname()}
     return {**result, "host": socket.gethostname()}

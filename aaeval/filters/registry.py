@@ -25,9 +25,12 @@ from typing import Mapping
 import numpy as np
 from numpy.polynomial import Polynomial
 
+from aaeval.options import Registry
+
 __all__ = [
     "PixelFilter",
     "FILTERS",
+    "register_filter",
     "DEFAULT_FILTER",
     "KIND_BOX",
     "KIND_POLYNOMIAL",
@@ -161,32 +164,34 @@ def _mitchell(b: float, c: float) -> tuple[Polynomial, Polynomial]:
     return inner, outer
 
 
-def _cubic(name: str, summary: str, b: float, c: float, mitsuba: Mapping) -> PixelFilter:
-    return PixelFilter(
-        name, summary, KIND_POLYNOMIAL, 2.0, mitsuba, _pieces_from_abs(*_mitchell(b, c), 2),
-        partition_of_unity=abs(b + 2 * c - 1) < 1e-15,
-    )
+#: Every pixel filter, by name, in registration order (:func:`register_filter`).
+FILTERS: Registry = Registry("filter")
 
 
-FILTERS: dict[str, PixelFilter] = {
-    f.name: f
-    for f in (
-        PixelFilter("box", "box of one pixel (Mitsuba box, radius 1/2): the exact area average", KIND_BOX, 0.5,
-                    {"type": "box"}),
-        PixelFilter("tent", "tent (Mitsuba tent, radius 1): k(t) = max(0, 1 - |t|)", KIND_POLYNOMIAL, 1.0,
-                    {"type": "tent", "radius": 1.0},
-                    _pieces_from_abs(Polynomial([1.0, -1.0]), None, 1)),
-        _cubic("bspline", "cubic B-spline = Mitchell-Netravali B=1, C=0 (Mitsuba has no bspline plugin)", 1.0, 0.0,
-               {"type": "mitchell", "B": 1.0, "C": 0.0}),
-        _cubic("mitchell", "Mitchell-Netravali B = C = 1/3, radius 2 (Mitsuba mitchell, its defaults)",
-               1.0 / 3.0, 1.0 / 3.0, {"type": "mitchell", "B": 1.0 / 3.0, "C": 1.0 / 3.0}),
-        _cubic("catmullrom", "Catmull-Rom = Mitchell-Netravali B=0, C=1/2, radius 2 (Mitsuba catmullrom)", 0.0, 0.5,
-               {"type": "catmullrom"}),
-        PixelFilter("gaussian", "Gaussian, stddev 1/2, cut at 4 stddev with the value there subtracted "
-                    "(Mitsuba gaussian, Mitsuba's default filter)", KIND_GAUSSIAN, 2.0,
-                    {"type": "gaussian", "stddev": 0.5}, stddev=0.5, partition_of_unity=False),
-    )
-}
+def register_filter(name: str, *args, **kwargs) -> PixelFilter:
+    """Register the :class:`PixelFilter` ``PixelFilter(name, *args, **kwargs)``; a name
+    registered twice is refused."""
+    return FILTERS.add(name, PixelFilter(name, *args, **kwargs))
+
+
+def _register_cubic(name: str, summary: str, b: float, c: float, mitsuba: Mapping) -> PixelFilter:
+    return register_filter(name, summary, KIND_POLYNOMIAL, 2.0, mitsuba, _pieces_from_abs(*_mitchell(b, c), 2),
+                           partition_of_unity=abs(b + 2 * c - 1) < 1e-15)
+
+
+register_filter("box", "box of one pixel (Mitsuba box, radius 1/2): the exact area average", KIND_BOX, 0.5,
+                {"type": "box"})
+register_filter("tent", "tent (Mitsuba tent, radius 1): k(t) = max(0, 1 - |t|)", KIND_POLYNOMIAL, 1.0,
+                {"type": "tent", "radius": 1.0}, _pieces_from_abs(Polynomial([1.0, -1.0]), None, 1))
+_register_cubic("bspline", "cubic B-spline = Mitchell-Netravali B=1, C=0 (Mitsuba has no bspline plugin)", 1.0, 0.0,
+                {"type": "mitchell", "B": 1.0, "C": 0.0})
+_register_cubic("mitchell", "Mitchell-Netravali B = C = 1/3, radius 2 (Mitsuba mitchell, its defaults)",
+                1.0 / 3.0, 1.0 / 3.0, {"type": "mitchell", "B": 1.0 / 3.0, "C": 1.0 / 3.0})
+_register_cubic("catmullrom", "Catmull-Rom = Mitchell-Netravali B=0, C=1/2, radius 2 (Mitsuba catmullrom)", 0.0, 0.5,
+                {"type": "catmullrom"})
+register_filter("gaussian", "Gaussian, stddev 1/2, cut at 4 stddev with the value there subtracted "
+                "(Mitsuba gaussian, Mitsuba's default filter)", KIND_GAUSSIAN, 2.0,
+                {"type": "gaussian", "stddev": 0.5}, stddev=0.5, partition_of_unity=False)
 
 DEFAULT_FILTER = "box"
 

@@ -9,7 +9,7 @@ Order of preference for ``variant="auto"`` (:func:`select_variant`):
 
 1. ``cuda_ad_rgb`` / ``cuda_rgb`` when Dr.Jit's CUDA backend starts (a GPU and a driver);
 2. ``llvm_ad_rgb`` / ``llvm_rgb`` with libLLVM >= 16 (LLVM 14 is rejected by Dr.Jit and
-   LLVM 15 aborts on the first render, see ``shared/FIELD_NOTES.md``);
+   LLVM 15 aborts on the first render, as seen on this project's machines);
 3. ``scalar_rgb``, with a one-line warning (correct, but one ray at a time).
 
 Only RGB variants are accepted: the scene's colours are linear RGB and a spectral

@@ -7,17 +7,14 @@ every method, the A-buffer's z ranges included, and no two layers ever tie.
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Any, Mapping, NamedTuple
 
 import numpy as np
 
 from aaeval.importers.shapes import Region
-from aaeval.imageio import atomic_write
 from aaeval.scenes import SceneError, parse_scene
-from aaeval.scenes.generate import _header, _value
 
-__all__ = ["Layer", "ImportResult", "scene_document", "write_scene_document", "region_polygons"]
+__all__ = ["Layer", "ImportResult", "scene_document", "region_polygons"]
 
 
 class Layer(NamedTuple):
@@ -81,34 +78,3 @@ def scene_document(
         document[extension[0]] = dict(extension[1])
     document["polygons"] = polygons
     return document, cut
-
-
-def write_scene_document(document: Mapping[str, Any], path: str | Path, *, comment: str | None = None) -> Path:
-    """Validate and write a scene dictionary (core keys, holes, one extension table) as TOML, atomically."""
-    path = Path(path)
-    parse_scene(document, source=str(path))  # nothing invalid is written
-    lines: list[str] = []
-    for key, table in document.items():
-        if key == "polygons":
-            continue
-        lines += ["", f"[{key}]"] + [f"{k} = {_toml_value(v)}" for k, v in table.items()]
-    for p in document["polygons"]:
-        lines += ["", "[[polygons]]", f"color = {_value(p['color'])}", "vertices = ["]
-        lines += [f"  {_value(v)}," for v in p["vertices"]]
-        lines.append("]")
-        if "holes" in p:
-            lines.append("holes = [")
-            for hole in p["holes"]:
-                lines += ["  ["] + [f"    {_value(v)}," for v in hole] + ["  ],"]
-            lines.append("]")
-    text = _header(comment) + "\n".join(lines).lstrip("\n") + "\n"
-    atomic_write(path, lambda tmp: Path(tmp).write_text(text))
-    return path
-
-
-def _toml_value(v: Any) -> str:
-    if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
-    if isinstance(v, (list, tuple)) and any(isinstance(x, str) for x in v):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    return _value(v)

@@ -25,7 +25,6 @@ from aaeval.metrics.registry import (
     format_value,
     get_metric,
     register_metric,
-    unregister_metric,
 )
 from aaeval.metrics.specular import (
     detection_precision_recall,
@@ -37,7 +36,7 @@ from aaeval.metrics.specular import (
     highlight_profile_flicker,
     highlight_rmse,
 )
-from aaeval.metrics.temporal import (flicker, image_flicker, intensity_sum, intensity_sum_variation, sum_variation,
+from aaeval.metrics.temporal import (flicker, image_flicker, intensity_sum, relative_variation, sum_variation,
                                      temporal_bias)
 
 __all__ = [
@@ -54,7 +53,6 @@ __all__ = [
     "format_value",
     "get_metric",
     "register_metric",
-    "unregister_metric",
     "rmse",
     "psnr",
     "ssim",
@@ -69,7 +67,7 @@ __all__ = [
     "temporal_bias",
     "image_flicker",
     "intensity_sum",
-    "intensity_sum_variation",
+    "relative_variation",
     "sum_variation",
     "highlight_mask",
     "highlight_rmse",

@@ -13,6 +13,8 @@ from typing import Callable
 
 import numpy as np
 
+from aaeval.options import Registry
+
 __all__ = ["MASKS", "Mask", "register_mask", "build_mask", "HIGHLIGHT_THRESHOLD", "HIGHLIGHT_SPP", "INTERIOR_MARGIN"]
 
 #: A pixel is in the highlight when the ground truth's box-filtered specular term exceeds this.
@@ -37,22 +39,24 @@ class Mask:
         return bool(self.applies(scene))
 
 
-MASKS: dict[str, Mask] = {}
+MASKS: Registry = Registry("mask")
 
 
-def register_mask(name: str, build: Callable[..., np.ndarray], summary: str,
-                  applies: Callable[..., bool] | None = None) -> None:
-    """Register ``build(scene) -> bool (H, W)``; ``applies(scene)`` is False where it is always empty."""
-    if name in MASKS:
-        raise ValueError(f"mask {name!r} is registered twice")
-    MASKS[name] = Mask(name, build, summary, applies or (lambda scene: True))
+def register_mask(name: str, build: Callable[..., np.ndarray] | None = None, summary: str = "",
+                  applies: Callable[..., bool] | None = None):
+    """Register ``build(scene) -> bool (H, W)``: ``register_mask(name, build, summary)`` or
+    ``@register_mask(name, summary=...)``; ``applies(scene)`` is False where it is always empty."""
+
+    def decorate(func):
+        MASKS.add(name, Mask(name, func, summary, applies or (lambda scene: True)))
+        return func
+
+    return decorate if build is None else decorate(build)
 
 
 def build_mask(name: str, scene) -> np.ndarray:
     """The mask ``name`` of ``scene`` (at the frame wanted), bool (H, W)."""
-    if name not in MASKS:
-        raise ValueError(f"unknown mask {name!r}; masks: {', '.join(MASKS)}")
-    mask = np.asarray(MASKS[name].build(scene), dtype=bool)
+    mask = np.asarray(MASKS.get_entry(name).build(scene), dtype=bool)
     if mask.shape != (scene.height, scene.width):
         raise ValueError(f"mask {name!r} has shape {mask.shape}, expected {(scene.height, scene.width)}")
     return mask

@@ -37,7 +37,8 @@ from aaeval.metrics.specular import (
     highlight_flicker,
     highlight_rmse,
 )
-from aaeval.metrics.temporal import flicker, image_flicker, intensity_sum_variation, temporal_bias
+from aaeval.metrics.temporal import flicker, image_flicker, sum_variation, temporal_bias
+from aaeval.options import Registry
 
 __all__ = [
     "METRICS",
@@ -115,8 +116,6 @@ class Metric:
         return format_value(value, self.fmt)
 
 
-#: Every metric, by name, in registration order.
-METRICS: dict[str, Metric] = {}
 #: The functions of the ``image`` metrics, by name (a view kept in step with :data:`METRICS`).
 IMAGE_METRICS: dict[str, Callable[..., float]] = {}
 #: The functions of the ``temporal`` metrics, by name (a view kept in step with :data:`METRICS`).
@@ -124,10 +123,31 @@ TEMPORAL_METRICS: dict[str, Callable[..., float]] = {}
 _BY_KIND = {"image": IMAGE_METRICS, "temporal": TEMPORAL_METRICS}
 
 
-def register_metric(name: str, func: Callable[..., float], *, kind: str, title: str, fmt: str,
+class _MetricRegistry(Registry):
+    """The metric registry: it keeps the per-kind views in step."""
+
+    def add(self, name: str, entry: Metric) -> Metric:
+        super().add(name, entry)
+        _BY_KIND[entry.kind][name] = entry.func
+        return entry
+
+    def unregister(self, name: str) -> Metric:
+        metric = super().unregister(name)
+        _BY_KIND[metric.kind].pop(name, None)
+        return metric
+
+
+#: Every metric, by name, in registration order.
+METRICS: Registry = _MetricRegistry("metric", MetricError)
+
+
+def register_metric(name: str, func: Callable[..., float] | None = None, *, kind: str, title: str, fmt: str,
                     higher_is_better: bool = False, needs: tuple[str, ...] = ("reference",),
                     mask: str | None = None, summary: str | None = None, target: float | None = None) -> Metric:
     """Register a metric; the only step needed for compare, sweeps, tables and reports to know it.
+
+    ``register_metric(name, func, ...)`` returns the :class:`Metric`; without ``func`` it is
+    a decorator (``@register_metric(name, kind=..., ...)``) returning the function.
 
     Raises
     ------
@@ -136,6 +156,9 @@ def register_metric(name: str, func: Callable[..., float], *, kind: str, title: 
     """
     from aaeval.metrics.masks import MASKS
 
+    if func is None:
+        return lambda f: register_metric(name, f, kind=kind, title=title, fmt=fmt, higher_is_better=higher_is_better,
+                                         needs=needs, mask=mask, summary=summary, target=target).func
     if not isinstance(name, str) or not name.isidentifier():
         raise MetricError(f"metric name must be an identifier (it becomes a table column), got {name!r}")
     if name in METRICS:
@@ -160,16 +183,7 @@ def register_metric(name: str, func: Callable[..., float], *, kind: str, title: 
     doc = (inspect.getdoc(func) or "").split("\n", 1)[0]
     metric = Metric(name, func, kind, title, fmt, bool(higher_is_better), tuple(needs), mask, summary or doc,
                     None if target is None else float(target))
-    METRICS[name] = metric
-    _BY_KIND[kind][name] = func
-    return metric
-
-
-def unregister_metric(name: str) -> None:
-    """Remove a metric (tests that register a toy metric clean up with this)."""
-    metric = METRICS.pop(name, None)
-    if metric is not None:
-        _BY_KIND[metric.kind].pop(name, None)
+    return METRICS.add(name, metric)
 
 
 def get_metric(name: str, kind: str | None = None) -> Metric:
@@ -278,7 +292,7 @@ register_metric("highlight_energy_bias", highlight_energy_bias, kind="image", ti
                 summary="sum(test) / sum(reference) - 1 over the highlight pixels, RGB (negative: dimmer)")
 # Over the frames of an animation. Each error splits into its bias (the time-average,
 # which stays with the object) and its flicker (what is left, frame to frame).
-register_metric("sum_variation", intensity_sum_variation, kind="temporal", title="sum var", fmt=".3e",
+register_metric("sum_variation", sum_variation, kind="temporal", title="sum var", fmt=".3e",
                 needs=("frames",),
                 summary="(max - min) / mean of the test's intensity sums over the frames (no reference)")
 register_metric("temporal_bias", temporal_bias, kind="temporal", title="bias (time-avg error)", fmt=".3e",

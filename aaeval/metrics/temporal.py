@@ -6,7 +6,7 @@ import numpy as np
 
 from aaeval.metrics._checks import check_frames_pair
 
-__all__ = ["intensity_sum", "sum_variation", "intensity_sum_variation", "temporal_bias", "flicker", "image_flicker"]
+__all__ = ["intensity_sum", "relative_variation", "sum_variation", "temporal_bias", "flicker", "image_flicker"]
 
 
 def intensity_sum(image: np.ndarray) -> float:
@@ -21,7 +21,7 @@ def intensity_sum(image: np.ndarray) -> float:
     return float(image.sum())
 
 
-def sum_variation(sums) -> float:
+def relative_variation(sums) -> float:
     """Relative variation ``(max - min) / mean`` of per-frame intensity sums."""
     sums = np.asarray(sums, dtype=np.float64)
     if sums.ndim != 1 or sums.size == 0:
@@ -32,11 +32,11 @@ def sum_variation(sums) -> float:
     return float(np.ptp(sums) / abs(mean))
 
 
-def intensity_sum_variation(frames_true, frames_test) -> float:
+def sum_variation(frames_true, frames_test) -> float:
     """Relative variation of the test's intensity sums over the frames (the reference is unused).
 
-    ``sum_variation([intensity_sum(f) for f in frames_test])``: the registry's temporal
-    ``sum_variation``, with the signature every temporal metric shares.
+    ``relative_variation([intensity_sum(f) for f in frames_test])``, with the signature
+    every temporal metric shares (registered as ``sum_variation``).
 
     Parameters
     ----------
@@ -51,7 +51,7 @@ def intensity_sum_variation(frames_true, frames_test) -> float:
         ``(max - min) / mean`` of the per-frame sums; 0 for a single frame.
     """
     frames_true, frames_test = check_frames_pair(frames_true, frames_test)
-    return sum_variation(frames_test.sum(axis=(1, 2, 3)))
+    return relative_variation(frames_test.sum(axis=(1, 2, 3)))
 
 
 def temporal_bias(frames_true, frames_test) -> float:

@@ -1,13 +1,15 @@
 """Rendering methods, one module per method, all in one registry.
 
 Importing this package registers every built-in method. Use :func:`render` with a spec
-string (``"catmull"``, ``"supersample:k=4"``) or look methods up in :data:`METHODS`.
+(a :class:`MethodSpec`, or a string: ``"catmull"``, ``"supersample:k=4"``) or look methods up in
+:data:`METHODS`.
 """
 
 from aaeval.renderers.registry import (
     METHODS,
     Method,
     MethodError,
+    MethodSpec,
     Option,
     format_spec,
     parse_spec,
@@ -36,6 +38,7 @@ __all__ = [
     "METHODS",
     "Method",
     "MethodError",
+    "MethodSpec",
     "Option",
     "format_spec",
     "parse_spec",

@@ -23,15 +23,19 @@ import math
 import os
 import time
 from dataclasses import dataclass, field
-from typing import Any, Callable, Mapping
+from types import MappingProxyType
+from typing import Any, Callable, Iterable, Mapping
 
 import numpy as np
 
+from aaeval.options import Option, OptionError, Registry
 from aaeval.scenes import Scene
 
 __all__ = [
     "METHODS",
     "Method",
+    "MethodSpec",
+    "INCIDENTAL_OPTIONS",
     "Option",
     "MethodError",
     "register_method",
@@ -68,59 +72,8 @@ PAIR_BYTES = 200
 PAIR_SECONDS = 0.8e-6
 
 
-class MethodError(ValueError):
+class MethodError(OptionError):
     """An unknown method name, or an unknown or malformed option in a spec."""
-
-
-@dataclass(frozen=True)
-class Option:
-    """A declared option of a method: its type, default and meaning, and the values it takes.
-
-    ``minimum`` and ``maximum`` bound numbers (inclusive); ``check(value)`` returns why a
-    value is refused, or None. Float options are always finite.
-    """
-
-    type: type
-    default: Any
-    doc: str = ""
-    choices: tuple | None = None
-    minimum: float | None = None
-    maximum: float | None = None
-    check: Callable[[Any], str | None] | None = None
-
-    def convert(self, raw: Any, where: str) -> Any:
-        value = _coerce(raw, self.type, where)
-        if self.type is float and not math.isfinite(value):
-            raise MethodError(f"{where}: must be a finite number, got {raw!r}")
-        if self.choices is not None and value not in self.choices:
-            raise MethodError(f"{where}: {value!r} is not one of {list(self.choices)}")
-        if self.minimum is not None and value < self.minimum:
-            raise MethodError(f"{where}: must be >= {self.minimum}, got {value!r}")
-        if self.maximum is not None and value > self.maximum:
-            raise MethodError(f"{where}: must be <= {self.maximum}, got {value!r}")
-        problem = self.check(value) if self.check is not None else None
-        if problem:
-            raise MethodError(f"{where}: {problem}, got {value!r}")
-        return value
-
-
-def _coerce(raw: Any, kind: type, where: str) -> Any:
-    if not isinstance(raw, str):
-        if kind is float and isinstance(raw, int) and not isinstance(raw, bool):
-            return float(raw)
-        if isinstance(raw, kind) and not (kind is int and isinstance(raw, bool)):
-            return raw
-        raise MethodError(f"{where}: expected {kind.__name__}, got {raw!r}")
-    try:
-        if kind is bool:
-            if raw.lower() in ("1", "true", "yes", "on"):
-                return True
-            if raw.lower() in ("0", "false", "no", "off"):
-                return False
-            raise ValueError(raw)
-        return kind(raw)
-    except ValueError:
-        raise MethodError(f"{where}: expected {kind.__name__}, got {raw!r}") from None
 
 
 @dataclass(frozen=True)
@@ -143,11 +96,12 @@ class Method:
     seconds: Callable[[Scene, Mapping[str, Any]], float] | None = None
 
 
-METHODS: dict[str, Method] = {}
+METHODS: Registry = Registry("method", MethodError)
 
 
 def register_method(
     name: str,
+    func: Callable[..., np.ndarray] | None = None,
     *,
     summary: str,
     options: Mapping[str, Option] | None = None,
@@ -158,7 +112,8 @@ def register_method(
     memory: Callable[[Scene, Mapping[str, Any]], int] | None = None,
     seconds: Callable[[Scene, Mapping[str, Any]], float] | None = None,
 ):
-    """Decorator registering ``render(scene, **options)`` under ``name``.
+    """Register ``render(scene, **options)`` under ``name``: ``register_method(name, render, ...)``
+    or, as a decorator, ``@register_method(name, ...)``; a name registered twice is refused.
 
     ``samples(options)`` (point samples per pixel), ``memory(scene, options)`` (bytes
     beyond the image) and ``seconds(scene, options)`` (the render's estimated time) let
@@ -167,13 +122,11 @@ def register_method(
     """
 
     def decorate(func):
-        if name in METHODS:
-            raise ValueError(f"method {name!r} is registered twice")
-        METHODS[name] = Method(name, func, dict(options or {}), summary, exact, warmup, requires, samples, memory,
-                               seconds)
+        METHODS.add(name, Method(name, func, dict(options or {}), summary, exact, warmup, requires, samples, memory,
+                                 seconds))
         return func
 
-    return decorate
+    return decorate if func is None else decorate(func)
 
 
 def required_table(scene: Scene, name: str) -> Any:
@@ -208,36 +161,111 @@ def parse_spec(spec: str) -> tuple[str, dict[str, str]]:
     return name.strip(), options
 
 
+class MethodSpec(str):
+    """A method spec parsed and validated once: the canonical spec string, carrying the
+    :class:`Method` it names (``.method``) and its full options, defaults filled in
+    (``.options``, read-only).
+
+    Make one with :meth:`parse` where a spec enters (the command line, a sweep config, a
+    stored table) and pass it down: nothing below parses it again. It *is* its canonical
+    string (the options that differ from the defaults, sorted: ``"catmull"`` and
+    ``"catmull:specular=none"`` are both ``"catmull"``), so records, tables and stores
+    keep plain strings; :meth:`label` is the one rule for the label shown to a reader.
+    """
+
+    method: Method
+    options: Mapping[str, Any]
+
+    @classmethod
+    def parse(cls, spec: str, **overrides: Any) -> "MethodSpec":
+        """The spec ``spec`` names (a string, or a MethodSpec returned as is), with
+        ``overrides`` set; :class:`MethodError` (one line) for an unknown method, an
+        unknown option or a value the option does not take."""
+        if isinstance(spec, MethodSpec) and not overrides:
+            return spec
+        name, raw = parse_spec(str(spec))
+        _load_builtin_methods()
+        method = METHODS.get(name)
+        if method is None:
+            raise MethodError(f"unknown method {name!r}; available: {', '.join(sorted(METHODS))}")
+        raw = {**raw, **overrides}
+        unknown = sorted(set(raw) - set(method.options))
+        if unknown:
+            allowed = ", ".join(sorted(method.options)) or "none"
+            raise MethodError(f"method {name!r}: unknown option(s) {unknown}; options: {allowed}")
+        options = {key: opt.default for key, opt in method.options.items()}
+        for key, value in raw.items():
+            options[key] = method.options[key].convert(value, f"method {name!r} option {key!r}", MethodError)
+        return cls._made(method, options)
+
+    @classmethod
+    def _made(cls, method: Method, options: Mapping[str, Any]) -> "MethodSpec":
+        made = str.__new__(cls, _spec_text(method, options, shown=_differs))
+        made.method = method
+        made.options = MappingProxyType(dict(options))
+        return made
+
+    @property
+    def name(self) -> str:
+        return self.method.name
+
+    def with_options(self, **changes: Any) -> "MethodSpec":
+        """This spec with ``changes`` set (checked as :meth:`parse` checks them)."""
+        return MethodSpec.parse(self, **{**self.options, **changes}) if changes else self
+
+    def label(self, keep: Iterable[str] = ()) -> str:
+        """What a reader is shown: the method and the options that differ from their
+        defaults, plus those named in ``keep`` (the ones that vary among the rows shown
+        together), sorted; options that only say how a result was obtained
+        (:data:`INCIDENTAL_OPTIONS`) are left out."""
+        keep = set(keep)
+        return _spec_text(self.method, self.options,
+                          shown=lambda m, k, v: k not in INCIDENTAL_OPTIONS and (k in keep or _differs(m, k, v)))
+
+    def __copy__(self) -> "MethodSpec":
+        return self  # a value: nothing in it changes
+
+    def __deepcopy__(self, memo) -> "MethodSpec":
+        return self
+
+    def __reduce__(self):
+        # another process parses the string again (methods are functions, not data)
+        return (_spec_from_text, (str(self),))
+
+
+def _spec_from_text(text: str) -> MethodSpec | str:
+    """A spec unpickled in another process: parsed there, or left a string when that
+    process does not know the method (a worker without a plugin), so that the task that
+    renders it fails with the MethodError, as a result, instead of the transfer."""
+    try:
+        return MethodSpec.parse(text)
+    except MethodError:
+        return text
+
+
+#: Options that only say how a result was obtained, not what was rendered (left out of labels).
+INCIDENTAL_OPTIONS = frozenset({"cache"})
+
+
+def _differs(method: Method, key: str, value: Any) -> bool:
+    return key not in method.options or method.options[key].default != value
+
+
+def _spec_text(method: Method, options: Mapping[str, Any], shown: Callable[[Method, str, Any], bool]) -> str:
+    keys = sorted(k for k, v in options.items() if shown(method, k, v))
+    return method.name + "".join(f"{':' if i == 0 else ','}{k}={options[k]}" for i, k in enumerate(keys))
+
+
 def resolve(spec: str, **overrides: Any) -> tuple[Method, dict[str, Any]]:
-    """The method a spec names and its full, validated options (defaults filled in)."""
-    name, raw = parse_spec(spec)
-    _load_builtin_methods()
-    if name not in METHODS:
-        raise MethodError(f"unknown method {name!r}; available: {', '.join(sorted(METHODS))}")
-    method = METHODS[name]
-    raw = {**raw, **overrides}
-    unknown = sorted(set(raw) - set(method.options))
-    if unknown:
-        allowed = ", ".join(sorted(method.options)) or "none"
-        raise MethodError(f"method {name!r}: unknown option(s) {unknown}; options: {allowed}")
-    options = {key: opt.default for key, opt in method.options.items()}
-    for key, value in raw.items():
-        options[key] = method.options[key].convert(value, f"method {name!r} option {key!r}")
-    return method, options
+    """The method a spec names and its full, validated options (defaults filled in):
+    :meth:`MethodSpec.parse`, unpacked."""
+    parsed = MethodSpec.parse(spec, **overrides)
+    return parsed.method, dict(parsed.options)
 
 
 def format_spec(name: str, options: Mapping[str, Any]) -> str:
-    """Canonical spec string: the options that differ from the defaults, sorted.
-
-    Two specs naming the same rendering give the same string (``"catmull"`` and
-    ``"catmull:specular=none"`` both give ``"catmull"``), and labels stay short.
-    """
-    _load_builtin_methods()
-    declared = METHODS[name].options if name in METHODS else {}
-    changed = {k: v for k, v in options.items() if k not in declared or declared[k].default != v}
-    if not changed:
-        return name
-    return name + ":" + ",".join(f"{k}={changed[k]}" for k in sorted(changed))
+    """Canonical spec string of method ``name`` with ``options``: the :class:`MethodSpec`'s."""
+    return MethodSpec.parse(name, **options)
 
 
 def available_memory() -> int:
@@ -387,7 +415,8 @@ def _render_seconds(scene: Scene, method: Method, options: Mapping[str, Any]) ->
     return seconds
 
 
-def check_frames(scene: Scene, frames: int, where: str, specs: tuple[str, ...] = (), held: int = 0) -> None:
+def check_frames(scene: Scene, frames: int, where: str, specs: tuple[str | MethodSpec, ...] = (),
+                 held: int = 0) -> None:
     """Refuse rendering ``frames`` frames of ``scene`` when the pixels over all of them
     exceed the limit generated scenes have (``aaeval.scenes.generate.MAX_PIXEL_FRAMES``):
     a scene file's ``[animation] frames`` is budgeted as a generator's is. With ``specs``
@@ -405,7 +434,8 @@ def check_frames(scene: Scene, frames: int, where: str, specs: tuple[str, ...] =
                          "(render fewer frames)")
     if not specs:
         return
-    seconds = sum(_render_seconds(scene, *resolve(spec)) for spec in specs) * frames
+    parsed = [MethodSpec.parse(spec) for spec in specs]
+    seconds = sum(_render_seconds(scene, spec.method, spec.options) for spec in parsed) * frames
     limit_s = _max_seconds()
     if seconds > limit_s:
         raise SceneError(f"{scene.source}: {where}: {frames} frames x {len(specs)} method(s) would take about "
@@ -451,13 +481,15 @@ def check_budget(scene: Scene, method: Method, options: Mapping[str, Any]) -> No
                           f"over the limit of {limit_s:.3g} s (AAEVAL_MAX_SECONDS raises it)")
 
 
-def render(scene: Scene, spec: str, *, frame: int | None = None) -> np.ndarray:
-    """Render ``scene`` (at ``frame`` if given) with the method ``spec`` names."""
-    method, options = resolve(spec)
+def render(scene: Scene, spec: str | MethodSpec, *, frame: int | None = None) -> np.ndarray:
+    """Render ``scene`` (at ``frame`` if given) with the method ``spec`` names (a
+    :class:`MethodSpec`, or a string parsed here)."""
+    spec = MethodSpec.parse(spec)
+    method, options = spec.method, spec.options
     if frame is not None:
         scene = scene.at_frame(frame)
     check_budget(scene, method, options)
-    image = method.render(scene, **options)
+    image = method.render(scene, **dict(options))
     expected = scene.shape
     if image.shape != expected:
         raise RuntimeError(f"method {method.name!r} returned shape {image.shape}, expected {expected}")
@@ -467,10 +499,11 @@ def render(scene: Scene, spec: str, *, frame: int | None = None) -> np.ndarray:
 _warmed: set[str] = set()
 
 
-def render_timed(scene: Scene, spec: str, *, frame: int | None = None) -> tuple[np.ndarray, float]:
+def render_timed(scene: Scene, spec: str | MethodSpec, *, frame: int | None = None) -> tuple[np.ndarray, float]:
     """Render and return ``(image, seconds)``; JIT compilation and the budget check are
     done before the clock starts."""
-    method, options = resolve(spec)
+    spec = MethodSpec.parse(spec)
+    method, options = spec.method, spec.options
     if frame is not None:
         scene = scene.at_frame(frame)
     check_budget(scene, method, options)  # before the warm-up: a refusal costs nothing
@@ -479,7 +512,7 @@ def render_timed(scene: Scene, spec: str, *, frame: int | None = None) -> tuple[
             method.warmup()
         _warmed.add(method.name)
     start = time.perf_counter()
-    image = method.render(scene, **options)
+    image = method.render(scene, **dict(options))
     seconds = time.perf_counter() - start
     if image.shape != scene.shape:
         raise RuntimeError(f"method {method.name!r} returned shape {image.shape}, expected {scene.shape}")

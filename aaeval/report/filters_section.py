@@ -17,12 +17,11 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from aaeval.experiments.table import short_label
 from aaeval.metrics import METRICS
 from aaeval.report.figures import UNIT, save_figure
 from aaeval.report.findings import per_spec
 from aaeval.report.style import Styles
-from aaeval.report.tables import write_table
+from aaeval.report.html_tables import write_table
 
 __all__ = ["filters_section", "GROUP_PREFIX", "FILTER_ORDER"]
 
@@ -37,10 +36,9 @@ def _filter_of(options_json: str) -> str:
 
 
 def _without_filter(spec: str) -> str:
-    from aaeval.renderers import format_spec, resolve
+    from aaeval.renderers import MethodSpec
 
-    method, options = resolve(spec)
-    return short_label(format_spec(method.name, {**options, "filter": "box"}))
+    return MethodSpec.parse(spec).with_options(filter="box").label()
 
 
 def _table(results: pd.DataFrame, temporal: pd.DataFrame, group: str) -> pd.DataFrame:

@@ -22,7 +22,7 @@ import numpy as np
 import pandas as pd
 
 from aaeval.experiments.store import SweepStore
-from aaeval.experiments.table import load_results, short_label
+from aaeval.experiments.table import rebuild_results, short_label
 from aaeval.imageio import atomic_write
 from aaeval.report import figures
 from aaeval.report.names import figure_stem
@@ -31,7 +31,7 @@ from aaeval.report.specular_section import specular_section
 from aaeval.metrics import METRICS
 from aaeval.report.findings import findings_section
 from aaeval.report.style import Styles
-from aaeval.report.tables import write_table
+from aaeval.report.html_tables import write_table
 from aaeval.report.viewer import (GROUP_BUDGET, VIEWER_CSS, interesting_row, scene_series, viewer_div,
                                   viewer_payload, viewer_script, write_viewer_data)
 
@@ -151,7 +151,8 @@ def spec_summary(rows: pd.DataFrame, metrics: list[str], primary: str, failed: p
     return pd.DataFrame(out)
 
 
-def _figure(path: Path, root: Path, caption: str) -> str:
+def figure_html(path: Path, root: Path, caption: str) -> str:
+    """A figure of the page: the PNG, its caption, and links to its SVG and PDF twins."""
     rel = path.relative_to(root).as_posix()
     twins = " · ".join(f"<a href='{html.escape(Path(rel).with_suffix('.' + f).as_posix())}'>{f.upper()}</a>"
                        for f in figures.FORMATS if f != "png")
@@ -199,7 +200,7 @@ def _accuracy_block(page: _Page, group: str, slug: str, summary: pd.DataFrame, r
         return ""
     p = figures.accuracy_dots(data, page.figdir / f"{slug}_accuracy", metric=primary,
                               title=f"{group}: accuracy", styles=page.styles, noise=noise)
-    return _figure(p, page.root, f"Mean {primary} per method and option (bar: best to worst cell), "
+    return figure_html(p, page.root, f"Mean {primary} per method and option (bar: best to worst cell), "
                    f"{figures.UNIT}. {ref} The grey band is the ground truth's measured noise. Times of these cells "
                    "are not charted (cells may share the machine): see <a href='#speed'>Speed</a>.")
 
@@ -215,18 +216,18 @@ def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp
     if page.primary in animated:
         p = figures.error_per_frame(animated, page.figdir / f"{slug}_error_per_frame", metric=page.primary,
                                     title=f"{group}: {page.primary} per frame", styles=page.styles)
-        out.append(_figure(p, page.root, f"{page.primary} of every frame, one curve per method and option; the "
+        out.append(figure_html(p, page.root, f"{page.primary} of every frame, one curve per method and option; the "
                    f"thick grey curve is the ground truth's own noise in that frame; {figures.UNIT}. {ref}"))
     p = figures.intensity_sums(animated, page.figdir / f"{slug}_intensity_sum",
                                title=f"{group}: intensity sum per frame", styles=page.styles)
-    out.append(_figure(p, page.root, "Intensity sum of every frame divided by the ground truth's sum of the same "
+    out.append(figure_html(p, page.root, "Intensity sum of every frame divided by the ground truth's sum of the same "
                "frame (linear axis; 1 is right); the thick grey curve is the ground truth's own sum relative to "
                f"its frame 0. Area sampling keeps the sum while the scene moves inside the frame. {ref}"))
     names = [m for m in page.group_temporal.get(group, []) if m in temp and temp[m].notna().any()]
     if not temp.empty and names:
         p = figures.temporal_bars(temp, page.figdir / f"{slug}_temporal", group=group, metrics=names,
                                   title=f"{group}: over the animations", styles=page.styles)
-        out.append(_figure(p, page.root, "Each temporal measure per method and option, one panel each (mean over "
+        out.append(figure_html(p, page.root, "Each temporal measure per method and option, one panel each (mean over "
                    "the animated scenes, linear axes; registered in aaeval/metrics, values from temporal.parquet): "
                    + "; ".join(f"<b>{html.escape(METRICS[m].title)}</b>: {html.escape(METRICS[m].summary)}"
                                for m in names)
@@ -237,7 +238,7 @@ def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp
         row = interesting_row(reference)
         p = figures.space_time(reference, [(r["label"].iloc[0], imgs) for r, imgs in series[:15]],
                                page.figdir / f"{slug}_space_time", row=row, title=f"{group}: {scene}")
-        out.append(_figure(p, page.root, f"Space-time slices of {html.escape(scene)}: row {row} (the row that "
+        out.append(figure_html(p, page.root, f"Space-time slices of {html.escape(scene)}: row {row} (the row that "
                    "changes most) of every frame stacked downwards, per method. Crawling edges show as "
                    "staircases, flicker as horizontal streaks; the viewer below shows any row (its space-time "
                    f"checkbox). The first panel is the ground truth. {ref}"))
@@ -245,10 +246,11 @@ def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp
 
 
 def _filter_of_spec(spec: str) -> str:
-    from aaeval.renderers import MethodError, resolve
+    """The pixel filter of a stored reference spec (box when its method is unknown here)."""
+    from aaeval.renderers import MethodError, MethodSpec
 
     try:
-        return str(resolve(spec)[1].get("filter", "box"))
+        return str(MethodSpec.parse(spec).options.get("filter", "box"))
     except MethodError:
         return "box"
 
@@ -317,7 +319,7 @@ def _policy_section(page: _Page, results: pd.DataFrame) -> str:
                                   "ratio_max": "RMSE / noise (worst frame)"})
     p = figures.validation(check, page.figdir / "ground_truth_validation",
                            title="exact renderers against the Mitsuba ground truth", styles=page.styles)
-    out.append(_figure(p, page.root, "Each exact method's RMSE against the Mitsuba ground truth (one point per "
+    out.append(figure_html(p, page.root, "Each exact method's RMSE against the Mitsuba ground truth (one point per "
                        "scene frame) over that ground truth's own measured noise. On the diagonal the exact "
                        "method agrees with the ground truth as well as two Mitsuba renders agree with each other "
                        f"(RMSE between an exact image and a noisy one is the noise RMS); {figures.UNIT}."))
@@ -368,11 +370,7 @@ def _overview(page: _Page, results: pd.DataFrame, failed: pd.Series) -> str:
     """Mean primary error and failed cells per method AND option (rows) and group (columns)."""
     primary = page.primary
     frame = results.assign(failed=failed)
-    varying: dict[str, set] = {}
-    for method, rows in frame.groupby("method"):
-        opts = [json.loads(o) for o in rows["options"].drop_duplicates()]
-        varying[method] = {k for k in set().union(*opts) if len({json.dumps(o.get(k)) for o in opts}) > 1}
-    frame["method and option"] = [short_label(s, varying.get(m, set())) for s, m in zip(frame["spec"], frame["method"])]
+    frame["method and option"] = frame["label"]  # the one label of each spec (experiments.table)
     first = frame.drop_duplicates("spec")
     order = sorted(zip(first["method"], first["options"], first["method and option"]),
                    key=lambda r: page.styles.order(r[0], r[1]))
@@ -413,7 +411,7 @@ def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.Dat
         p = figures.stability(rows, page.figdir / f"{slug}_stability", metric=page.primary,
                               failed=failed.loc[rows.index], title=f"{group}: error and failures as difficulty grows",
                               styles=page.styles, definition=page.definition)
-        out.append(_figure(p, page.root, f"Mean {page.primary} (left; thick grey: the ground truth's noise; {figures.UNIT}) and "
+        out.append(figure_html(p, page.root, f"Mean {page.primary} (left; thick grey: the ground truth's noise; {figures.UNIT}) and "
                    f"fraction of failed cells (right) against difficulty. {html.escape(page.definition)} {ref}"))
     grid = _grid(page, ok, slug, group, ref)
     if grid:
@@ -488,7 +486,7 @@ def _grid(page: _Page, ok: pd.DataFrame, slug: str, group: str, ref: str) -> str
     if reference is None or not images:
         return ""
     p = figures.image_grid(reference, images, page.figdir / f"{slug}_images", title=f"{group}: {scene}, frame {frame}")
-    return _figure(p, page.root, f"{html.escape(scene)}, frame {frame}: each method (a ladder at its largest k or "
+    return figure_html(p, page.root, f"{html.escape(scene)}, frame {frame}: each method (a ladder at its largest k or "
                    "spp; the viewer below has every option) with its image, the same zoomed crop "
                    "(red box, around the largest error) and its signed error, the mean of the R, G, B errors, on "
                    f"one symmetric scale shared by every row (red: too bright, blue: too dark); {figures.UNIT}. {ref}")
@@ -532,7 +530,7 @@ def _speed_section(page: _Page, results: pd.DataFrame, speed: pd.DataFrame) -> s
                 p = figures.speed_accuracy(data, page.figdir / f"speed_accuracy_{index}", metric=page.primary,
                                            title=f"speed against accuracy (speed pass, one worker; error: {group})",
                                            styles=page.styles, noise=noise)
-                out.append(_figure(p, page.root, f"Render time per megapixel in the speed pass (one worker, {threads} "
+                out.append(figure_html(p, page.root, f"Render time per megapixel in the speed pass (one worker, {threads} "
                            f"thread(s); median over {', '.join(map(html.escape, scenes))} of the medians of "
                            f"{rounds} interleaved rounds; bar: fastest to slowest round) against mean {page.primary} "
                            f"in group <a href='#{html.escape(figure_stem(group))}'>{html.escape(group)}</a> "
@@ -600,7 +598,7 @@ def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
 
     store = SweepStore(directory)
     manifest = store.read_manifest()
-    results, temporal = load_results(store)
+    results, temporal = rebuild_results(store)
     temporal = _with_options(temporal, results)
     page = _Page(store, results, manifest)
     metrics = _metric_columns(results, manifest)

@@ -1,4 +1,4 @@
-"""The polygon scene format (``shared/SCENE_FORMAT.md``): parsing and validation.
+"""The polygon scene format (``docs/scene_format.md``): parsing and validation.
 
 A scene file is TOML. Its core keys are ``[image]``, ``[animation]`` and
 ``[[polygons]]``; other top-level tables are extensions, each parsed by a function
@@ -19,6 +19,7 @@ from typing import Any, Callable, Mapping
 import numpy as np
 
 from aaeval._toml import read_toml, refuse_unknown_keys
+from aaeval.options import Registry
 from aaeval.scenes.simplicity import ring_contact
 
 __all__ = [
@@ -29,6 +30,8 @@ __all__ = [
     "load_scene",
     "parse_scene",
     "register_section",
+    "SECTIONS",
+    "Section",
 ]
 
 # Relative tolerance for "planar": distance of a vertex from the best-fit plane,
@@ -133,7 +136,7 @@ class Scene:
             for i, (p, s, n) in enumerate(zip(self.polygons, arrays.start, arrays.length))
         )
         extensions = {
-            name: _SECTIONS[name].translate(value, shift) if _SECTIONS[name].translate else value
+            name: SECTIONS[name].translate(value, shift) if SECTIONS[name].translate else value
             for name, value in self.extensions.items()
         }
         holed = tuple(h.translated(shift) for h in self.holed)
@@ -156,21 +159,26 @@ def _translated(arrays: PolygonArrays, shift: np.ndarray) -> PolygonArrays:
 
 
 @dataclass(frozen=True)
-class _Section:
+class Section:
+    """A registered extension table: ``parse(value, where, document)`` and ``translate(parsed, shift)``."""
+
     parse: Callable[[Any, str, dict], Any]
     translate: Callable[[Any, np.ndarray], Any] | None
 
 
-_SECTIONS: dict[str, _Section] = {}
+#: The extension tables of the scene format, by top-level key (:func:`register_section`).
+SECTIONS: Registry = Registry("scene section")
 _CORE_KEYS = {"image", "animation", "polygons"}
 
 
 def register_section(
     name: str,
-    parse: Callable[[Any, str, dict], Any],
+    parse: Callable[[Any, str, dict], Any] | None = None,
     translate: Callable[[Any, np.ndarray], Any] | None = None,
-) -> None:
-    """Register an extension table of the scene format.
+):
+    """Register an extension table of the scene format: ``register_section(name, parse,
+    translate)`` or ``@register_section(name, translate=...)`` over ``parse``; a name
+    registered twice is refused.
 
     ``parse(value, where, document)`` validates the raw TOML value (raising
     :class:`SceneError` with ``where`` in the message) and returns what renderers read
@@ -179,7 +187,12 @@ def register_section(
     """
     if name in _CORE_KEYS:
         raise ValueError(f"{name!r} is a core key of the scene format")
-    _SECTIONS[name] = _Section(parse, translate)
+
+    def decorate(func):
+        SECTIONS.add(name, Section(func, translate))
+        return func
+
+    return decorate if parse is None else decorate(parse)
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -198,9 +211,9 @@ def parse_scene(document: Mapping[str, Any], *, source: str = "<scene>") -> Scen
     """Validate a scene given as a dictionary (the parsed TOML)."""
     if not isinstance(document, Mapping):
         raise SceneError(f"{source}: a scene is a table of keys, got {type(document).__name__}")
-    unknown = sorted(set(document) - _CORE_KEYS - set(_SECTIONS))
+    unknown = sorted(set(document) - _CORE_KEYS - set(SECTIONS))
     if unknown:
-        known = ", ".join(sorted(_CORE_KEYS | set(_SECTIONS)))
+        known = ", ".join(sorted(_CORE_KEYS | set(SECTIONS)))
         raise SceneError(f"{source}: unknown top-level key(s) {unknown}; known keys: {known}")
 
     image = _table(document, "image", source, required=True)
@@ -225,9 +238,9 @@ def parse_scene(document: Mapping[str, Any], *, source: str = "<scene>") -> Scen
     _check_animation_range(polygons, frames, translate, f"{source}: [animation]")
 
     extensions = {
-        name: _SECTIONS[name].parse(document[name], f"{source}: [{name}]", dict(document))
+        name: SECTIONS[name].parse(document[name], f"{source}: [{name}]", dict(document))
         for name in document
-        if name in _SECTIONS
+        if name in SECTIONS
     }
     return Scene(
         width=width,

@@ -1,4 +1,4 @@
-"""Every generated scene: the builders, the one registry of generators, and a writer.
+"""Every generated scene: the builders and the one registry of generators.
 
 - Builders (:func:`fan`, :func:`slivers`, :func:`picket_fence`, :func:`random_triangles`,
   :func:`random_polygons`) build a scene as the dictionary a TOML file would parse to and
@@ -12,8 +12,8 @@
   built (:data:`MAX_POLYGONS`, :data:`MAX_PIXEL_FRAMES`), before building anything, and
   refuses bad input with a one-line :class:`GeneratorError` naming the generator, the
   parameter and the rule.
-- :func:`write_scene` writes a scene back as TOML in the core keys only; reading the file
-  again gives the same numbers bit for bit (floats are written with ``repr``).
+- :func:`~aaeval.scenes.write.write_scene` (beside the reader, in :mod:`aaeval.scenes.write`)
+  writes a scene back as TOML; it is re-exported here.
 """
 
 from __future__ import annotations
@@ -21,19 +21,18 @@ from __future__ import annotations
 import colorsys
 import math
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any, Callable, Mapping
 
 import numpy as np
 
-from aaeval.imageio import atomic_write
+from aaeval.options import Option, Registry
 from aaeval.scenes.format import Scene, SceneError, parse_scene
+from aaeval.scenes.write import scene_to_dict, write_scene
 
 __all__ = [
     "GENERATORS",
     "Generator",
     "GeneratorError",
-    "Param",
     "MAX_POLYGONS",
     "MAX_PIXEL_FRAMES",
     "register_generator",
@@ -227,88 +226,6 @@ def picket_fence(
     )
 
 
-# --- writing ------------------------------------------------------------------------
-
-
-def scene_to_dict(scene: Scene) -> dict[str, Any]:
-    """The core-key dictionary of a scene at frame 0 (what its TOML file parses to).
-
-    A scene at a later frame is first moved back to frame 0, which may change the last
-    bit of its coordinates (``x + k t - k t``); a scene at frame 0 is written exactly.
-
-    Raises
-    ------
-    ValueError
-        The scene carries extension tables, which the core format cannot hold.
-    """
-    if scene.extensions:
-        raise ValueError(
-            f"{scene.source}: scene has extension tables {sorted(scene.extensions)}; "
-            "only the core keys can be written"
-        )
-    scene = scene.at_frame(0)
-    document: dict[str, Any] = {
-        "image": {
-            "width": scene.width,
-            "height": scene.height,
-            "background": scene.background.tolist(),
-        }
-    }
-    if scene.frames != 1 or scene.translate.any():
-        document["animation"] = {"frames": scene.frames, "translate": scene.translate.tolist()}
-    document["polygons"] = [
-        {"color": p.color.tolist(), "vertices": p.vertices.tolist()} for p in scene.polygons
-    ]
-    return document
-
-
-def write_scene(scene: Scene | Mapping[str, Any], path: str | Path, *, comment: str | None = None) -> Path:
-    """Write a scene (or a scene dictionary) as TOML in the core keys, atomically.
-
-    A dictionary is validated with :func:`parse_scene` first, so nothing invalid is
-    written. ``comment`` becomes a ``#`` header. Returns the path.
-    """
-    path = Path(path)
-    if not isinstance(scene, Scene):
-        scene = parse_scene(scene, source=str(path))
-    text = _header(comment) + _toml(scene_to_dict(scene))
-    atomic_write(path, lambda tmp: Path(tmp).write_text(text))
-    return path
-
-
-def _header(comment: str | None) -> str:
-    if not comment:
-        return ""
-    return "".join(f"# {line}".rstrip() + "\n" for line in comment.strip("\n").splitlines()) + "\n"
-
-
-def _toml(document: Mapping[str, Any]) -> str:
-    lines = ["[image]"]
-    lines += [f"{k} = {_value(v)}" for k, v in document["image"].items()]
-    if "animation" in document:
-        lines += ["", "[animation]"]
-        lines += [f"{k} = {_value(v)}" for k, v in document["animation"].items()]
-    for p in document["polygons"]:
-        lines += ["", "[[polygons]]", f"color = {_value(p['color'])}", "vertices = ["]
-        lines += [f"  {_value(v)}," for v in p["vertices"]]
-        lines.append("]")
-    return "\n".join(lines) + "\n"
-
-
-def _value(v: Any) -> str:
-    if isinstance(v, bool):
-        raise SceneError(f"booleans have no place in the core scene format, got {v!r}")
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, float):
-        if not math.isfinite(v):
-            raise SceneError(f"non-finite number {v!r} cannot be written")
-        return repr(v)  # shortest string that reads back as the same float; valid TOML
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_value(x) for x in v) + "]"
-    raise TypeError(f"cannot write {type(v).__name__} in a scene file")
-
-
 # --- helpers ------------------------------------------------------------------------
 
 
@@ -347,47 +264,6 @@ class GeneratorError(SceneError):
 
 
 @dataclass(frozen=True)
-class Param:
-    """A generator parameter (or its difficulty): type, default, meaning and range.
-
-    ``low`` / ``high`` bound the value (inclusive; ``low_open=True`` makes the lower bound
-    strict). Every value must be finite; an ``int`` parameter takes integers only.
-    """
-
-    type: type
-    default: Any
-    doc: str
-    low: float | None = None
-    high: float | None = None
-    low_open: bool = False
-
-    def rule(self) -> str:
-        kind = "an integer" if self.type is int else "a finite number"
-        if self.low is not None and self.high is not None:
-            return f"{kind} in {'(' if self.low_open else '['}{self.low:g}, {self.high:g}]"
-        if self.low is not None:
-            return f"{kind} {'>' if self.low_open else '>='} {self.low:g}"
-        if self.high is not None:
-            return f"{kind} <= {self.high:g}"
-        return kind
-
-    def check(self, value: Any, where: str) -> Any:
-        """``value`` converted to the parameter's type, or GeneratorError naming ``where``."""
-        if not self._fits(value):
-            raise GeneratorError(f"{where}: must be {self.rule()}, got {value!r}")
-        return self.type(value)
-
-    def _fits(self, value: Any) -> bool:
-        if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-            return False
-        if not math.isfinite(value) or (self.type is int and not float(value).is_integer()):
-            return False
-        if self.low is not None and not (value > self.low if self.low_open else value >= self.low):
-            return False
-        return self.high is None or value <= self.high
-
-
-@dataclass(frozen=True)
 class Generator:
     """A registered generator: ``make(difficulty, **params) -> scene document``.
 
@@ -400,31 +276,31 @@ class Generator:
     name: str
     make: Callable[..., dict]
     difficulty: str
-    difficulty_param: Param
-    params: Mapping[str, Param]
+    difficulty_param: Option
+    params: Mapping[str, Option]
     size: Callable[[float, Mapping[str, Any]], tuple[int, int]]
 
 
-GENERATORS: dict[str, Generator] = {}
+GENERATORS: Registry = Registry("scene generator", GeneratorError)
 
 
 def register_generator(
     name: str,
+    make: Callable[..., dict] | None = None,
     *,
     difficulty: str,
-    difficulty_param: Param,
-    params: Mapping[str, Param],
+    difficulty_param: Option,
+    params: Mapping[str, Option],
     size: Callable[[float, Mapping[str, Any]], tuple[int, int]],
 ):
-    """Decorator registering ``make(difficulty, **params) -> scene document`` under ``name``."""
+    """Register ``make(difficulty, **params) -> scene document`` under ``name``:
+    ``register_generator(name, make, ...)`` or ``@register_generator(name, ...)``."""
 
     def decorate(func):
-        if name in GENERATORS:
-            raise ValueError(f"generator {name!r} is registered twice")
-        GENERATORS[name] = Generator(name, func, difficulty, difficulty_param, dict(params), size)
+        GENERATORS.add(name, Generator(name, func, difficulty, difficulty_param, dict(params), size))
         return func
 
-    return decorate
+    return decorate if make is None else decorate(make)
 
 
 def generate_scene(name: str, difficulty: float, **params: Any) -> dict:
@@ -435,16 +311,15 @@ def generate_scene(name: str, difficulty: float, **params: Any) -> dict:
     range, or a scene over :data:`MAX_POLYGONS` polygons or :data:`MAX_PIXEL_FRAMES`
     pixels x frames (with the estimate), before building anything.
     """
-    if name not in GENERATORS:
-        raise GeneratorError(f"unknown scene generator {name!r}; available: {', '.join(sorted(GENERATORS))}")
-    gen = GENERATORS[name]
+    gen = GENERATORS.get_entry(name)
     unknown = sorted(set(params) - set(gen.params))
     if unknown:
         raise GeneratorError(f"generator {name!r}: unknown parameter(s) {unknown}; parameters: {sorted(gen.params)}")
-    d = gen.difficulty_param.check(difficulty, f"generator {name!r}: difficulty ({gen.difficulty_param.doc})")
+    d = gen.difficulty_param.convert(difficulty, f"generator {name!r}: difficulty ({gen.difficulty_param.doc})",
+                                    GeneratorError)
     values = {key: p.default for key, p in gen.params.items()}
     for key, value in params.items():
-        values[key] = gen.params[key].check(value, f"generator {name!r}: parameter {key}")
+        values[key] = gen.params[key].convert(value, f"generator {name!r}: parameter {key}", GeneratorError)
     polygons, pixel_frames = gen.size(d, values)
     if polygons > MAX_POLYGONS:
         raise GeneratorError(f"generator {name!r} at difficulty {d:g} would build {polygons} polygons; "
@@ -474,12 +349,12 @@ def _animated(scene: Scene, frames: int, step: float) -> dict:
 
 # Parameters shared by several generators (declared once)
 MAX_SIDE = 16384  # the scene format's largest image side
-_FRAMES = Param(int, 1, "frames of the animation (1 = a still scene)", 1, 100_000)
-_STEP = Param(float, 0.125, "sub-pixel translation per frame (px)", -64.0, 64.0)
+_FRAMES = Option(int, 1, "frames of the animation (1 = a still scene)", minimum=1, maximum=100_000)
+_STEP = Option(float, 0.125, "sub-pixel translation per frame (px)", minimum=-64.0, maximum=64.0)
 
 
-def _size(default: int, doc: str = "image width and height (px)") -> Param:
-    return Param(int, default, doc, 4, MAX_SIDE)
+def _size(default: int, doc: str = "image width and height (px)") -> Option:
+    return Option(int, default, doc, minimum=4, maximum=MAX_SIDE)
 
 
 def _square(size_key: str = "size", polygons: Callable[[float, Mapping[str, Any]], int] = lambda d, p: 0):
@@ -492,7 +367,7 @@ def _square(size_key: str = "size", polygons: Callable[[float, Mapping[str, Any]
 @register_generator(
     "fan",
     difficulty="polygons meeting in one pixel",
-    difficulty_param=Param(float, None, "number of wedges, rounded", 3),
+    difficulty_param=Option(float, None, "number of wedges, rounded", minimum=3),
     params={"size": _size(9), "frames": _FRAMES, "step": _STEP},
     size=_square(polygons=lambda d, p: int(round(d))),
 )
@@ -504,9 +379,9 @@ def _fan(difficulty: float, *, size: int, frames: int, step: float) -> dict:
 @register_generator(
     "sliver",
     difficulty="1 / sliver width (1/px)",
-    difficulty_param=Param(float, None, "1 / width of each bar, 1/px", 0, 1e6, low_open=True),
+    difficulty_param=Option(float, None, "1 / width of each bar, 1/px", minimum=0, maximum=1e6, low_open=True),
     params={"size": _size(16), "frames": _FRAMES, "step": _STEP,
-            "count": Param(int, 4, "number of bars", 1, MAX_POLYGONS)},
+            "count": Option(int, 4, "number of bars", minimum=1, maximum=MAX_POLYGONS)},
     size=_square(polygons=lambda d, p: p["count"]),
 )
 def _sliver(difficulty: float, *, size: int, frames: int, step: float, count: int) -> dict:
@@ -526,11 +401,11 @@ def _sliver(difficulty: float, *, size: int, frames: int, step: float, count: in
 @register_generator(
     "picket",
     difficulty="bars per pixel",
-    difficulty_param=Param(float, None, "bars per pixel, 1 / period", 0, 1e6, low_open=True),
-    params={"bar_width": Param(float, 0.3, "bar width as a fraction of the period", 0, 1, low_open=True),
-            "bars": Param(int, 12, "number of bars", 1, MAX_POLYGONS),
+    difficulty_param=Option(float, None, "bars per pixel, 1 / period", minimum=0, maximum=1e6, low_open=True),
+    params={"bar_width": Option(float, 0.3, "bar width as a fraction of the period", minimum=0, maximum=1, low_open=True),
+            "bars": Option(int, 12, "number of bars", minimum=1, maximum=MAX_POLYGONS),
             "width": _size(24, "image width (px)"), "height": _size(6, "image height (px)"),
-            "frames": Param(int, 8, "frames (the fence moves one period over all of them)", 1, 100_000)},
+            "frames": Option(int, 8, "frames (the fence moves one period over all of them)", minimum=1, maximum=100_000)},
     size=lambda d, p: (p["bars"], p["width"] * p["height"] * p["frames"]),
 )
 def _picket(difficulty: float, *, bar_width: float, bars: int, width: int, height: int, frames: int) -> dict:
@@ -546,9 +421,9 @@ def _picket(difficulty: float, *, bar_width: float, bars: int, width: int, heigh
 @register_generator(
     "random",
     difficulty="number of random triangles",
-    difficulty_param=Param(float, None, "number of triangles, rounded", 1),
+    difficulty_param=Option(float, None, "number of triangles, rounded", minimum=1),
     params={"size": _size(128), "frames": _FRAMES, "step": _STEP,
-            "seed": Param(int, 0, "seed of the random scene", 0, 2**63 - 1)},
+            "seed": Option(int, 0, "seed of the random scene", minimum=0, maximum=2**63 - 1)},
     size=_square(polygons=lambda d, p: int(round(d))),
 )
 def _random(difficulty: float, *, size: int, frames: int, step: float, seed: int) -> dict:
@@ -560,8 +435,8 @@ def _random(difficulty: float, *, size: int, frames: int, step: float, seed: int
 @register_generator(
     "edges",
     difficulty="edge slope (rise per pixel run)",
-    difficulty_param=Param(float, None, "slope of the near-horizontal edges", 0, 0.3),
-    params={"size": _size(24), "frames": Param(int, 8, _FRAMES.doc, 1, 100_000), "step": _STEP},
+    difficulty_param=Option(float, None, "slope of the near-horizontal edges", minimum=0, maximum=0.3),
+    params={"size": _size(24), "frames": Option(int, 8, _FRAMES.doc, minimum=1, maximum=100_000), "step": _STEP},
     size=_square(polygons=lambda d, p: 2),
 )
 def _edges(difficulty: float, *, size: int, frames: int, step: float) -> dict:
@@ -602,7 +477,7 @@ def _shiny_cylinder(size: int, radius: float, n: float, frames: int, step: float
     }
 
 
-_SEGMENTS = Param(int, 48, "facets around the cylinder", 3, MAX_POLYGONS // 4)
+_SEGMENTS = Option(int, 48, "facets around the cylinder", minimum=3, maximum=MAX_POLYGONS // 4)
 
 
 def _cylinder_polygons(d: float, p: Mapping[str, Any]) -> int:
@@ -612,8 +487,8 @@ def _cylinder_polygons(d: float, p: Mapping[str, Any]) -> int:
 @register_generator(
     "shininess",
     difficulty="Phong exponent n",
-    difficulty_param=Param(float, None, "Phong exponent of the cylinder", 1, 1e6),
-    params={"size": _size(32), "radius": Param(float, 9.0, "cylinder radius (px)", 0, 1e6, low_open=True),
+    difficulty_param=Option(float, None, "Phong exponent of the cylinder", minimum=1, maximum=1e6),
+    params={"size": _size(32), "radius": Option(float, 9.0, "cylinder radius (px)", minimum=0, maximum=1e6, low_open=True),
             "frames": _FRAMES, "step": _STEP, "segments": _SEGMENTS},
     size=_square(polygons=_cylinder_polygons),
 )
@@ -625,8 +500,8 @@ def _shininess(difficulty: float, *, size: int, radius: float, frames: int, step
 @register_generator(
     "curvature",
     difficulty="curvature 1 / radius (1/px)",
-    difficulty_param=Param(float, None, "1 / cylinder radius, 1/px", 0, 2, low_open=True),
-    params={"size": _size(32), "n": Param(float, 200.0, "Phong exponent of the cylinder", 1, 1e6),
+    difficulty_param=Option(float, None, "1 / cylinder radius, 1/px", minimum=0, maximum=2, low_open=True),
+    params={"size": _size(32), "n": Option(float, 200.0, "Phong exponent of the cylinder", minimum=1, maximum=1e6),
             "frames": _FRAMES, "step": _STEP, "segments": _SEGMENTS},
     size=_square(polygons=_cylinder_polygons),
 )

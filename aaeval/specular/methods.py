@@ -30,6 +30,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from aaeval.options import Option, Registry
 from aaeval.specular.shading import (
     clamp_amanatides,
     clamp_tokuyoshi,
@@ -39,28 +40,12 @@ from aaeval.specular.shading import (
 )
 
 __all__ = [
-    "Parameter",
     "SpecularMethod",
     "PARAMETERS",
     "SPECULAR_METHODS",
     "register_specular",
     "specular_options",
 ]
-
-
-@dataclass(frozen=True)
-class Parameter:
-    """A parameter of the specular methods: type, default (given here once), meaning, range.
-
-    The fields are those of :class:`aaeval.renderers.registry.Option`, which the Catmull
-    method builds from them.
-    """
-
-    type: type
-    default: Any
-    doc: str
-    choices: Any = None
-    minimum: float | None = None
 
 
 @dataclass(frozen=True)
@@ -73,7 +58,7 @@ class SpecularMethod:
     supersample: bool = False
 
 
-SPECULAR_METHODS: dict[str, SpecularMethod] = {}
+SPECULAR_METHODS: Registry = Registry("specular method")
 
 
 def register_specular(
@@ -82,31 +67,27 @@ def register_specular(
     """Register a specular method under ``name``; refuses a name registered twice."""
     if not isinstance(name, str) or not name or any(c in name for c in ",:= "):
         raise ValueError(f"specular method name {name!r} must be a non-empty word (no ',', ':', '=' or spaces)")
-    if name in SPECULAR_METHODS:
-        raise ValueError(f"specular method {name!r} is registered twice")
-    method = SpecularMethod(name, summary, clamp, supersample)
-    SPECULAR_METHODS[name] = method
-    return method
+    return SPECULAR_METHODS.add(name, SpecularMethod(name, summary, clamp, supersample))
 
 
-PARAMETERS: dict[str, Parameter] = {
-    "specular": Parameter(
+PARAMETERS: dict[str, Option] = {
+    "specular": Option(
         str,
         "none",
         "shading of [shaded] objects: a specular method registered in aaeval.specular.methods "
         "(none = plain Phong, one shade per visible piece)",
         choices=SPECULAR_METHODS.keys(),  # a live view: methods registered later are accepted
     ),
-    "power": Parameter(
+    "power": Option(
         float,
         1.0,
         "amanatides/crow: fraction of the power of cos^n kept by the tables; 1 = the "
         "conservative form, 0.999 = the paper's aggressive plate",
         minimum=1e-6,
     ),
-    "k": Parameter(int, 4, "crow: K x K shading samples per supersampled piece", minimum=1),
-    "region": Parameter(str, "flagged", "crow: supersample flagged pieces or all", choices=("flagged", "all")),
-    "energy": Parameter(
+    "k": Option(int, 4, "crow: K x K shading samples per supersampled piece", minimum=1),
+    "region": Option(str, "flagged", "crow: supersample flagged pieces or all", choices=("flagged", "all")),
+    "energy": Option(
         str,
         "amanatides",
         "every clamp: rescale ks by Maximum[n]/Maximum[n'] (Amanatides) or keep it (none)",
@@ -126,11 +107,7 @@ def specular_options(**options: Any) -> dict[str, Any]:
         raise ValueError(f"unknown specular option(s) {unknown}; options: {sorted(PARAMETERS)}")
     full = {name: p.default for name, p in PARAMETERS.items()}
     full.update(options)
-    for name, value in full.items():
-        choices = PARAMETERS[name].choices
-        if choices is not None and value not in choices:
-            raise ValueError(f"specular option {name}={value!r} is not one of {list(choices)}")
-    return full
+    return {name: PARAMETERS[name].convert(value, f"specular option {name}", ValueError) for name, value in full.items()}
 
 
 def _amanatides(corners: np.ndarray, n: np.ndarray, *, power: float, **_: Any) -> np.ndarray:

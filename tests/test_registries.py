@@ -1,0 +1,116 @@
+"""One option type and one registry shape: every registry refuses a name given twice, in
+one line, and unregisters; methods, generators and specular parameters share Option."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from aaeval.filters.registry import FILTERS, register_filter
+from aaeval.metrics import METRICS, IMAGE_METRICS, register_metric
+from aaeval.metrics.masks import MASKS, register_mask
+from aaeval.options import Option, OptionError, Registry
+from aaeval.renderers import METHODS, register_method
+from aaeval.scenes.format import SECTIONS, register_section
+from aaeval.scenes.generate import GENERATORS, GeneratorError, generate_scene, register_generator
+from aaeval.specular.methods import PARAMETERS, SPECULAR_METHODS, register_specular
+
+
+def _toy(*args, **kwargs):
+    return 0.0
+
+
+# (registry, register the toy entry under "toy_entry")
+REGISTRARS = {
+    "methods": (METHODS, lambda: register_method("toy_entry", _toy, summary="toy")),
+    "metrics": (METRICS, lambda: register_metric("toy_entry", _toy, kind="image", title="t", fmt=".3f")),
+    "masks": (MASKS, lambda: register_mask("toy_entry", _toy, "toy")),
+    "filters": (FILTERS, lambda: register_filter("toy_entry", "toy", 0, 0.5, {"type": "box"})),
+    "generators": (GENERATORS, lambda: register_generator("toy_entry", _toy, difficulty="d",
+                                                           difficulty_param=Option(float, None, "d"), params={},
+                                                           size=lambda d, p: (0, 0))),
+    "sections": (SECTIONS, lambda: register_section("toy_entry", _toy)),
+    "specular": (SPECULAR_METHODS, lambda: register_specular("toy_entry", summary="toy")),
+}
+
+
+@pytest.mark.parametrize("kind", REGISTRARS)
+def test_every_registry_refuses_a_duplicate_in_one_line_and_unregisters(kind):
+    registry, register = REGISTRARS[kind]
+    assert isinstance(registry, Registry)
+    before = list(registry)
+    register()
+    try:
+        assert "toy_entry" in registry
+        with pytest.raises(ValueError) as info:
+            register()
+        assert "registered twice" in str(info.value) and "\n" not in str(info.value)
+    finally:
+        registry.unregister("toy_entry")
+    assert list(registry) == before
+    with pytest.raises(ValueError, match="not registered"):
+        registry.unregister("toy_entry")
+
+
+def test_registering_by_call_and_by_decorator_are_the_same():
+    @register_method("toy_decorated", summary="toy")
+    def toy(scene, **options):
+        return np.zeros(scene.shape)
+
+    try:
+        assert METHODS["toy_decorated"].render is toy
+    finally:
+        METHODS.unregister("toy_decorated")
+
+    @register_metric("toy_metric", kind="image", title="t", fmt=".3f")
+    def toy_metric(image_true, image_test):
+        return 0.0
+
+    try:
+        assert METRICS["toy_metric"].func is toy_metric and IMAGE_METRICS["toy_metric"] is toy_metric
+    finally:
+        METRICS.unregister("toy_metric")
+    assert "toy_metric" not in IMAGE_METRICS  # the per-kind view follows
+
+
+def test_one_option_type_everywhere():
+    from aaeval.renderers.registry import Option as MethodOption
+
+    assert MethodOption is Option
+    assert all(isinstance(o, Option) for o in PARAMETERS.values())
+    for gen in GENERATORS.values():
+        assert isinstance(gen.difficulty_param, Option)
+        assert all(isinstance(o, Option) for o in gen.params.values())
+    for method in METHODS.values():
+        assert all(isinstance(o, Option) for o in method.options.values())
+
+
+@pytest.mark.parametrize("raw, expected", [("3", 3), (3, 3), (3.0, 3), (np.int64(3), 3)])
+def test_an_int_option_takes_integers_from_a_spec_or_a_file(raw, expected):
+    value = Option(int, 1, "n", minimum=1, maximum=9).convert(raw, "n")
+    assert value == expected and type(value) is int
+
+
+@pytest.mark.parametrize("raw, words", [
+    (True, ["expected int", "True"]), ("2.5", ["expected int"]), (2.5, ["expected int"]),
+    (0, ["an integer in [1, 9]", "got 0"]), (10, ["an integer in [1, 9]"]),
+])
+def test_an_int_option_refuses_in_one_line_with_its_rule(raw, words):
+    with pytest.raises(OptionError) as info:
+        Option(int, 1, "n", minimum=1, maximum=9).convert(raw, "n")
+    for word in words:
+        assert word in str(info.value)
+
+
+def test_an_open_minimum_and_non_finite_floats_are_refused():
+    option = Option(float, 1.0, "x", minimum=0, low_open=True)
+    assert option.rule() == "a finite number > 0"
+    for raw in (0, 0.0, "0", float("nan"), "inf", -1):
+        with pytest.raises(OptionError, match="a finite number > 0"):
+            option.convert(raw, "x")
+    assert option.convert("1e-9", "x") == 1e-9
+
+
+def test_a_generator_refuses_with_its_own_error_type():
+    with pytest.raises(GeneratorError, match=r"parameter frames: must be an integer in \[1, 100000\], got 0"):
+        generate_scene("fan", 12, frames=0)
