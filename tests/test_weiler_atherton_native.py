@@ -151,10 +151,14 @@ def hostile_calls(seed: int, count: int):
             win = tuple(rng.uniform(-2, 12, 4))
             eps, eps_z, road = float(rng.choice([1e-12, 0.0, 0.5])), float(rng.choice([1e-11, 0.0, 1.0])), rng.random() < 0.5
             bad_order = rng.integers(-1, npoly + 1, 3).astype(np.int64) if rng.random() < 0.1 else None
+            rule = rng.random() < 0.3
 
-            def solve(v=v, st=st, ln=ln, pl=pl, win=win, eps=eps, eps_z=eps_z, road=road, bad_order=bad_order):
+            def solve(v=v, st=st, ln=ln, pl=pl, win=win, eps=eps, eps_z=eps_z, road=road, bad_order=bad_order,
+                      rule=rule):
                 ox, oy, ost, obb, _, _, _ = wa.originals(v, st, ln, pl)
                 order = np.flatnonzero(np.diff(ost) > 0).astype(np.int64) if bad_order is None else bad_order
+                if rule:
+                    return wa.solve_by_rule(ox, oy, ost, obb, pl, order, win, eps, eps_z)
                 return wa.solve_window(ox, oy, ost, obb, pl, order, win, eps, eps_z, bool(road))
 
             yield solve
@@ -185,3 +189,17 @@ def test_hostile_inputs_are_answered_or_refused_with_a_value_error():
             assert "\n" not in str(error)
             refused_count += 1
     assert answered > 500 and refused_count > 500
+
+
+def test_solve_by_rule_refuses_bad_sources_and_answers_a_pair():
+    xs = np.array([0.0, 4, 4, 0, 1, 5, 5, 1])
+    ys = np.array([0.0, 0, 4, 4, 1, 1, 5, 5])
+    starts = np.array([0, 4, 8])
+    boxes = np.array([[0.0, 0, 4, 4], [1.0, 1, 5, 5]])
+    planes = np.array([[0.0, 0, 1], [0.0, 0, 2]])
+    win = (0.0, 0.0, 6.0, 6.0)
+    refused(lambda: wa.solve_by_rule(xs, ys, starts, boxes, planes, np.array([0, 2]), win, 1e-13, 1e-11), "index below")
+    refused(lambda: wa.solve_by_rule(xs, ys, starts, boxes[:1].copy(), planes, np.array([0]), win, 1e-13, 1e-11), "entries")
+    regions = wa.solve_by_rule(xs, ys, starts, boxes, planes, np.array([0, 1]), win, 1e-13, 1e-11)
+    areas = {s: wa.ring_area_of(x, y, 0, len(x)) if len(st) == 2 else None for s, x, y, _, st in regions}
+    assert areas == {1: 7.0, 0: 16.0}  # the nearer square whole, the farther one less their overlap

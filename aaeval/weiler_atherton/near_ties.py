@@ -27,8 +27,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from aaeval._weiler_atherton import EDGE_CUT, EDGE_OWN, clip_arrays, components, half_plane, later_neighbours
-from aaeval.weiler_atherton.clipper import Shape, from_arrays, polygons, shape_area
+from aaeval._weiler_atherton import components, later_neighbours
+from aaeval._weiler_atherton import solve_by_rule as _solve_by_rule
+from aaeval.weiler_atherton.clipper import Shape, from_arrays, polygons
 
 __all__ = ["NEAR_COPLANAR", "tie_groups", "solve_by_rule"]
 
@@ -99,63 +100,21 @@ def solve_by_rule(xs, ys, starts, boxes, planes, window, sources, eps, eps_z):
 
     Polygon s's outline is vertices ``starts[s]:starts[s + 1]`` of ``xs, ys`` (positive
     area), its box ``boxes[s]``. Returns [(source, Shape), ...], each shape one main
-    contour and its holes, edges of a polygon's own outline labelled EDGE_OWN. The work
-    stays in the clipper's flat arrays (:func:`clip_arrays`): the region of a stack of
+    contour and its holes, edges of a polygon's own outline labelled EDGE_OWN. The regions
+    are cut in the native code (``src/weiler_atherton/near_ties.cpp``), clip after clip on
+    the clipper's flat arrays: for each polygon, later ones first, its outline inside the
+    window, less every other polygon's part more than ``eps_z`` nearer (a half-plane of its
+    plane against this one's), less what later polygons claimed. The region of a stack of
     120 polygons takes some 30000 clips."""
-    x0, y0, x1, y1 = (float(v) for v in window)
-    frame = (np.array([x0, x1, x1, x0]), np.array([y0, y0, y1, y1]), np.full(4, EDGE_CUT, np.int64),
-             np.array([0, 4], np.int64))
-
-    outlines = {}
-
-    def outline(s):
-        if s not in outlines:
-            a, b = starts[s], starts[s + 1]
-            outlines[s] = (xs[a:b].copy(), ys[a:b].copy(), np.full(b - a, EDGE_OWN, np.int64),
-                           np.array([0, b - a], np.int64))
-        return outlines[s]
-
-    order = [int(j) for j in sources]
-    box_of = {j: tuple(float(v) for v in boxes[j]) for j in order}
-    claimed = []  # (region, its box)
+    f64 = np.float64
+    regions = _solve_by_rule(np.ascontiguousarray(xs, dtype=f64), np.ascontiguousarray(ys, dtype=f64),
+                             np.ascontiguousarray(starts, dtype=np.int64), np.ascontiguousarray(boxes, dtype=f64),
+                             np.ascontiguousarray(planes, dtype=f64), np.ascontiguousarray(sources, dtype=np.int64),
+                             tuple(float(v) for v in window), float(eps), float(eps_z))
     out = []
-    for i in sorted(order, reverse=True):  # later polygons claim first
-        region = clip_arrays(*outline(i), *frame, eps)[:4]
-        box = _bbox(region)  # None once the region is empty
-        for j in order:
-            if j == i or box is None or not _boxes_meet(box_of[j], box):
-                continue
-            a, b, c = planes[j] - planes[i]
-            nearer = half_plane(a, b, c + eps_z, box)  # z_j < z_i - eps
-            if len(nearer[0]) < 3:
-                continue
-            cut = clip_arrays(*outline(j), *nearer, eps)[:4]
-            if len(cut[3]) > 1:
-                region = clip_arrays(*region, *cut, eps)[4:]
-                box = _bbox(region)
-        for taken, taken_box in claimed:
-            if box is not None and _boxes_meet(taken_box, box):
-                region = clip_arrays(*region, *taken, eps)[4:]
-                box = _bbox(region)
-        if box is not None:
-            shape = from_arrays(*region)
-            if shape_area(shape) > 0:
-                claimed.append((region, box))
-                out.extend((i, part) for part in polygons(shape))
+    for source, *region in regions:
+        out.extend((source, part) for part in polygons(from_arrays(*region)))
     return out
-
-
-def _bbox(region) -> tuple[float, float, float, float] | None:
-    """The region's box, None when it has no contour (computed once per region: a stack
-    of 120 asks for it some 35000 times)."""
-    if len(region[3]) < 2:
-        return None
-    xs, ys = region[0], region[1]
-    return float(xs.min()), float(ys.min()), float(xs.max()), float(ys.max())
-
-
-def _boxes_meet(a, b) -> bool:
-    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
 def resolve_flat_arrays(start, length, x, y, planes, source, eps_z):

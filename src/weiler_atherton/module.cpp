@@ -13,6 +13,7 @@
 
 #include "clipper.hpp"
 #include "convex.hpp"
+#include "near_ties.hpp"
 #include "raster.hpp"
 #include "solver.hpp"
 
@@ -247,6 +248,42 @@ nb::tuple solve_window(const In& oxs, const In& oys, const In& osts, const In& o
                           numpy_of(std::move(v.sources)));
 }
 
+nb::list solve_by_rule(const In& oxs, const In& oys, const In& osts, const In& obbs, const In& planes_,
+                       const In& sources_, const std::array<double, 4>& win, double eps, double eps_z) {
+    const double* ox = checked<const double>(oxs, "outline xs", 1);
+    i64 nv = (i64)oxs.shape(0), nst;
+    const double* oy = checked<const double>(oys, "outline ys", 1, {nv});
+    const i64* ost = checked_starts(osts, "outline starts", nv, nst, 0);
+    if (nst == 0) refuse("outline starts must hold one entry more than there are polygons");
+    i64 npoly = nst - 1;
+    const double* obb = checked<const double>(obbs, "boxes", 2, {npoly, 4});
+    const double* planes = checked<const double>(planes_, "planes", 2, {npoly, 3});
+    i64 nsources;
+    const i64* sources = checked_order(sources_, "sources", npoly, nsources);
+    check_finite(ox, nv, "outline xs");
+    check_finite(oy, nv, "outline ys");
+    check_finite(obb, 4 * npoly, "boxes");
+    check_finite(win.data(), 4, "window");
+    check_scalar(eps, "eps");
+    check_scalar(eps_z, "eps_z");
+    for (i64 k = 0; k < nsources; ++k) {
+        i64 s = sources[k];
+        if (ost[s + 1] == ost[s]) refuse("polygon " + std::to_string(s) + " in the sources has an empty outline");
+        check_finite(planes + 3 * s, 3, "planes of the sources");
+    }
+    std::vector<std::pair<i64, wa::Shape>> regions;
+    {
+        nb::gil_scoped_release release;
+        regions = wa::solve_by_rule(ox, oy, ost, obb, planes, sources, nsources, win, eps, eps_z);
+    }
+    nb::list out;
+    for (auto& [source, shape] : regions) {
+        nb::tuple arrays = shape_tuple(std::move(shape));
+        out.append(nb::make_tuple(source, arrays[0], arrays[1], arrays[2], arrays[3]));
+    }
+    return out;
+}
+
 void add_coverage(const In& xs, const In& ys, const In& starts, const In& weights, Out& out) {
     const double* x = checked<const double>(xs, "xs", 1);
     i64 n = (i64)xs.shape(0), nst;
@@ -390,6 +427,10 @@ NB_MODULE(_weiler_atherton, m) {
           "eps_z"_a, "convex_road"_a = true,
           "Visible pieces of the depth-sorted polygons inside the window, flattened: (xs, ys, labels, starts, "
           "piece_rings, sources).");
+    m.def("solve_by_rule", &solve_by_rule, "ox"_a, "oy"_a, "ost"_a, "obb"_a, "planes"_a, "sources"_a, "win"_a,
+          "eps"_a, "eps_z"_a,
+          "The near-tie rule's visible region of each source inside the window, later polygons first: "
+          "[(source, xs, ys, labels, starts), ...] for the regions of positive area.");
     m.def("add_coverage", &add_coverage, "xs"_a, "ys"_a, "starts"_a, "weights"_a, "out"_a,
           "out (h, w, k) += per-pixel sum of weights[ring] * the ring's area over the pixel.");
     m.def("components", &components, "n"_a, "a"_a, "b"_a,
