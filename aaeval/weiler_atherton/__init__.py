@@ -8,7 +8,7 @@ polygon clipper; the output is the visible polygons themselves.
 - :mod:`.lines`: visible edges (hidden-line drawings).
 
 The kernels are C++ (``src/weiler_atherton/``: ``clipper.cpp``, ``solver.cpp`` with the
-convex pieces' short road in ``convex.hpp``, ``raster.cpp``), bound as
+convex pieces' short road in ``convex.hpp``, ``near_ties.cpp``, ``raster.cpp``), bound as
 :mod:`aaeval._weiler_atherton`; the functions above prepare their inputs.
 """
 
