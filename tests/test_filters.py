@@ -2,7 +2,7 @@
 
 - the registry's piece coefficients against Mitsuba's formulas written out in
   ``filter_oracle.py``;
-- the numba stages on tiny hand-made polygons against closed forms;
+- the native stages on tiny hand-made polygons against closed forms;
 - whole images against GEOS visible regions integrated by area quadrature, to 1e-9;
 - the properties across every filter: partition of unity, the intensity sum under
   sub-pixel translation, values outside [0, 1] from negative lobes, unknown names.
@@ -22,7 +22,10 @@ import pytest
 
 from aaeval.filters import FILTERS, axis_weights, get_filter
 from aaeval.filters.exact import filtered_image, rings_from_pieces
-from aaeval.filters.integrate import accumulate_rings, combine_cells, filter_kernel_args, piece_integrals
+from aaeval.catmull.filtered import filter_sums, knot_grid_sums
+from aaeval.filters.evaluate import profile_args, profile_array, profile_at
+from aaeval.filters.integrate import (accumulate_rings, combine_cells, combine_cells_numpy, filter_kernel_args,
+                                     piece_integrals)
 from aaeval.renderers import MethodError, render, resolve
 from aaeval.renderers.catmull import resolve_flat, visible_fragments
 from aaeval.scenes import load_scene, parse_scene
@@ -72,7 +75,7 @@ def test_unknown_filter_lists_the_valid_ones():
         resolve("catmull:filter=lanczos")
 
 
-# --- the numba stages on hand-made polygons ----------------------------------------
+# --- the native stages on hand-made polygons ----------------------------------------
 
 
 def _integrals(name, xy, ox=0.0, oy=0.0):
@@ -169,6 +172,36 @@ def test_combine_cells_places_pieces_on_the_right_pixels():
     expected = np.zeros((3, 4))
     expected[0:2, 1:3] = 0.25
     np.testing.assert_allclose(out, expected, atol=1e-16)
+
+
+@pytest.mark.parametrize("name", SMOOTH)
+def test_native_combine_and_fused_sums_keep_numpys_bits(name):
+    # the native x-then-y contraction (and its fused form, rows of cells contracted inside
+    # the kernel's sink, whole cells of one colour from a per-colour cache) add in numpy's
+    # einsum order: the same bits, on any number of threads, with 3 or 4 channels
+    filt = get_filter(name)
+    for seed, (w, h, n) in enumerate([(23, 17, 12), (40, 40, 40)]):
+        scene = random_scene(seed, w, h, n_tri=n, n_star=3)
+        cells = knot_grid_sums(scene, filt, threads=1)
+        reference = combine_cells_numpy(cells, filt, w, h)
+        assert combine_cells(cells, filt, w, h).tobytes() == reference.tobytes()
+        assert combine_cells(cells, filt, w, h, threads=3).tobytes() == reference.tobytes()
+        for threads in (1, 2, 3):
+            assert filter_sums(scene, filt, threads).tobytes() == reference.tobytes()
+        four = np.concatenate([cells, cells[..., :1] * 0.5], axis=-1)
+        assert combine_cells(four, filt, w, h).tobytes() == combine_cells_numpy(four, filt, w, h).tobytes()
+
+
+def test_profile_evaluation_is_native_and_numba_free():
+    import aaeval.filters.evaluate as evaluate
+
+    assert "numba" not in evaluate.__dict__
+    t = np.linspace(-2.5, 2.5, 1001)
+    for name in FILTERS:
+        args = profile_args(get_filter(name))
+        values = profile_array(*args, t)
+        assert values[500] == profile_at(*args, 0.0)
+        np.testing.assert_allclose(values, get_filter(name).profile(t), rtol=0, atol=0)
 
 
 # --- whole images against the GEOS oracle --------------------------------------------

@@ -6,7 +6,8 @@ scanline stages as ``catmull``: the pixels of that render are exactly the knot c
 the kernel emits lies inside one cell. The kernel's moment sink (``src/catmull/moments.hpp``)
 accumulates each one's integrals against the filter's basis times its colour per cell;
 cells on the image border are cut to the image first (samples lie only inside it).
-:func:`aaeval.filters.integrate.combine_cells` then turns cells into pixels.
+:func:`aaeval.filters.integrate.combine_cells` then turns cells into pixels;
+:func:`filter_sums` does both in one native call (rows of cells contracted as they are done).
 """
 
 from __future__ import annotations
@@ -15,15 +16,14 @@ import numpy as np
 
 from aaeval import _catmull
 from aaeval.catmull import kernel_inputs, native_arrays, thread_count
-from aaeval.filters.integrate import filter_kernel_args
+from aaeval.filters.integrate import cell_basis_matrix, filter_kernel_args
 from aaeval.filters.registry import PixelFilter
 from aaeval.scenes import Scene
 
-__all__ = ["knot_grid_sums"]
+__all__ = ["knot_grid_sums", "filter_sums"]
 
 
-def knot_grid_sums(scene: Scene, filt: PixelFilter, threads: int = 0) -> np.ndarray:
-    """Per-cell integrals ``(H + 1, W + 1, k, k, 3)`` of the visible colour (background included)."""
+def _inputs(scene: Scene, filt: PixelFilter):
     start, length, x, y, planes, source, eps_z = kernel_inputs(scene)
     kind, radius, k, alpha, bias = filter_kernel_args(filt)
     start, length, x, y, planes = native_arrays(start, length, x, y, planes)
@@ -31,7 +31,23 @@ def knot_grid_sums(scene: Scene, filt: PixelFilter, threads: int = 0) -> np.ndar
     shifted = planes.copy()
     shifted[:, 2] -= 0.5 * (planes[:, 0] + planes[:, 1])
     colors = np.vstack([scene.arrays.colors[source], np.asarray(scene.background, dtype=np.float64)])
-    return _catmull.knot_grid_sums(start, length, x + 0.5, y + 0.5, shifted, float(eps_z),
-                                   np.ascontiguousarray(colors, dtype=np.float64).reshape(-1, 3),
-                                   scene.width, scene.height, int(kind), int(radius), int(k), float(alpha),
-                                   float(bias), thread_count(threads))
+    return ((start, length, x + 0.5, y + 0.5, shifted, float(eps_z),
+             np.ascontiguousarray(colors, dtype=np.float64).reshape(-1, 3), scene.width, scene.height),
+            (int(kind), int(radius), int(k), float(alpha), float(bias)))
+
+
+def knot_grid_sums(scene: Scene, filt: PixelFilter, threads: int = 0) -> np.ndarray:
+    """Per-cell integrals ``(H + 1, W + 1, k, k, 3)`` of the visible colour (background included)."""
+    args, fargs = _inputs(scene, filt)
+    return _catmull.knot_grid_sums(*args, *fargs, thread_count(threads))
+
+
+def filter_sums(scene: Scene, filt: PixelFilter, threads: int = 0) -> np.ndarray:
+    """Pixel sums ``(H, W, 3)`` of the visible colour against the filter (before the film's division).
+
+    The same bits as ``combine_cells(knot_grid_sums(scene, filt), filt, W, H)``, without the
+    cells: the kernel's sink contracts each row of cells along x as soon as the row is done.
+    """
+    args, fargs = _inputs(scene, filt)
+    e = np.ascontiguousarray(cell_basis_matrix(filt), dtype=np.float64)
+    return _catmull.filter_sums(*args, *fargs, e, thread_count(threads))

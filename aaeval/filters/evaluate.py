@@ -1,18 +1,18 @@
-"""Point evaluation of a registered filter's profile (numba), for samplers that splat.
+"""Point evaluation of a registered filter's profile, for samplers that splat.
 
-:func:`profile_at` is the one evaluation of ``k(t)``; :meth:`PixelFilter.profile` and the
-sampling baselines both call it. A filter reaches numba as the tuple
-:func:`profile_args` returns.
+The one evaluation of ``k(t)`` is native (``src/samplers``, bound as
+``aaeval._samplers.profile_array``, the samplers' own splat weight): box ``|t| <= 1/2``
+(Mitsuba's box is closed), the Gaussian, or the polynomial piece of ``t`` by Horner in the
+piece's local variable. :meth:`PixelFilter.profile` and the sampling baselines both call
+it; a filter reaches it as the tuple :func:`profile_args` returns.
 """
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
-from numba import njit
 
-from aaeval.filters.registry import KIND_BOX, KIND_GAUSSIAN
+from aaeval._samplers import profile_array as _profile_array
+from aaeval.filters.registry import KIND_GAUSSIAN
 
 __all__ = ["profile_at", "profile_array", "profile_args"]
 
@@ -24,29 +24,12 @@ def profile_args(filt) -> tuple:
     return filt.kind, float(filt.radius), pieces, alpha, bias
 
 
-@njit(cache=True)
-def profile_at(kind, radius, pieces, alpha, bias, t):
-    """``k(t)``: box ``|t| <= 1/2`` (Mitsuba's box is closed), Gaussian, or the polynomial piece of ``t``."""
-    if kind == KIND_BOX:
-        return 1.0 if abs(t) <= 0.5 else 0.0
-    if abs(t) >= radius:
-        return 0.0
-    if kind == KIND_GAUSSIAN:
-        return max(0.0, math.exp(alpha * t * t) - bias)
-    p = int(math.floor(t))
-    r = pieces.shape[0] // 2
-    s = t - (p + 0.5)
-    row = p + r
-    value = 0.0
-    for a in range(pieces.shape[1] - 1, -1, -1):  # Horner in the piece's local variable
-        value = value * s + pieces[row, a]
-    return value
+def profile_array(kind, radius, pieces, alpha, bias, t) -> np.ndarray:
+    """``k(t)`` at every entry of a flat float64 array ``t`` (native)."""
+    return _profile_array(int(kind), float(radius), np.ascontiguousarray(pieces, dtype=np.float64), float(alpha),
+                          float(bias), np.ascontiguousarray(t, dtype=np.float64))
 
 
-@njit(cache=True)
-def profile_array(kind, radius, pieces, alpha, bias, t):
-    """:func:`profile_at` over a flat array."""
-    out = np.empty(t.size)
-    for i in range(t.size):
-        out[i] = profile_at(kind, radius, pieces, alpha, bias, t[i])
-    return out
+def profile_at(kind, radius, pieces, alpha, bias, t) -> float:
+    """``k(t)`` at one point."""
+    return float(profile_array(kind, radius, pieces, alpha, bias, np.array([t], dtype=np.float64))[0])

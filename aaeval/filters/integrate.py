@@ -23,7 +23,7 @@ sqrt(2) long, and the rule's error there is below 1e-14 (measured in
 Stages, each tested on tiny hand-made polygons:
 :func:`piece_integrals` (one polygon inside a cell), :func:`accumulate_rings` (rings of
 any size cut on the knot grid, integrals accumulated per cell and channel),
-:func:`combine_cells` (cells into pixels, numpy).
+:func:`combine_cells` (cells into pixels; :func:`combine_cells_numpy` is the same in numpy).
 """
 
 from __future__ import annotations
@@ -40,6 +40,7 @@ __all__ = [
     "piece_integrals",
     "accumulate_rings",
     "combine_cells",
+    "combine_cells_numpy",
     "cell_basis_matrix",
 ]
 
@@ -101,12 +102,23 @@ def cell_basis_matrix(filt: PixelFilter) -> np.ndarray:
     return np.asarray(filt.pieces, dtype=np.float64)
 
 
-def combine_cells(acc: np.ndarray, filt: PixelFilter, width: int, height: int) -> np.ndarray:
+def combine_cells(acc: np.ndarray, filt: PixelFilter, width: int, height: int, threads: int = 1) -> np.ndarray:
     """Pixel sums ``(H, W, channels)`` from cell accumulators ``(H+1, W+1, k, k, channels)``.
 
     Pixel ``i`` takes piece ``p = m - i - 1`` of the filter from cell ``m``
-    (``p = -R .. R-1``); separable, so x is contracted first, then y.
+    (``p = -R .. R-1``); separable, so x is contracted first, then y:
+    ``t[n, i, b] = sum_p sum_a acc[n, i + 1 + p, a, b] E[p + R, a]``, then
+    ``out[j, i] = sum_q sum_b t[j + 1 + q, i, b] E[q + R, b]``. Native
+    (``src/catmull/moments.hpp``, bands of rows on ``threads`` threads, the same bits for any
+    count); :func:`combine_cells_numpy` is the same sums in numpy, with the same bits.
     """
+    e = np.ascontiguousarray(cell_basis_matrix(filt), dtype=np.float64)
+    return _catmull.combine_cells(np.ascontiguousarray(acc, dtype=np.float64), e, int(filt.knot_radius), int(width),
+                                  int(height), int(threads))
+
+
+def combine_cells_numpy(acc: np.ndarray, filt: PixelFilter, width: int, height: int) -> np.ndarray:
+    """:func:`combine_cells` in numpy (the reference the tests compare the native one with)."""
     e = cell_basis_matrix(filt)
     r = filt.knot_radius
     padded = np.pad(acc, ((r, r), (r, r), (0, 0), (0, 0), (0, 0)))

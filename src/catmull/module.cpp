@@ -226,6 +226,63 @@ nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, I
     return to_numpy(std::move(acc), {size_t(height + 1), size_t(width + 1), size_t(k), size_t(k), 3});
 }
 
+// The pixel sums (H, W, 3) of an exact filter: the kernel's cells contracted along x row by
+// row inside the sink (no (H + 1, W + 1, k, k, 3) array), then along y; the same bits as
+// combine_cells(knot_grid_sums(...)). e: (2R, k), the filter's cell-local coefficients.
+nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In planes, double eps_z, In colors,
+                                           int64_t width, int64_t height, int64_t kind, int64_t radius, int64_t k,
+                                           double alpha, double bias, In e, int64_t threads) {
+    Polygons P = polygons(start, length, x, y, planes);
+    const double* c = colors_of(colors, P.n);
+    check_eps(eps_z);
+    const Filter F = filter_of(kind, radius, k, alpha, bias);
+    if (radius < 1) fail("radius must be at least 1");
+    check_size(width, height, 3 * k * k);
+    check_threads(threads);
+    const double* ev = data_of<const double>(e, "e", {2 * radius, k});
+    check_finite(ev, size_t(2 * radius * k), "e");
+    std::vector<double> tx(size_t((height + 1) * width * k * 3), 0.0);
+    std::vector<double> image(size_t(width * height * 3), 0.0);
+    {
+        nb::gil_scoped_release release;
+        sort_polygons(P);
+        // the scene moved by (1/2, 1/2) at (W + 1) x (H + 1) pixels: the knot cells
+        run_bands(height + 1, threads, [&](int64_t, int64_t r0, int64_t r1) {
+            MomentSink out(nullptr, c, P.n + 1, width, height, F);
+            out.rows_to(tx.data(), ev, radius);
+            scan_rows(P, width + 1, r0, r1, eps_z, false, true, out);
+            out.flush();
+        });
+        run_bands(height, threads, [&](int64_t, int64_t j0, int64_t j1) {
+            contract_y_rows(tx.data(), 0, height, ev, radius, k, 3, width, j0, j1, image.data());
+        });
+    }
+    return to_numpy(std::move(image), {size_t(height), size_t(width), 3});
+}
+
+nb::ndarray<nb::numpy, double> combine_cells_py(In acc, In e, int64_t radius, int64_t width, int64_t height,
+                                                int64_t threads) {
+    if (radius < 1 || radius > 64) fail("radius must be between 1 and 64");
+    check_threads(threads);
+    if (acc.ndim() != 5) fail("acc must have 5 dimensions (H + 1, W + 1, k, k, channels)");
+    const int64_t k = int64_t(acc.shape(2));
+    const int64_t nch = int64_t(acc.shape(4));
+    if (k < 1 || k > 64 || nch < 1 || nch > 64) fail("acc: k and channels must be between 1 and 64");
+    check_size(width, height, k * k * nch);
+    const double* a = data_of<const double>(acc, "acc", {height + 1, width + 1, k, k, nch});
+    const double* ev = data_of<const double>(e, "e", {2 * radius, k});
+    check_finite(ev, size_t(2 * radius * k), "e");
+    std::vector<double> image(size_t(width * height * nch), 0.0);
+    {
+        nb::gil_scoped_release release;
+        run_bands(height, threads, [&](int64_t, int64_t j0, int64_t j1) {
+            std::vector<double> tx;
+            combine_rows(a, ev, radius, k, nch, width, height, j0, j1, image.data(), tx);
+        });
+    }
+    return to_numpy(std::move(image), {size_t(height), size_t(width), size_t(nch)});
+}
+
 void piece_integrals_py(In xs, In ys, int64_t start, int64_t n, double ox, double oy, int64_t kind, int64_t radius,
                         int64_t k, double alpha, double bias, Out out) {
     const double* x = data_of<const double>(xs, "xs", {-1});
@@ -323,6 +380,14 @@ NB_MODULE(_catmull, m) {
           nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"), nb::arg("width"), nb::arg("height"),
           nb::arg("kind"), nb::arg("radius"), nb::arg("k"), nb::arg("alpha"), nb::arg("bias"), nb::arg("threads"),
           "Per-cell integrals (H+1, W+1, k, k, 3) of the visible colour of a scene moved by (1/2, 1/2).");
+    m.def("filter_sums", &filter_sums, nb::arg("start"), nb::arg("length"), nb::arg("x"), nb::arg("y"),
+          nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"), nb::arg("width"), nb::arg("height"),
+          nb::arg("kind"), nb::arg("radius"), nb::arg("k"), nb::arg("alpha"), nb::arg("bias"), nb::arg("e"),
+          nb::arg("threads"),
+          "Pixel sums (H, W, 3) of the visible colour against a filter (e: (2R, k)), of a scene moved by (1/2, 1/2).");
+    m.def("combine_cells", &combine_cells_py, nb::arg("acc"), nb::arg("e"), nb::arg("radius"), nb::arg("width"),
+          nb::arg("height"), nb::arg("threads"),
+          "Pixel sums (H, W, channels) from knot-cell integrals (H+1, W+1, k, k, channels); e: (2R, k).");
     m.def("piece_integrals", &piece_integrals_py, nb::arg("xs"), nb::arg("ys"), nb::arg("start"), nb::arg("n"),
           nb::arg("ox"), nb::arg("oy"), nb::arg("kind"), nb::arg("radius"), nb::arg("k"), nb::arg("alpha"),
           nb::arg("bias"), nb::arg("out"), "Integrals of the basis over one polygon inside a knot cell, into out.");

@@ -38,10 +38,19 @@ inline double gauss_primitive(double t, double alpha, double bias) {
 // Integrals of phi_a(u) psi_b(v) over one polygon xs/ys[start .. start+n) lying in the cell
 // centred at (ox, oy), written to out[a * k + b]; u = x - ox, v = y - oy. Polynomial:
 // phi_a = u^a, psi_b = v^b; Gaussian: phi_a(u) = k(u + a - radius + 1/2), the same in v.
-// phi, psi: scratch of k entries.
-inline void piece_integrals(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
-                            const Filter& F, double* out, double* phi, double* psi) {
-    const int64_t k = F.k;
+// phi, psi: scratch of k entries. KT: k known at compile time (0: F.k), so that the basis
+// loops unroll; every entry's sum runs in the same order either way (the same bits).
+// A Gaussian edge on a cell's side at u = +-1/2 (du = 0) has the same phi at every node:
+// those values are found once per call of the sink (gauss_side), not per node.
+struct GaussSides {
+    bool have = false;
+    double lo[64], hi[64];  // phi_a(-1/2), phi_a(+1/2)
+};
+
+template <int KT>
+inline void piece_integrals_k(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
+                              const Filter& F, double* out, double* phi, double* psi, GaussSides* sides) {
+    const int64_t k = KT ? KT : F.k;
     for (int64_t a = 0; a < k * k; ++a) out[a] = 0.0;
     const bool poly = F.kind == KIND_POLYNOMIAL;
     const double* nodes = poly ? POLY_T : GAUSS_T;
@@ -54,6 +63,18 @@ inline void piece_integrals(const double* xs, const double* ys, int64_t start, i
         const double du = xs[j] - ox - u0;
         const double dv = ys[j] - oy - v0;
         if (dv == 0.0) continue;  // the integral of Phi dv vanishes along a horizontal edge
+        const double* side = nullptr;  // phi on a Gaussian's vertical cell side, found once
+        if (!poly && sides != nullptr && du == 0.0 && (u0 == -0.5 || u0 == 0.5)) {
+            if (!sides->have) {
+                for (int64_t a = 0; a < k; ++a) {
+                    const double c = double(a - F.radius) + 0.5;
+                    sides->lo[a] = gauss_primitive(-0.5 + c, F.alpha, F.bias);
+                    sides->hi[a] = gauss_primitive(0.5 + c, F.alpha, F.bias);
+                }
+                sides->have = true;
+            }
+            side = u0 == -0.5 ? sides->lo : sides->hi;
+        }
         for (int q = 0; q < nq; ++q) {
             const double u = u0 + nodes[q] * du;
             const double v = v0 + nodes[q] * dv;
@@ -69,7 +90,7 @@ inline void piece_integrals(const double* xs, const double* ys, int64_t start, i
             } else {
                 for (int64_t a = 0; a < k; ++a) {
                     const double c = double(a - F.radius) + 0.5;
-                    phi[a] = gauss_primitive(u + c, F.alpha, F.bias);
+                    phi[a] = side ? side[a] : gauss_primitive(u + c, F.alpha, F.bias);
                     psi[a] = std::exp(F.alpha * (v + c) * (v + c)) - F.bias;
                 }
             }
@@ -79,6 +100,13 @@ inline void piece_integrals(const double* xs, const double* ys, int64_t start, i
             }
         }
     }
+}
+
+inline void piece_integrals(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
+                            const Filter& F, double* out, double* phi, double* psi, GaussSides* sides = nullptr) {
+    if (F.k == 2) return piece_integrals_k<2>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
+    if (F.k == 4) return piece_integrals_k<4>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
+    piece_integrals_k<0>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
 }
 
 // Scratch for clip_box: two halves of 16 n + 16 vertices each (a line clip adds at most one
@@ -185,6 +213,121 @@ inline void accumulate_rings(const double* xs, const double* ys, const int64_t* 
     }
 }
 
+// Pixels from knot cells (combine_cells in aaeval/filters/integrate.py): pixel i takes piece
+// p = m - i - 1 (p = -R .. R-1) of the filter from cell m; separable, x contracted first
+// (contract_x_row: a row of cells (W + 1, k, k, nch) into t (W, k, nch)), then y
+// (contract_y_rows: rows of t into pixel rows (W, nch)). e: (2R, k), the cell-local
+// coefficients. The sums run in the order numpy's einsum took them in (each term's basis sum
+// from 0, then the pieces in turn from 0), so the bits are numpy's; cells outside the image
+// add nothing (numpy added zeros, which change no sum).
+// s[b, ch] = sum over a, in order from 0, of cell[a, b, ch] * ep[a] (ep: row pr of e): one
+// cell's term for one pixel. identity (e = I, the Gaussian): 0 + the one term times 1 (the
+// zeros change nothing). The a loop runs outside, so that the inner one runs along memory.
+template <int KT, int CT>
+inline void cell_terms_k(const double* cell, const double* ep, int64_t pr, int64_t k_, int64_t nch_, bool identity,
+                         double* s) {
+    const int64_t k = KT ? KT : k_;
+    const int64_t nch = CT ? CT : nch_;
+    if (identity) {
+        const double* cp = cell + pr * k * nch;
+        for (int64_t j = 0; j < k * nch; ++j) s[j] = 0.0 + cp[j];
+        return;
+    }
+    for (int64_t j = 0; j < k * nch; ++j) s[j] = 0.0;
+    for (int64_t a = 0; a < k; ++a) {
+        const double ea = ep[a];
+        const double* ca = cell + a * k * nch;
+        for (int64_t j = 0; j < k * nch; ++j) s[j] += ca[j] * ea;
+    }
+}
+
+inline bool is_identity(const double* e, int64_t R, int64_t k) {
+    if (2 * R != k) return false;
+    for (int64_t p = 0; p < 2 * R; ++p)
+        for (int64_t a = 0; a < k; ++a)
+            if (e[p * k + a] != (p == a ? 1.0 : 0.0)) return false;
+    return true;
+}
+
+template <int KT, int CT>
+inline void contract_x_row_k(const double* cells, const double* e, int64_t R, int64_t k_, int64_t nch_, int64_t width,
+                             double* t) {
+    const int64_t k = KT ? KT : k_;
+    const int64_t nch = CT ? CT : nch_;
+    const bool identity = is_identity(e, R, k);
+    for (int64_t x = 0; x < width * k * nch; ++x) t[x] = 0.0;
+    for (int64_t i = 0; i < width; ++i) {
+        double* ti = t + i * k * nch;
+        for (int64_t p = -R; p < R; ++p) {
+            const int64_t m = i + 1 + p;
+            if (m < 0 || m > width) continue;
+            const double* cell = cells + m * k * k * nch;
+            const double* ep = e + (p + R) * k;
+            double s[KT && CT ? KT * CT : 64 * 64];
+            cell_terms_k<KT, CT>(cell, ep, p + R, k, nch, identity, s);
+            for (int64_t j = 0; j < k * nch; ++j) ti[j] += s[j];
+        }
+    }
+}
+
+// pixel rows j0 .. j1 from t's rows n0 .. n1 (t: rows of W * k * nch, row n0 first)
+template <int KT, int CT>
+inline void contract_y_rows_k(const double* t, int64_t n0, int64_t n1, const double* e, int64_t R, int64_t k_,
+                              int64_t nch_, int64_t width, int64_t j0, int64_t j1, double* image) {
+    const int64_t k = KT ? KT : k_;
+    const int64_t nch = CT ? CT : nch_;
+    const int64_t rowlen = width * k * nch;
+    for (int64_t j = j0; j < j1; ++j) {
+        double* out = image + j * width * nch;
+        for (int64_t x = 0; x < width * nch; ++x) out[x] = 0.0;
+        for (int64_t q = -R; q < R; ++q) {
+            const int64_t n = j + 1 + q;
+            if (n < n0 || n > n1) continue;
+            const double* tr = t + (n - n0) * rowlen;
+            const double* eq = e + (q + R) * k;
+            for (int64_t i = 0; i < width; ++i) {
+                double s[CT ? CT : 64];
+                for (int64_t ch = 0; ch < nch; ++ch) s[ch] = 0.0;
+                for (int64_t b = 0; b < k; ++b)
+                    for (int64_t ch = 0; ch < nch; ++ch) s[ch] += tr[(i * k + b) * nch + ch] * eq[b];
+                for (int64_t ch = 0; ch < nch; ++ch) out[i * nch + ch] += s[ch];
+            }
+        }
+    }
+}
+
+#define AAEVAL_KC_DISPATCH(fn, k, nch, ...)                                  \
+    do {                                                                     \
+        if ((k) == 2 && (nch) == 3) return fn<2, 3>(__VA_ARGS__);            \
+        if ((k) == 4 && (nch) == 3) return fn<4, 3>(__VA_ARGS__);            \
+        if ((k) == 2 && (nch) == 4) return fn<2, 4>(__VA_ARGS__);            \
+        if ((k) == 4 && (nch) == 4) return fn<4, 4>(__VA_ARGS__);            \
+        return fn<0, 0>(__VA_ARGS__);                                        \
+    } while (0)
+
+inline void contract_x_row(const double* cells, const double* e, int64_t R, int64_t k, int64_t nch, int64_t width,
+                           double* t) {
+    AAEVAL_KC_DISPATCH(contract_x_row_k, k, nch, cells, e, R, k, nch, width, t);
+}
+inline void contract_y_rows(const double* t, int64_t n0, int64_t n1, const double* e, int64_t R, int64_t k,
+                            int64_t nch, int64_t width, int64_t j0, int64_t j1, double* image) {
+    AAEVAL_KC_DISPATCH(contract_y_rows_k, k, nch, t, n0, n1, e, R, k, nch, width, j0, j1, image);
+}
+#undef AAEVAL_KC_DISPATCH
+
+// pixel rows j0 .. j1 of the image (H, W, nch) from the whole acc (H + 1, W + 1, k, k, nch)
+inline void combine_rows(const double* acc, const double* e, int64_t R, int64_t k, int64_t nch, int64_t width,
+                         int64_t height, int64_t j0, int64_t j1, double* image, std::vector<double>& tx) {
+    if (j1 <= j0) return;
+    const int64_t n0 = geometry::pymax(int64_t(0), j0 + 1 - R);
+    const int64_t n1 = geometry::pymin(height, j1 - 1 + R);  // cell rows needed, inclusive
+    const int64_t rowlen = width * k * nch;
+    tx.assign(size_t(geometry::pymax(int64_t(0), n1 - n0 + 1) * rowlen), 0.0);
+    for (int64_t n = n0; n <= n1; ++n)
+        contract_x_row(acc + n * (width + 1) * k * k * nch, e, R, k, nch, width, tx.data() + (n - n0) * rowlen);
+    contract_y_rows(tx.data(), n0, n1, e, R, k, nch, width, j0, j1, image);
+}
+
 // The Catmull kernel's sink for an exact filter. The kernel runs on the scene moved by
 // (1/2, 1/2) at (W + 1) x (H + 1) pixels, which are exactly the knot cells, so every visible
 // piece lies in one cell; its integrals times its colour go to acc[n, m, a, b, channel].
@@ -200,8 +343,24 @@ struct MomentSink {
     int64_t pix = -1;
     BoxBuffers box;
     double sx[4], sy[4];
-    std::vector<double> inner_integrals;
+    std::vector<double> inner_integrals, done;
     bool have_inner = false;
+    GaussSides sides;
+    // row mode (rows_to): the current cell row's integrals in rowacc, contracted along x
+    // (contract_x_row) into tx's row when the next row starts and at flush
+    double* tx = nullptr;
+    const double* e = nullptr;
+    int64_t R = 0, cur_row = -1;
+    std::vector<double> rowacc;
+    // row mode: an interior cell whose one emission is a whole cell of one colour is only
+    // marked (full[col] = its colour's row in colors, else NONE); its terms for the x
+    // contraction are the same for every such cell of that colour (the same inputs, so
+    // the same bits), found once per colour in a small cache (terms: 2R x k x 3 per slot)
+    static constexpr int64_t NONE = -1;
+    static constexpr int64_t SLOTS = 64;
+    std::vector<int64_t> full, slot_key;
+    std::vector<double> slot_terms, cellbuf, fullbuf;
+    bool identity = false;
 
     MomentSink(double* acc_, const double* colors_, int64_t n_colors_, int64_t width_, int64_t height_,
                const Filter& F_)
@@ -210,8 +369,100 @@ struct MomentSink {
 
     const double* color(int64_t s) const { return colors + 3 * (s < 0 ? n_colors + s : s); }
 
+    // write rows of t (W, k, 3) to tx_ (H + 1 of them, zero where no cell of a row is
+    // reached) instead of cells to acc; e_: (2R, k)
+    void rows_to(double* tx_, const double* e_, int64_t R_) {
+        tx = tx_;
+        e = e_;
+        R = R_;
+        rowacc.assign(size_t((width + 1) * F.k * F.k * 3), 0.0);
+        full.assign(size_t(width + 1), NONE);
+        slot_key.assign(size_t(SLOTS), NONE);
+        slot_terms.assign(size_t(SLOTS * 2 * R * F.k * 3), 0.0);
+        cellbuf.assign(size_t(2 * R * F.k * 3), 0.0);
+        fullbuf.assign(size_t(F.k * F.k * 3), 0.0);
+        identity = is_identity(e, R, F.k);
+    }
+    int64_t color_row(int64_t src) const { return src < 0 ? n_colors + src : src; }
+    // cell values a whole interior cell of colour row ci holds: 0 + (1 * inner) * c, as add
+    // writes them into a zero cell
+    void full_cell_values(int64_t ci, double* cell) const {
+        const double* c = colors + 3 * ci;
+        const int64_t kk = F.k * F.k;
+        for (int64_t ab = 0; ab < kk; ++ab) {
+            const double v = 1.0 * inner_integrals[size_t(ab)];
+            for (int ch = 0; ch < 3; ++ch) cell[ab * 3 + ch] = 0.0 + v * c[ch];
+        }
+    }
+    // the x-contraction terms (2R x k x 3) of a whole interior cell of colour row ci
+    template <int KT>
+    const double* full_terms(int64_t ci) {
+        const int64_t k = KT ? KT : F.k;
+        const int64_t slot = ci & (SLOTS - 1);
+        double* terms = slot_terms.data() + slot * 2 * R * k * 3;
+        if (slot_key[size_t(slot)] != ci) {
+            double* cell = fullbuf.data();
+            full_cell_values(ci, cell);
+            for (int64_t pr = 0; pr < 2 * R; ++pr)
+                cell_terms_k<KT, 3>(cell, e + pr * k, pr, k, 3, identity, terms + pr * k * 3);
+            slot_key[size_t(slot)] = ci;
+        }
+        return terms;
+    }
+    // the current row contracted along x into tx's row: contract_x_row's sums in its order,
+    // walked by cell (cell m adds its term for piece p to pixel m - 1 - p; a pixel still
+    // receives its cells' terms in the order of p), each cell's terms found once
+    template <int KT>
+    void contract_row_k() {
+        const int64_t k = KT ? KT : F.k;
+        const int64_t kn = k * 3;
+        double* t = tx + cur_row * width * kn;
+        for (int64_t x = 0; x < width * kn; ++x) t[x] = 0.0;
+        std::vector<double>& own = cellbuf;  // scratch: 2R x k x 3 terms of a partial cell
+        if (own.size() < size_t(2 * R * kn + k * kn)) own.resize(size_t(2 * R * kn + k * kn));
+        int64_t last_ci = NONE;
+        const double* last_terms = nullptr;
+        for (int64_t m = 0; m <= width; ++m) {
+            const double* terms;
+            const int64_t ci = full[size_t(m)];
+            if (ci != NONE) {
+                if (ci != last_ci) {
+                    last_terms = full_terms<KT>(ci);
+                    last_ci = ci;
+                }
+                terms = last_terms;
+            } else {
+                const double* cell = rowacc.data() + m * k * kn;
+                // only the pieces p whose pixel m - 1 - p lies in the image
+                for (int64_t p = -R; p < R; ++p) {
+                    const int64_t i = m - 1 - p;
+                    if (i < 0 || i >= width) continue;
+                    cell_terms_k<KT, 3>(cell, e + (p + R) * k, p + R, k, 3, identity, own.data() + (p + R) * kn);
+                }
+                terms = own.data();
+            }
+            for (int64_t p = R - 1; p >= -R; --p) {  // pixel i = m - 1 - p ascending
+                const int64_t i = m - 1 - p;
+                if (i < 0 || i >= width) continue;
+                double* ti = t + i * kn;
+                const double* sp = terms + (p + R) * kn;
+                for (int64_t j = 0; j < kn; ++j) ti[j] += sp[j];
+            }
+        }
+    }
+    void flush() {
+        if (tx == nullptr || cur_row < 0) return;
+        if (F.k == 2) contract_row_k<2>();
+        else if (F.k == 4) contract_row_k<4>();
+        else contract_row_k<0>();
+        std::fill(rowacc.begin(), rowacc.end(), 0.0);
+        std::fill(full.begin(), full.end(), NONE);
+        cur_row = -1;
+    }
+
     // add scale * out (one piece's integrals) to cell p in src's colour
-    void add(int64_t p, int64_t src, double scale) {
+    template <int KT>
+    void add_k(int64_t p, int64_t src, double scale) {
         if (p != pix) {
             pix = p;
             std::fill(emitted.begin(), emitted.end(), 0.0);
@@ -219,15 +470,34 @@ struct MomentSink {
         const int64_t wc = width + 1;
         const int64_t row = p / wc;
         const int64_t col = p - row * wc;
-        const int64_t k = F.k;
+        const int64_t k = KT ? KT : F.k;
         const double* c = color(src);
-        double* cellacc = acc + (row * wc + col) * k * k * 3;
-        for (int64_t a = 0; a < k; ++a)
-            for (int64_t b = 0; b < k; ++b) {
-                const double v = scale * out[size_t(a * k + b)];
-                emitted[size_t(a * k + b)] += v;
-                for (int ch = 0; ch < 3; ++ch) cellacc[(a * k + b) * 3 + ch] += v * c[ch];
+        double* cellacc;
+        if (tx != nullptr) {
+            if (row != cur_row) {
+                flush();
+                cur_row = row;
             }
+            cellacc = rowacc.data() + col * k * k * 3;
+            if (full[size_t(col)] != NONE) {  // a marked whole cell receives more: write it out
+                full_cell_values(full[size_t(col)], cellacc);
+                full[size_t(col)] = NONE;
+            }
+        } else {
+            cellacc = acc + (row * wc + col) * k * k * 3;
+        }
+        double* em = emitted.data();
+        const double* o = out.data();
+        for (int64_t ab = 0; ab < k * k; ++ab) {
+            const double v = scale * o[ab];
+            em[ab] += v;
+            for (int ch = 0; ch < 3; ++ch) cellacc[ab * 3 + ch] += v * c[ch];
+        }
+    }
+    void add(int64_t p, int64_t src, double scale) {
+        if (F.k == 2) return add_k<2>(p, src, scale);
+        if (F.k == 4) return add_k<4>(p, src, scale);
+        add_k<0>(p, src, scale);
     }
     struct Window {
         int64_t row, col;
@@ -247,7 +517,7 @@ struct MomentSink {
         const double ox = double(w.col) + 0.5;
         const double oy = double(w.row) + 0.5;
         if (w.col > 0 && w.row > 0 && w.col < width && w.row < height) {
-            piece_integrals(xs, ys, start, n, ox, oy, F, out.data(), phi.data(), psi.data());
+            piece_integrals(xs, ys, start, n, ox, oy, F, out.data(), phi.data(), psi.data(), &sides);
             return;
         }
         const Ring r = clip_box(xs, ys, start, n, w.x0, w.x1, w.y0, w.y1, box);
@@ -255,7 +525,7 @@ struct MomentSink {
             std::fill(out.begin(), out.end(), 0.0);
             return;
         }
-        piece_integrals(box.x.data(), box.y.data(), r.start, r.n, ox, oy, F, out.data(), phi.data(), psi.data());
+        piece_integrals(box.x.data(), box.y.data(), r.start, r.n, ox, oy, F, out.data(), phi.data(), psi.data(), &sides);
     }
     // out = the integrals over the whole cell (cut to the image). An interior cell is the
     // unit square around its centre: every input of the quadrature (u0 = -1/2, du = 1, ...)
@@ -271,7 +541,7 @@ struct MomentSink {
         sx[1] = w.x1; sy[1] = w.y0;
         sx[2] = w.x1; sy[2] = w.y1;
         sx[3] = w.x0; sy[3] = w.y1;
-        piece_integrals(sx, sy, 0, 4, double(w.col) + 0.5, double(w.row) + 0.5, F, out.data(), phi.data(), psi.data());
+        piece_integrals(sx, sy, 0, 4, double(w.col) + 0.5, double(w.row) + 0.5, F, out.data(), phi.data(), psi.data(), &sides);
         if (inner) {
             inner_integrals = out;
             have_inner = true;
@@ -279,6 +549,22 @@ struct MomentSink {
     }
 
     void emit_pixel(int64_t p, int64_t src, double, double) {
+        if (tx != nullptr && p != pix) {  // row mode, the cell's first emission
+            const int64_t wc = width + 1;
+            const int64_t row = p / wc;
+            const int64_t col = p - row * wc;
+            if (col > 0 && row > 0 && col < width && row < height) {
+                if (!have_inner) cell_integrals(p);
+                if (row != cur_row) {
+                    flush();
+                    cur_row = row;
+                }
+                pix = p;
+                for (size_t ab = 0; ab < emitted.size(); ++ab) emitted[ab] = 0.0 + 1.0 * inner_integrals[ab];
+                full[size_t(col)] = color_row(src);
+                return;
+            }
+        }
         cell_integrals(p);
         add(p, src, 1.0);
     }
@@ -306,7 +592,7 @@ struct MomentSink {
             pix = p;
             std::fill(emitted.begin(), emitted.end(), 0.0);
         }
-        const std::vector<double> done = emitted;
+        done = emitted;
         cell_integrals(p);
         for (size_t i = 0; i < out.size(); ++i) out[i] -= done[i];
         add(p, src, 1.0);
@@ -314,3 +600,4 @@ struct MomentSink {
 };
 
 }  // namespace aaeval::catmull
+
