@@ -46,6 +46,12 @@ repeats = 2
 """
 
 
+# every command on one worker (pyproject's --dist loadgroup), in the README's order: one
+# workspace, and the README's 'aaeval sweep'/'aaeval report' lines find what the quickstart
+# wrote, as they do for a reader (a second worker would build its own and sweep again)
+pytestmark = pytest.mark.xdist_group("readme")
+
+
 def readme_commands(text: str) -> list[str]:
     """Every command of the ``sh`` code blocks: comments dropped, ``\\`` continuations joined."""
     commands = []

@@ -46,6 +46,11 @@ class _Links(HTMLParser):
             self.figcaptions[-1] += data
 
 
+# one worker builds the small report for this module and test_report_browser.py (pyproject's
+# --dist loadgroup), instead of each worker building its own (about 30 s each)
+pytestmark = pytest.mark.xdist_group("small_report")
+
+
 @pytest.fixture(scope="module")
 def report(tmp_path_factory):
     return small_report(tmp_path_factory)

@@ -20,6 +20,9 @@ import pytest
 from aaeval.report.names import figure_stem
 from report_util import small_report
 
+# on the worker that builds the small report for test_report.py too (pyproject's --dist loadgroup)
+pytestmark = pytest.mark.xdist_group("small_report")
+
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
                  "--disable-component-update", "--no-first-run", "--disable-sync"]
 VIEWPORT = {"width": 1280, "height": 900}
