@@ -40,16 +40,16 @@ inline double gauss_primitive(double t, double alpha, double bias) {
 // phi_a = u^a, psi_b = v^b; Gaussian: phi_a(u) = k(u + a - radius + 1/2), the same in v.
 // phi, psi: scratch of k entries. KT: k known at compile time (0: F.k), so that the basis
 // loops unroll; every entry's sum runs in the same order either way (the same bits).
-// A Gaussian edge on a cell's side at u = +-1/2 (du = 0) has the same phi at every node:
-// those values are found once per call of the sink (gauss_side), not per node.
-struct GaussSides {
+// An edge on a cell's side at u = +-1/2 (du = 0) has the same phi at every node: those
+// values are found once per sink (sides), not per node.
+struct SidePhi {
     bool have = false;
     double lo[64], hi[64];  // phi_a(-1/2), phi_a(+1/2)
 };
 
 template <int KT>
 inline void piece_integrals_k(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
-                              const Filter& F, double* out, double* phi, double* psi, GaussSides* sides) {
+                              const Filter& F, double* out, double* phi, double* psi, SidePhi* sides) {
     const int64_t k = KT ? KT : F.k;
     for (int64_t a = 0; a < k * k; ++a) out[a] = 0.0;
     const bool poly = F.kind == KIND_POLYNOMIAL;
@@ -63,13 +63,21 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
         const double du = xs[j] - ox - u0;
         const double dv = ys[j] - oy - v0;
         if (dv == 0.0) continue;  // the integral of Phi dv vanishes along a horizontal edge
-        const double* side = nullptr;  // phi on a Gaussian's vertical cell side, found once
-        if (!poly && sides != nullptr && du == 0.0 && (u0 == -0.5 || u0 == 0.5)) {
-            if (!sides->have) {
+        const double* side = nullptr;  // phi on a vertical cell side, found once
+        if (sides != nullptr && du == 0.0 && (u0 == -0.5 || u0 == 0.5)) {
+            if (!sides->have) {  // what the node loop computes at u = u0 + t * 0 = u0
+                double ulo = -0.5, uhi = 0.5;
                 for (int64_t a = 0; a < k; ++a) {
-                    const double c = double(a - F.radius) + 0.5;
-                    sides->lo[a] = gauss_primitive(-0.5 + c, F.alpha, F.bias);
-                    sides->hi[a] = gauss_primitive(0.5 + c, F.alpha, F.bias);
+                    if (poly) {
+                        sides->lo[a] = ulo / double(a + 1);
+                        sides->hi[a] = uhi / double(a + 1);
+                        ulo *= -0.5;
+                        uhi *= 0.5;
+                    } else {
+                        const double c = double(a - F.radius) + 0.5;
+                        sides->lo[a] = gauss_primitive(-0.5 + c, F.alpha, F.bias);
+                        sides->hi[a] = gauss_primitive(0.5 + c, F.alpha, F.bias);
+                    }
                 }
                 sides->have = true;
             }
@@ -79,7 +87,14 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
             const double u = u0 + nodes[q] * du;
             const double v = v0 + nodes[q] * dv;
             const double w = weights[q] * dv;
-            if (poly) {
+            if (poly && side) {
+                double vp = 1.0;
+                for (int64_t a = 0; a < k; ++a) {
+                    phi[a] = side[a];
+                    psi[a] = vp;
+                    vp *= v;
+                }
+            } else if (poly) {
                 double up = u, vp = 1.0;
                 for (int64_t a = 0; a < k; ++a) {
                     phi[a] = up / double(a + 1);
@@ -103,7 +118,7 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
 }
 
 inline void piece_integrals(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
-                            const Filter& F, double* out, double* phi, double* psi, GaussSides* sides = nullptr) {
+                            const Filter& F, double* out, double* phi, double* psi, SidePhi* sides = nullptr) {
     if (F.k == 2) return piece_integrals_k<2>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
     if (F.k == 4) return piece_integrals_k<4>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
     piece_integrals_k<0>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
@@ -345,7 +360,7 @@ struct MomentSink {
     double sx[4], sy[4];
     std::vector<double> inner_integrals, done;
     bool have_inner = false;
-    GaussSides sides;
+    SidePhi sides;
     // row mode (rows_to): the current cell row's integrals in rowacc, contracted along x
     // (contract_x_row) into tx's row when the next row starts and at flush
     double* tx = nullptr;
@@ -358,7 +373,7 @@ struct MomentSink {
     // the same bits), found once per colour in a small cache (terms: 2R x k x 3 per slot)
     static constexpr int64_t NONE = -1;
     static constexpr int64_t SLOTS = 64;
-    std::vector<int64_t> full, slot_key;
+    std::vector<int64_t> full, slot_key, touched;  // touched: columns add wrote in this row
     std::vector<double> slot_terms, cellbuf, fullbuf;
     bool identity = false;
 
@@ -455,7 +470,9 @@ struct MomentSink {
         if (F.k == 2) contract_row_k<2>();
         else if (F.k == 4) contract_row_k<4>();
         else contract_row_k<0>();
-        std::fill(rowacc.begin(), rowacc.end(), 0.0);
+        const int64_t kk3 = F.k * F.k * 3;
+        for (int64_t col : touched) std::fill(rowacc.begin() + col * kk3, rowacc.begin() + (col + 1) * kk3, 0.0);
+        touched.clear();
         std::fill(full.begin(), full.end(), NONE);
         cur_row = -1;
     }
@@ -479,6 +496,7 @@ struct MomentSink {
                 cur_row = row;
             }
             cellacc = rowacc.data() + col * k * k * 3;
+            if (touched.empty() || touched.back() != col) touched.push_back(col);  // cells come in order
             if (full[size_t(col)] != NONE) {  // a marked whole cell receives more: write it out
                 full_cell_values(full[size_t(col)], cellacc);
                 full[size_t(col)] = NONE;
