@@ -408,6 +408,69 @@ i64 winding_ids(double px, double py, const IdShape& s, const std::vector<double
     return w;
 }
 
+// winding_ids() for many points about one shape: its edges registered in horizontal bands
+// by their y range, so a point meets only the edges of its band. An edge adds to the
+// winding number only where the point's y lies in its y range (see winds()), and the band
+// of a y is monotone in y, so the edges left out add 0 and the sum is the same integer.
+struct WindingIndex {
+    const IdShape& s;
+    const std::vector<double>& ux;
+    const std::vector<double>& uy;
+    i64 nb = 0;
+    double lo = 0.0, scale = 0.0;
+    std::vector<i64> head, edges;  // edges (vertex index i: the edge from its predecessor) of band b
+
+    WindingIndex(const IdShape& s_, const std::vector<double>& ux_, const std::vector<double>& uy_)
+        : s(s_), ux(ux_), uy(uy_) {
+        i64 n = (i64)s.ids.size();
+        if (n < 64) return;  // few edges: every point tests them all
+        double hi = uy[s.ids[0]];
+        lo = hi;
+        for (i64 v : s.ids) {
+            lo = pmin(lo, uy[v]);
+            hi = pmax(hi, uy[v]);
+        }
+        if (!(hi > lo)) return;
+        nb = std::min<i64>(1024, (i64)std::sqrt((double)n) * 2);
+        scale = (double)nb / (hi - lo);
+        std::vector<i64> count(nb + 1, 0);
+        auto each_edge = [&](auto&& f) {
+            for (size_t r = 0; r + 1 < s.st.size(); ++r) {
+                i64 a = s.st[r], b = s.st[r + 1];
+                for (i64 i = a; i < b; ++i) {
+                    i64 j = i == a ? s.ids[b - 1] : s.ids[i - 1];
+                    double y0 = uy[j], y1 = uy[s.ids[i]];
+                    for (i64 k = band(pmin(y0, y1)); k <= band(pmax(y0, y1)); ++k) f(k, i);
+                }
+            }
+        };
+        each_edge([&](i64 k, i64) { ++count[k + 1]; });
+        for (i64 k = 0; k < nb; ++k) count[k + 1] += count[k];
+        head = count;
+        edges.resize(count[nb]);
+        each_edge([&](i64 k, i64 i) { edges[count[k]++] = i; });
+    }
+    i64 band(double y) const {
+        double f = std::floor((y - lo) * scale);
+        if (!(f > 0)) return 0;
+        if (f >= (double)(nb - 1)) return nb - 1;
+        return (i64)f;
+    }
+    // the contour start a of vertex i (for its predecessor)
+    i64 winding(double px, double py) const {
+        if (nb == 0) return winding_ids(px, py, s, ux, uy);
+        i64 w = 0, k = band(py);
+        for (i64 e = head[k]; e < head[k + 1]; ++e) {
+            i64 i = edges[e];
+            i64 r = (i64)(std::upper_bound(s.st.begin(), s.st.end(), i) - s.st.begin()) - 1;
+            i64 a = s.st[r], b = s.st[r + 1];
+            i64 j = i == a ? s.ids[b - 1] : s.ids[i - 1];
+            w += winds(px, py, ux[j], uy[j], ux[s.ids[i]], uy[s.ids[i]]);
+        }
+        return w;
+    }
+};
+
 // The directed edges of the inside and outside contours: subject edges by where they lie
 // (shared edges by the side the clip shape's interior is on), clip edges inside the
 // subject to both, walked backwards for the outside.
@@ -415,6 +478,7 @@ void classify(const IdShape& s, const IdShape& c, const std::vector<double>& ux,
               Edges& ins, Edges& outs) {
     i64 nu = (i64)ux.size();
     std::vector<i64> s_keys = edge_keys(s, nu), c_keys = edge_keys(c, nu);
+    const WindingIndex s_index(s, ux, uy), c_index(c, ux, uy);
     for (size_t r = 0; r + 1 < s.st.size(); ++r) {
         i64 ra = s.st[r], rb = s.st[r + 1];
         for (i64 v = ra; v < rb; ++v) {
@@ -423,7 +487,7 @@ void classify(const IdShape& s, const IdShape& c, const std::vector<double>& ux,
             bool inside;
             if (contains(c_keys, a * nu + b)) inside = true;  // shared, same side
             else if (contains(c_keys, b * nu + a)) inside = false;  // shared, opposite sides
-            else inside = winding_ids(0.5 * (ux[a] + ux[b]), 0.5 * (uy[a] + uy[b]), c, ux, uy) > 0;
+            else inside = c_index.winding(0.5 * (ux[a] + ux[b]), 0.5 * (uy[a] + uy[b])) > 0;
             (inside ? ins : outs).add(a, b, s.lab[v]);
         }
     }
@@ -432,7 +496,7 @@ void classify(const IdShape& s, const IdShape& c, const std::vector<double>& ux,
         for (i64 v = ra; v < rb; ++v) {
             i64 a = c.ids[v], b = c.ids[next_in_ring(v, ra, rb)];
             if (a == b || contains(s_keys, a * nu + b) || contains(s_keys, b * nu + a)) continue;
-            if (winding_ids(0.5 * (ux[a] + ux[b]), 0.5 * (uy[a] + uy[b]), s, ux, uy) > 0) {
+            if (s_index.winding(0.5 * (ux[a] + ux[b]), 0.5 * (uy[a] + uy[b])) > 0) {
                 ins.add(a, b, c.lab[v]);
                 outs.add(b, a, c.lab[v]);  // walked backwards: it bounds the outside part
             }
