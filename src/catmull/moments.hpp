@@ -230,7 +230,7 @@ inline void accumulate_rings(const double* xs, const double* ys, const int64_t* 
 
 // Pixels from knot cells (combine_cells in aaeval/filters/integrate.py): pixel i takes piece
 // p = m - i - 1 (p = -R .. R-1) of the filter from cell m; separable, x contracted first
-// (contract_x_row: a row of cells (W + 1, k, k, nch) into t (W, k, nch)), then y
+// (contract_x_row: a row of cells (W + 1, k, k, nch) into t (k, W, nch)), then y
 // (contract_y_rows: rows of t into pixel rows (W, nch)). e: (2R, k), the cell-local
 // coefficients. The sums run in the order numpy's einsum took them in (each term's basis sum
 // from 0, then the pieces in turn from 0), so the bits are numpy's; cells outside the image
@@ -271,8 +271,8 @@ inline void contract_x_row_k(const double* cells, const double* e, int64_t R, in
     const int64_t nch = CT ? CT : nch_;
     const bool identity = is_identity(e, R, k);
     for (int64_t x = 0; x < width * k * nch; ++x) t[x] = 0.0;
+    const int64_t plane = width * nch;  // t: (k, W, nch), basis b's plane first
     for (int64_t i = 0; i < width; ++i) {
-        double* ti = t + i * k * nch;
         for (int64_t p = -R; p < R; ++p) {
             const int64_t m = i + 1 + p;
             if (m < 0 || m > width) continue;
@@ -280,33 +280,38 @@ inline void contract_x_row_k(const double* cells, const double* e, int64_t R, in
             const double* ep = e + (p + R) * k;
             double s[KT && CT ? KT * CT : 64 * 64];
             cell_terms_k<KT, CT>(cell, ep, p + R, k, nch, identity, s);
-            for (int64_t j = 0; j < k * nch; ++j) ti[j] += s[j];
+            for (int64_t b = 0; b < k; ++b)
+                for (int64_t ch = 0; ch < nch; ++ch) t[b * plane + i * nch + ch] += s[b * nch + ch];
         }
     }
 }
 
-// pixel rows j0 .. j1 from t's rows n0 .. n1 (t: rows of W * k * nch, row n0 first)
+// pixel rows j0 .. j1 from t's rows n0 .. n1 (t: rows of (k, W, nch), row n0 first)
 template <int KT, int CT>
 inline void contract_y_rows_k(const double* t, int64_t n0, int64_t n1, const double* e, int64_t R, int64_t k_,
                               int64_t nch_, int64_t width, int64_t j0, int64_t j1, double* image) {
     const int64_t k = KT ? KT : k_;
     const int64_t nch = CT ? CT : nch_;
-    const int64_t rowlen = width * k * nch;
+    const int64_t plane = width * nch;
+    const int64_t rowlen = k * plane;
+    std::vector<double> sum(static_cast<size_t>(plane));
+    double* S = sum.data();
     for (int64_t j = j0; j < j1; ++j) {
-        double* out = image + j * width * nch;
-        for (int64_t x = 0; x < width * nch; ++x) out[x] = 0.0;
+        double* out = image + j * plane;
+        for (int64_t x = 0; x < plane; ++x) out[x] = 0.0;
         for (int64_t q = -R; q < R; ++q) {
             const int64_t n = j + 1 + q;
             if (n < n0 || n > n1) continue;
             const double* tr = t + (n - n0) * rowlen;
             const double* eq = e + (q + R) * k;
-            for (int64_t i = 0; i < width; ++i) {
-                double s[CT ? CT : 64];
-                for (int64_t ch = 0; ch < nch; ++ch) s[ch] = 0.0;
-                for (int64_t b = 0; b < k; ++b)
-                    for (int64_t ch = 0; ch < nch; ++ch) s[ch] += tr[(i * k + b) * nch + ch] * eq[b];
-                for (int64_t ch = 0; ch < nch; ++ch) out[i * nch + ch] += s[ch];
+            // every pixel's sum over b in order from 0, then added to the pixel
+            for (int64_t x = 0; x < plane; ++x) S[x] = 0.0;
+            for (int64_t b = 0; b < k; ++b) {
+                const double eb = eq[b];
+                const double* tb = tr + b * plane;
+                for (int64_t x = 0; x < plane; ++x) S[x] += tb[x] * eb;
             }
+            for (int64_t x = 0; x < plane; ++x) out[x] += S[x];
         }
     }
 }
@@ -384,7 +389,7 @@ struct MomentSink {
 
     const double* color(int64_t s) const { return colors + 3 * (s < 0 ? n_colors + s : s); }
 
-    // write rows of t (W, k, 3) to tx_ (H + 1 of them, zero where no cell of a row is
+    // write rows of t (k, W, 3) to tx_ (H + 1 of them, zero where no cell of a row is
     // reached) instead of cells to acc; e_: (2R, k)
     void rows_to(double* tx_, const double* e_, int64_t R_) {
         tx = tx_;
@@ -459,9 +464,11 @@ struct MomentSink {
             for (int64_t p = R - 1; p >= -R; --p) {  // pixel i = m - 1 - p ascending
                 const int64_t i = m - 1 - p;
                 if (i < 0 || i >= width) continue;
-                double* ti = t + i * kn;
                 const double* sp = terms + (p + R) * kn;
-                for (int64_t j = 0; j < kn; ++j) ti[j] += sp[j];
+                for (int64_t b = 0; b < k; ++b) {
+                    double* tb = t + b * width * 3 + i * 3;
+                    for (int ch = 0; ch < 3; ++ch) tb[ch] += sp[b * 3 + ch];
+                }
             }
         }
     }
