@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from aaeval.metrics.temporal import flicker, intensity_sum, sum_variation
+from aaeval.metrics.temporal import flicker, intensity_sum, relative_variation
 from aaeval.renderers import render, render_timed
 from aaeval.scenes import load_scene
 
@@ -57,7 +57,7 @@ def main() -> None:
             ms = 1000 * statistics.median(times[spec])
             size = f"{scene.width}x{scene.height}"
             print(f"{name:<14}{size:>10}{len(scene.polygons):>10}  {spec:<10}{ms:>9.2f}{ms / 1000 / base:>8.2f}"
-                  f"{rmse:>10.4f}{sum_variation([intensity_sum(f) for f in frames]):>10.2e}"
+                  f"{rmse:>10.4f}{relative_variation([intensity_sum(f) for f in frames]):>10.2e}"
                   f"{flicker(exact, frames):>10.2e}", flush=True)
 
 
