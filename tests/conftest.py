@@ -24,12 +24,7 @@ def _skip_fsync(fd: int) -> None:
 
 @pytest.fixture(autouse=True, scope="session")
 def _private_cache(tmp_path_factory):
-    """Ground-truth and reference caches go to a temporary folder, never the user's.
-
-    numba's kernel cache is configured when aaeval is imported and stays where it is.
-    """
-    import aaeval  # noqa: F401  (fix the numba cache folder first)
-
+    """Ground-truth and reference caches go to a temporary folder, never the user's."""
     old = os.environ.get("AAEVAL_CACHE_DIR")
     os.environ["AAEVAL_CACHE_DIR"] = str(tmp_path_factory.mktemp("aaeval-cache"))
     yield

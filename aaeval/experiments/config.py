@@ -234,7 +234,7 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
 def _speed(raw: Any, where: str, base: Path, groups: set[str]) -> SpeedPass:
     """One ``[[speed]]`` table: ``scenes``, ``methods``, ``options`` as in a group; ``repeats``
     (interleaved rounds, default 5), ``threads`` (default 1: given to every method that has a
-    ``threads`` option and to numba) and ``accuracy`` (a group name)."""
+    ``threads`` option) and ``accuracy`` (a group name)."""
     if not isinstance(raw, Mapping):
         raise ConfigError(f"{where}: must be a table")
     _no_unknown(raw, _SPEED_KEYS, where)

@@ -56,7 +56,7 @@ class ProcessExecutor:
     def __init__(self, workers: int):
         self.workers = workers
         self.description = f"{workers} local worker processes"
-        # spawn: numba and Dr.Jit threads do not survive fork
+        # spawn: Dr.Jit's threads do not survive fork
         self._pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"),
                                          initializer=_exit_with_parent, initargs=(os.getpid(),))
 

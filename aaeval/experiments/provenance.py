@@ -2,8 +2,8 @@
 renders cells, read by the report.
 
 Fields: ``machine`` (host name), ``cpu_model``, ``cores`` (logical CPUs), ``platform``,
-``executor`` and ``workers`` (how the cells shared the machine), ``threads`` (numba's
-thread count per worker), ``versions`` (python, aaeval, numpy, numba, mitsuba, drjit,
+``executor`` and ``workers`` (how the cells shared the machine), ``versions`` (python,
+aaeval, numpy, mitsuba, drjit,
 skia-python, scikit-image; None where a package is missing), ``code_version`` and
 ``written_at``. Each record also names its own ``host``, ``executor`` and ``workers``.
 """
@@ -21,7 +21,7 @@ from pathlib import Path
 __all__ = ["provenance", "write_provenance", "read_provenance", "PROVENANCE_FILE"]
 
 PROVENANCE_FILE = "provenance.json"
-_PACKAGES = {"numpy": "numpy", "numba": "numba", "mitsuba": "mitsuba", "drjit": "drjit", "skia": "skia-python",
+_PACKAGES = {"numpy": "numpy", "mitsuba": "mitsuba", "drjit": "drjit", "skia": "skia-python",
              "scikit-image": "scikit-image", "pandas": "pandas", "pyarrow": "pyarrow"}
 
 
@@ -42,15 +42,6 @@ def _version(dist: str) -> str | None:
         return None
 
 
-def _threads() -> int | None:
-    try:
-        import numba
-
-        return int(numba.config.NUMBA_NUM_THREADS)
-    except Exception:  # noqa: BLE001 - provenance never stops a sweep
-        return None
-
-
 def provenance(executor: str, workers: int) -> dict:
     """This machine, the executor, and the library versions, as a JSON-ready dict."""
     import aaeval
@@ -60,7 +51,7 @@ def provenance(executor: str, workers: int) -> dict:
     versions.update({name: _version(dist) for name, dist in _PACKAGES.items()})
     return {"machine": socket.gethostname(), "cpu_model": _cpu_model(), "cores": os.cpu_count(),
             "platform": platform.platform(), "executor": executor, "workers": int(workers),
-            "threads": _threads(), "versions": versions, "code_version": code_version(),
+            "versions": versions, "code_version": code_version(),
             "written_at": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
 
 

@@ -49,27 +49,6 @@ def speed_identity(experiment: Experiment) -> str:
     return hashlib.sha256(json.dumps(config, sort_keys=True).encode()).hexdigest()[:16]
 
 
-def _set_threads(threads: int) -> list:
-    """Limit numba (and Dr.Jit, if loaded) to ``threads``; returns what to restore."""
-    restore = []
-    try:
-        import numba
-
-        restore.append(("numba", numba.get_num_threads()))
-        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-    except ImportError:  # pragma: no cover - numba is a dependency
-        pass
-    return restore
-
-
-def _restore(restore: list) -> None:
-    for what, value in restore:
-        if what == "numba":
-            import numba
-
-            numba.set_num_threads(value)
-
-
 def accuracy_spec(spec: MethodSpec) -> MethodSpec:
     """``spec`` as the accuracy cells name it: the thread count (which changes no pixel) at
     its default, so a timing pairs with the same method's errors."""
@@ -93,28 +72,24 @@ def _time_table(index: int, speed: SpeedPass, log) -> list[dict]:
                 "render_s": seconds, "ms_per_mpix": seconds * 1e3 / (scene.width * scene.height / 1e6),
                 "accuracy_group": speed.accuracy, "error": error}
 
-    restore = _set_threads(speed.threads)
-    try:
-        for src in speed.scenes:
-            scene = src.parsed
-            specs, failed = [], {}
-            for spec in speed.specs:
-                try:
-                    warm_up(scene, spec, 0)
-                    specs.append(spec)
-                except Exception as exc:  # noqa: BLE001 - a method that cannot render this scene is left out
-                    failed[spec] = f"{type(exc).__name__}: {exc}"
-            log(f"speed pass {index}: {src.name} ({scene.width}x{scene.height}), {len(specs)} methods x "
-                f"{speed.repeats} interleaved rounds, {speed.threads} thread(s)")
-            for r in range(speed.repeats):
-                order = specs[r % len(specs):] + specs[:r % len(specs)] if specs else []
-                for spec in order:
-                    _, seconds = render_timed(scene, spec, frame=0)
-                    rows.append(row(src, scene, spec, r, seconds))
-            for spec, error in failed.items():
-                rows.append(row(src, scene, spec, -1, math.nan, error))
-    finally:
-        _restore(restore)
+    for src in speed.scenes:
+        scene = src.parsed
+        specs, failed = [], {}
+        for spec in speed.specs:
+            try:
+                warm_up(scene, spec, 0)
+                specs.append(spec)
+            except Exception as exc:  # noqa: BLE001 - a method that cannot render this scene is left out
+                failed[spec] = f"{type(exc).__name__}: {exc}"
+        log(f"speed pass {index}: {src.name} ({scene.width}x{scene.height}), {len(specs)} methods x "
+            f"{speed.repeats} interleaved rounds, {speed.threads} thread(s)")
+        for r in range(speed.repeats):
+            order = specs[r % len(specs):] + specs[:r % len(specs)] if specs else []
+            for spec in order:
+                _, seconds = render_timed(scene, spec, frame=0)
+                rows.append(row(src, scene, spec, r, seconds))
+        for spec, error in failed.items():
+            rows.append(row(src, scene, spec, -1, math.nan, error))
     return rows
 
 

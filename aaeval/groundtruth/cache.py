@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import importlib
 import json
 import os
 import warnings
@@ -61,10 +62,13 @@ CACHE_ENV = "AAEVAL_CACHE_DIR"
 
 # Source files (relative to the aaeval package) whose code decides a ground-truth image
 # beyond the scene data the digest covers: the conversion to Mitsuba, the Phong
-# integrator, the clipping kernel the conversion uses, and the near-tie rule that
-# resolves nearly coplanar groups before Mitsuba sees them (with the clipper it uses).
-CODE_FILES = ("groundtruth/flat.py", "groundtruth/phong.py", "renderers/_clip.py", "scenes/depth.py",
-              "weiler_atherton/near_ties.py", "weiler_atherton/clipper.py", "weiler_atherton/clip_kernel.py")
+# integrator, and the near-tie rule that resolves nearly coplanar groups before Mitsuba
+# sees them (with the clipper it uses).
+CODE_FILES = ("groundtruth/flat.py", "groundtruth/phong.py", "scenes/depth.py",
+              "weiler_atherton/near_ties.py", "weiler_atherton/clipper.py")
+# The native modules that conversion calls (the window clip, the clipper, the near-tie
+# regions): their compiled bytes join the key, so a rebuild from changed C++ gives new keys.
+NATIVE_MODULES = ("aaeval._catmull", "aaeval._weiler_atherton")
 
 
 class GroundTruth(NamedTuple):
@@ -89,6 +93,9 @@ def code_digest(files: tuple[str, ...] = CODE_FILES, root: Path | None = None) -
     h = hashlib.sha256()
     for rel in files:
         h.update(rel.encode() + b"\0" + (root / rel).read_bytes() + b"\0")
+    if files == CODE_FILES:
+        for name in NATIVE_MODULES:
+            h.update(name.encode() + b"\0" + Path(importlib.import_module(name).__file__).read_bytes() + b"\0")
     return h.hexdigest()[:16]
 
 

@@ -509,7 +509,7 @@ def _speed_section(page: _Page, results: pd.DataFrame, speed: pd.DataFrame) -> s
     threads = ", ".join(sorted({str(int(t)) for t in speed["threads"].dropna()}))
     rounds = int(summary["rounds"].max())
     note = (f"Timed in the speed pass, after the accuracy cells: <b>one worker</b> (the sweep's own process), "
-            f"<b>{threads} thread(s)</b> for every method with a threads option and for numba (Mitsuba keeps its own "
+            f"<b>{threads} thread(s)</b> for every method with a threads option (Mitsuba keeps its own "
             f"thread pool), on a machine with {os.cpu_count()} cores (see provenance); each method warmed up on its "
             f"own spec (untimed), then {rounds} interleaved rounds (the methods take turns, the order rotating, as "
             "benchmarks/bench_methods.py times them); images of 256 x 256 pixels or more. Time per megapixel: "
