@@ -56,6 +56,9 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
     const double* nodes = poly ? POLY_T : GAUSS_T;
     const double* weights = poly ? POLY_W : GAUSS_W;
     const int nq = poly ? 4 : 12;
+    // gauss_primitive's constants, found once per call (the same values, so the same bits)
+    const double gc = poly ? 0.0 : std::sqrt(-F.alpha);
+    const double gk = poly ? 0.0 : 0.8862269254527580 / gc;
     for (int64_t i = 0; i < n; ++i) {
         const int64_t j = start + (i + 1) % n;
         const double u0 = xs[start + i] - ox;
@@ -105,7 +108,12 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
             } else {
                 for (int64_t a = 0; a < k; ++a) {
                     const double c = double(a - F.radius) + 0.5;
-                    phi[a] = side ? side[a] : gauss_primitive(u + c, F.alpha, F.bias);
+                    if (side) {
+                        phi[a] = side[a];
+                    } else {
+                        const double t = u + c;
+                        phi[a] = gk * std::erf(gc * t) - F.bias * t;  // gauss_primitive(t, alpha, bias)
+                    }
                     psi[a] = std::exp(F.alpha * (v + c) * (v + c)) - F.bias;
                 }
             }
