@@ -49,8 +49,14 @@ struct SidePhi {
 
 template <int KT>
 inline void piece_integrals_k(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
-                              const Filter& F, double* out, double* phi, double* psi, SidePhi* sides) {
+                              const Filter& F, double* out_, double* phi_, double* psi_, SidePhi* sides) {
     const int64_t k = KT ? KT : F.k;
+    // with k known, the sums live in local arrays (no aliasing with the vertices: they stay
+    // in registers) and go to out_ at the end
+    double lout[KT ? KT * KT : 1], lphi[KT ? KT : 1], lpsi[KT ? KT : 1];
+    double* out = KT ? lout : out_;
+    double* phi = KT ? lphi : phi_;
+    double* psi = KT ? lpsi : psi_;
     for (int64_t a = 0; a < k * k; ++a) out[a] = 0.0;
     const bool poly = F.kind == KIND_POLYNOMIAL;
     const double* nodes = poly ? POLY_T : GAUSS_T;
@@ -123,6 +129,8 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
             }
         }
     }
+    if (KT)
+        for (int64_t a = 0; a < k * k; ++a) out_[a] = out[a];
 }
 
 inline void piece_integrals(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
@@ -254,6 +262,17 @@ inline void cell_terms_k(const double* cell, const double* ep, int64_t pr, int64
     if (identity) {
         const double* cp = cell + pr * k * nch;
         for (int64_t j = 0; j < k * nch; ++j) s[j] = 0.0 + cp[j];
+        return;
+    }
+    if (KT && CT) {  // in a local array (kept in registers), then written out
+        double l[KT && CT ? KT * CT : 1];
+        for (int64_t j = 0; j < k * nch; ++j) l[j] = 0.0;
+        for (int64_t a = 0; a < k; ++a) {
+            const double ea = ep[a];
+            const double* ca = cell + a * k * nch;
+            for (int64_t j = 0; j < k * nch; ++j) l[j] += ca[j] * ea;
+        }
+        for (int64_t j = 0; j < k * nch; ++j) s[j] = l[j];
         return;
     }
     for (int64_t j = 0; j < k * nch; ++j) s[j] = 0.0;
