@@ -540,10 +540,13 @@ struct MomentSink {
         }
         double* em = emitted.data();
         const double* o = out.data();
+        const double c0 = c[0], c1 = c[1], c2 = c[2];  // held in registers across the stores
         for (int64_t ab = 0; ab < k * k; ++ab) {
             const double v = scale * o[ab];
             em[ab] += v;
-            for (int ch = 0; ch < 3; ++ch) cellacc[ab * 3 + ch] += v * c[ch];
+            cellacc[ab * 3] += v * c0;
+            cellacc[ab * 3 + 1] += v * c1;
+            cellacc[ab * 3 + 2] += v * c2;
         }
     }
     void add(int64_t p, int64_t src, double scale) {
