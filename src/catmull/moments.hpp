@@ -322,9 +322,9 @@ inline void contract_y_rows_k(const double* t, int64_t n0, int64_t n1, const dou
     const int64_t plane = width * nch;
     const int64_t rowlen = k * plane;
     std::vector<double> sum(static_cast<size_t>(plane));
-    double* S = sum.data();
+    double* __restrict__ S = sum.data();  // restrict: the loops below vectorise
     for (int64_t j = j0; j < j1; ++j) {
-        double* out = image + j * plane;
+        double* __restrict__ out = image + j * plane;
         for (int64_t x = 0; x < plane; ++x) out[x] = 0.0;
         for (int64_t q = -R; q < R; ++q) {
             const int64_t n = j + 1 + q;
@@ -335,7 +335,7 @@ inline void contract_y_rows_k(const double* t, int64_t n0, int64_t n1, const dou
             for (int64_t x = 0; x < plane; ++x) S[x] = 0.0;
             for (int64_t b = 0; b < k; ++b) {
                 const double eb = eq[b];
-                const double* tb = tr + b * plane;
+                const double* __restrict__ tb = tr + b * plane;
                 for (int64_t x = 0; x < plane; ++x) S[x] += tb[x] * eb;
             }
             for (int64_t x = 0; x < plane; ++x) out[x] += S[x];
@@ -463,7 +463,7 @@ struct MomentSink {
     void contract_row_k() {
         const int64_t k = KT ? KT : F.k;
         const int64_t kn = k * 3;
-        double* t = tx + cur_row * width * kn;
+        double* __restrict__ t = tx + cur_row * width * kn;  // restrict: apart from the terms
         for (int64_t x = 0; x < width * kn; ++x) t[x] = 0.0;
         std::vector<double>& own = cellbuf;  // scratch: 2R x k x 3 terms of a partial cell
         if (own.size() < size_t(2 * R * kn + k * kn)) own.resize(size_t(2 * R * kn + k * kn));
@@ -491,10 +491,12 @@ struct MomentSink {
             for (int64_t p = R - 1; p >= -R; --p) {  // pixel i = m - 1 - p ascending
                 const int64_t i = m - 1 - p;
                 if (i < 0 || i >= width) continue;
-                const double* sp = terms + (p + R) * kn;
+                const double* __restrict__ sp = terms + (p + R) * kn;
                 for (int64_t b = 0; b < k; ++b) {
-                    double* tb = t + b * width * 3 + i * 3;
-                    for (int ch = 0; ch < 3; ++ch) tb[ch] += sp[b * 3 + ch];
+                    double* __restrict__ tb = t + b * width * 3 + i * 3;
+                    tb[0] += sp[b * 3];
+                    tb[1] += sp[b * 3 + 1];
+                    tb[2] += sp[b * 3 + 2];
                 }
             }
         }
