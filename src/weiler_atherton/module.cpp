@@ -214,34 +214,56 @@ nb::tuple originals(const In& vertices, const In& start, const In& length, const
                           numpy_of(std::move(o.boxes), {(size_t)n, 4}), numpy_of(std::move(o.zmin)), o.scale, o.zmax);
 }
 
-nb::tuple solve_window(const In& oxs, const In& oys, const In& osts, const In& obbs, const In& planes_,
-                       const In& order_, const std::array<double, 4>& win, double eps, double eps_z,
-                       bool convex_road) {
-    const double* ox = checked<const double>(oxs, "outline xs", 1);
+// The polygons of a window solve, checked once: outlines (xs, ys, starts), boxes and
+// planes, the window and tolerances, and the listed polygons (the solve order, or the
+// sources of a near-tie group), each with an outline and a finite plane.
+struct Outlines {
+    const double* ox;
+    const double* oy;
+    const i64* ost;
+    const double* obb;
+    const double* planes;
+    i64 npoly;
+    const i64* listed;
+    i64 nlisted;
+};
+
+Outlines checked_outlines(const In& oxs, const In& oys, const In& osts, const In& obbs, const In& planes_,
+                          const In& listed_, const char* listed_name, const std::array<double, 4>& win,
+                          double eps, double eps_z) {
+    Outlines o{};
+    o.ox = checked<const double>(oxs, "outline xs", 1);
     i64 nv = (i64)oxs.shape(0), nst;
-    const double* oy = checked<const double>(oys, "outline ys", 1, {nv});
-    const i64* ost = checked_starts(osts, "outline starts", nv, nst, 0);
+    o.oy = checked<const double>(oys, "outline ys", 1, {nv});
+    o.ost = checked_starts(osts, "outline starts", nv, nst, 0);
     if (nst == 0) refuse("outline starts must hold one entry more than there are polygons");
-    i64 npoly = nst - 1;
-    const double* obb = checked<const double>(obbs, "boxes", 2, {npoly, 4});
-    const double* planes = checked<const double>(planes_, "planes", 2, {npoly, 3});
-    i64 norder;
-    const i64* order = checked_order(order_, "order", npoly, norder);
-    check_finite(ox, nv, "outline xs");
-    check_finite(oy, nv, "outline ys");
-    check_finite(obb, 4 * npoly, "boxes");
+    o.npoly = nst - 1;
+    o.obb = checked<const double>(obbs, "boxes", 2, {o.npoly, 4});
+    o.planes = checked<const double>(planes_, "planes", 2, {o.npoly, 3});
+    o.listed = checked_order(listed_, listed_name, o.npoly, o.nlisted);
+    check_finite(o.ox, nv, "outline xs");
+    check_finite(o.oy, nv, "outline ys");
+    check_finite(o.obb, 4 * o.npoly, "boxes");
     check_finite(win.data(), 4, "window");
     check_scalar(eps, "eps");
     check_scalar(eps_z, "eps_z");
-    for (i64 k = 0; k < norder; ++k) {
-        i64 s = order[k];
-        if (ost[s + 1] == ost[s]) refuse("polygon " + std::to_string(s) + " in the order has an empty outline");
-        check_finite(planes + 3 * s, 3, "planes of the ordered polygons");
+    for (i64 k = 0; k < o.nlisted; ++k) {
+        i64 s = o.listed[k];
+        if (o.ost[s + 1] == o.ost[s])
+            refuse("polygon " + std::to_string(s) + " in the " + listed_name + " has an empty outline");
+        check_finite(o.planes + 3 * s, 3, (std::string("planes of the ") + listed_name).c_str());
     }
+    return o;
+}
+
+nb::tuple solve_window(const In& oxs, const In& oys, const In& osts, const In& obbs, const In& planes_,
+                       const In& order_, const std::array<double, 4>& win, double eps, double eps_z,
+                       bool convex_road) {
+    const Outlines o = checked_outlines(oxs, oys, osts, obbs, planes_, order_, "order", win, eps, eps_z);
     wa::Visible v;
     {
         nb::gil_scoped_release release;
-        v = wa::solve_window(ox, oy, ost, npoly, obb, planes, order, norder, win, eps, eps_z, convex_road);
+        v = wa::solve_window(o.ox, o.oy, o.ost, o.npoly, o.obb, o.planes, o.listed, o.nlisted, win, eps, eps_z, convex_road);
     }
     return nb::make_tuple(numpy_of(std::move(v.xs)), numpy_of(std::move(v.ys)), numpy_of(std::move(v.labels)),
                           numpy_of(std::move(v.starts)), numpy_of(std::move(v.piece_rings)),
@@ -250,31 +272,11 @@ nb::tuple solve_window(const In& oxs, const In& oys, const In& osts, const In& o
 
 nb::list solve_by_rule(const In& oxs, const In& oys, const In& osts, const In& obbs, const In& planes_,
                        const In& sources_, const std::array<double, 4>& win, double eps, double eps_z) {
-    const double* ox = checked<const double>(oxs, "outline xs", 1);
-    i64 nv = (i64)oxs.shape(0), nst;
-    const double* oy = checked<const double>(oys, "outline ys", 1, {nv});
-    const i64* ost = checked_starts(osts, "outline starts", nv, nst, 0);
-    if (nst == 0) refuse("outline starts must hold one entry more than there are polygons");
-    i64 npoly = nst - 1;
-    const double* obb = checked<const double>(obbs, "boxes", 2, {npoly, 4});
-    const double* planes = checked<const double>(planes_, "planes", 2, {npoly, 3});
-    i64 nsources;
-    const i64* sources = checked_order(sources_, "sources", npoly, nsources);
-    check_finite(ox, nv, "outline xs");
-    check_finite(oy, nv, "outline ys");
-    check_finite(obb, 4 * npoly, "boxes");
-    check_finite(win.data(), 4, "window");
-    check_scalar(eps, "eps");
-    check_scalar(eps_z, "eps_z");
-    for (i64 k = 0; k < nsources; ++k) {
-        i64 s = sources[k];
-        if (ost[s + 1] == ost[s]) refuse("polygon " + std::to_string(s) + " in the sources has an empty outline");
-        check_finite(planes + 3 * s, 3, "planes of the sources");
-    }
+    const Outlines o = checked_outlines(oxs, oys, osts, obbs, planes_, sources_, "sources", win, eps, eps_z);
     std::vector<std::pair<i64, wa::Shape>> regions;
     {
         nb::gil_scoped_release release;
-        regions = wa::solve_by_rule(ox, oy, ost, obb, planes, sources, nsources, win, eps, eps_z);
+        regions = wa::solve_by_rule(o.ox, o.oy, o.ost, o.obb, o.planes, o.listed, o.nlisted, win, eps, eps_z);
     }
     nb::list out;
     for (auto& [source, shape] : regions) {
