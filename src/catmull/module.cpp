@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -241,7 +242,12 @@ nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In p
     check_threads(threads);
     const double* ev = data_of<const double>(e, "e", {2 * radius, k});
     check_finite(ev, size_t(2 * radius * k), "e");
-    std::vector<double> tx(size_t((height + 1) * width * k * 3), 0.0);
+    // tx is not cleared up front: the sink writes every row it reaches whole (flush), and
+    // the rows it never reached are cleared after the kernel
+    const size_t row_len = size_t(width * k * 3);
+    std::unique_ptr<double[]> tx_store(new double[size_t(height + 1) * row_len + 1]);
+    double* tx = tx_store.get();
+    std::vector<uint8_t> written(size_t(height + 1), 0);
     std::vector<double> image(size_t(width * height * 3), 0.0);
     {
         nb::gil_scoped_release release;
@@ -249,12 +255,15 @@ nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In p
         // the scene moved by (1/2, 1/2) at (W + 1) x (H + 1) pixels: the knot cells
         run_bands(height + 1, threads, [&](int64_t, int64_t r0, int64_t r1) {
             MomentSink out(nullptr, c, P.n + 1, width, height, F);
-            out.rows_to(tx.data(), ev, radius);
+            out.rows_to(tx, ev, radius);
+            out.written = written.data();
             scan_rows(P, width + 1, r0, r1, eps_z, false, true, out);
             out.flush();
         });
+        for (int64_t n = 0; n <= height; ++n)
+            if (!written[size_t(n)]) std::fill(tx + n * int64_t(row_len), tx + (n + 1) * int64_t(row_len), 0.0);
         run_bands(height, threads, [&](int64_t, int64_t j0, int64_t j1) {
-            contract_y_rows(tx.data(), 0, height, ev, radius, k, 3, width, j0, j1, image.data());
+            contract_y_rows(tx, 0, height, ev, radius, k, 3, width, j0, j1, image.data());
         });
     }
     return to_numpy(std::move(image), {size_t(height), size_t(width), 3});

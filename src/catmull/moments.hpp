@@ -399,6 +399,7 @@ struct MomentSink {
     const double* e = nullptr;
     int64_t R = 0, cur_row = -1;
     std::vector<double> rowacc;
+    uint8_t* written = nullptr;  // row mode: written[row] = 1 once the row is in tx
     // row mode: an interior cell whose one emission is a whole cell of one colour is only
     // marked (full[col] = its colour's row in colors, else NONE); its terms for the x
     // contraction are the same for every such cell of that colour (the same inputs, so
@@ -503,6 +504,7 @@ struct MomentSink {
     }
     void flush() {
         if (tx == nullptr || cur_row < 0) return;
+        if (written != nullptr) written[cur_row] = 1;
         if (F.k == 2) contract_row_k<2>();
         else if (F.k == 4) contract_row_k<4>();
         else contract_row_k<0>();
