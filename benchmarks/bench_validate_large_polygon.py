@@ -5,7 +5,7 @@ Usage: ``PYTHONPATH=. /usr/bin/time -v python3 benchmarks/bench_validate_large_p
 Writes a scene file holding one simple polygon, a tight double spiral of N vertices (the
 kind of outline where edges of neighbouring turns run close together), then times
 ``load_scene`` on it: TOML parsing, every per-vertex check and the O(n log n) self-crossing
-sweep (C++, ``aaeval._samplers``: nothing to compile first). ``/usr/bin/time -v`` reports the peak resident memory ("Maximum resident set size").
+sweep (C++, ``aaeval.native.samplers``: nothing to compile first). ``/usr/bin/time -v`` reports the peak resident memory ("Maximum resident set size").
 The pairwise check this replaced needed 37 GiB at 100000 vertices.
 """
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Rebuild one family of native kernels (src/<family>) into the source tree's aaeval/,
+# Rebuild one family of native kernels (src/<family>) into the source tree's aaeval/native/,
 # incrementally, without reinstalling: bash scripts/build_native_dev.sh <family> [cmake args]
 # (with -DAAEVAL_SANITIZE=ON for an ASan/UBSan build). For a normal editable install use
 # `pip install --no-build-isolation -e .` (see README, Development).

@@ -42,15 +42,15 @@ python3 - "$root" "$pkg" "$prefix" <<'PY' || exit 1
 import pathlib, shutil, sys
 root, pkg, prefix = (pathlib.Path(p) for p in sys.argv[1:])
 shutil.copytree(root / "aaeval", pkg / "aaeval", ignore=shutil.ignore_patterns("*.so", "__pycache__"))
-built = sorted((prefix / "aaeval").glob("*.so"))
+built = sorted((prefix / "aaeval" / "native").glob("*.so"))
 for so in built:
-    shutil.copy2(so, pkg / "aaeval" / so.name)
-    print(f"  sanitized: aaeval.{so.name.split('.')[0]}")
+    shutil.copy2(so, pkg / "aaeval" / "native" / so.name)
+    print(f"  sanitized: aaeval.native.{so.name.split('.')[0]}")
 names = {so.name for so in built}
-for so in sorted((root / "aaeval").glob("*.so")):
+for so in sorted((root / "aaeval" / "native").glob("*.so")):
     if so.name not in names:
-        shutil.copy2(so, pkg / "aaeval" / so.name)
-        print(f"  NOT sanitized (plain build from the source tree): aaeval.{so.name.split('.')[0]}")
+        shutil.copy2(so, pkg / "aaeval" / "native" / so.name)
+        print(f"  NOT sanitized (plain build from the source tree): aaeval.native.{so.name.split('.')[0]}")
 (pkg / "sitecustomize.py").write_text(
     "# written by scripts/fuzz_native.sh: import aaeval from this copy (sanitized modules)\n"
     "import os, sys\n"
@@ -72,9 +72,9 @@ export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 export PYTHONPATH=$pkg
 check=$(cd "$pkg" && python3 -c "
 import importlib, pathlib, aaeval
-mods = sorted(p.name.split('.')[0] for p in pathlib.Path(aaeval.__file__).parent.glob('*.so'))
+mods = sorted(p.name.split('.')[0] for p in (pathlib.Path(aaeval.__file__).parent / 'native').glob('*.so'))
 for m in mods:
-    print(m, importlib.import_module('aaeval.' + m).__file__)
+    print(m, importlib.import_module('aaeval.native.' + m).__file__)
 " 2>&1) || { echo "the sanitized package does not import:"; echo "$check"; exit 1; }
 echo "$check" | sed 's/^/  imports: /'
 case "$check" in *"$pkg"*) ;; *) echo "aaeval was not imported from $pkg"; exit 1 ;; esac

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from aaeval import _catmull
+from aaeval.native import catmull as _catmull
 from aaeval.catmull import kernel_inputs, native_arrays
 from aaeval.catmull.filtered import knot_grid_sums
 from aaeval.filters.registry import FILTERS

@@ -10,8 +10,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from aaeval import _catmull
-from aaeval._catmull import stages as K
+from aaeval.native import catmull as _catmull
+from aaeval.native.catmull import stages as K
 
 BACKGROUND = _catmull.BACKGROUND
 

@@ -1,4 +1,4 @@
-"""The native samplers' bindings (aaeval._samplers, issue 20): bad inputs are one-line
+"""The native samplers' bindings (aaeval.native.samplers, issue 20): bad inputs are one-line
 ValueErrors, never a crash; the jitter hash and the depth rule are the documented ones;
 a deep A-buffer stack is sorted in n log n with the insertion sort's order."""
 
@@ -9,7 +9,7 @@ import time
 import numpy as np
 import pytest
 
-from aaeval import _samplers
+from aaeval.native import samplers as _samplers
 from aaeval.filters import get_filter
 from aaeval.filters.evaluate import profile_args
 from aaeval.renderers.registry import render

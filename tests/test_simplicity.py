@@ -152,7 +152,7 @@ def test_the_sweep_gives_the_answers_recorded_before_the_port():
     lambda p, a, b, o, i: (np.where(p == p[0], np.nan, p), a, b, o, i),
 ])
 def test_the_native_sweep_refuses_inconsistent_arrays(bad):
-    from aaeval import _samplers
+    from aaeval.native import samplers as _samplers
 
     p = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
     a = np.arange(4, dtype=np.int64)

@@ -30,8 +30,8 @@ from aaeval.weiler_atherton import (
     shape_area,
     visible_pieces,
 )
-from aaeval._weiler_atherton import INSIDE, OUTSIDE, clip_arrays, first_crossing
-from aaeval._weiler_atherton import separation as _separation
+from aaeval.native.weiler_atherton import INSIDE, OUTSIDE, clip_arrays, first_crossing
+from aaeval.native.weiler_atherton import separation as _separation
 from aaeval.weiler_atherton.clipper import to_arrays
 from aaeval.weiler_atherton.lines import visible_edges
 from randomscenes import degenerate_scene, random_scene

@@ -1,4 +1,4 @@
-"""The native Weiler-Atherton kernels (aaeval._weiler_atherton) refuse bad inputs at the
+"""The native Weiler-Atherton kernels (aaeval.native.weiler_atherton) refuse bad inputs at the
 binding with a one-line ValueError instead of reading out of bounds (issue 20)."""
 
 from __future__ import annotations
@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import aaeval._weiler_atherton as wa
+import aaeval.native.weiler_atherton as wa
 
 SQ = (np.array([0.0, 2.0, 2.0, 0.0]), np.array([0.0, 0.0, 2.0, 2.0]), np.zeros(4, np.int64), np.array([0, 4]))
 TRI = (np.array([1.0, 3.0, 1.0]), np.array([1.0, 1.0, 3.0]), np.ones(3, np.int64), np.array([0, 3]))

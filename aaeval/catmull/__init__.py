@@ -1,6 +1,6 @@
 """Catmull 1978 exact area sampling: the scanline kernel's Python face.
 
-The kernel is native (``aaeval._catmull``, C++ under ``src/catmull/``), laid out by the
+The kernel is native (``aaeval.native.catmull``, C++ under ``src/catmull/``), laid out by the
 paper's stages: ``strips.hpp`` (I./III.A/III.C: polygons in order of their first scanline,
 the active list, each scanline's strip pieces with their exact coverage of every pixel
 column), ``buckets.hpp`` (III.C.4: the x-bucket), ``sweep.hpp`` (III.D/E: the row sweep and
@@ -25,7 +25,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from aaeval import _catmull
+from aaeval.native import catmull as _catmull
 from aaeval.scenes import Scene
 from aaeval.scenes.depth import depth_tolerance
 from aaeval.weiler_atherton.near_ties import resolve_flat_arrays

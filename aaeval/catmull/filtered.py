@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from aaeval import _catmull
+from aaeval.native import catmull as _catmull
 from aaeval.catmull import kernel_inputs, native_arrays, thread_count
 from aaeval.filters.integrate import cell_basis_matrix, filter_kernel_args
 from aaeval.filters.registry import PixelFilter

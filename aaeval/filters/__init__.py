@@ -1,7 +1,7 @@
 """Pixel reconstruction filters beyond the box, integrated exactly over visible pieces.
 
 - :mod:`.registry`: the one registry of filters (Mitsuba 3's definitions);
-- :mod:`.integrate`: the native stages (``aaeval._catmull``, ``src/catmull/moments.hpp``):
+- :mod:`.integrate`: the native stages (``aaeval.native.catmull``, ``src/catmull/moments.hpp``):
   a visible piece's integrals against the filter per knot cell (Green's theorem), cells
   combined into pixels;
 - :mod:`aaeval.catmull.filtered`: the Catmull kernel's visible pieces on the knot grid,

@@ -1,7 +1,7 @@
 """Point evaluation of a registered filter's profile, for samplers that splat.
 
 The one evaluation of ``k(t)`` is native (``src/samplers``, bound as
-``aaeval._samplers.profile_array``, the samplers' own splat weight): box ``|t| <= 1/2``
+``aaeval.native.samplers.profile_array``, the samplers' own splat weight): box ``|t| <= 1/2``
 (Mitsuba's box is closed), the Gaussian, or the polynomial piece of ``t`` by Horner in the
 piece's local variable. :meth:`PixelFilter.profile` and the sampling baselines both call
 it; a filter reaches it as the tuple :func:`profile_args` returns.
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from aaeval._samplers import profile_array as _profile_array
+from aaeval.native.samplers import profile_array as _profile_array
 from aaeval.filters.registry import KIND_GAUSSIAN
 
 __all__ = ["profile_at", "profile_array", "profile_args"]

@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from aaeval import _catmull
+from aaeval.native import catmull as _catmull
 from aaeval.filters.registry import KIND_GAUSSIAN, KIND_POLYNOMIAL, PixelFilter
 
 __all__ = [

@@ -68,7 +68,7 @@ CODE_FILES = ("groundtruth/flat.py", "groundtruth/phong.py", "scenes/depth.py",
               "weiler_atherton/near_ties.py", "weiler_atherton/clipper.py")
 # The native modules that conversion calls (the window clip, the clipper, the near-tie
 # regions): their compiled bytes join the key, so a rebuild from changed C++ gives new keys.
-NATIVE_MODULES = ("aaeval._catmull", "aaeval._weiler_atherton")
+NATIVE_MODULES = ("aaeval.native.catmull", "aaeval.native.weiler_atherton")
 
 
 class GroundTruth(NamedTuple):

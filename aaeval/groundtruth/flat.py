@@ -29,7 +29,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from aaeval import _catmull
+from aaeval.native import catmull as _catmull
 from aaeval.groundtruth.variant import import_mitsuba
 from aaeval.scenes import Scene
 from aaeval.scenes.depth import depth_tolerance

@@ -1,6 +1,6 @@
 """Method ``abuffer``: Carpenter 1984, "The A-buffer, an antialiased hidden surface method".
 
-The kernel is C++ (``src/samplers/abuffer.cpp``, module ``aaeval._samplers``).
+The kernel is C++ (``src/samplers/abuffer.cpp``, module ``aaeval.native.samplers``).
 
 Per pixel, every polygon that reaches a subsample becomes a *fragment*: a 4 x 8 bit
 coverage mask (4 rows of 8 subsamples, bit ``8 j + i`` at the subcell centre
@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from aaeval._samplers import abuffer_image
+from aaeval.native.samplers import abuffer_image
 from aaeval.renderers.catmull import BOX_ONLY
 from aaeval.renderers.registry import register_method, scene_load
 from aaeval.renderers.sampling import kernel_scene, warmup_scene

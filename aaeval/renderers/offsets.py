@@ -2,7 +2,7 @@
 
 The shipped real-time methods (``msaa``, ``fxaa``, ``taa``) sample every pixel at the same
 sub-pixel offsets (a multisample pattern, the pixel centre, one jitter per frame). The
-point-sampling kernel (``aaeval._samplers.sample_image``, :mod:`aaeval.renderers.sampling`) samples
+point-sampling kernel (``aaeval.native.samplers.sample_image``, :mod:`aaeval.renderers.sampling`) samples
 pixel centres; a sample at ``(col + 1/2 + dx, row + 1/2 + dy)`` is the pixel centre of the
 scene moved by ``(-dx, -dy)``, so each offset is one centre-sampled pass over the moved
 kernel arrays (vertices shifted, depth planes rewritten for the shift: the same planes,
@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from aaeval._samplers import sample_image
+from aaeval.native.samplers import sample_image
 from aaeval.filters import get_filter
 from aaeval.filters.evaluate import profile_args
 from aaeval.catmull import kernel_inputs

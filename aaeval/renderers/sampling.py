@@ -1,7 +1,7 @@
 """Point sampling of a scene at ``k x k`` samples per pixel, box-averaged or through a filter.
 
 The one entry point behind the methods ``point``, ``supersample`` and ``jitter``; the
-kernel is C++ (``src/samplers/sampling.cpp``, module ``aaeval._samplers``).
+kernel is C++ (``src/samplers/sampling.cpp``, module ``aaeval.native.samplers``).
 
 ``point``, ``supersample`` and ``jitter`` differ only in where the samples of a pixel
 lie; the kernel takes that as ``(k, jitter, seed)`` and does the rest, a scanline
@@ -36,7 +36,7 @@ import numpy as np
 
 from aaeval.filters import DEFAULT_FILTER, get_filter
 from aaeval.filters.evaluate import profile_args
-from aaeval._samplers import sample_image
+from aaeval.native.samplers import sample_image
 from aaeval.catmull import kernel_inputs
 from aaeval.scenes import Scene, parse_scene
 

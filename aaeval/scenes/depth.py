@@ -14,14 +14,14 @@ at depth ``z`` is visible when ``z <= nearest + eps``, and the nearest depth kep
 whole fragments or polygons by one representative depth (the A-buffer's ``zmin``, the
 painter's mean depth) order them front to back and then put each run within ``eps`` of
 the run's nearest depth latest first (``tied_latest_first``, the same header, bound as
-``aaeval._samplers.tied_latest_first``; :func:`front_to_back`).
+``aaeval.native.samplers.tied_latest_first``; :func:`front_to_back`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from aaeval._samplers import tied_latest_first
+from aaeval.native.samplers import tied_latest_first
 
 __all__ = ["depth_tolerance", "front_to_back"]
 

@@ -14,7 +14,7 @@ without the closing vertex, edge ``k`` running from vertex ``k`` to vertex ``k +
 ring is one polygon outline; several rings (an outline and its holes) are checked together,
 where no edge of one ring may meet any edge of another.
 
-The sweep runs in C++ (``src/samplers/simplicity.cpp``, module ``aaeval._samplers``).
+The sweep runs in C++ (``src/samplers/simplicity.cpp``, module ``aaeval.native.samplers``).
 Orientation signs are computed in float64 the way the pairwise test computes them, so the
 two agree wherever the signs are exact (integer coordinates, tests/test_simplicity.py);
 a meeting or a miss within rounding error of a tie may be judged either way by either.
@@ -26,7 +26,7 @@ from typing import Sequence
 
 import numpy as np
 
-from aaeval._samplers import sweep as _native_sweep
+from aaeval.native.samplers import sweep as _native_sweep
 
 __all__ = ["ring_contact", "rings_contact", "BRUTE_FORCE_EDGES"]
 

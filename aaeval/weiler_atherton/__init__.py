@@ -9,7 +9,7 @@ polygon clipper; the output is the visible polygons themselves.
 
 The kernels are C++ (``src/weiler_atherton/``: ``clipper.cpp``, ``solver.cpp`` with the
 convex pieces' short road in ``convex.hpp``, ``near_ties.cpp``, ``raster.cpp``), bound as
-:mod:`aaeval._weiler_atherton`; the functions above prepare their inputs.
+:mod:`aaeval.native.weiler_atherton`; the functions above prepare their inputs.
 """
 
 from aaeval.weiler_atherton.clipper import InvalidShapeError, Shape, clip, oriented, polygons, ring_area, shape_area

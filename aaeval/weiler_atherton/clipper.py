@@ -33,7 +33,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from aaeval._weiler_atherton import clip_arrays, first_crossing, ring_area_of, winding
+from aaeval.native.weiler_atherton import clip_arrays, first_crossing, ring_area_of, winding
 
 __all__ = [
     "Shape",

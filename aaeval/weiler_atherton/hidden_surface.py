@@ -16,7 +16,7 @@ Then the outside list is processed the same way until it is empty. The output pi
 not overlap. :func:`visible_pieces` adds the paper's screen subdivision: the image is cut
 Warnock-style into windows holding at most ``window`` polygons, each solved separately.
 
-Each window is solved by the native solver (``aaeval._weiler_atherton.solve_window``,
+Each window is solved by the native solver (``aaeval.native.weiler_atherton.solve_window``,
 C++ in ``src/weiler_atherton/solver.cpp`` on the clipper of ``clipper.cpp``, and for
 convex pieces clipped by convex outlines the shorter road of ``convex.hpp``); this module
 prepares the problem and hands back the pieces, as flat arrays (:func:`visible_arrays`,
@@ -34,7 +34,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from aaeval._weiler_atherton import EDGE_CROSSING, EDGE_CUT, EDGE_OWN, originals, solve_window
+from aaeval.native.weiler_atherton import EDGE_CROSSING, EDGE_CUT, EDGE_OWN, originals, solve_window
 from aaeval.scenes import Scene
 from aaeval.scenes.depth import depth_tolerance
 from aaeval.weiler_atherton.clipper import Shape, from_arrays, ring_area, to_arrays

@@ -27,8 +27,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from aaeval._weiler_atherton import components, later_neighbours
-from aaeval._weiler_atherton import solve_by_rule as _solve_by_rule
+from aaeval.native.weiler_atherton import components, later_neighbours
+from aaeval.native.weiler_atherton import solve_by_rule as _solve_by_rule
 from aaeval.weiler_atherton.clipper import Shape, from_arrays, polygons
 
 __all__ = ["NEAR_COPLANAR", "tie_groups", "solve_by_rule"]

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from aaeval._weiler_atherton import add_coverage
+from aaeval.native.weiler_atherton import add_coverage
 from aaeval.scenes import Scene
 
 __all__ = ["coverage", "coverage_flat", "box_filter"]

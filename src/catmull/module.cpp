@@ -1,4 +1,4 @@
-// aaeval._catmull: the Catmull 1978 kernel (strips.hpp, buckets.hpp, sweep.hpp,
+// aaeval.native.catmull: the Catmull 1978 kernel (strips.hpp, buckets.hpp, sweep.hpp,
 // integrator.hpp) with its sinks (sink.hpp, moments.hpp), bound with nanobind.
 //
 // Every input is checked here, once, before any kernel runs: dtypes, shapes, C order,
@@ -372,7 +372,7 @@ nb::ndarray<nb::numpy, double> clip_to_window(In xs, In ys, double x0, double y0
 
 #include "catmull/stages_py.hpp"
 
-NB_MODULE(_catmull, m) {
+NB_MODULE(catmull, m) {
     m.doc() = "Catmull 1978 exact area sampling: the scanline kernel and its sinks (colour, fragments, filter "
               "moments), native (see aaeval.catmull)";
     m.attr("BAND_ROWS") = BAND_ROWS;

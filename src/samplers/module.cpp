@@ -1,4 +1,4 @@
-// aaeval._samplers: the bindings of the point samplers, the A-buffer, the depth tie rule
+// aaeval.native.samplers: the bindings of the point samplers, the A-buffer, the depth tie rule
 // and the simplicity sweep line. Every input is checked here, once, before a kernel runs
 // (dtype, C order, shape, lengths, index ranges, finiteness, sizes): a bad input is a
 // one-line ValueError, never an out-of-bounds access. The kernels run without the GIL.
@@ -219,7 +219,7 @@ std::pair<int64_t, int64_t> py_sweep(const Array& pts, const Array& a, const Arr
 
 }  // namespace
 
-NB_MODULE(_samplers, m) {
+NB_MODULE(samplers, m) {
   m.doc() = "Point samplers, A-buffer, depth tie rule and simplicity sweep of aaeval (C++17, issue 20).";
   m.def("sample_image", &py_sample_image, nb::arg("width"), nb::arg("height"), nb::arg("starts"),
         nb::arg("lengths"), nb::arg("xs"), nb::arg("ys"), nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"),

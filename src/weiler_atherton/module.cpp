@@ -1,4 +1,4 @@
-// aaeval._weiler_atherton: the Weiler-Atherton kernels bound with nanobind.
+// aaeval.native.weiler_atherton: the Weiler-Atherton kernels bound with nanobind.
 //
 // Every input is checked here, once, before a kernel runs (dtype, dimensions, C order,
 // consistent lengths, contour starts, indices in range, finite coordinates) and refused
@@ -403,7 +403,7 @@ int separation(const In& sxs, const In& sys, const In& cxs, const In& cys, doubl
 
 }  // namespace
 
-NB_MODULE(_weiler_atherton, m) {
+NB_MODULE(weiler_atherton, m) {
     m.doc() = "Weiler-Atherton kernels: the polygon clipper, the hidden-surface solver and the exact box filter";
     m.attr("EDGE_CUT") = wa::EDGE_CUT;
     m.attr("EDGE_OWN") = wa::EDGE_OWN;
