@@ -16,6 +16,10 @@ from aaeval.experiments.table import read_table
 from aaeval.metrics import METRICS, format_value
 from findings_util import findings_report
 
+# one worker builds the module's sweep fixture once (pyproject's --dist loadgroup);
+# split across two workers each would build it
+pytestmark = pytest.mark.xdist_group("report_findings")
+
 ROOT = Path(__file__).resolve().parents[1]
 
 

@@ -25,6 +25,10 @@ from aaeval.report import figures
 from aaeval.report.html import failed_cells, spec_summary
 from aaeval.report.style import METHOD_STYLES, Styles, method_style
 
+# one worker builds the module's sweep fixture once (pyproject's --dist loadgroup);
+# split across two workers each would build it
+pytestmark = pytest.mark.xdist_group("report_style")
+
 DEFAULT = Path(__file__).parent.parent / "configs" / "experiments" / "default.toml"
 # the one figure the style fixture writes to files (every format); the others are drawn only
 SAVED = "validation"
