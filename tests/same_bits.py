@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from aaeval.scenes import Scene, load_scene, parse_scene
-from aaeval.scenes.generate import generate_scene
+from aaeval.scenes.generate import generate_scene, random_triangles
 from tests.randomscenes import degenerate_scene, random_scene
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -75,8 +75,6 @@ def scenes() -> Iterator[tuple[str, Callable[[], Scene]]]:
 
 def _benchmark_like(size: int, count: int, extent: float) -> Scene:
     """bench_methods' random-triangle scene at one size (seeded)."""
-    from aaeval.scenes.generate import random_triangles
-
     return random_triangles(count, size, size, size=extent, seed=0)
 
 
