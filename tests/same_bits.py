@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from aaeval.renderers.registry import render
 from aaeval.scenes import Scene, load_scene, parse_scene
 from aaeval.scenes.generate import generate_scene, random_triangles
 from tests.randomscenes import degenerate_scene, random_scene
@@ -87,8 +88,6 @@ def digest(image: np.ndarray) -> str:
 def digests_of(family: str) -> Iterator[tuple[str, str]]:
     """``(scene id|spec, digest)`` of every scene and method of ``family``; a method that
     refuses a scene (a shaded scene for a flat method, say) records the refusal's type."""
-    from aaeval.renderers.registry import render
-
     for scene_id, make in scenes():
         scene = make()
         for spec in FAMILY_METHODS[family]:
