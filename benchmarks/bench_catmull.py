@@ -15,7 +15,7 @@ import time
 import numpy as np
 
 from aaeval.renderers import render
-from aaeval.renderers.catmull import visible_fragments
+from aaeval.catmull import visible_fragments
 from aaeval.scenes.generate import random_triangles
 from smoke import smallest
 

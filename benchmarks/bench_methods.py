@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from aaeval.renderers import render_timed
-from aaeval.renderers.catmull import available_cores
+from aaeval.catmull import available_cores
 from aaeval.scenes.generate import random_triangles
 from smoke import SMOKE, smallest
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from aaeval.renderers import render
-from aaeval.renderers.catmull import visible_fragments
+from aaeval.catmull import visible_fragments
 from aaeval.scenes import parse_scene
 
 from oracle import oracle_image
@@ -183,7 +183,7 @@ def test_output_is_bitwise_identical_for_every_thread_count(method):
 
 
 def test_image_written_by_the_kernel_equals_resolved_fragments_bitwise():
-    from aaeval.renderers.catmull import resolve_flat
+    from aaeval.catmull import resolve_flat
 
     scene = random_scene(11, width=40, height=45, n_tri=20, n_star=4)
     fragments = visible_fragments(scene, centroids=False, threads=2)
@@ -207,7 +207,7 @@ def test_polygons_crossing_row_bands_match_geos(seed):
 
 @pytest.mark.parametrize("n, threads", [(64, 2), (5, 2), (7, 3), (1, 2), (3, 4), (10, 10)])
 def test_threads_take_every_band_once_far_apart(n, threads):
-    from aaeval.renderers.catmull import far_apart
+    from aaeval.catmull import far_apart
 
     order = far_apart(n, threads)
     assert sorted(order) == list(range(n))

@@ -27,7 +27,7 @@ from aaeval.filters.evaluate import profile_args, profile_array, profile_at
 from aaeval.filters.integrate import (accumulate_rings, combine_cells, combine_cells_numpy, filter_kernel_args,
                                      piece_integrals)
 from aaeval.renderers import MethodError, render, resolve
-from aaeval.renderers.catmull import resolve_flat, visible_fragments
+from aaeval.catmull import resolve_flat, visible_fragments
 from aaeval.scenes import load_scene, parse_scene
 from filter_oracle import PROFILES, filtered_oracle, triangle_rule
 from randomscenes import random_scene

@@ -8,7 +8,7 @@ import multiprocessing
 import numpy as np
 import pytest
 
-from aaeval.renderers.catmull import render_flat
+from aaeval.catmull import render_flat
 from aaeval.scenes.generate import random_triangles
 
 

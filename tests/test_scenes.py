@@ -14,7 +14,7 @@ import shapely
 
 from aaeval.metrics.temporal import intensity_sum
 from aaeval.renderers import render
-from aaeval.renderers.catmull import visible_fragments
+from aaeval.catmull import visible_fragments
 from aaeval.scenes import Scene, SceneError, load_scene, parse_scene
 from aaeval.scenes.generate import (
     fan,

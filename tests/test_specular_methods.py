@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from aaeval.renderers import MethodError, render
-from aaeval.renderers.catmull import visible_fragments
+from aaeval.catmull import visible_fragments
 from aaeval.scenes import parse_scene
 from aaeval.scenes.shaded import expand_shaded
 from aaeval.specular.methods import SPECULAR_METHODS, register_specular

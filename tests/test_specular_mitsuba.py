@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from aaeval.renderers import render
-from aaeval.renderers.catmull import visible_fragments
+from aaeval.catmull import visible_fragments
 from aaeval.scenes import parse_scene
 from aaeval.scenes.shaded import expand_shaded
 from aaeval.groundtruth import groundtruth_phong

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from aaeval.renderers import render
-from aaeval.renderers.catmull import resolve_flat, visible_fragments
+from aaeval.catmull import resolve_flat, visible_fragments
 from aaeval.scenes import SceneError, load_scene, parse_scene
 from aaeval.scenes.shaded import expand_shaded, tessellate_cylinder
 from aaeval.specular.render import SPECULAR_METHODS, render_shaded, specular_aliasing_map

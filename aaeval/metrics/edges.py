@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from aaeval.catmull import visible_fragments
 from aaeval.metrics._checks import check_image_pair
 from aaeval.metrics.image import masked_rmse
 
@@ -22,7 +23,7 @@ def edge_mask(scene) -> np.ndarray:
     """Pixels of ``scene`` that a visible edge crosses, shape (H, W), bool.
 
     A pixel is an edge pixel unless one polygon (or the background) covers all of it:
-    exactly, its visible fragments (:func:`aaeval.renderers.catmull.visible_fragments`)
+    exactly, its visible fragments (:func:`aaeval.catmull.visible_fragments`)
     are not a single fragment of area 1. Hidden edges do not count; lines where
     interpenetrating polygons cross do. An edge lying exactly on a pixel's border does
     not cross that pixel.
@@ -32,8 +33,6 @@ def edge_mask(scene) -> np.ndarray:
     scene : aaeval.scenes.Scene
         The scene at the frame wanted (``scene.at_frame(k)``).
     """
-    from aaeval.renderers.catmull import visible_fragments
-
     fragments = visible_fragments(scene)
     n = scene.width * scene.height
     largest = np.zeros(n)

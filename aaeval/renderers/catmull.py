@@ -6,25 +6,14 @@ integrator. ``catmull-jagged`` is the paper's mode with the integrator switched 
 nearest piece in the pixel's z-list colours the whole pixel.
 
 This module only registers the methods and declares the options other methods share
-(``FILTER_OPTION``, ``BOX_ONLY``); the algorithm lives in :mod:`aaeval.catmull`, whose
-public names are re-exported here for the callers that know them from this module.
+(``FILTER_OPTION``, ``BOX_ONLY``); the algorithm lives in :mod:`aaeval.catmull`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from aaeval.catmull import (
-    BACKGROUND,
-    BAND_ROWS,
-    Fragments,
-    available_cores,
-    far_apart,
-    kernel_inputs,
-    render_flat,
-    resolve_flat,
-    visible_fragments,
-)
+from aaeval.catmull import render_flat
 from aaeval.filters.exact import filtered_image
 from aaeval.filters.registry import DEFAULT_FILTER, FILTERS
 from aaeval.renderers.registry import Option, register_method
@@ -33,9 +22,7 @@ from aaeval.scenes.shaded import has_shaded
 from aaeval.specular.methods import PARAMETERS as SPECULAR_PARAMETERS
 from aaeval.specular.render import render_shaded
 
-__all__ = ["BACKGROUND", "BAND_ROWS", "Fragments", "available_cores", "far_apart", "kernel_inputs",
-           "visible_fragments", "resolve_flat", "render_flat", "render_catmull", "render_catmull_jagged",
-           "FILTER_OPTION", "BOX_ONLY", "THREADS"]
+__all__ = ["render_catmull", "render_catmull_jagged", "FILTER_OPTION", "BOX_ONLY", "THREADS"]
 
 
 def _warmup() -> None:
