@@ -62,6 +62,7 @@ def test_period_one_fence_flickers_only_through_the_gaussian():
 
 
 @pytest.mark.slow
+@pytest.mark.xdist_group("report_findings")  # the worker that builds the findings report once
 def test_section_reads_the_tables_and_judges_each_filter_by_its_own_truth(tmp_path_factory):
     from findings_util import findings_report
 

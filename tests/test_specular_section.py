@@ -26,6 +26,9 @@ def out(tmp_path_factory):
     return findings_report(tmp_path_factory)
 
 
+# on the worker that builds the findings report for tests/test_report_findings.py (pyproject's
+# --dist loadgroup): on another worker this test would build it again (20-25 s)
+@pytest.mark.xdist_group("report_findings")
 def test_section_states_one_ground_truth_and_ranks_by_flicker(out):
     from aaeval.experiments.table import read_table
 
