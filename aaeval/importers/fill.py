@@ -229,9 +229,9 @@ def _candidate_pairs(lo, hi, eps, active=None):
     if pairs_total > MAX_PAIRS:
         raise FillError(f"an outline of {n} edges has {pairs_total} close edge pairs, over the limit of "
                         f"{MAX_PAIRS} (split it into simpler paths)")
-    group_end = np.repeat(ends, size)
-    partners = group_end - np.arange(len(key)) - 1
-    first = np.repeat(np.arange(len(key)), partners)
+    edge, partner_end = _sweep_cells(key, edge, lo[:, 0], hi[:, 0] + eps)
+    partners = partner_end - np.arange(len(edge)) - 1
+    first = np.repeat(np.arange(len(edge)), partners)
     offset = np.arange(int(partners.sum())) - np.repeat(np.cumsum(partners) - partners, partners)
     second = first + 1 + offset
     i, j = edge[first], edge[second]
@@ -243,6 +243,27 @@ def _candidate_pairs(lo, hi, eps, active=None):
     ok = np.all(lo[i] <= hi[j] + eps, axis=1) & np.all(lo[j] <= hi[i] + eps, axis=1)
     code = np.unique(i[ok] * n + j[ok])
     return code // n, code % n
+
+
+def _sweep_cells(key, edge, lo_x, reach_x):
+    """The cell entries (``key`` sorted) sorted by cell, then by their edge's left end, and
+    for each entry the end of its partners: the entries after it in its cell whose edge
+    starts at or before its own ``reach_x``.
+
+    Within a cell every pair whose boxes overlap in x is one such (entry, partner) pair,
+    seen from the entry whose edge starts first, so no overlapping pair is lost; a cell
+    crowded with small edges (the offsets of a stroke at a cusp: thousands in one cell)
+    then yields the pairs that are near in x, not all its pairs.
+    """
+    values = np.unique(lo_x)  # x as an exact integer rank, so cell and x sort as one integer
+    rank = np.searchsorted(values, lo_x[edge])
+    reach = np.searchsorted(values, reach_x[edge], side="right")  # how many left ends are <= reach
+    stride = len(values) + 1
+    cell = np.cumsum(np.r_[0, key[1:] != key[:-1]]) if len(key) else np.zeros(0, np.int64)
+    code = cell * stride + rank
+    order = np.argsort(code, kind="stable")
+    partner_end = np.searchsorted(code[order], (cell * stride + reach)[order], side="left")
+    return edge[order], partner_end
 
 
 def _cross(ux, uy, vx, vy):
