@@ -11,8 +11,9 @@ crossings comes out with exactly its own coordinates (only vertices closer than
 :func:`snap_distance`, about 100 ulps of the largest coordinate, are taken as one); a
 crossing becomes one new vertex, the intersection rounded once to float64.
 
-1. Candidate edge pairs from a uniform grid over the edges' boxes (refused beyond
-   :data:`MAX_PAIRS`, a stated limit instead of a quadratic run).
+1. Candidate edge pairs from a uniform grid over the edges' boxes, swept in x within
+   each cell (refused beyond :data:`MAX_PAIRS` pairs sharing a cell, a stated limit
+   instead of a quadratic run).
 2. For each pair: an end point within the snap distance of the other edge's interior
    splits that edge at the end point itself; two edges crossing properly are both split
    at their intersection. Collinear overlaps split each other at their end points. This
