@@ -55,6 +55,8 @@ def _star_from(points, centre):
 
 
 grid_point = st.tuples(st.integers(0, GRID), st.integers(0, GRID))
+HALF_GRID = [(i / 2, j / 2) for i in range(2 * GRID + 1) for j in range(2 * GRID + 1)]
+HALF_GRID_POINTS = shapely.points(HALF_GRID)
 
 
 @st.composite
@@ -63,6 +65,8 @@ def grid_star(draw, points=grid_point, min_size=3, max_size=9):
     cx, cy = draw(st.floats(0.5, GRID - 0.5)), draw(st.floats(0.5, GRID - 0.5))
     ring = _star_from(pts, (round(cx * 4) / 4, round(cy * 4) / 4))
     assume(len(ring) >= 3)
+    if not ShapelyPolygon(ring).is_valid:  # the centre was outside the points (about 1 in 6):
+        ring = _star_from(pts, tuple(np.mean(ring, axis=0)))  # a star about their centroid instead
     return ring
 
 
@@ -72,8 +76,11 @@ def with_hole(draw, outer):
     if not draw(st.booleans()):
         return [outer]
     poly = ShapelyPolygon(outer)
-    half = st.tuples(st.integers(0, 2 * GRID), st.integers(0, 2 * GRID)).map(lambda p: (p[0] / 2, p[1] / 2))
-    hole = draw(grid_star(points=half, max_size=6))
+    # a hole inside the outline has every vertex inside it or on it: its vertices are drawn
+    # from those half-grid points only (drawn from all of them, most holes were refused)
+    inside = [p for p, ok in zip(HALF_GRID, shapely.covers(poly, HALF_GRID_POINTS)) if ok]
+    assume(len(inside) >= 3)
+    hole = draw(grid_star(points=st.sampled_from(inside), max_size=6))
     h = ShapelyPolygon(hole)
     # a hole may touch its outline in single points, not along edges (GEOS validity)
     assume(h.is_valid and h.area > 0 and poly.contains(h) and ShapelyPolygon(outer, [hole]).is_valid)
