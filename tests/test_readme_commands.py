@@ -6,7 +6,7 @@ The folder holds what the lines name: ``configs/scenes`` (the shipped scenes),
 repository), and ``configs/experiments/default.toml`` replaced by a small experiment of the
 same shape (groups and a speed pass), so that ``bash scripts/quickstart.sh`` and the README's
 ``aaeval sweep``/``aaeval report`` lines run the whole path in seconds, not the default
-experiment's half hour. ``python3 -m pytest`` runs as collection only (``--collect-only``):
+experiment's half hour. ``python3 -m pytest`` runs as collection only (``--collect-only``, plain asserts):
 the suite cannot run itself inside itself. The benchmark lines run with
 ``AAEVAL_BENCH_SMOKE=1`` (``benchmarks/smoke.py``: smallest sizes, one repeat), so each
 takes seconds instead of minutes; they are still marked slow.
@@ -88,7 +88,10 @@ def workspace(tmp_path_factory):
 
 def _run(command: str, cwd: Path) -> subprocess.CompletedProcess:
     if command.split()[:3] == ["python3", "-m", "pytest"]:
-        command = command + " --collect-only -q -n 0"  # the suite cannot run itself inside itself
+        # the suite cannot run itself inside itself: it is collected, every test module
+        # imported; with plain asserts, as rewriting them (half the collection's time, redone
+        # in every process where bytecode is not written) is checked by the run itself
+        command = command + " --collect-only -q -n 0 --assert=plain"
         cwd = ROOT
     # benchmarks at their smallest (benchmarks/smoke.py): the command runs, its numbers mean nothing
     env = {**os.environ, "AAEVAL_SKIP_INSTALL": "1", "PYTHONDONTWRITEBYTECODE": "1", "AAEVAL_BENCH_SMOKE": "1"}
