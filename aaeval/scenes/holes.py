@@ -29,7 +29,7 @@ from aaeval.scenes.format import (
     check_no_repeats,
     check_simple,
     parse_polygon,
-    vector,
+    point_list,
 )
 
 __all__ = ["HoledPolygon", "polygons_with_holes", "ring_area", "points_inside"]
@@ -140,7 +140,7 @@ def _ring(raw: Any, where: str) -> np.ndarray:
         raise SceneError(f"{where}: expected a list of [x, y, z] points")
     if len(raw) < 3:
         raise SceneError(f"{where}: a hole needs at least 3 vertices, got {len(raw)}")
-    ring = np.array([vector(v, 3, f"{where}[{j}]") for j, v in enumerate(raw)])
+    ring = point_list(raw, where)
     if np.abs(ring).max() > MAX_COORDINATE:
         raise SceneError(f"{where}: coordinates beyond +-{MAX_COORDINATE:g} are not supported")
     check_no_repeats(ring, where)

@@ -21,7 +21,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from aaeval.scenes.format import Polygon, Scene, SceneError, number, register_section, vector
+from aaeval.scenes.format import Polygon, Scene, SceneError, number, point_list, register_section, vector
 
 __all__ = [
     "SECTION",
@@ -424,7 +424,7 @@ def _positive(value: Any, where: str) -> float:
 def _points(value: Any, where: str) -> np.ndarray:
     if not isinstance(value, list) or not value:
         raise SceneError(f"{where}: expected a non-empty list of [x, y, z]")
-    return np.array([vector(v, 3, f"{where}[{i}]") for i, v in enumerate(value)])
+    return point_list(value, where)
 
 
 def _unit_rows(v: np.ndarray, where: str) -> np.ndarray:
