@@ -82,7 +82,7 @@ def drawn(tmp_path_factory):
 
     def keep(fig, path):
         figures._plain_log_axes(fig)  # as save_figure does before writing
-        fig.canvas.draw()  # lay out at the saved size, for the collision check
+        fig.draw_without_rendering()  # lay out at the saved size, for the collision check (no pixels)
         made.append((Path(path).stem, fig, _tick_collisions(fig)))
         if Path(path).stem == SAVED:  # every chart is drawn; one is written in every format (the
             return save(fig, path)  # writing costs 80% of the time and is the same code for all)
