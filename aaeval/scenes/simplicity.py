@@ -87,7 +87,7 @@ def _duplicate_vertices(pts: np.ndarray) -> tuple[int, int] | None:
 
 
 def _brute_force(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[int, int] | None:
-    i, j = np.triu_indices(len(a), k=1)
+    i, j = _pairs_with_meeting_boxes(pts, a, b)
     shared = (a[i] == a[j]) | (a[i] == b[j]) | (b[i] == a[j]) | (b[i] == b[j])
     p, q, r, s = pts[a[i]], pts[b[i]], pts[a[j]], pts[b[j]]
     o1, o2, o3, o4 = _orient(p, q, r), _orient(p, q, s), _orient(r, s, p), _orient(r, s, q)
@@ -105,6 +105,20 @@ def _brute_force(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[int, in
         return None
     k = int(np.flatnonzero(hit)[0])
     return int(i[k]), int(j[k])
+
+
+def _pairs_with_meeting_boxes(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Every pair of edges (i < j, in ``np.triu_indices`` order) whose bounding boxes meet.
+
+    Edges that meet in any way (crossing, touching, sharing a vertex) have meeting boxes,
+    and the box test is exact (comparisons only), so the pairs left out are ones the full
+    test would pass; most pairs of a long outline are far apart.
+    """
+    i, j = np.triu_indices(len(a), k=1)
+    lo = np.minimum(pts[a], pts[b])
+    hi = np.maximum(pts[a], pts[b])
+    meet = np.all(lo[i] <= hi[j], axis=1) & np.all(lo[j] <= hi[i], axis=1)
+    return i[meet], j[meet]
 
 
 def _orient(p, q, r):
