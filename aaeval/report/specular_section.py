@@ -200,15 +200,15 @@ def _fig_clamp_ratio(figures_dir: Path) -> Path:
 
 def _fig_detection(stem: Path, scene: Scene) -> Path:
     fig, axes = plt.subplots(1, 3, figsize=(11, 3.8), layout="constrained")
-    for ax, power in zip(axes[:2], (1.0, 0.999)):
-        found = specular_aliasing_map(scene, power=power)
+    # the normal's turn does not depend on the power: the third panel reuses the first map
+    maps = {power: specular_aliasing_map(scene, power=power) for power in (1.0, 0.999)}
+    for ax, (power, found) in zip(axes[:2], maps.items()):
         im = ax.imshow(np.log2(np.maximum(found.rate, 1e-3)), cmap="magma", vmin=-4, vmax=8, interpolation="nearest")
         if found.flag.any():
             ax.contour(found.flag, levels=[0.5], colors="c", linewidths=0.5)
         ax.set_title(f"log2 oversampling rate, power {power} (cyan: flagged)", fontsize=8)
         fig.colorbar(im, ax=ax, fraction=0.046)
-    found = specular_aliasing_map(scene)
-    im = axes[2].imshow(np.degrees(np.arccos(found.dot)), cmap="viridis", interpolation="nearest")
+    im = axes[2].imshow(np.degrees(np.arccos(maps[1.0].dot)), cmap="viridis", interpolation="nearest")
     axes[2].set_title("largest normal turn in the pixel (degrees)", fontsize=8)
     fig.colorbar(im, ax=axes[2], fraction=0.046)
     for ax in axes:
