@@ -112,13 +112,24 @@ def _pairs_with_meeting_boxes(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> 
 
     Edges that meet in any way (crossing, touching, sharing a vertex) have meeting boxes,
     and the box test is exact (comparisons only), so the pairs left out are ones the full
-    test would pass; most pairs of a long outline are far apart.
+    test would pass; most pairs of a long outline are far apart. The pairs come from a
+    sweep in x (each edge, in order of left end, with the edges that start before its
+    right end), then the y test, then sorted back into ``triu_indices`` order, so the
+    first meeting pair is the one the all-pairs test finds first.
     """
-    i, j = np.triu_indices(len(a), k=1)
     lo = np.minimum(pts[a], pts[b])
     hi = np.maximum(pts[a], pts[b])
-    meet = np.all(lo[i] <= hi[j], axis=1) & np.all(lo[j] <= hi[i], axis=1)
-    return i[meet], j[meet]
+    order = np.argsort(lo[:, 0], kind="stable")
+    left = lo[order, 0]
+    partners = np.searchsorted(left, hi[order, 0], side="right") - np.arange(len(order)) - 1
+    first = np.repeat(np.arange(len(order)), partners)
+    second = first + 1 + np.arange(len(first)) - np.repeat(np.cumsum(partners) - partners, partners)
+    e, f = order[first], order[second]
+    i, j = np.minimum(e, f), np.maximum(e, f)
+    meet = (lo[i, 1] <= hi[j, 1]) & (lo[j, 1] <= hi[i, 1])
+    i, j = i[meet], j[meet]
+    ranked = np.argsort(i * len(a) + j)
+    return i[ranked], j[ranked]
 
 
 def _orient(p, q, r):
