@@ -36,18 +36,26 @@ def _inputs(scene: Scene, filt: PixelFilter):
             (int(kind), int(radius), int(k), float(alpha), float(bias)))
 
 
-def knot_grid_sums(scene: Scene, filt: PixelFilter, threads: int = 0) -> np.ndarray:
-    """Per-cell integrals ``(H + 1, W + 1, k, k, 3)`` of the visible colour (background included)."""
+def knot_grid_sums(scene: Scene, filt: PixelFilter, threads: int = 0, signed_pieces: bool = True) -> np.ndarray:
+    """Per-cell integrals ``(H + 1, W + 1, k, k, 3)`` of the visible colour (background included).
+
+    ``signed_pieces``: a pixel holding two irregular pieces over what both hide takes the
+    second's visible part as its piece less the overlap (integrals are linear in the
+    pieces), not the pixel integrator's pieces of it; False gives the integrator's pieces,
+    the bits recorded before that shortcut (the two differ by rounding:
+    ``tests/test_same_bits.py``).
+    """
     args, fargs = _inputs(scene, filt)
-    return _catmull.knot_grid_sums(*args, *fargs, thread_count(threads))
+    return _catmull.knot_grid_sums(*args, *fargs, thread_count(threads), bool(signed_pieces))
 
 
-def filter_sums(scene: Scene, filt: PixelFilter, threads: int = 0) -> np.ndarray:
+def filter_sums(scene: Scene, filt: PixelFilter, threads: int = 0, signed_pieces: bool = True) -> np.ndarray:
     """Pixel sums ``(H, W, 3)`` of the visible colour against the filter (before the film's division).
 
-    The same bits as ``combine_cells(knot_grid_sums(scene, filt), filt, W, H)``, without the
-    cells: the kernel's sink contracts each row of cells along x as soon as the row is done.
+    The same bits as ``combine_cells(knot_grid_sums(scene, filt, signed_pieces=...), filt, W, H)``,
+    without the cells: the kernel's sink contracts each row of cells along x as soon as the
+    row is done. ``signed_pieces``: as in :func:`knot_grid_sums`.
     """
     args, fargs = _inputs(scene, filt)
     e = np.ascontiguousarray(cell_basis_matrix(filt), dtype=np.float64)
-    return _catmull.filter_sums(*args, *fargs, e, thread_count(threads))
+    return _catmull.filter_sums(*args, *fargs, e, thread_count(threads), bool(signed_pieces))

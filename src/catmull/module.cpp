@@ -212,7 +212,7 @@ nb::ndarray<nb::numpy, double> render_flat(In start, In length, In x, In y, In p
 
 nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, In planes, double eps_z, In colors,
                                               int64_t width, int64_t height, int64_t kind, int64_t radius, int64_t k,
-                                              double alpha, double bias, int64_t threads) {
+                                              double alpha, double bias, int64_t threads, bool signed_pieces) {
     Polygons P = polygons(start, length, x, y, planes);
     const double* c = colors_of(colors, P.n);
     check_eps(eps_z);
@@ -226,6 +226,7 @@ nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, I
         // the scene moved by (1/2, 1/2) at (W + 1) x (H + 1) pixels: the knot cells
         run_bands(height + 1, threads, [&](int64_t, int64_t r0, int64_t r1) {
             MomentSink out(acc.data(), c, P.n + 1, width, height, F);
+            out.signed_pieces = signed_pieces;
             scan_rows(P, width + 1, r0, r1, eps_z, false, true, out);
         });
     }
@@ -237,7 +238,7 @@ nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, I
 // combine_cells(knot_grid_sums(...)). e: (2R, k), the filter's cell-local coefficients.
 nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In planes, double eps_z, In colors,
                                            int64_t width, int64_t height, int64_t kind, int64_t radius, int64_t k,
-                                           double alpha, double bias, In e, int64_t threads) {
+                                           double alpha, double bias, In e, int64_t threads, bool signed_pieces) {
     Polygons P = polygons(start, length, x, y, planes);
     const double* c = colors_of(colors, P.n);
     check_eps(eps_z);
@@ -262,6 +263,7 @@ nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In p
             MomentSink out(nullptr, c, P.n + 1, width, height, F);
             out.rows_to(tx, ev, radius);
             out.written = written.data();
+            out.signed_pieces = signed_pieces;
             scan_rows(P, width + 1, r0, r1, eps_z, false, true, out);
             out.flush();
         });
@@ -393,11 +395,14 @@ NB_MODULE(catmull, m) {
     m.def("knot_grid_sums", &knot_grid_sums, nb::arg("start"), nb::arg("length"), nb::arg("x"), nb::arg("y"),
           nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"), nb::arg("width"), nb::arg("height"),
           nb::arg("kind"), nb::arg("radius"), nb::arg("k"), nb::arg("alpha"), nb::arg("bias"), nb::arg("threads"),
-          "Per-cell integrals (H+1, W+1, k, k, 3) of the visible colour of a scene moved by (1/2, 1/2).");
+          nb::arg("signed_pieces") = true,
+          "Per-cell integrals (H+1, W+1, k, k, 3) of the visible colour of a scene moved by (1/2, 1/2) "
+          "(signed_pieces=False: every visible part from the pixel integrator, the bits recorded before the "
+          "two-layer case took shapes).");
     m.def("filter_sums", &filter_sums, nb::arg("start"), nb::arg("length"), nb::arg("x"), nb::arg("y"),
           nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"), nb::arg("width"), nb::arg("height"),
           nb::arg("kind"), nb::arg("radius"), nb::arg("k"), nb::arg("alpha"), nb::arg("bias"), nb::arg("e"),
-          nb::arg("threads"),
+          nb::arg("threads"), nb::arg("signed_pieces") = true,
           "Pixel sums (H, W, 3) of the visible colour against a filter (e: (2R, k)), of a scene moved by (1/2, 1/2).");
     m.def("combine_cells", &combine_cells_py, nb::arg("acc"), nb::arg("e"), nb::arg("radius"), nb::arg("width"),
           nb::arg("height"), nb::arg("threads"),

@@ -382,6 +382,11 @@ inline void combine_rows(const double* acc, const double* e, int64_t R, int64_t 
 // colors: n_colors rows (the background last); `emitted` holds what the current cell has
 // received (for emit_rest). One sink per band: bands write disjoint rows of acc.
 struct MomentSink {
+    // integrals are linear in the pieces: a visible part may come as a piece less another
+    // (sweep.hpp's two-layer case); signed_pieces off gives the integrator's pieces instead
+    // (the bits recorded before that case existed, tests/test_same_bits.py)
+    static constexpr bool SIGNED_PIECES = true;
+    bool signed_pieces = true;
     double* acc;
     const double* colors;
     int64_t n_colors, width, height;
@@ -633,6 +638,11 @@ struct MomentSink {
     void emit_piece(int64_t p, int64_t src, const double* xs, const double* ys, int64_t start, int64_t n) {
         integrate_piece(p, xs, ys, start, n);
         add(p, src, 1.0);
+    }
+    void emit_signed_piece(int64_t p, int64_t src, double sign, const double* xs, const double* ys, int64_t start,
+                           int64_t n) {
+        integrate_piece(p, xs, ys, start, n);
+        add(p, src, sign);
     }
     // the strip coverage's area is the polygon's own: its integrals come from the polygon
     void emit_strip_piece(int64_t p, int64_t src, double, const double* xs, const double* ys, int64_t start,
