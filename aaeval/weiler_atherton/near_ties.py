@@ -60,14 +60,21 @@ def tie_groups(boxes: np.ndarray, planes: np.ndarray, sources: np.ndarray, eps_z
 
 def _similar_slopes(planes: np.ndarray, tol: float) -> np.ndarray:
     """Which planes have another whose x slope and y slope are each within ``tol``
-    (a superset of the near-coplanar pairs, found by sorting instead of pairing)."""
+    (a superset of the near-coplanar pairs, found by sorting instead of pairing: in sorted
+    order a slope's nearest others are its neighbours)."""
     alike = np.ones(len(planes), dtype=bool)
     for axis in (0, 1):
         idx = np.flatnonzero(alike)
-        slope = planes[idx, axis]
-        ordered = np.sort(slope)
-        count = np.searchsorted(ordered, slope + tol, "right") - np.searchsorted(ordered, slope - tol, "left")
-        alike[idx[count < 2]] = False
+        if len(idx) < 2:
+            return np.zeros(len(planes), dtype=bool)
+        order = np.argsort(planes[idx, axis])
+        ordered = planes[idx[order], axis]
+        # widened by a few ulps: a candidate filter may keep too many, never too few
+        close = np.diff(ordered) <= tol * (1 + 1e-9) + 4 * np.spacing(np.abs(ordered).max())
+        near = np.zeros(len(idx), dtype=bool)
+        near[:-1] |= close
+        near[1:] |= close
+        alike[idx[order[~near]]] = False
     return alike
 
 
