@@ -135,8 +135,7 @@ def resolve_flat_arrays(start, length, x, y, planes, source, eps_z):
     if n < 2:
         return start, length, x, y, planes, source
     ends = start + length
-    boxes = np.stack([np.minimum.reduceat(x, start), np.minimum.reduceat(y, start),
-                      np.maximum.reduceat(x, start), np.maximum.reduceat(y, start)], axis=1)
+    boxes = _boxes(start, length, x, y)
     tied, rest = tie_groups(boxes, planes, np.arange(n), eps_z)
     if len(tied) == 0:
         return start, length, x, y, planes, source
@@ -158,6 +157,23 @@ def resolve_flat_arrays(start, length, x, y, planes, source, eps_z):
     new_start[1:] = np.cumsum(new_length)[:-1]
     return (new_start, new_length, np.concatenate(xs), np.concatenate(ys),
             np.ascontiguousarray(planes[owner]), source[owner])
+
+
+def _boxes(start, length, x, y) -> np.ndarray:
+    """Each outline's box ``(n, 4)``: x0, y0, x1, y1 (outlines of one length, all
+    triangles say, as rows of a 2D array: min and max are exact either way)."""
+    rows = (len(start), int(length[0]))
+    if rows[0] * rows[1] == len(x) and (start == np.arange(rows[0]) * rows[1]).all() and (length == rows[1]).all():
+        xs, ys = x.reshape(rows), y.reshape(rows)
+        box = np.stack([xs[:, 0], ys[:, 0], xs[:, 0], ys[:, 0]], axis=1)
+        for j in range(1, rows[1]):  # column by column: numpy reduces short rows slowly
+            np.minimum(box[:, 0], xs[:, j], out=box[:, 0])
+            np.minimum(box[:, 1], ys[:, j], out=box[:, 1])
+            np.maximum(box[:, 2], xs[:, j], out=box[:, 2])
+            np.maximum(box[:, 3], ys[:, j], out=box[:, 3])
+        return box
+    return np.stack([np.minimum.reduceat(x, start), np.minimum.reduceat(y, start),
+                     np.maximum.reduceat(x, start), np.maximum.reduceat(y, start)], axis=1)
 
 
 def _triangles(shape: Shape) -> np.ndarray:
