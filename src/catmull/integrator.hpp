@@ -181,7 +181,7 @@ inline Line first_clip_edge(const double* wx, const double* wy, const uint8_t* w
     int64_t k = 0;
     while (k < fn && !l.found) {
         if (wf[fs + k] == 0) {
-            const int64_t k2 = fs + (k + 1) % fn;
+            const int64_t k2 = k + 1 < fn ? fs + k + 1 : fs;
             const double ex = wx[k2] - wx[fs + k];
             const double ey = wy[k2] - wy[fs + k];
             const double norm = geometry::sqrt_ieee(ex * ex + ey * ey);

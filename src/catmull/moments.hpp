@@ -38,16 +38,40 @@ inline double gauss_primitive(double t, double alpha, double bias) {
 // Integrals of phi_a(u) psi_b(v) over one polygon xs/ys[start .. start+n) lying in the cell
 // centred at (ox, oy), written to out[a * k + b]; u = x - ox, v = y - oy. Polynomial:
 // phi_a = u^a, psi_b = v^b; Gaussian: phi_a(u) = k(u + a - radius + 1/2), the same in v.
-// phi, psi: scratch of k entries. KT: k known at compile time (0: F.k), so that the basis
-// loops unroll; every entry's sum runs in the same order either way (the same bits).
-// An edge on a cell's side at u = +-1/2 (du = 0) has the same phi at every node: those
+// phi, psi: scratch of k entries (piece_integrals_k below). An edge on a cell's side at u = +-1/2 (du = 0) has the same phi at every node: those
 // values are found once per sink (sides), not per node.
 struct SidePhi {
     bool have = false;
     double lo[64], hi[64];  // phi_a(-1/2), phi_a(+1/2)
 };
 
-template <int KT>
+// phi on a vertical cell side u0 = -1/2 or +1/2, found once per sink: what the node loop
+// computes at u = u0 + t * 0 = u0
+template <bool POLY>
+inline const double* side_phi(double u0, int64_t k, const Filter& F, SidePhi* sides) {
+    if (!sides->have) {
+        double ulo = -0.5, uhi = 0.5;
+        for (int64_t a = 0; a < k; ++a) {
+            if (POLY) {
+                sides->lo[a] = ulo / double(a + 1);
+                sides->hi[a] = uhi / double(a + 1);
+                ulo *= -0.5;
+                uhi *= 0.5;
+            } else {
+                const double c = double(a - F.radius) + 0.5;
+                sides->lo[a] = gauss_primitive(-0.5 + c, F.alpha, F.bias);
+                sides->hi[a] = gauss_primitive(0.5 + c, F.alpha, F.bias);
+            }
+        }
+        sides->have = true;
+    }
+    return u0 == -0.5 ? sides->lo : sides->hi;
+}
+
+// KT: k known at compile time (0: F.k), so that the basis loops unroll; POLY: the
+// polynomial basis (else the Gaussian's), so that each node loop is straight code. Every
+// entry's sum runs in the same order either way (the same bits).
+template <int KT, bool POLY>
 inline void piece_integrals_k(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
                               const Filter& F, double* out_, double* phi_, double* psi_, SidePhi* sides) {
     const int64_t k = KT ? KT : F.k;
@@ -58,52 +82,53 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
     double* phi = KT ? lphi : phi_;
     double* psi = KT ? lpsi : psi_;
     for (int64_t a = 0; a < k * k; ++a) out[a] = 0.0;
-    const bool poly = F.kind == KIND_POLYNOMIAL;
-    const double* nodes = poly ? POLY_T : GAUSS_T;
-    const double* weights = poly ? POLY_W : GAUSS_W;
-    const int nq = poly ? 4 : 12;
+    const double* nodes = POLY ? POLY_T : GAUSS_T;
+    const double* weights = POLY ? POLY_W : GAUSS_W;
+    constexpr int nq = POLY ? 4 : 12;
     // gauss_primitive's constants, found once per call (the same values, so the same bits)
-    const double gc = poly ? 0.0 : std::sqrt(-F.alpha);
-    const double gk = poly ? 0.0 : 0.8862269254527580 / gc;
+    const double gc = POLY ? 0.0 : std::sqrt(-F.alpha);
+    const double gk = POLY ? 0.0 : 0.8862269254527580 / gc;
+    auto accumulate = [&](double w) {
+        for (int64_t a = 0; a < k; ++a) {
+            const double wa = w * phi[a];
+            for (int64_t b = 0; b < k; ++b) out[a * k + b] += wa * psi[b];
+        }
+    };
     for (int64_t i = 0; i < n; ++i) {
-        const int64_t j = start + (i + 1) % n;
+        const int64_t j = i + 1 < n ? start + i + 1 : start;  // the next vertex (no division)
         const double u0 = xs[start + i] - ox;
         const double v0 = ys[start + i] - oy;
         const double du = xs[j] - ox - u0;
         const double dv = ys[j] - oy - v0;
         if (dv == 0.0) continue;  // the integral of Phi dv vanishes along a horizontal edge
-        const double* side = nullptr;  // phi on a vertical cell side, found once
         if (sides != nullptr && du == 0.0 && (u0 == -0.5 || u0 == 0.5)) {
-            if (!sides->have) {  // what the node loop computes at u = u0 + t * 0 = u0
-                double ulo = -0.5, uhi = 0.5;
-                for (int64_t a = 0; a < k; ++a) {
-                    if (poly) {
-                        sides->lo[a] = ulo / double(a + 1);
-                        sides->hi[a] = uhi / double(a + 1);
-                        ulo *= -0.5;
-                        uhi *= 0.5;
-                    } else {
+            // an edge on a cell's vertical side: phi is the same at every node
+            const double* side = side_phi<POLY>(u0, k, F, sides);
+            for (int64_t a = 0; a < k; ++a) phi[a] = side[a];
+            for (int q = 0; q < nq; ++q) {
+                const double v = v0 + nodes[q] * dv;
+                const double w = weights[q] * dv;
+                if (POLY) {
+                    double vp = 1.0;
+                    for (int64_t a = 0; a < k; ++a) {
+                        psi[a] = vp;
+                        vp *= v;
+                    }
+                } else {
+                    for (int64_t a = 0; a < k; ++a) {
                         const double c = double(a - F.radius) + 0.5;
-                        sides->lo[a] = gauss_primitive(-0.5 + c, F.alpha, F.bias);
-                        sides->hi[a] = gauss_primitive(0.5 + c, F.alpha, F.bias);
+                        psi[a] = std::exp(F.alpha * (v + c) * (v + c)) - F.bias;
                     }
                 }
-                sides->have = true;
+                accumulate(w);
             }
-            side = u0 == -0.5 ? sides->lo : sides->hi;
+            continue;
         }
         for (int q = 0; q < nq; ++q) {
             const double u = u0 + nodes[q] * du;
             const double v = v0 + nodes[q] * dv;
             const double w = weights[q] * dv;
-            if (poly && side) {
-                double vp = 1.0;
-                for (int64_t a = 0; a < k; ++a) {
-                    phi[a] = side[a];
-                    psi[a] = vp;
-                    vp *= v;
-                }
-            } else if (poly) {
+            if (POLY) {
                 double up = u, vp = 1.0;
                 for (int64_t a = 0; a < k; ++a) {
                     phi[a] = up / double(a + 1);
@@ -114,19 +139,12 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
             } else {
                 for (int64_t a = 0; a < k; ++a) {
                     const double c = double(a - F.radius) + 0.5;
-                    if (side) {
-                        phi[a] = side[a];
-                    } else {
-                        const double t = u + c;
-                        phi[a] = gk * std::erf(gc * t) - F.bias * t;  // gauss_primitive(t, alpha, bias)
-                    }
+                    const double t = u + c;
+                    phi[a] = gk * std::erf(gc * t) - F.bias * t;  // gauss_primitive(t, alpha, bias)
                     psi[a] = std::exp(F.alpha * (v + c) * (v + c)) - F.bias;
                 }
             }
-            for (int64_t a = 0; a < k; ++a) {
-                const double wa = w * phi[a];
-                for (int64_t b = 0; b < k; ++b) out[a * k + b] += wa * psi[b];
-            }
+            accumulate(w);
         }
     }
     if (KT)
@@ -135,9 +153,13 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
 
 inline void piece_integrals(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
                             const Filter& F, double* out, double* phi, double* psi, SidePhi* sides = nullptr) {
-    if (F.k == 2) return piece_integrals_k<2>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
-    if (F.k == 4) return piece_integrals_k<4>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
-    piece_integrals_k<0>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
+    if (F.kind == KIND_POLYNOMIAL) {
+        if (F.k == 2) return piece_integrals_k<2, true>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
+        if (F.k == 4) return piece_integrals_k<4, true>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
+        return piece_integrals_k<0, true>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
+    }
+    if (F.k == 4) return piece_integrals_k<4, false>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
+    piece_integrals_k<0, false>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
 }
 
 // Scratch for clip_box: two halves of 16 n + 16 vertices each (a line clip adds at most one

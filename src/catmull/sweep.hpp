@@ -192,8 +192,8 @@ inline TwoLayer two_layer_parts(const Strip& S, int64_t ka, int64_t kb, double x
             mb = 0;
         }
         for (int64_t i = 0; i < ma; ++i) {
-            const int64_t j = (i + 1) % ma;
-            const int64_t k = (i + 2) % ma;
+            const int64_t j = i + 1 < ma ? i + 1 : i + 1 - ma;  // (i + 1) % ma without a division
+            const int64_t k = i + 2 < ma ? i + 2 : i + 2 - ma;
             const double turn = (wx[j] - wx[i]) * (wy[k] - wy[j]) - (wy[j] - wy[i]) * (wx[k] - wx[j]);
             convex = convex && turn >= -CONVEX_SLACK;
         }
@@ -201,7 +201,7 @@ inline TwoLayer two_layer_parts(const Strip& S, int64_t ka, int64_t kb, double x
             // kb's part is left in place (the clips write into the two halves from tmp)
             int64_t cur = at_b, m = mb, spare = tmp;
             for (int64_t i = 0; i < ma; ++i) {
-                const int64_t j = (i + 1) % ma;
+                const int64_t j = i + 1 < ma ? i + 1 : 0;
                 const double ex = wx[j] - wx[i];
                 const double ey = wy[j] - wy[i];
                 const double norm = geometry::sqrt_ieee(ex * ex + ey * ey);
