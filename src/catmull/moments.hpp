@@ -347,7 +347,7 @@ inline void contract_y_rows_k(const double* t, int64_t n0, int64_t n1, const dou
     double* __restrict__ S = sum.data();  // restrict: the loops below vectorise
     for (int64_t j = j0; j < j1; ++j) {
         double* __restrict__ out = image + j * plane;
-        for (int64_t x = 0; x < plane; ++x) out[x] = 0.0;
+        bool first = true;  // the first sum is written, not added to zeros (S is never -0.0)
         for (int64_t q = -R; q < R; ++q) {
             const int64_t n = j + 1 + q;
             if (n < n0 || n > n1) continue;
@@ -360,8 +360,14 @@ inline void contract_y_rows_k(const double* t, int64_t n0, int64_t n1, const dou
                 const double* __restrict__ tb = tr + b * plane;
                 for (int64_t x = 0; x < plane; ++x) S[x] += tb[x] * eb;
             }
-            for (int64_t x = 0; x < plane; ++x) out[x] += S[x];
+            if (first)
+                for (int64_t x = 0; x < plane; ++x) out[x] = S[x];
+            else
+                for (int64_t x = 0; x < plane; ++x) out[x] += S[x];
+            first = false;
         }
+        if (first)
+            for (int64_t x = 0; x < plane; ++x) out[x] = 0.0;
     }
 }
 
@@ -492,7 +498,11 @@ struct MomentSink {
         const int64_t k = KT ? KT : F.k;
         const int64_t kn = k * 3;
         double* __restrict__ t = tx + cur_row * width * kn;  // restrict: apart from the terms
-        for (int64_t x = 0; x < width * kn; ++x) t[x] = 0.0;
+        // a pixel's first term is written, not added to a zero (0 + x is x, but for the sign
+        // of a zero, which every later sum loses): only the pixels before R - 1, whose
+        // first cells lie left of the image, start from zeros
+        for (int64_t b = 0; b < k; ++b)  // t: (k, W, 3)
+            for (int64_t x = 0; x < geometry::pymin(R - 1, width) * 3; ++x) t[b * width * 3 + x] = 0.0;
         std::vector<double>& own = cellbuf;  // scratch: 2R x k x 3 terms of a partial cell
         if (own.size() < size_t(2 * R * kn + k * kn)) own.resize(size_t(2 * R * kn + k * kn));
         int64_t last_ci = NONE;
@@ -520,6 +530,15 @@ struct MomentSink {
                 const int64_t i = m - 1 - p;
                 if (i < 0 || i >= width) continue;
                 const double* __restrict__ sp = terms + (p + R) * kn;
+                if (p == -R) {  // pixel i's first cell (m = i + 1 - R)
+                    for (int64_t b = 0; b < k; ++b) {
+                        double* __restrict__ tb = t + b * width * 3 + i * 3;
+                        tb[0] = sp[b * 3];
+                        tb[1] = sp[b * 3 + 1];
+                        tb[2] = sp[b * 3 + 2];
+                    }
+                    continue;
+                }
                 for (int64_t b = 0; b < k; ++b) {
                     double* __restrict__ tb = t + b * width * 3 + i * 3;
                     tb[0] += sp[b * 3];
