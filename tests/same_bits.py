@@ -4,12 +4,13 @@ Before a numba kernel family was deleted, its images on every scene here were re
 SHA-256 digests (``tests/data/same_bits_<family>.json``) by the numba code; the native
 kernels must give the same bytes (``tests/test_same_bits.py``).
 
-One difference is explained instead: the exact filters' sink takes a pixel holding two
-irregular pieces over what both hide as the second's piece less their overlap, where the
-numba kernel took the pixel integrator's pieces (the integrals are linear in the pieces;
-about 8% of the filter render's time). Its digests are of the integrator's route
-(``signed_pieces=False``, :func:`render_recorded`), which still gives the numba bits, and
-the route the method takes stays within :data:`SIGNED_PIECES_TOLERANCE` of it.
+One difference is explained instead: the exact filters' fast route takes a pixel holding
+two irregular pieces over what both hide as the second's piece less their overlap, where
+the numba kernel took the pixel integrator's pieces (the integrals are linear in the
+pieces), and integrates the tent's edges with the 2 Gauss-Legendre points their degree 3
+needs, where the numba kernel took 4. The filters' digests are of the recorded route
+(``recorded=True``, :func:`render_recorded`), which still gives the numba bits, and the
+route the method takes stays within :data:`FAST_ROUTE_TOLERANCE` of it.
 
 Record (only while the numba kernels still exist) with::
 
@@ -52,21 +53,21 @@ FAMILY_METHODS: dict[str, tuple[str, ...]] = {
 }
 
 
-#: the largest difference allowed between an exact-filter image with the two-layer pixels
-#: taken as signed pieces and the integrator's (recorded) one: rounding of the pieces'
-#: integrals, and the integrator's own tolerances (EPS_LINE, AREA_EMPTY) on the slivers
-#: it cuts; measured up to 7.4e-14 on the 512 x 512 benchmark scene
-SIGNED_PIECES_TOLERANCE = 1e-13
+#: the largest difference allowed between an exact-filter image on the fast route and on the
+#: recorded one: rounding of the pieces' integrals, and the integrator's own tolerances
+#: (EPS_LINE, AREA_EMPTY) on the slivers it cuts; measured up to 7.8e-14 (catmullrom) on the 512 x 512
+#: benchmark scene
+FAST_ROUTE_TOLERANCE = 1e-13
 
 
-def render_recorded(scene: Scene, spec: str, signed_pieces: bool = False) -> np.ndarray:
-    """The image of ``spec`` as the digests were recorded: an exact filter's visible parts
-    all from the pixel integrator (``signed_pieces=False``); every other spec (and a shaded
-    scene, which the filters refuse) as rendered."""
+def render_recorded(scene: Scene, spec: str, recorded: bool = True) -> np.ndarray:
+    """The image of ``spec`` as the digests were recorded: an exact filter on its recorded
+    route (``recorded=False``: the fast route the method takes); every other spec (and a
+    shaded scene, which the filters refuse) as rendered."""
     name, _, option = spec.partition(":filter=")
     if name == "catmull" and option and not has_shaded(scene):
         filt = get_filter(option)
-        return divide_by_weight(filter_sums(scene, filt, signed_pieces=signed_pieces), scene, filt)
+        return divide_by_weight(filter_sums(scene, filt, recorded=recorded), scene, filt)
     return render(scene, spec)
 
 

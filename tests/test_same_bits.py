@@ -12,7 +12,7 @@ import pytest
 
 import numpy as np
 
-from tests.same_bits import DATA, FAMILY_METHODS, FILTERS, SIGNED_PIECES_TOLERANCE, digests_of, render_recorded, scenes
+from tests.same_bits import DATA, FAMILY_METHODS, FILTERS, FAST_ROUTE_TOLERANCE, digests_of, render_recorded, scenes
 
 RECORDED = sorted(f for f in FAMILY_METHODS if (DATA / f"same_bits_{f}.json").exists())
 
@@ -30,9 +30,9 @@ def test_native_images_have_the_recorded_bits(family):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("filt", FILTERS)
-def test_signed_two_layer_pieces_stay_within_rounding_of_the_recorded_images(filt):
+def test_the_filters_fast_route_stays_within_rounding_of_the_recorded_images(filt):
     # the exact filters' one explained difference (tests/same_bits.py): the method's own
-    # route against the integrator's, which holds the recorded bits, on every scene
+    # route against the recorded one, which holds the recorded bits, on every scene
     spec = f"catmull:filter={filt}"
     worst, where, changed = 0.0, None, 0
     for scene_id, make in scenes():
@@ -41,10 +41,10 @@ def test_signed_two_layer_pieces_stay_within_rounding_of_the_recorded_images(fil
             recorded = render_recorded(scene, spec)
         except (ValueError, NotImplementedError):
             continue
-        image = render_recorded(scene, spec, signed_pieces=True)
+        image = render_recorded(scene, spec, recorded=False)
         gap = float(np.abs(image - recorded).max())
         changed += gap > 0.0
         if gap > worst:
             worst, where = gap, scene_id
-    assert worst <= SIGNED_PIECES_TOLERANCE, f"{spec} differs by {worst:.3g} on {where}"
+    assert worst <= FAST_ROUTE_TOLERANCE, f"{spec} differs by {worst:.3g} on {where}"
     assert changed > 0  # the shortcut is taken (else the two routes were never compared)

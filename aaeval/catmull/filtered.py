@@ -36,26 +36,27 @@ def _inputs(scene: Scene, filt: PixelFilter):
             (int(kind), int(radius), int(k), float(alpha), float(bias)))
 
 
-def knot_grid_sums(scene: Scene, filt: PixelFilter, threads: int = 0, signed_pieces: bool = True) -> np.ndarray:
+def knot_grid_sums(scene: Scene, filt: PixelFilter, threads: int = 0, recorded: bool = False) -> np.ndarray:
     """Per-cell integrals ``(H + 1, W + 1, k, k, 3)`` of the visible colour (background included).
 
-    ``signed_pieces``: a pixel holding two irregular pieces over what both hide takes the
-    second's visible part as its piece less the overlap (integrals are linear in the
-    pieces), not the pixel integrator's pieces of it; False gives the integrator's pieces,
-    the bits recorded before that shortcut (the two differ by rounding:
-    ``tests/test_same_bits.py``).
+    ``recorded``: the route the same-bits digests were recorded on (``tests/same_bits.py``).
+    The default route differs from it by rounding only (at most 1e-13,
+    ``tests/test_same_bits.py``): a pixel holding two irregular pieces over what both hide
+    takes the second's visible part as its piece less their overlap (integrals are linear
+    in the pieces), not the pixel integrator's pieces of it; and the tent's edges take the
+    2 Gauss-Legendre points their degree 3 needs, not 4.
     """
     args, fargs = _inputs(scene, filt)
-    return _catmull.knot_grid_sums(*args, *fargs, thread_count(threads), bool(signed_pieces))
+    return _catmull.knot_grid_sums(*args, *fargs, thread_count(threads), bool(recorded))
 
 
-def filter_sums(scene: Scene, filt: PixelFilter, threads: int = 0, signed_pieces: bool = True) -> np.ndarray:
+def filter_sums(scene: Scene, filt: PixelFilter, threads: int = 0, recorded: bool = False) -> np.ndarray:
     """Pixel sums ``(H, W, 3)`` of the visible colour against the filter (before the film's division).
 
-    The same bits as ``combine_cells(knot_grid_sums(scene, filt, signed_pieces=...), filt, W, H)``,
+    The same bits as ``combine_cells(knot_grid_sums(scene, filt, recorded=...), filt, W, H)``,
     without the cells: the kernel's sink contracts each row of cells along x as soon as the
-    row is done. ``signed_pieces``: as in :func:`knot_grid_sums`.
+    row is done. ``recorded``: as in :func:`knot_grid_sums`.
     """
     args, fargs = _inputs(scene, filt)
     e = np.ascontiguousarray(cell_basis_matrix(filt), dtype=np.float64)
-    return _catmull.filter_sums(*args, *fargs, e, thread_count(threads), bool(signed_pieces))
+    return _catmull.filter_sums(*args, *fargs, e, thread_count(threads), bool(recorded))

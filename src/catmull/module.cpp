@@ -132,6 +132,13 @@ Filter filter_of(int64_t kind, int64_t radius, int64_t k, double alpha, double b
     return {kind, radius, k, alpha, bias};
 }
 
+// The filter as a render takes it: the fast route integrates the tent's edges with the 2
+// Gauss-Legendre points their degree needs; the recorded route (the same-bits digests) keeps 4.
+Filter route_filter(Filter F, bool recorded) {
+    if (!recorded && F.kind == KIND_POLYNOMIAL && F.k == 2) F.nodes = 2;
+    return F;
+}
+
 template <class T>
 nb::ndarray<nb::numpy, T> to_numpy(std::vector<T>&& v, std::initializer_list<size_t> shape) {
     if (v.empty()) v.reserve(1);
@@ -212,11 +219,11 @@ nb::ndarray<nb::numpy, double> render_flat(In start, In length, In x, In y, In p
 
 nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, In planes, double eps_z, In colors,
                                               int64_t width, int64_t height, int64_t kind, int64_t radius, int64_t k,
-                                              double alpha, double bias, int64_t threads, bool signed_pieces) {
+                                              double alpha, double bias, int64_t threads, bool recorded) {
     Polygons P = polygons(start, length, x, y, planes);
     const double* c = colors_of(colors, P.n);
     check_eps(eps_z);
-    const Filter F = filter_of(kind, radius, k, alpha, bias);
+    const Filter F = route_filter(filter_of(kind, radius, k, alpha, bias), recorded);
     check_size(width, height, 3 * k * k);
     check_threads(threads);
     std::vector<double> acc(size_t((height + 1) * (width + 1) * k * k * 3), 0.0);
@@ -226,7 +233,7 @@ nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, I
         // the scene moved by (1/2, 1/2) at (W + 1) x (H + 1) pixels: the knot cells
         run_bands(height + 1, threads, [&](int64_t, int64_t r0, int64_t r1) {
             MomentSink out(acc.data(), c, P.n + 1, width, height, F);
-            out.signed_pieces = signed_pieces;
+            out.signed_pieces = !recorded;
             scan_rows(P, width + 1, r0, r1, eps_z, false, true, out);
         });
     }
@@ -238,11 +245,11 @@ nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, I
 // combine_cells(knot_grid_sums(...)). e: (2R, k), the filter's cell-local coefficients.
 nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In planes, double eps_z, In colors,
                                            int64_t width, int64_t height, int64_t kind, int64_t radius, int64_t k,
-                                           double alpha, double bias, In e, int64_t threads, bool signed_pieces) {
+                                           double alpha, double bias, In e, int64_t threads, bool recorded) {
     Polygons P = polygons(start, length, x, y, planes);
     const double* c = colors_of(colors, P.n);
     check_eps(eps_z);
-    const Filter F = filter_of(kind, radius, k, alpha, bias);
+    const Filter F = route_filter(filter_of(kind, radius, k, alpha, bias), recorded);
     if (radius < 1) fail("radius must be at least 1");
     check_size(width, height, 3 * k * k);
     check_threads(threads);
@@ -263,7 +270,7 @@ nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In p
             MomentSink out(nullptr, c, P.n + 1, width, height, F);
             out.rows_to(tx, ev, radius);
             out.written = written.data();
-            out.signed_pieces = signed_pieces;
+            out.signed_pieces = !recorded;
             scan_rows(P, width + 1, r0, r1, eps_z, false, true, out);
             out.flush();
         });
@@ -395,14 +402,13 @@ NB_MODULE(catmull, m) {
     m.def("knot_grid_sums", &knot_grid_sums, nb::arg("start"), nb::arg("length"), nb::arg("x"), nb::arg("y"),
           nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"), nb::arg("width"), nb::arg("height"),
           nb::arg("kind"), nb::arg("radius"), nb::arg("k"), nb::arg("alpha"), nb::arg("bias"), nb::arg("threads"),
-          nb::arg("signed_pieces") = true,
+          nb::arg("recorded") = false,
           "Per-cell integrals (H+1, W+1, k, k, 3) of the visible colour of a scene moved by (1/2, 1/2) "
-          "(signed_pieces=False: every visible part from the pixel integrator, the bits recorded before the "
-          "two-layer case took shapes).");
+          "(recorded=True: the route the same-bits digests were recorded on).");
     m.def("filter_sums", &filter_sums, nb::arg("start"), nb::arg("length"), nb::arg("x"), nb::arg("y"),
           nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"), nb::arg("width"), nb::arg("height"),
           nb::arg("kind"), nb::arg("radius"), nb::arg("k"), nb::arg("alpha"), nb::arg("bias"), nb::arg("e"),
-          nb::arg("threads"), nb::arg("signed_pieces") = true,
+          nb::arg("threads"), nb::arg("recorded") = false,
           "Pixel sums (H, W, 3) of the visible colour against a filter (e: (2R, k)), of a scene moved by (1/2, 1/2).");
     m.def("combine_cells", &combine_cells_py, nb::arg("acc"), nb::arg("e"), nb::arg("radius"), nb::arg("width"),
           nb::arg("height"), nb::arg("threads"),

@@ -21,12 +21,18 @@ inline constexpr int64_t KIND_GAUSSIAN = 2;
 // exact for the degree-7 edge polynomials of cubic filters; 12 for the Gaussian's edges.
 inline constexpr double POLY_T[4] = {0x1.1c6490c2719ecp-4, 0x1.51ee013116102p-2, 0x1.5708ff6774f7fp-1, 0x1.dc736de7b1cc2p-1};
 inline constexpr double POLY_W[4] = {0x1.64340f7e7b666p-3, 0x1.4de5f840c24cdp-2, 0x1.4de5f840c24cdp-2, 0x1.64340f7e7b666p-3};
+// 2 points are exact for the tent's degree-3 edge polynomials (the fast route, Filter.nodes)
+inline constexpr double TENT_T[2] = {0x1.b0cb174df99c8p-3, 0x1.93cd3a2c8198ep-1};
+inline constexpr double TENT_W[2] = {0x1.0000000000000p-1, 0x1.0000000000000p-1};
 inline constexpr double GAUSS_T[12] = {0x1.2e1c4e37a2fe0p-7, 0x1.88bc58023ba68p-5, 0x1.d73d4449dc328p-4, 0x1.a6961f47f100ep-3, 0x1.43ab96faba732p-2, 0x1.bfe1681c273c7p-2, 0x1.200f4bf1ec61cp-1, 0x1.5e2a3482a2c67p-1, 0x1.965a782e03bfcp-1, 0x1.c5185776c479bp-1, 0x1.e7743a7fdc45ap-1, 0x1.fb478ec721740p-1};
 inline constexpr double GAUSS_W[12] = {0x1.8275d9dea6d53p-6, 0x1.b60602bce61afp-5, 0x1.47d7258f22d96p-4, 0x1.a0163e6b1ab6bp-4, 0x1.de3155c256aaep-4, 0x1.fe40ce6d4f022p-4, 0x1.fe40ce6d4f022p-4, 0x1.de3155c256aaep-4, 0x1.a0163e6b1ab6bp-4, 0x1.47d7258f22d96p-4, 0x1.b60602bce61afp-5, 0x1.8275d9dea6d53p-6};
 
+// nodes: Gauss-Legendre points on a polynomial filter's edges, 4 (every degree up to 7; the
+// recorded route) or 2 (the tent's degree 3)
 struct Filter {
     int64_t kind, radius, k;
     double alpha, bias;
+    int nodes = 4;
 };
 
 // An antiderivative of exp(alpha t^2) - bias.
@@ -82,9 +88,10 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
     double* phi = KT ? lphi : phi_;
     double* psi = KT ? lpsi : psi_;
     for (int64_t a = 0; a < k * k; ++a) out[a] = 0.0;
-    const double* nodes = POLY ? POLY_T : GAUSS_T;
-    const double* weights = POLY ? POLY_W : GAUSS_W;
-    constexpr int nq = POLY ? 4 : 12;
+    const bool two = POLY && F.nodes == 2;
+    const double* nodes = POLY ? (two ? TENT_T : POLY_T) : GAUSS_T;
+    const double* weights = POLY ? (two ? TENT_W : POLY_W) : GAUSS_W;
+    const int nq = POLY ? (two ? 2 : 4) : 12;
     // gauss_primitive's constants, found once per call (the same values, so the same bits)
     const double gc = POLY ? 0.0 : std::sqrt(-F.alpha);
     const double gk = POLY ? 0.0 : 0.8862269254527580 / gc;
@@ -412,7 +419,7 @@ inline void combine_rows(const double* acc, const double* e, int64_t R, int64_t 
 struct MomentSink {
     // integrals are linear in the pieces: a visible part may come as a piece less another
     // (sweep.hpp's two-layer case); signed_pieces off gives the integrator's pieces instead
-    // (the bits recorded before that case existed, tests/test_same_bits.py)
+    // (the recorded route, tests/test_same_bits.py)
     static constexpr bool SIGNED_PIECES = true;
     bool signed_pieces = true;
     double* acc;
