@@ -17,10 +17,10 @@ import numpy as np
 from aaeval.native import catmull as _catmull
 from aaeval.catmull import kernel_inputs, native_arrays, thread_count
 from aaeval.filters.integrate import cell_basis_matrix, filter_kernel_args
-from aaeval.filters.registry import PixelFilter
+from aaeval.filters.registry import PixelFilter, axis_weights
 from aaeval.scenes import Scene
 
-__all__ = ["knot_grid_sums", "filter_sums"]
+__all__ = ["knot_grid_sums", "filter_sums", "filtered_pixels"]
 
 
 def _inputs(scene: Scene, filt: PixelFilter):
@@ -60,3 +60,14 @@ def filter_sums(scene: Scene, filt: PixelFilter, threads: int = 0, recorded: boo
     args, fargs = _inputs(scene, filt)
     e = np.ascontiguousarray(cell_basis_matrix(filt), dtype=np.float64)
     return _catmull.filter_sums(*args, *fargs, e, thread_count(threads), bool(recorded))
+
+
+def filtered_pixels(scene: Scene, filt: PixelFilter, threads: int = 0, recorded: bool = False) -> np.ndarray:
+    """The filtered image ``(H, W, 3)``: :func:`filter_sums` divided by the weight each pixel
+    collects inside the image (Mitsuba's film), in the same native call; the same bits as
+    ``aaeval.filters.exact.divide_by_weight(filter_sums(...), scene, filt)``."""
+    args, fargs = _inputs(scene, filt)
+    e = np.ascontiguousarray(cell_basis_matrix(filt), dtype=np.float64)
+    return _catmull.filter_sums(*args, *fargs, e, thread_count(threads), bool(recorded),
+                                np.ascontiguousarray(axis_weights(filt, scene.width), dtype=np.float64),
+                                np.ascontiguousarray(axis_weights(filt, scene.height), dtype=np.float64))

@@ -7,12 +7,14 @@
 // a pool of C++ threads (bands.hpp), with the same bits for every thread count.
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -240,12 +242,27 @@ nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, I
     return to_numpy(std::move(acc), {size_t(height + 1), size_t(width + 1), size_t(k), size_t(k), 3});
 }
 
+// The film's division, in place on pixel rows j0 .. j1 of image (H, W, 3): each pixel by the
+// filter weight it collects inside the image, weights_y[j] * weights_x[i] (as numpy's
+// sums / (wy[:, None] * wx[None, :])[..., None] rounds it: the product, then the quotient).
+void divide_by_weights(double* image, const double* wx, const double* wy, int64_t width, int64_t j0, int64_t j1) {
+    for (int64_t j = j0; j < j1; ++j)
+        for (int64_t i = 0; i < width; ++i) {
+            const double d = wy[j] * wx[i];
+            double* px = image + (j * width + i) * 3;
+            px[0] = px[0] / d;
+            px[1] = px[1] / d;
+            px[2] = px[2] / d;
+        }
+}
+
 // The pixel sums (H, W, 3) of an exact filter: the kernel's cells contracted along x row by
 // row inside the sink (no (H + 1, W + 1, k, k, 3) array), then along y; the same bits as
 // combine_cells(knot_grid_sums(...)). e: (2R, k), the filter's cell-local coefficients.
 nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In planes, double eps_z, In colors,
                                            int64_t width, int64_t height, int64_t kind, int64_t radius, int64_t k,
-                                           double alpha, double bias, In e, int64_t threads, bool recorded) {
+                                           double alpha, double bias, In e, int64_t threads, bool recorded,
+                                           std::optional<In> weights_x, std::optional<In> weights_y) {
     Polygons P = polygons(start, length, x, y, planes);
     const double* c = colors_of(colors, P.n);
     check_eps(eps_z);
@@ -255,6 +272,9 @@ nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In p
     check_threads(threads);
     const double* ev = data_of<const double>(e, "e", {2 * radius, k});
     check_finite(ev, size_t(2 * radius * k), "e");
+    if (weights_x.has_value() != weights_y.has_value()) fail("weights_x and weights_y come together");
+    const double* wx = weights_x ? data_of<const double>(*weights_x, "weights_x", {width}) : nullptr;
+    const double* wy = weights_y ? data_of<const double>(*weights_y, "weights_y", {height}) : nullptr;
     // tx is not cleared up front: the sink writes every row it reaches whole (flush), and
     // the rows it never reached are cleared after the kernel
     const size_t row_len = size_t(width * k * 3);
@@ -278,6 +298,7 @@ nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In p
             if (!written[size_t(n)]) std::fill(tx + n * int64_t(row_len), tx + (n + 1) * int64_t(row_len), 0.0);
         run_bands(height, threads, [&](int64_t, int64_t j0, int64_t j1) {
             contract_y_rows(tx, 0, height, ev, radius, k, 3, width, j0, j1, image.data());
+            if (wx != nullptr) divide_by_weights(image.data(), wx, wy, width, j0, j1);
         });
     }
     return to_numpy(std::move(image), {size_t(height), size_t(width), 3});
@@ -408,8 +429,10 @@ NB_MODULE(catmull, m) {
     m.def("filter_sums", &filter_sums, nb::arg("start"), nb::arg("length"), nb::arg("x"), nb::arg("y"),
           nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"), nb::arg("width"), nb::arg("height"),
           nb::arg("kind"), nb::arg("radius"), nb::arg("k"), nb::arg("alpha"), nb::arg("bias"), nb::arg("e"),
-          nb::arg("threads"), nb::arg("recorded") = false,
-          "Pixel sums (H, W, 3) of the visible colour against a filter (e: (2R, k)), of a scene moved by (1/2, 1/2).");
+          nb::arg("threads"), nb::arg("recorded") = false, nb::arg("weights_x") = nb::none(),
+          nb::arg("weights_y") = nb::none(),
+          "Pixel sums (H, W, 3) of the visible colour against a filter (e: (2R, k)), of a scene moved by (1/2, 1/2); "
+          "with weights_x (W,) and weights_y (H,), each pixel divided by weights_y[j] * weights_x[i] (the film).");
     m.def("combine_cells", &combine_cells_py, nb::arg("acc"), nb::arg("e"), nb::arg("radius"), nb::arg("width"),
           nb::arg("height"), nb::arg("threads"),
           "Pixel sums (H, W, channels) from knot-cell integrals (H+1, W+1, k, k, channels); e: (2R, k).");
