@@ -576,8 +576,9 @@ struct MomentSink {
             std::fill(emitted.begin(), emitted.end(), 0.0);
         }
         const int64_t wc = width + 1;
-        const int64_t row = p / wc;
-        const int64_t col = p - row * wc;
+        const Cell at = locate(p);
+        const int64_t row = at.row;
+        const int64_t col = at.col;
         const int64_t k = KT ? KT : F.k;
         const double* c = color(src);
         double* cellacc;
@@ -611,15 +612,30 @@ struct MomentSink {
         if (F.k == 4) return add_k<4>(p, src, scale);
         add_k<0>(p, src, scale);
     }
+    // cell p's row and column, p = row * (W + 1) + col: one division per cell, not per call
+    // (a cell's calls come together)
+    struct Cell {
+        int64_t row, col;
+    };
+    int64_t located = -1;
+    Cell at_located{0, 0};
+    Cell locate(int64_t p) {
+        if (p != located) {
+            located = p;
+            at_located.row = p / (width + 1);
+            at_located.col = p - at_located.row * (width + 1);
+        }
+        return at_located;
+    }
     struct Window {
         int64_t row, col;
         double x0, x1, y0, y1;
     };
     // cell p's row, column and its square cut to the image (shifted coordinates)
-    Window window(int64_t p) const {
-        const int64_t wc = width + 1;
-        const int64_t row = p / wc;
-        const int64_t col = p - row * wc;
+    Window window(int64_t p) {
+        const Cell at = locate(p);
+        const int64_t row = at.row;
+        const int64_t col = at.col;
         return {row, col, geometry::pymax(double(col), 0.5), geometry::pymin(double(col) + 1.0, double(width) + 0.5),
                 geometry::pymax(double(row), 0.5), geometry::pymin(double(row) + 1.0, double(height) + 0.5)};
     }
@@ -662,9 +678,9 @@ struct MomentSink {
 
     void emit_pixel(int64_t p, int64_t src, double, double) {
         if (tx != nullptr && p != pix) {  // row mode, the cell's first emission
-            const int64_t wc = width + 1;
-            const int64_t row = p / wc;
-            const int64_t col = p - row * wc;
+            const Cell at = locate(p);
+            const int64_t row = at.row;
+            const int64_t col = at.col;
             if (col > 0 && row > 0 && col < width && row < height) {
                 if (!have_inner) cell_integrals(p);
                 if (row != cur_row) {
