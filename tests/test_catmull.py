@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from aaeval.renderers import render
-from aaeval.catmull import visible_fragments
+from aaeval.catmull import kernel_inputs, visible_fragments
 from aaeval.scenes import parse_scene
 
 from oracle import oracle_image
@@ -213,3 +213,24 @@ def test_threads_take_every_band_once_far_apart(n, threads):
     assert sorted(order) == list(range(n))
     if n >= 2 * threads:  # the first bands taken come from different runs of the image
         assert order[1] - order[0] >= n // threads
+
+
+def test_triangles_wind_as_the_general_path_winds_them():
+    # kernel_inputs turns polygons of one small size on a 2D path; nearly collinear
+    # triangles (area at rounding level) must turn the same way as on the per-vertex path,
+    # which a quadrilateral added to the scene forces
+    rng = np.random.default_rng(5)
+    polys = []
+    for _ in range(400):
+        p0, p1 = rng.uniform(0, 30, 2), rng.uniform(0, 30, 2)
+        p2 = p0 + rng.uniform(-2, 2) * (p1 - p0) + rng.normal(0, 10.0 ** rng.integers(-12, 1), 2)
+        a, b, c = rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(50, 100)  # a plane of its own
+        polys.append({"color": [1, 0, 0], "vertices": [[*p, c + a * p[0] + b * p[1]] for p in (p0, p1, p2)]})
+    quad = {"color": [0, 1, 0], "vertices": [[40, 40, 5], [41, 40, 5], [41, 41, 5], [40, 41, 5]]}
+    size = {"width": 32, "height": 32}
+    triangles = kernel_inputs(parse_scene({"image": size, "polygons": polys}))
+    mixed = kernel_inputs(parse_scene({"image": size, "polygons": [*polys, quad]}))
+    kept = len(triangles[0])
+    assert kept > 200
+    np.testing.assert_array_equal(triangles[2], mixed[2][:3 * kept])
+    np.testing.assert_array_equal(triangles[3], mixed[3][:3 * kept])

@@ -22,7 +22,7 @@ import pytest
 
 from aaeval.filters import FILTERS, axis_weights, get_filter
 from aaeval.filters.exact import filtered_image, rings_from_pieces
-from aaeval.catmull.filtered import filter_sums, knot_grid_sums
+from aaeval.catmull.filtered import filter_sums, filtered_pixels, knot_grid_sums
 from aaeval.filters.evaluate import profile_args, profile_array, profile_at
 from aaeval.filters.integrate import (accumulate_rings, combine_cells, combine_cells_numpy, filter_kernel_args,
                                      piece_integrals)
@@ -190,6 +190,19 @@ def test_native_combine_and_fused_sums_keep_numpys_bits(name):
             assert filter_sums(scene, filt, threads).tobytes() == reference.tobytes()
         four = np.concatenate([cells, cells[..., :1] * 0.5], axis=-1)
         assert combine_cells(four, filt, w, h).tobytes() == combine_cells_numpy(four, filt, w, h).tobytes()
+
+
+@pytest.mark.parametrize("name", SMOOTH)
+def test_film_division_in_the_kernel_keeps_numpys_bits(name):
+    # filtered_pixels divides by the film's weights inside the native call; numpy's
+    # sums / (wy[:, None] * wx[None, :])[..., None] is the reference, on any thread count
+    filt = get_filter(name)
+    for seed, (w, h, n) in enumerate([(23, 17, 12), (1, 6, 3), (40, 40, 40)]):
+        scene = random_scene(seed, w, h, n_tri=n, n_star=3)
+        denom = axis_weights(filt, h)[:, None] * axis_weights(filt, w)[None, :]
+        reference = filter_sums(scene, filt, 1) / denom[..., None]
+        for threads in (1, 2):
+            assert filtered_pixels(scene, filt, threads).tobytes() == reference.tobytes()
 
 
 def test_profile_evaluation_is_native_and_numba_free():

@@ -10,7 +10,9 @@ import json
 
 import pytest
 
-from tests.same_bits import DATA, FAMILY_METHODS, digests_of
+import numpy as np
+
+from tests.same_bits import DATA, FAMILY_METHODS, FILTERS, FAST_ROUTE_TOLERANCE, digests_of, render_recorded, scenes
 
 RECORDED = sorted(f for f in FAMILY_METHODS if (DATA / f"same_bits_{f}.json").exists())
 
@@ -24,3 +26,25 @@ def test_native_images_have_the_recorded_bits(family):
     differing = sorted(key for key in expected if got.get(key) != expected[key])
     assert got.keys() == expected.keys()
     assert not differing, f"{len(differing)} of {len(expected)} images differ, e.g. {differing[:5]}"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("filt", FILTERS)
+def test_the_filters_fast_route_stays_within_rounding_of_the_recorded_images(filt):
+    # the exact filters' one explained difference (tests/same_bits.py): the method's own
+    # route against the recorded one, which holds the recorded bits, on every scene
+    spec = f"catmull:filter={filt}"
+    worst, where, changed = 0.0, None, 0
+    for scene_id, make in scenes():
+        scene = make()
+        try:
+            recorded = render_recorded(scene, spec)
+        except (ValueError, NotImplementedError):
+            continue
+        image = render_recorded(scene, spec, recorded=False)
+        gap = float(np.abs(image - recorded).max())
+        changed += gap > 0.0
+        if gap > worst:
+            worst, where = gap, scene_id
+    assert worst <= FAST_ROUTE_TOLERANCE, f"{spec} differs by {worst:.3g} on {where}"
+    assert changed > 0  # the shortcut is taken (else the two routes were never compared)

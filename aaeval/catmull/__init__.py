@@ -64,16 +64,7 @@ def kernel_inputs(scene: Scene):
     length = arr.length[source]
     start = np.zeros(len(source), dtype=np.int64)
     start[1:] = np.cumsum(length)[:-1]
-    # gather each kept polygon's vertices; reverse the ones wound the other way
-    owner = np.repeat(np.arange(len(source)), length)
-    local = np.arange(length.sum()) - start[owner]
-    xy = arr.vertices[arr.start[source][owner] + local, :2]
-    area2 = np.add.reduceat(xy[:, 0] * _next_in_polygon(xy[:, 1], start, length, owner, local)
-                            - _next_in_polygon(xy[:, 0], start, length, owner, local) * xy[:, 1],
-                            start) if len(source) else np.zeros(0)
-    flip = area2[owner] < 0 if len(source) else np.zeros(0, bool)
-    local = np.where(flip, length[owner] - 1 - local, local)
-    xy = arr.vertices[arr.start[source][owner] + local, :2]
+    xy = _outlines_wound_positive(arr.vertices, arr.start[source], length, start)
     # depth differences below this count as one shared plane (the scene format's tie rule)
     eps_z = depth_tolerance(arr.vertices[:, 2])
     # stacks of nearly coplanar polygons are resolved by the rule before the pairwise sort
@@ -83,9 +74,38 @@ def kernel_inputs(scene: Scene):
     return start, length, x, y, planes, source, eps_z
 
 
-def _next_in_polygon(values, start, length, owner, local):
-    """``values`` shifted by one vertex within each polygon (cyclically)."""
-    return values[start[owner] + (local + 1) % length[owner]]
+def _outlines_wound_positive(vertices, first, length, start):
+    """The x, y ``(sum(length), 2)`` of each polygon's outline (polygon k: ``length[k]``
+    vertices from ``first[k]``, written from ``start[k]``), reversed where its shoelace
+    area is negative. Polygons of one size up to 8 (all triangles, say) take a 2D path
+    that adds the area's terms as ``np.add.reduceat`` does on the general path (the first
+    plus the sum of the rest, left to right), so a polygon of nearly zero area turns the
+    same way on either path."""
+    n = len(length)
+    if n and length.min() == length.max() and 3 <= length[0] <= 8:
+        size = int(length[0])
+        if (first == np.arange(n) * size).all() and len(vertices) >= n * size:
+            corners = vertices[:n * size].reshape(n, size, -1)  # stored in order: no gather
+        else:
+            corners = vertices[first[:, None] + np.arange(size)]
+        x, y = corners[..., 0], corners[..., 1]
+        following = np.roll(np.arange(size), -1)
+        terms = x * y[:, following] - x[:, following] * y
+        rest = terms[:, 1]
+        for j in range(2, size):
+            rest = rest + terms[:, j]
+        flip = (terms[:, 0] + rest < 0)[:, None, None]
+        return np.where(flip, corners[:, ::-1, :2], corners[..., :2]).reshape(-1, 2)
+    owner = np.repeat(np.arange(n), length)
+    local = np.arange(length.sum()) - start[owner]
+    index = first[owner] + local
+    if n:
+        following = first[owner] + (local + 1) % length[owner]
+        area2 = np.add.reduceat(vertices[index, 0] * vertices[following, 1]
+                                - vertices[following, 0] * vertices[index, 1], start)
+        flip = area2[owner] < 0
+        index = np.where(flip, first[owner] + length[owner] - 1 - local, index)
+    return vertices[index, :2]
 
 
 def native_arrays(start, length, x, y, planes):

@@ -17,10 +17,10 @@ import numpy as np
 from aaeval.native import catmull as _catmull
 from aaeval.catmull import kernel_inputs, native_arrays, thread_count
 from aaeval.filters.integrate import cell_basis_matrix, filter_kernel_args
-from aaeval.filters.registry import PixelFilter
+from aaeval.filters.registry import PixelFilter, axis_weights
 from aaeval.scenes import Scene
 
-__all__ = ["knot_grid_sums", "filter_sums"]
+__all__ = ["knot_grid_sums", "filter_sums", "filtered_pixels"]
 
 
 def _inputs(scene: Scene, filt: PixelFilter):
@@ -36,18 +36,38 @@ def _inputs(scene: Scene, filt: PixelFilter):
             (int(kind), int(radius), int(k), float(alpha), float(bias)))
 
 
-def knot_grid_sums(scene: Scene, filt: PixelFilter, threads: int = 0) -> np.ndarray:
-    """Per-cell integrals ``(H + 1, W + 1, k, k, 3)`` of the visible colour (background included)."""
+def knot_grid_sums(scene: Scene, filt: PixelFilter, threads: int = 0, recorded: bool = False) -> np.ndarray:
+    """Per-cell integrals ``(H + 1, W + 1, k, k, 3)`` of the visible colour (background included).
+
+    ``recorded``: the route the same-bits digests were recorded on (``tests/same_bits.py``).
+    The default route differs from it by rounding only (at most 1e-13,
+    ``tests/test_same_bits.py``): a pixel holding two irregular pieces over what both hide
+    takes the second's visible part as its piece less their overlap (integrals are linear
+    in the pieces), not the pixel integrator's pieces of it; and the tent's edges take the
+    2 Gauss-Legendre points their degree 3 needs, not 4.
+    """
     args, fargs = _inputs(scene, filt)
-    return _catmull.knot_grid_sums(*args, *fargs, thread_count(threads))
+    return _catmull.knot_grid_sums(*args, *fargs, thread_count(threads), bool(recorded))
 
 
-def filter_sums(scene: Scene, filt: PixelFilter, threads: int = 0) -> np.ndarray:
+def filter_sums(scene: Scene, filt: PixelFilter, threads: int = 0, recorded: bool = False) -> np.ndarray:
     """Pixel sums ``(H, W, 3)`` of the visible colour against the filter (before the film's division).
 
-    The same bits as ``combine_cells(knot_grid_sums(scene, filt), filt, W, H)``, without the
-    cells: the kernel's sink contracts each row of cells along x as soon as the row is done.
+    The same bits as ``combine_cells(knot_grid_sums(scene, filt, recorded=...), filt, W, H)``,
+    without the cells: the kernel's sink contracts each row of cells along x as soon as the
+    row is done. ``recorded``: as in :func:`knot_grid_sums`.
     """
     args, fargs = _inputs(scene, filt)
     e = np.ascontiguousarray(cell_basis_matrix(filt), dtype=np.float64)
-    return _catmull.filter_sums(*args, *fargs, e, thread_count(threads))
+    return _catmull.filter_sums(*args, *fargs, e, thread_count(threads), bool(recorded))
+
+
+def filtered_pixels(scene: Scene, filt: PixelFilter, threads: int = 0, recorded: bool = False) -> np.ndarray:
+    """The filtered image ``(H, W, 3)``: :func:`filter_sums` divided by the weight each pixel
+    collects inside the image (Mitsuba's film), in the same native call; the same bits as
+    ``aaeval.filters.exact.divide_by_weight(filter_sums(...), scene, filt)``."""
+    args, fargs = _inputs(scene, filt)
+    e = np.ascontiguousarray(cell_basis_matrix(filt), dtype=np.float64)
+    return _catmull.filter_sums(*args, *fargs, e, thread_count(threads), bool(recorded),
+                                np.ascontiguousarray(axis_weights(filt, scene.width), dtype=np.float64),
+                                np.ascontiguousarray(axis_weights(filt, scene.height), dtype=np.float64))

@@ -22,7 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from aaeval.catmull.filtered import filter_sums
+from aaeval.catmull.filtered import filtered_pixels
 from aaeval.filters.integrate import accumulate_rings, combine_cells, filter_kernel_args
 from aaeval.filters.registry import PixelFilter, axis_weights
 from aaeval.scenes import Scene
@@ -90,7 +90,7 @@ def filtered_image(scene: Scene, filt: PixelFilter, rings: Rings | None = None, 
     """
     kind, radius, k, alpha, bias = filter_kernel_args(filt)
     if rings is None:
-        return divide_by_weight(filter_sums(scene, filt, threads), scene, filt)
+        return filtered_pixels(scene, filt, threads)
     acc = np.zeros((scene.height + 1, scene.width + 1, k, k, 4))
     accumulate_rings(rings.x, rings.y, rings.start, rings.length, rings.weights,
                      scene.width, scene.height, kind, radius, k, alpha, bias, acc)

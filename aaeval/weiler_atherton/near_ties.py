@@ -60,14 +60,21 @@ def tie_groups(boxes: np.ndarray, planes: np.ndarray, sources: np.ndarray, eps_z
 
 def _similar_slopes(planes: np.ndarray, tol: float) -> np.ndarray:
     """Which planes have another whose x slope and y slope are each within ``tol``
-    (a superset of the near-coplanar pairs, found by sorting instead of pairing)."""
+    (a superset of the near-coplanar pairs, found by sorting instead of pairing: in sorted
+    order a slope's nearest others are its neighbours)."""
     alike = np.ones(len(planes), dtype=bool)
     for axis in (0, 1):
         idx = np.flatnonzero(alike)
-        slope = planes[idx, axis]
-        ordered = np.sort(slope)
-        count = np.searchsorted(ordered, slope + tol, "right") - np.searchsorted(ordered, slope - tol, "left")
-        alike[idx[count < 2]] = False
+        if len(idx) < 2:
+            return np.zeros(len(planes), dtype=bool)
+        order = np.argsort(planes[idx, axis])
+        ordered = planes[idx[order], axis]
+        # widened by a few ulps: a candidate filter may keep too many, never too few
+        close = np.diff(ordered) <= tol * (1 + 1e-9) + 4 * np.spacing(np.abs(ordered).max())
+        near = np.zeros(len(idx), dtype=bool)
+        near[:-1] |= close
+        near[1:] |= close
+        alike[idx[order[~near]]] = False
     return alike
 
 
@@ -128,8 +135,7 @@ def resolve_flat_arrays(start, length, x, y, planes, source, eps_z):
     if n < 2:
         return start, length, x, y, planes, source
     ends = start + length
-    boxes = np.stack([np.minimum.reduceat(x, start), np.minimum.reduceat(y, start),
-                      np.maximum.reduceat(x, start), np.maximum.reduceat(y, start)], axis=1)
+    boxes = _boxes(start, length, x, y)
     tied, rest = tie_groups(boxes, planes, np.arange(n), eps_z)
     if len(tied) == 0:
         return start, length, x, y, planes, source
@@ -151,6 +157,23 @@ def resolve_flat_arrays(start, length, x, y, planes, source, eps_z):
     new_start[1:] = np.cumsum(new_length)[:-1]
     return (new_start, new_length, np.concatenate(xs), np.concatenate(ys),
             np.ascontiguousarray(planes[owner]), source[owner])
+
+
+def _boxes(start, length, x, y) -> np.ndarray:
+    """Each outline's box ``(n, 4)``: x0, y0, x1, y1 (outlines of one length, all
+    triangles say, as rows of a 2D array: min and max are exact either way)."""
+    rows = (len(start), int(length[0]))
+    if rows[0] * rows[1] == len(x) and (start == np.arange(rows[0]) * rows[1]).all() and (length == rows[1]).all():
+        xs, ys = x.reshape(rows), y.reshape(rows)
+        box = np.stack([xs[:, 0], ys[:, 0], xs[:, 0], ys[:, 0]], axis=1)
+        for j in range(1, rows[1]):  # column by column: numpy reduces short rows slowly
+            np.minimum(box[:, 0], xs[:, j], out=box[:, 0])
+            np.minimum(box[:, 1], ys[:, j], out=box[:, 1])
+            np.maximum(box[:, 2], xs[:, j], out=box[:, 2])
+            np.maximum(box[:, 3], ys[:, j], out=box[:, 3])
+        return box
+    return np.stack([np.minimum.reduceat(x, start), np.minimum.reduceat(y, start),
+                     np.maximum.reduceat(x, start), np.maximum.reduceat(y, start)], axis=1)
 
 
 def _triangles(shape: Shape) -> np.ndarray:

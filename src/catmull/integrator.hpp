@@ -181,7 +181,7 @@ inline Line first_clip_edge(const double* wx, const double* wy, const uint8_t* w
     int64_t k = 0;
     while (k < fn && !l.found) {
         if (wf[fs + k] == 0) {
-            const int64_t k2 = fs + (k + 1) % fn;
+            const int64_t k2 = k + 1 < fn ? fs + k + 1 : fs;
             const double ex = wx[k2] - wx[fs + k];
             const double ey = wy[k2] - wy[fs + k];
             const double norm = geometry::sqrt_ieee(ex * ex + ey * ey);
@@ -195,6 +195,17 @@ inline Line first_clip_edge(const double* wx, const double* wy, const uint8_t* w
         ++k;
     }
     return l;
+}
+
+// -1 (+1) if every vertex of the polygon lies strictly on side A (B) of the line, beyond
+// EPS_LINE (geometry::side), else 0.
+AAEVAL_INLINE int strict_side(const double* wx, const double* wy, int64_t start, int64_t n, double a, double b,
+                              double c) {
+    const int first = geometry::side(a * wx[start] + b * wy[start] + c);
+    if (first == 0) return 0;
+    for (int64_t v = start + 1; v < start + n; ++v)
+        if (geometry::side(a * wx[v] + b * wy[v] + c) != first) return 0;
+    return first;
 }
 
 // Resolve the polygon list recs[0 .. n_init) (front to back, background last). Vertices from
@@ -305,6 +316,18 @@ inline int64_t integrate_pixel(PixelWork& W, int64_t n_init, int64_t n_vert, con
         for (int64_t i = 0; i < cnt; ++i) {
             const int64_t p = litems[s0 + i];
             const int64_t n = recs[p][1];
+            // a polygon strictly on one side goes to that list as it is: clip_split would copy
+            // it vertex for vertex with its flags and the same area (so the same bits)
+            const int one_side = strict_side(wx, wy, recs[p][0], n, a, b, c);
+            if (one_side != 0) {
+                if (W.areas[size_t(p)] > AREA_EMPTY) {
+                    if (one_side < 0)
+                        litems[a_start + a_cnt++] = p;
+                    else
+                        litems[b_start + b_cnt++] = p;
+                }
+                continue;
+            }
             const int64_t at_b = n_vert + 2 * n + 2;  // a half-plane clip at most doubles the vertices
             if (at_b + 2 * n + 2 > wcap) return -1;
             const geometry::SplitCounts m = geometry::clip_split(wx, wy, wf, recs[p][0], n, a, b, c, true, true,

@@ -7,12 +7,14 @@
 // a pool of C++ threads (bands.hpp), with the same bits for every thread count.
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -132,6 +134,13 @@ Filter filter_of(int64_t kind, int64_t radius, int64_t k, double alpha, double b
     return {kind, radius, k, alpha, bias};
 }
 
+// The filter as a render takes it: the fast route integrates the tent's edges with the 2
+// Gauss-Legendre points their degree needs; the recorded route (the same-bits digests) keeps 4.
+Filter route_filter(Filter F, bool recorded) {
+    if (!recorded && F.kind == KIND_POLYNOMIAL && F.k == 2) F.nodes = 2;
+    return F;
+}
+
 template <class T>
 nb::ndarray<nb::numpy, T> to_numpy(std::vector<T>&& v, std::initializer_list<size_t> shape) {
     if (v.empty()) v.reserve(1);
@@ -212,11 +221,11 @@ nb::ndarray<nb::numpy, double> render_flat(In start, In length, In x, In y, In p
 
 nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, In planes, double eps_z, In colors,
                                               int64_t width, int64_t height, int64_t kind, int64_t radius, int64_t k,
-                                              double alpha, double bias, int64_t threads) {
+                                              double alpha, double bias, int64_t threads, bool recorded) {
     Polygons P = polygons(start, length, x, y, planes);
     const double* c = colors_of(colors, P.n);
     check_eps(eps_z);
-    const Filter F = filter_of(kind, radius, k, alpha, bias);
+    const Filter F = route_filter(filter_of(kind, radius, k, alpha, bias), recorded);
     check_size(width, height, 3 * k * k);
     check_threads(threads);
     std::vector<double> acc(size_t((height + 1) * (width + 1) * k * k * 3), 0.0);
@@ -226,10 +235,25 @@ nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, I
         // the scene moved by (1/2, 1/2) at (W + 1) x (H + 1) pixels: the knot cells
         run_bands(height + 1, threads, [&](int64_t, int64_t r0, int64_t r1) {
             MomentSink out(acc.data(), c, P.n + 1, width, height, F);
+            out.signed_pieces = !recorded;
             scan_rows(P, width + 1, r0, r1, eps_z, false, true, out);
         });
     }
     return to_numpy(std::move(acc), {size_t(height + 1), size_t(width + 1), size_t(k), size_t(k), 3});
+}
+
+// The film's division, in place on pixel rows j0 .. j1 of image (H, W, 3): each pixel by the
+// filter weight it collects inside the image, weights_y[j] * weights_x[i] (as numpy's
+// sums / (wy[:, None] * wx[None, :])[..., None] rounds it: the product, then the quotient).
+void divide_by_weights(double* image, const double* wx, const double* wy, int64_t width, int64_t j0, int64_t j1) {
+    for (int64_t j = j0; j < j1; ++j)
+        for (int64_t i = 0; i < width; ++i) {
+            const double d = wy[j] * wx[i];
+            double* px = image + (j * width + i) * 3;
+            px[0] = px[0] / d;
+            px[1] = px[1] / d;
+            px[2] = px[2] / d;
+        }
 }
 
 // The pixel sums (H, W, 3) of an exact filter: the kernel's cells contracted along x row by
@@ -237,16 +261,20 @@ nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, I
 // combine_cells(knot_grid_sums(...)). e: (2R, k), the filter's cell-local coefficients.
 nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In planes, double eps_z, In colors,
                                            int64_t width, int64_t height, int64_t kind, int64_t radius, int64_t k,
-                                           double alpha, double bias, In e, int64_t threads) {
+                                           double alpha, double bias, In e, int64_t threads, bool recorded,
+                                           std::optional<In> weights_x, std::optional<In> weights_y) {
     Polygons P = polygons(start, length, x, y, planes);
     const double* c = colors_of(colors, P.n);
     check_eps(eps_z);
-    const Filter F = filter_of(kind, radius, k, alpha, bias);
+    const Filter F = route_filter(filter_of(kind, radius, k, alpha, bias), recorded);
     if (radius < 1) fail("radius must be at least 1");
     check_size(width, height, 3 * k * k);
     check_threads(threads);
     const double* ev = data_of<const double>(e, "e", {2 * radius, k});
     check_finite(ev, size_t(2 * radius * k), "e");
+    if (weights_x.has_value() != weights_y.has_value()) fail("weights_x and weights_y come together");
+    const double* wx = weights_x ? data_of<const double>(*weights_x, "weights_x", {width}) : nullptr;
+    const double* wy = weights_y ? data_of<const double>(*weights_y, "weights_y", {height}) : nullptr;
     // tx is not cleared up front: the sink writes every row it reaches whole (flush), and
     // the rows it never reached are cleared after the kernel
     const size_t row_len = size_t(width * k * 3);
@@ -262,6 +290,7 @@ nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In p
             MomentSink out(nullptr, c, P.n + 1, width, height, F);
             out.rows_to(tx, ev, radius);
             out.written = written.data();
+            out.signed_pieces = !recorded;
             scan_rows(P, width + 1, r0, r1, eps_z, false, true, out);
             out.flush();
         });
@@ -269,6 +298,7 @@ nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In p
             if (!written[size_t(n)]) std::fill(tx + n * int64_t(row_len), tx + (n + 1) * int64_t(row_len), 0.0);
         run_bands(height, threads, [&](int64_t, int64_t j0, int64_t j1) {
             contract_y_rows(tx, 0, height, ev, radius, k, 3, width, j0, j1, image.data());
+            if (wx != nullptr) divide_by_weights(image.data(), wx, wy, width, j0, j1);
         });
     }
     return to_numpy(std::move(image), {size_t(height), size_t(width), 3});
@@ -393,12 +423,16 @@ NB_MODULE(catmull, m) {
     m.def("knot_grid_sums", &knot_grid_sums, nb::arg("start"), nb::arg("length"), nb::arg("x"), nb::arg("y"),
           nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"), nb::arg("width"), nb::arg("height"),
           nb::arg("kind"), nb::arg("radius"), nb::arg("k"), nb::arg("alpha"), nb::arg("bias"), nb::arg("threads"),
-          "Per-cell integrals (H+1, W+1, k, k, 3) of the visible colour of a scene moved by (1/2, 1/2).");
+          nb::arg("recorded") = false,
+          "Per-cell integrals (H+1, W+1, k, k, 3) of the visible colour of a scene moved by (1/2, 1/2) "
+          "(recorded=True: the route the same-bits digests were recorded on).");
     m.def("filter_sums", &filter_sums, nb::arg("start"), nb::arg("length"), nb::arg("x"), nb::arg("y"),
           nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"), nb::arg("width"), nb::arg("height"),
           nb::arg("kind"), nb::arg("radius"), nb::arg("k"), nb::arg("alpha"), nb::arg("bias"), nb::arg("e"),
-          nb::arg("threads"),
-          "Pixel sums (H, W, 3) of the visible colour against a filter (e: (2R, k)), of a scene moved by (1/2, 1/2).");
+          nb::arg("threads"), nb::arg("recorded") = false, nb::arg("weights_x") = nb::none(),
+          nb::arg("weights_y") = nb::none(),
+          "Pixel sums (H, W, 3) of the visible colour against a filter (e: (2R, k)), of a scene moved by (1/2, 1/2); "
+          "with weights_x (W,) and weights_y (H,), each pixel divided by weights_y[j] * weights_x[i] (the film).");
     m.def("combine_cells", &combine_cells_py, nb::arg("acc"), nb::arg("e"), nb::arg("radius"), nb::arg("width"),
           nb::arg("height"), nb::arg("threads"),
           "Pixel sums (H, W, channels) from knot-cell integrals (H+1, W+1, k, k, channels); e: (2R, k).");

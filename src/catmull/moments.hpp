@@ -21,12 +21,18 @@ inline constexpr int64_t KIND_GAUSSIAN = 2;
 // exact for the degree-7 edge polynomials of cubic filters; 12 for the Gaussian's edges.
 inline constexpr double POLY_T[4] = {0x1.1c6490c2719ecp-4, 0x1.51ee013116102p-2, 0x1.5708ff6774f7fp-1, 0x1.dc736de7b1cc2p-1};
 inline constexpr double POLY_W[4] = {0x1.64340f7e7b666p-3, 0x1.4de5f840c24cdp-2, 0x1.4de5f840c24cdp-2, 0x1.64340f7e7b666p-3};
+// 2 points are exact for the tent's degree-3 edge polynomials (the fast route, Filter.nodes)
+inline constexpr double TENT_T[2] = {0x1.b0cb174df99c8p-3, 0x1.93cd3a2c8198ep-1};
+inline constexpr double TENT_W[2] = {0x1.0000000000000p-1, 0x1.0000000000000p-1};
 inline constexpr double GAUSS_T[12] = {0x1.2e1c4e37a2fe0p-7, 0x1.88bc58023ba68p-5, 0x1.d73d4449dc328p-4, 0x1.a6961f47f100ep-3, 0x1.43ab96faba732p-2, 0x1.bfe1681c273c7p-2, 0x1.200f4bf1ec61cp-1, 0x1.5e2a3482a2c67p-1, 0x1.965a782e03bfcp-1, 0x1.c5185776c479bp-1, 0x1.e7743a7fdc45ap-1, 0x1.fb478ec721740p-1};
 inline constexpr double GAUSS_W[12] = {0x1.8275d9dea6d53p-6, 0x1.b60602bce61afp-5, 0x1.47d7258f22d96p-4, 0x1.a0163e6b1ab6bp-4, 0x1.de3155c256aaep-4, 0x1.fe40ce6d4f022p-4, 0x1.fe40ce6d4f022p-4, 0x1.de3155c256aaep-4, 0x1.a0163e6b1ab6bp-4, 0x1.47d7258f22d96p-4, 0x1.b60602bce61afp-5, 0x1.8275d9dea6d53p-6};
 
+// nodes: Gauss-Legendre points on a polynomial filter's edges, 4 (every degree up to 7; the
+// recorded route) or 2 (the tent's degree 3)
 struct Filter {
     int64_t kind, radius, k;
     double alpha, bias;
+    int nodes = 4;
 };
 
 // An antiderivative of exp(alpha t^2) - bias.
@@ -38,16 +44,40 @@ inline double gauss_primitive(double t, double alpha, double bias) {
 // Integrals of phi_a(u) psi_b(v) over one polygon xs/ys[start .. start+n) lying in the cell
 // centred at (ox, oy), written to out[a * k + b]; u = x - ox, v = y - oy. Polynomial:
 // phi_a = u^a, psi_b = v^b; Gaussian: phi_a(u) = k(u + a - radius + 1/2), the same in v.
-// phi, psi: scratch of k entries. KT: k known at compile time (0: F.k), so that the basis
-// loops unroll; every entry's sum runs in the same order either way (the same bits).
-// An edge on a cell's side at u = +-1/2 (du = 0) has the same phi at every node: those
+// phi, psi: scratch of k entries (piece_integrals_k below). An edge on a cell's side at u = +-1/2 (du = 0) has the same phi at every node: those
 // values are found once per sink (sides), not per node.
 struct SidePhi {
     bool have = false;
     double lo[64], hi[64];  // phi_a(-1/2), phi_a(+1/2)
 };
 
-template <int KT>
+// phi on a vertical cell side u0 = -1/2 or +1/2, found once per sink: what the node loop
+// computes at u = u0 + t * 0 = u0
+template <bool POLY>
+inline const double* side_phi(double u0, int64_t k, const Filter& F, SidePhi* sides) {
+    if (!sides->have) {
+        double ulo = -0.5, uhi = 0.5;
+        for (int64_t a = 0; a < k; ++a) {
+            if (POLY) {
+                sides->lo[a] = ulo / double(a + 1);
+                sides->hi[a] = uhi / double(a + 1);
+                ulo *= -0.5;
+                uhi *= 0.5;
+            } else {
+                const double c = double(a - F.radius) + 0.5;
+                sides->lo[a] = gauss_primitive(-0.5 + c, F.alpha, F.bias);
+                sides->hi[a] = gauss_primitive(0.5 + c, F.alpha, F.bias);
+            }
+        }
+        sides->have = true;
+    }
+    return u0 == -0.5 ? sides->lo : sides->hi;
+}
+
+// KT: k known at compile time (0: F.k), so that the basis loops unroll; POLY: the
+// polynomial basis (else the Gaussian's), so that each node loop is straight code. Every
+// entry's sum runs in the same order either way (the same bits).
+template <int KT, bool POLY>
 inline void piece_integrals_k(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
                               const Filter& F, double* out_, double* phi_, double* psi_, SidePhi* sides) {
     const int64_t k = KT ? KT : F.k;
@@ -58,52 +88,54 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
     double* phi = KT ? lphi : phi_;
     double* psi = KT ? lpsi : psi_;
     for (int64_t a = 0; a < k * k; ++a) out[a] = 0.0;
-    const bool poly = F.kind == KIND_POLYNOMIAL;
-    const double* nodes = poly ? POLY_T : GAUSS_T;
-    const double* weights = poly ? POLY_W : GAUSS_W;
-    const int nq = poly ? 4 : 12;
+    const bool two = POLY && F.nodes == 2;
+    const double* nodes = POLY ? (two ? TENT_T : POLY_T) : GAUSS_T;
+    const double* weights = POLY ? (two ? TENT_W : POLY_W) : GAUSS_W;
+    const int nq = POLY ? (two ? 2 : 4) : 12;
     // gauss_primitive's constants, found once per call (the same values, so the same bits)
-    const double gc = poly ? 0.0 : std::sqrt(-F.alpha);
-    const double gk = poly ? 0.0 : 0.8862269254527580 / gc;
+    const double gc = POLY ? 0.0 : std::sqrt(-F.alpha);
+    const double gk = POLY ? 0.0 : 0.8862269254527580 / gc;
+    auto accumulate = [&](double w) {
+        for (int64_t a = 0; a < k; ++a) {
+            const double wa = w * phi[a];
+            for (int64_t b = 0; b < k; ++b) out[a * k + b] += wa * psi[b];
+        }
+    };
     for (int64_t i = 0; i < n; ++i) {
-        const int64_t j = start + (i + 1) % n;
+        const int64_t j = i + 1 < n ? start + i + 1 : start;  // the next vertex (no division)
         const double u0 = xs[start + i] - ox;
         const double v0 = ys[start + i] - oy;
         const double du = xs[j] - ox - u0;
         const double dv = ys[j] - oy - v0;
         if (dv == 0.0) continue;  // the integral of Phi dv vanishes along a horizontal edge
-        const double* side = nullptr;  // phi on a vertical cell side, found once
         if (sides != nullptr && du == 0.0 && (u0 == -0.5 || u0 == 0.5)) {
-            if (!sides->have) {  // what the node loop computes at u = u0 + t * 0 = u0
-                double ulo = -0.5, uhi = 0.5;
-                for (int64_t a = 0; a < k; ++a) {
-                    if (poly) {
-                        sides->lo[a] = ulo / double(a + 1);
-                        sides->hi[a] = uhi / double(a + 1);
-                        ulo *= -0.5;
-                        uhi *= 0.5;
-                    } else {
+            // an edge on a cell's vertical side: phi is the same at every node
+            const double* side = side_phi<POLY>(u0, k, F, sides);
+            for (int64_t a = 0; a < k; ++a) phi[a] = side[a];
+            for (int q = 0; q < nq; ++q) {
+                const double v = v0 + nodes[q] * dv;
+                const double w = weights[q] * dv;
+                if (POLY) {
+                    double vp = 1.0;
+                    for (int64_t a = 0; a < k; ++a) {
+                        psi[a] = vp;
+                        vp *= v;
+                    }
+                } else {
+                    for (int64_t a = 0; a < k; ++a) {
                         const double c = double(a - F.radius) + 0.5;
-                        sides->lo[a] = gauss_primitive(-0.5 + c, F.alpha, F.bias);
-                        sides->hi[a] = gauss_primitive(0.5 + c, F.alpha, F.bias);
+                        psi[a] = std::exp(F.alpha * (v + c) * (v + c)) - F.bias;
                     }
                 }
-                sides->have = true;
+                accumulate(w);
             }
-            side = u0 == -0.5 ? sides->lo : sides->hi;
+            continue;
         }
         for (int q = 0; q < nq; ++q) {
             const double u = u0 + nodes[q] * du;
             const double v = v0 + nodes[q] * dv;
             const double w = weights[q] * dv;
-            if (poly && side) {
-                double vp = 1.0;
-                for (int64_t a = 0; a < k; ++a) {
-                    phi[a] = side[a];
-                    psi[a] = vp;
-                    vp *= v;
-                }
-            } else if (poly) {
+            if (POLY) {
                 double up = u, vp = 1.0;
                 for (int64_t a = 0; a < k; ++a) {
                     phi[a] = up / double(a + 1);
@@ -114,19 +146,12 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
             } else {
                 for (int64_t a = 0; a < k; ++a) {
                     const double c = double(a - F.radius) + 0.5;
-                    if (side) {
-                        phi[a] = side[a];
-                    } else {
-                        const double t = u + c;
-                        phi[a] = gk * std::erf(gc * t) - F.bias * t;  // gauss_primitive(t, alpha, bias)
-                    }
+                    const double t = u + c;
+                    phi[a] = gk * std::erf(gc * t) - F.bias * t;  // gauss_primitive(t, alpha, bias)
                     psi[a] = std::exp(F.alpha * (v + c) * (v + c)) - F.bias;
                 }
             }
-            for (int64_t a = 0; a < k; ++a) {
-                const double wa = w * phi[a];
-                for (int64_t b = 0; b < k; ++b) out[a * k + b] += wa * psi[b];
-            }
+            accumulate(w);
         }
     }
     if (KT)
@@ -135,9 +160,13 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
 
 inline void piece_integrals(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
                             const Filter& F, double* out, double* phi, double* psi, SidePhi* sides = nullptr) {
-    if (F.k == 2) return piece_integrals_k<2>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
-    if (F.k == 4) return piece_integrals_k<4>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
-    piece_integrals_k<0>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
+    if (F.kind == KIND_POLYNOMIAL) {
+        if (F.k == 2) return piece_integrals_k<2, true>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
+        if (F.k == 4) return piece_integrals_k<4, true>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
+        return piece_integrals_k<0, true>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
+    }
+    if (F.k == 4) return piece_integrals_k<4, false>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
+    piece_integrals_k<0, false>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
 }
 
 // Scratch for clip_box: two halves of 16 n + 16 vertices each (a line clip adds at most one
@@ -325,7 +354,7 @@ inline void contract_y_rows_k(const double* t, int64_t n0, int64_t n1, const dou
     double* __restrict__ S = sum.data();  // restrict: the loops below vectorise
     for (int64_t j = j0; j < j1; ++j) {
         double* __restrict__ out = image + j * plane;
-        for (int64_t x = 0; x < plane; ++x) out[x] = 0.0;
+        bool first = true;  // the first sum is written, not added to zeros (S is never -0.0)
         for (int64_t q = -R; q < R; ++q) {
             const int64_t n = j + 1 + q;
             if (n < n0 || n > n1) continue;
@@ -338,8 +367,14 @@ inline void contract_y_rows_k(const double* t, int64_t n0, int64_t n1, const dou
                 const double* __restrict__ tb = tr + b * plane;
                 for (int64_t x = 0; x < plane; ++x) S[x] += tb[x] * eb;
             }
-            for (int64_t x = 0; x < plane; ++x) out[x] += S[x];
+            if (first)
+                for (int64_t x = 0; x < plane; ++x) out[x] = S[x];
+            else
+                for (int64_t x = 0; x < plane; ++x) out[x] += S[x];
+            first = false;
         }
+        if (first)
+            for (int64_t x = 0; x < plane; ++x) out[x] = 0.0;
     }
 }
 
@@ -382,6 +417,11 @@ inline void combine_rows(const double* acc, const double* e, int64_t R, int64_t 
 // colors: n_colors rows (the background last); `emitted` holds what the current cell has
 // received (for emit_rest). One sink per band: bands write disjoint rows of acc.
 struct MomentSink {
+    // integrals are linear in the pieces: a visible part may come as a piece less another
+    // (sweep.hpp's two-layer case); signed_pieces off gives the integrator's pieces instead
+    // (the recorded route, tests/test_same_bits.py)
+    static constexpr bool SIGNED_PIECES = true;
+    bool signed_pieces = true;
     double* acc;
     const double* colors;
     int64_t n_colors, width, height;
@@ -465,7 +505,11 @@ struct MomentSink {
         const int64_t k = KT ? KT : F.k;
         const int64_t kn = k * 3;
         double* __restrict__ t = tx + cur_row * width * kn;  // restrict: apart from the terms
-        for (int64_t x = 0; x < width * kn; ++x) t[x] = 0.0;
+        // a pixel's first term is written, not added to a zero (0 + x is x, but for the sign
+        // of a zero, which every later sum loses): only the pixels before R - 1, whose
+        // first cells lie left of the image, start from zeros
+        for (int64_t b = 0; b < k; ++b)  // t: (k, W, 3)
+            for (int64_t x = 0; x < geometry::pymin(R - 1, width) * 3; ++x) t[b * width * 3 + x] = 0.0;
         std::vector<double>& own = cellbuf;  // scratch: 2R x k x 3 terms of a partial cell
         if (own.size() < size_t(2 * R * kn + k * kn)) own.resize(size_t(2 * R * kn + k * kn));
         int64_t last_ci = NONE;
@@ -493,6 +537,15 @@ struct MomentSink {
                 const int64_t i = m - 1 - p;
                 if (i < 0 || i >= width) continue;
                 const double* __restrict__ sp = terms + (p + R) * kn;
+                if (p == -R) {  // pixel i's first cell (m = i + 1 - R)
+                    for (int64_t b = 0; b < k; ++b) {
+                        double* __restrict__ tb = t + b * width * 3 + i * 3;
+                        tb[0] = sp[b * 3];
+                        tb[1] = sp[b * 3 + 1];
+                        tb[2] = sp[b * 3 + 2];
+                    }
+                    continue;
+                }
                 for (int64_t b = 0; b < k; ++b) {
                     double* __restrict__ tb = t + b * width * 3 + i * 3;
                     tb[0] += sp[b * 3];
@@ -523,8 +576,9 @@ struct MomentSink {
             std::fill(emitted.begin(), emitted.end(), 0.0);
         }
         const int64_t wc = width + 1;
-        const int64_t row = p / wc;
-        const int64_t col = p - row * wc;
+        const Cell at = locate(p);
+        const int64_t row = at.row;
+        const int64_t col = at.col;
         const int64_t k = KT ? KT : F.k;
         const double* c = color(src);
         double* cellacc;
@@ -558,15 +612,30 @@ struct MomentSink {
         if (F.k == 4) return add_k<4>(p, src, scale);
         add_k<0>(p, src, scale);
     }
+    // cell p's row and column, p = row * (W + 1) + col: one division per cell, not per call
+    // (a cell's calls come together)
+    struct Cell {
+        int64_t row, col;
+    };
+    int64_t located = -1;
+    Cell at_located{0, 0};
+    Cell locate(int64_t p) {
+        if (p != located) {
+            located = p;
+            at_located.row = p / (width + 1);
+            at_located.col = p - at_located.row * (width + 1);
+        }
+        return at_located;
+    }
     struct Window {
         int64_t row, col;
         double x0, x1, y0, y1;
     };
     // cell p's row, column and its square cut to the image (shifted coordinates)
-    Window window(int64_t p) const {
-        const int64_t wc = width + 1;
-        const int64_t row = p / wc;
-        const int64_t col = p - row * wc;
+    Window window(int64_t p) {
+        const Cell at = locate(p);
+        const int64_t row = at.row;
+        const int64_t col = at.col;
         return {row, col, geometry::pymax(double(col), 0.5), geometry::pymin(double(col) + 1.0, double(width) + 0.5),
                 geometry::pymax(double(row), 0.5), geometry::pymin(double(row) + 1.0, double(height) + 0.5)};
     }
@@ -609,9 +678,9 @@ struct MomentSink {
 
     void emit_pixel(int64_t p, int64_t src, double, double) {
         if (tx != nullptr && p != pix) {  // row mode, the cell's first emission
-            const int64_t wc = width + 1;
-            const int64_t row = p / wc;
-            const int64_t col = p - row * wc;
+            const Cell at = locate(p);
+            const int64_t row = at.row;
+            const int64_t col = at.col;
             if (col > 0 && row > 0 && col < width && row < height) {
                 if (!have_inner) cell_integrals(p);
                 if (row != cur_row) {
@@ -633,6 +702,11 @@ struct MomentSink {
     void emit_piece(int64_t p, int64_t src, const double* xs, const double* ys, int64_t start, int64_t n) {
         integrate_piece(p, xs, ys, start, n);
         add(p, src, 1.0);
+    }
+    void emit_signed_piece(int64_t p, int64_t src, double sign, const double* xs, const double* ys, int64_t start,
+                           int64_t n) {
+        integrate_piece(p, xs, ys, start, n);
+        add(p, src, sign);
     }
     // the strip coverage's area is the polygon's own: its integrals come from the polygon
     void emit_strip_piece(int64_t p, int64_t src, double, const double* xs, const double* ys, int64_t start,

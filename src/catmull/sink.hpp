@@ -15,6 +15,16 @@
 //                                        with centroids off, or a piece the clip left empty)
 //   emit_rest(pix, src, x0, y0)          src covers the rest of the pixel: the square minus
 //                                        what was emitted for this pixel so far
+//   emit_signed_piece(pix, src, sign, xs, ys, start, n)
+//                                        only for a sink with SIGNED_PIECES true (and its
+//                                        signed_pieces on): the polygon counted with sign
+//                                        (+1 or -1); a visible part may come as a piece less
+//                                        another (two irregular pieces over what both hide:
+//                                        the second's part is its piece less the overlap)
+//
+// SIGNED_PIECES (static): whether the sink's results are linear in the pieces, so that a
+// piece less another is as good as the difference's own pieces. Sinks without it always get
+// visible pieces from the integrator.
 //
 // A pixel's calls come together, pixels in row order. The sinks: FragmentSink (per pixel,
 // each visible polygon's area and area centroid, its pieces merged), ColorSink (flat colours
@@ -31,6 +41,7 @@ namespace aaeval::catmull {
 
 // Fragments: pixel, source polygon (-1: background), area, area centroid.
 struct FragmentSink {
+    static constexpr bool SIGNED_PIECES = false;
     std::vector<int64_t> pix, src;
     std::vector<double> area, cx, cy;
 
@@ -89,6 +100,7 @@ struct FragmentSink {
 // starts (flush), in the order a bincount over FragmentSink fragments adds them: both give the
 // same bits.
 struct ColorSink {
+    static constexpr bool SIGNED_PIECES = false;
     double* image;
     const double* colors;
     int64_t n_colors;

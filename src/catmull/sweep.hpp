@@ -160,12 +160,20 @@ inline Run solid_run(int64_t k, int64_t* zl, int64_t n_zl, const Strip& S, const
     return {end, n_zl};
 }
 
-// Area of strip piece ka's part in pixel column x0 overlapping piece kb's, or -1.0 if ka's
-// part is not convex there (or the scratch space, `cap` vertices, is too small). For a pixel
-// whose visible pieces are ka over kb over what both hide the areas follow without the
-// integrator. The overlap is kb's part clipped by each of ka's own edges in turn.
-inline double two_layer_overlap(const Strip& S, int64_t ka, int64_t kb, double x0, double* wx, double* wy,
-                                 uint8_t* wf, int64_t cap_w) {
+// Strip pieces ka (in front) and kb clipped to pixel column x0, and kb's part overlapping
+// ka's: each a polygon in the scratch space (wx, wy from 0: ka's, ma vertices; from at_b:
+// kb's, mb; from at_o: the overlap, mo, none when mo < 3), and the overlap's area, or -1.0
+// if ka's part is not convex there (or the scratch space, `cap` vertices, is too small).
+// For a pixel whose visible pieces are ka over kb over what both hide the visible parts
+// follow without the integrator. The overlap is kb's part clipped by each of ka's own edges
+// in turn.
+struct TwoLayer {
+    double overlap;
+    int64_t ma, at_b, mb, at_o, mo;
+};
+
+inline TwoLayer two_layer_parts(const Strip& S, int64_t ka, int64_t kb, double x0, double* wx, double* wy,
+                                uint8_t* wf, int64_t cap_w) {
     const double* sx = S.v.x.data();
     const double* sy = S.v.y.data();
     const uint8_t* sf = S.v.f.data();
@@ -174,7 +182,7 @@ inline double two_layer_overlap(const Strip& S, int64_t ka, int64_t kb, double x
     const int64_t at_b = 2 * na + 4;
     const int64_t tmp = at_b + 2 * nb + 4;
     const int64_t cap = 2 * nb + 2 * na + 8;
-    double result = -1.0;
+    TwoLayer t{-1.0, 0, at_b, 0, at_b, 0};
     if (tmp + 2 * cap + 2 * nb + 8 <= cap_w) {
         int64_t ma = geometry::clip_to_column(sx, sy, sf, S.pieces[ka][0], na, x0, wx, wy, wf, 0, tmp);
         int64_t mb = geometry::clip_to_column(sx, sy, sf, S.pieces[kb][0], nb, x0, wx, wy, wf, at_b, tmp);
@@ -184,15 +192,16 @@ inline double two_layer_overlap(const Strip& S, int64_t ka, int64_t kb, double x
             mb = 0;
         }
         for (int64_t i = 0; i < ma; ++i) {
-            const int64_t j = (i + 1) % ma;
-            const int64_t k = (i + 2) % ma;
+            const int64_t j = i + 1 < ma ? i + 1 : i + 1 - ma;  // (i + 1) % ma without a division
+            const int64_t k = i + 2 < ma ? i + 2 : i + 2 - ma;
             const double turn = (wx[j] - wx[i]) * (wy[k] - wy[j]) - (wy[j] - wy[i]) * (wx[k] - wx[j]);
             convex = convex && turn >= -CONVEX_SLACK;
         }
         if (convex) {
+            // kb's part is left in place (the clips write into the two halves from tmp)
             int64_t cur = at_b, m = mb, spare = tmp;
             for (int64_t i = 0; i < ma; ++i) {
-                const int64_t j = (i + 1) % ma;
+                const int64_t j = i + 1 < ma ? i + 1 : 0;
                 const double ex = wx[j] - wx[i];
                 const double ey = wy[j] - wy[i];
                 const double norm = geometry::sqrt_ieee(ex * ex + ey * ey);
@@ -205,11 +214,40 @@ inline double two_layer_overlap(const Strip& S, int64_t ka, int64_t kb, double x
                     spare = next_spare;
                 }
             }
-            result = m >= 3 ? geometry::signed_area(wx, wy, cur, m) : 0.0;
-            result = pymax(result, 0.0);
+            t.overlap = m >= 3 ? geometry::signed_area(wx, wy, cur, m) : 0.0;
+            t.overlap = pymax(t.overlap, 0.0);
+            t = {t.overlap, ma, at_b, mb, cur, m >= 3 ? m : 0};
         }
     }
-    return result;
+    return t;
+}
+
+// The area of two_layer_parts' overlap (-1.0: not this case).
+inline double two_layer_overlap(const Strip& S, int64_t ka, int64_t kb, double x0, double* wx, double* wy,
+                                 uint8_t* wf, int64_t cap_w) {
+    return two_layer_parts(S, ka, kb, x0, wx, wy, wf, cap_w).overlap;
+}
+
+// Whether the sink takes signed pieces (emit_signed_piece, sink.hpp) and wants them.
+template <class Sink>
+inline bool takes_signed_pieces(const Sink& out) {
+    if constexpr (Sink::SIGNED_PIECES) return out.signed_pieces;
+    else return false;
+}
+
+// The two-layer case with shapes: the front piece, the second piece, less their overlap, and
+// the rest of the pixel to what both hide. Only for sinks that take signed pieces.
+template <class Sink>
+inline void emit_two_layer(const Strip& S, int64_t first, int64_t second, int64_t back, const TwoLayer& tl, int64_t pix,
+                           double x0, double y0, PixelWork& W, Sink& out) {
+    if constexpr (Sink::SIGNED_PIECES) {
+        const double* wx = W.v.x.data();
+        const double* wy = W.v.y.data();
+        if (tl.ma >= 3) out.emit_signed_piece(pix, S.pieces[first][2], 1.0, wx, wy, 0, tl.ma);
+        if (tl.mb >= 3) out.emit_signed_piece(pix, S.pieces[second][2], 1.0, wx, wy, tl.at_b, tl.mb);
+        if (tl.mo >= 3) out.emit_signed_piece(pix, S.pieces[second][2], -1.0, wx, wy, tl.at_o, tl.mo);
+        out.emit_rest(pix, back, x0, y0);
+    }
 }
 
 // One band's workspaces.
@@ -245,6 +283,7 @@ inline void sweep_row(Scan& sc, Sink& out, const double* planes, int64_t row, in
     // the numba kernel's two-layer shortcut saw the integrator's vertex buffer as it was when
     // the row began (a grown buffer reached it only on the next row): its size decides
     const int64_t row_cap = W.v.size();
+    const bool signed_two_layer = takes_signed_pieces(out);
     const double y0 = double(row);
     int64_t n_zl = 0;
     int64_t col = 0;
@@ -281,18 +320,19 @@ inline void sweep_row(Scan& sc, Sink& out, const double* planes, int64_t row, in
             else if (n_pl == 2 && plist[1] == solid &&
                      in_front_on_square(planes, S.pieces[first][2], S.pieces[solid][2], x0, y0, eps_z))
                 behind = S.pieces[solid][2];
-            // areas only: two irregular pieces over what both hide, the front one convex in
-            // the pixel (-1.0: not this case)
-            double overlap = -1.0;
+            // two irregular pieces over what both hide, the front one convex in the pixel: by
+            // areas (centroids off), or by shapes for a sink that takes signed pieces (the
+            // second's visible part as its piece less the overlap); tl.overlap -1.0: not this case
+            TwoLayer tl{-1.0, 0, 0, 0, 0, 0};
             int64_t back = BACKGROUND, second = -1;
-            if (behind == -2 && !centroids && ((n_pl == 2 && solid < 0) || (n_pl == 3 && plist[2] == solid))) {
+            if (behind == -2 && (!centroids || signed_two_layer) &&
+                ((n_pl == 2 && solid < 0) || (n_pl == 3 && plist[2] == solid))) {
                 back = n_pl == 2 ? BACKGROUND : S.pieces[solid][2];
                 second = plist[1];
                 if (in_front_on_square(planes, S.pieces[first][2], S.pieces[second][2], x0, y0, eps_z) &&
                     (n_pl == 2 || (in_front_on_square(planes, S.pieces[second][2], back, x0, y0, eps_z) &&
                                    in_front_on_square(planes, S.pieces[first][2], back, x0, y0, eps_z))))
-                    overlap = two_layer_overlap(S, first, second, x0, W.v.x.data(), W.v.y.data(), W.v.f.data(),
-                                                row_cap);
+                    tl = two_layer_parts(S, first, second, x0, W.v.x.data(), W.v.y.data(), W.v.f.data(), row_cap);
             }
             if (behind != -2) {
                 if (centroids) {
@@ -302,11 +342,13 @@ inline void sweep_row(Scan& sc, Sink& out, const double* planes, int64_t row, in
                     out.emit_area(pix, S.pieces[first][2], coverage(S, first, col), x0, y0);
                 }
                 out.emit_rest(pix, behind, x0, y0);
-            } else if (overlap >= 0.0) {
+            } else if (tl.overlap >= 0.0 && !centroids) {
                 out.emit_area(pix, S.pieces[first][2], coverage(S, first, col), x0, y0);
-                const double second_visible = coverage(S, second, col) - overlap;
+                const double second_visible = coverage(S, second, col) - tl.overlap;
                 if (second_visible > 0.0) out.emit_area(pix, S.pieces[second][2], second_visible, x0, y0);
                 out.emit_rest(pix, back, x0, y0);
+            } else if (tl.overlap >= 0.0) {
+                emit_two_layer(S, first, second, back, tl, pix, x0, y0, W, out);
             } else {
                 integrate(S, plist, n_pl, solid, x0, y0, planes, eps_z, pix, W, out);
             }
