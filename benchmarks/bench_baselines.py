@@ -5,7 +5,8 @@ Usage: ``PYTHONPATH=. python3 benchmarks/bench_baselines.py [--repeats N] [--met
 Each method is warmed up first (numba JIT), then timed ``--repeats`` times per scene with
 :func:`aaeval.renderers.render_timed`; the median is printed. A second table gives each
 method's RMSE and largest pixel error against the exact ``catmull`` image of the small
-scene.
+scene. Last, the time of ``abuffer`` on a deep stack of coplanar triangles (the tie rule's
+worst case for sorting a pixel's fragments).
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ import statistics
 import numpy as np
 
 from aaeval.renderers import render, render_timed
-from aaeval.scenes.generate import random_triangles
+from aaeval.scenes.generate import coplanar_stack, random_triangles
 from smoke import SMOKE, smallest
 
 DEFAULT_METHODS = [
@@ -60,6 +61,11 @@ def main() -> None:
     for spec in args.methods + [f"supersample:k={k}" for k in (16, 32)]:
         diff = render(scene, spec) - exact
         print(f"{spec:<22}{np.sqrt(np.mean(diff**2)):>12.2e}{np.abs(diff).max():>12.2e}", flush=True)
+
+    stack = coplanar_stack(300 if SMOKE else 3000)
+    render_timed(stack, "abuffer")
+    times = [render_timed(stack, "abuffer")[1] for _ in range(args.repeats)]
+    print(f"\nabuffer on {stack.source}, 12 x 12: {1000 * statistics.median(times):.1f} ms (median of {args.repeats})")
 
 
 if __name__ == "__main__":

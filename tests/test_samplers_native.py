@@ -4,7 +4,6 @@ a deep A-buffer stack is sorted in n log n with the insertion sort's order."""
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 import pytest
@@ -15,6 +14,7 @@ from aaeval.filters.evaluate import profile_args
 from aaeval.renderers.registry import render
 from aaeval.renderers.sampling import kernel_scene, warmup_scene
 from aaeval.scenes import parse_scene
+from aaeval.scenes.generate import coplanar_stack
 
 
 def _args():
@@ -123,18 +123,14 @@ def test_tied_latest_first_puts_the_latest_of_a_run_first():
         _samplers.tied_latest_first(order, depth, index[:-1], 1.0)
 
 
-def test_a_deep_abuffer_stack_is_fast_and_the_latest_tied_polygon_wins():
+def test_a_deep_abuffer_stack_shows_the_latest_tied_polygon():
     # 3000 coplanar triangles over one 12 x 12 image, each pixel's fragments in the worst
     # order for an insertion sort (4.5 million moves a pixel); the merge sort gives the same
-    # order (distinct keys), and the tie rule's latest polygon is seen everywhere
+    # order (distinct keys), and the tie rule's latest polygon is seen everywhere (its time
+    # is benchmarks/bench_baselines.py's deep-stack line, not asserted here)
     n = 3000
-    polys = [{"color": [i / n, 0.5, 0.25], "vertices": [[-1, -1, 2.0], [30, -1, 2.0], [-1, 30, 2.0]]}
-             for i in range(n)]
-    scene = parse_scene({"image": {"width": 12, "height": 12}, "polygons": polys})
-    args = kernel_scene(scene)
-    start = time.perf_counter()
-    image = _samplers.abuffer_image(*args)
-    assert time.perf_counter() - start < 2.0
+    scene = coplanar_stack(n)
+    image = _samplers.abuffer_image(*kernel_scene(scene))
     np.testing.assert_array_equal(image[..., 0], (n - 1) / n)
     np.testing.assert_array_equal(render(scene, "abuffer"), image)
 

@@ -33,6 +33,7 @@ __all__ = [
     "GENERATORS",
     "Generator",
     "GeneratorError",
+    "coplanar_stack",
     "MAX_POLYGONS",
     "MAX_PIXEL_FRAMES",
     "register_generator",
@@ -224,6 +225,16 @@ def picket_fence(
         animation={"frames": frames, "translate": [step, 0.0]},
         source=f"picket_fence(bar_width={bar_width}, period={period})",
     )
+
+
+def coplanar_stack(n: int = 3000, *, size: int = 12) -> Scene:
+    """``n`` triangles on one plane, each covering the whole ``size`` x ``size`` image, in
+    file order: the depth-tie rule's stress case (the latest is seen everywhere; a sampler
+    that sorted a pixel's fragments by insertion would move them n^2 / 2 times)."""
+    _check_count(n, "n")
+    polygons = [{"color": [i / n, 0.5, 0.25], "vertices": [[-1, -1, 2.0], [2.5 * size, -1, 2.0], [-1, 2.5 * size, 2.0]]}
+                for i in range(n)]
+    return _scene(size, size, polygons, source=f"coplanar_stack(n={n})")
 
 
 # --- helpers ------------------------------------------------------------------------

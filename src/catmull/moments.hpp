@@ -361,8 +361,11 @@ inline void contract_y_rows_k(const double* t, int64_t n0, int64_t n1, const dou
             const double* tr = t + (n - n0) * rowlen;
             const double* eq = e + (q + R) * k;
             // every pixel's sum over b in order from 0, then added to the pixel
-            for (int64_t x = 0; x < plane; ++x) S[x] = 0.0;
-            for (int64_t b = 0; b < k; ++b) {
+            {  // b = 0 starts the sum from zero in the same pass (0.0 + the term, as before)
+                const double e0 = eq[0];
+                for (int64_t x = 0; x < plane; ++x) S[x] = 0.0 + tr[x] * e0;
+            }
+            for (int64_t b = 1; b < k; ++b) {
                 const double eb = eq[b];
                 const double* __restrict__ tb = tr + b * plane;
                 for (int64_t x = 0; x < plane; ++x) S[x] += tb[x] * eb;
@@ -599,6 +602,16 @@ struct MomentSink {
         double* em = emitted.data();
         const double* o = out.data();
         const double c0 = c[0], c1 = c[1], c2 = c[2];  // held in registers across the stores
+        if (scale == 1.0) {  // most pieces: 1.0 * o is o (the same bits without the product)
+            for (int64_t ab = 0; ab < k * k; ++ab) {
+                const double v = o[ab];
+                em[ab] += v;
+                cellacc[ab * 3] += v * c0;
+                cellacc[ab * 3 + 1] += v * c1;
+                cellacc[ab * 3 + 2] += v * c2;
+            }
+            return;
+        }
         for (int64_t ab = 0; ab < k * k; ++ab) {
             const double v = scale * o[ab];
             em[ab] += v;
