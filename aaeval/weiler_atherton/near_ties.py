@@ -50,9 +50,13 @@ def tie_groups(boxes: np.ndarray, planes: np.ndarray, sources: np.ndarray, eps_z
     a near-coplanar pair (see :func:`_near_pairs`); the second the rest."""
     sources = np.asarray(sources, dtype=np.int64)
     alike = _similar_slopes(planes[sources], 2 * NEAR_COPLANAR * eps_z / MIN_OVERLAP)
-    if alike.sum() < 2 or not _near_pairs(boxes, planes, sources[alike], eps_z)[2].any():
+    if alike.sum() < 2:
         return sources[:0], sources
-    first, rows, near = _near_pairs(boxes, planes, sources, eps_z)
+    among_alike = _near_pairs(boxes, planes, sources[alike], eps_z)
+    if not among_alike[2].any():
+        return sources[:0], sources
+    # every source alike (a stack of one plane): the pairs are those just found
+    first, rows, near = among_alike if alike.all() else _near_pairs(boxes, planes, sources, eps_z)
     component = components(len(sources), first, rows)
     tied = np.isin(component, np.unique(component[first[near]]))
     return sources[tied], sources[~tied]
