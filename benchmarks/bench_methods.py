@@ -140,6 +140,7 @@ def plot(rows, fill, path):
     work = np.array(sorted({float(r["work"]) for r in rows}))
     ax.plot(work, work * fill * 1e3, "k--", lw=1.5, label="fill rate (write each unit of work once)")
     ax.set_xscale("log")
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # 3x10^5 4x10^5 ... collide
     ax.set_yscale("log")
     ax.set_xlabel("work: pixels x (1 + depth complexity)")
     ax.set_ylabel("median wall ms per frame")
