@@ -60,6 +60,31 @@ FAMILY_METHODS: dict[str, tuple[str, ...]] = {
 FAST_ROUTE_TOLERANCE = 1e-13
 
 
+# per process, for the tests that run on one worker (xdist_group "same_bits"): the scenes,
+# and the recorded images of the exact filters, which the fast-route test compares with
+_MADE: dict[str, Scene] = {}
+_RECORDED: dict[str, np.ndarray] = {}
+
+
+def made(scene_id: str, make: Callable[[], Scene]) -> Scene:
+    """The scene ``scene_id``, made once in this process."""
+    if scene_id not in _MADE:
+        _MADE[scene_id] = make()
+    return _MADE[scene_id]
+
+
+def recorded_image(scene_id: str, scene: Scene, spec: str) -> np.ndarray:
+    """:func:`render_recorded` of ``spec`` on scene ``scene_id``, an exact filter's kept for
+    this process (a refusal is raised every time)."""
+    key = f"{scene_id}|{spec}"
+    if key in _RECORDED:
+        return _RECORDED[key]
+    image = render_recorded(scene, spec)
+    if ":filter=" in spec:
+        _RECORDED[key] = image
+    return image
+
+
 def render_recorded(scene: Scene, spec: str, recorded: bool = True) -> np.ndarray:
     """The image of ``spec`` as the digests were recorded: an exact filter on its recorded
     route (``recorded=False``: the fast route the method takes); every other spec (and a
@@ -117,10 +142,10 @@ def digests_of(family: str) -> Iterator[tuple[str, str]]:
     """``(scene id|spec, digest)`` of every scene and method of ``family``; a method that
     refuses a scene (a shaded scene for a flat method, say) records the refusal's type."""
     for scene_id, make in scenes():
-        scene = make()
+        scene = made(scene_id, make)
         for spec in FAMILY_METHODS[family]:
             try:
-                yield f"{scene_id}|{spec}", digest(render_recorded(scene, spec))
+                yield f"{scene_id}|{spec}", digest(recorded_image(scene_id, scene, spec))
             except (ValueError, NotImplementedError) as error:
                 yield f"{scene_id}|{spec}", f"refused: {type(error).__name__}"
 

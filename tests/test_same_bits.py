@@ -12,12 +12,14 @@ import pytest
 
 import numpy as np
 
-from tests.same_bits import DATA, FAMILY_METHODS, FILTERS, FAST_ROUTE_TOLERANCE, digests_of, render_recorded, scenes
+from tests.same_bits import (DATA, FAMILY_METHODS, FILTERS, FAST_ROUTE_TOLERANCE, digests_of, made, recorded_image,
+                              render_recorded, scenes)
 
 RECORDED = sorted(f for f in FAMILY_METHODS if (DATA / f"same_bits_{f}.json").exists())
 
 
 @pytest.mark.slow
+@pytest.mark.xdist_group("same_bits")  # one worker: the scenes and recorded filter images are made once
 @pytest.mark.parametrize("family", RECORDED)
 def test_native_images_have_the_recorded_bits(family):
     expected = json.loads((DATA / f"same_bits_{family}.json").read_text())
@@ -29,6 +31,7 @@ def test_native_images_have_the_recorded_bits(family):
 
 
 @pytest.mark.slow
+@pytest.mark.xdist_group("same_bits")
 @pytest.mark.parametrize("filt", FILTERS)
 def test_the_filters_fast_route_stays_within_rounding_of_the_recorded_images(filt):
     # the exact filters' one explained difference (tests/same_bits.py): the method's own
@@ -36,9 +39,9 @@ def test_the_filters_fast_route_stays_within_rounding_of_the_recorded_images(fil
     spec = f"catmull:filter={filt}"
     worst, where, changed = 0.0, None, 0
     for scene_id, make in scenes():
-        scene = make()
+        scene = made(scene_id, make)
         try:
-            recorded = render_recorded(scene, spec)
+            recorded = recorded_image(scene_id, scene, spec)
         except (ValueError, NotImplementedError):
             continue
         image = render_recorded(scene, spec, recorded=False)
