@@ -214,9 +214,8 @@ inline TwoLayer two_layer_parts(const Strip& S, int64_t ka, int64_t kb, double x
                     spare = next_spare;
                 }
             }
-            t.overlap = m >= 3 ? geometry::signed_area(wx, wy, cur, m) : 0.0;
-            t.overlap = pymax(t.overlap, 0.0);
-            t = {t.overlap, ma, at_b, mb, cur, m >= 3 ? m : 0};
+            const double area = m >= 3 ? geometry::signed_area(wx, wy, cur, m) : 0.0;
+            t = {pymax(area, 0.0), ma, at_b, mb, cur, m >= 3 ? m : 0};
         }
     }
     return t;
@@ -268,8 +267,9 @@ struct Scan {
 // - with the integrator switched off (jagged): the nearest piece, whole pixel;
 // - one irregular piece over what it hides: that piece (emit_front_piece with its shape, or
 //   emit_area without centroids) and the rest of the pixel (emit_rest);
-// - areas only (no centroids): two irregular pieces over what both hide, the front one convex
-//   in the pixel (two_layer_overlap);
+// - two irregular pieces over what both hide, the front one convex in the pixel
+//   (two_layer_parts): by areas with centroids off, or by shapes (the second piece less the
+//   overlap, emit_two_layer) for a sink that takes signed pieces;
 // - otherwise the pixel integrator (integrate).
 template <class Sink>
 inline void sweep_row(Scan& sc, Sink& out, const double* planes, int64_t row, int64_t width, double eps_z,
