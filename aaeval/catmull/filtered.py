@@ -57,17 +57,20 @@ def filter_sums(scene: Scene, filt: PixelFilter, threads: int = 0, recorded: boo
     without the cells: the kernel's sink contracts each row of cells along x as soon as the
     row is done. ``recorded``: as in :func:`knot_grid_sums`.
     """
-    args, fargs = _inputs(scene, filt)
-    e = np.ascontiguousarray(cell_basis_matrix(filt), dtype=np.float64)
-    return _catmull.filter_sums(*args, *fargs, e, thread_count(threads), bool(recorded))
+    return _native_filter_sums(scene, filt, threads, recorded)
 
 
 def filtered_pixels(scene: Scene, filt: PixelFilter, threads: int = 0, recorded: bool = False) -> np.ndarray:
     """The filtered image ``(H, W, 3)``: :func:`filter_sums` divided by the weight each pixel
     collects inside the image (Mitsuba's film), in the same native call; the same bits as
     ``aaeval.filters.exact.divide_by_weight(filter_sums(...), scene, filt)``."""
+    weights = (np.ascontiguousarray(axis_weights(filt, scene.width), dtype=np.float64),
+               np.ascontiguousarray(axis_weights(filt, scene.height), dtype=np.float64))
+    return _native_filter_sums(scene, filt, threads, recorded, *weights)
+
+
+def _native_filter_sums(scene, filt, threads, recorded, *weights):
+    """The native filter_sums call (``weights``: the film's x and y weights, or none)."""
     args, fargs = _inputs(scene, filt)
     e = np.ascontiguousarray(cell_basis_matrix(filt), dtype=np.float64)
-    return _catmull.filter_sums(*args, *fargs, e, thread_count(threads), bool(recorded),
-                                np.ascontiguousarray(axis_weights(filt, scene.width), dtype=np.float64),
-                                np.ascontiguousarray(axis_weights(filt, scene.height), dtype=np.float64))
+    return _catmull.filter_sums(*args, *fargs, e, thread_count(threads), bool(recorded), *weights)
