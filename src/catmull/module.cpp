@@ -135,9 +135,13 @@ Filter filter_of(int64_t kind, int64_t radius, int64_t k, double alpha, double b
 }
 
 // The filter as a render takes it: the fast route integrates the tent's edges with the 2
-// Gauss-Legendre points their degree needs; the recorded route (the same-bits digests) keeps 4.
+// Gauss-Legendre points their degree needs, and evaluates the Gaussian's basis as polynomials
+// (gauss_table); the recorded route (the same-bits digests) keeps 4 points and erf and exp.
 Filter route_filter(Filter F, bool recorded) {
-    if (!recorded && F.kind == KIND_POLYNOMIAL && F.k == 2) F.nodes = 2;
+    if (recorded) return F;
+    if (F.kind == KIND_POLYNOMIAL && F.k == 2) F.nodes = 2;
+    if (F.kind == KIND_GAUSSIAN && F.k == 4 && F.radius == 2)
+        F.gauss = std::make_shared<const GaussTable>(gauss_table(F.alpha, F.bias));
     return F;
 }
 

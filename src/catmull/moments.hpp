@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "common/geometry.hpp"
@@ -28,17 +29,107 @@ inline constexpr double GAUSS_T[12] = {0x1.2e1c4e37a2fe0p-7, 0x1.88bc58023ba68p-
 inline constexpr double GAUSS_W[12] = {0x1.8275d9dea6d53p-6, 0x1.b60602bce61afp-5, 0x1.47d7258f22d96p-4, 0x1.a0163e6b1ab6bp-4, 0x1.de3155c256aaep-4, 0x1.fe40ce6d4f022p-4, 0x1.fe40ce6d4f022p-4, 0x1.de3155c256aaep-4, 0x1.a0163e6b1ab6bp-4, 0x1.47d7258f22d96p-4, 0x1.b60602bce61afp-5, 0x1.8275d9dea6d53p-6};
 
 // nodes: Gauss-Legendre points on a polynomial filter's edges, 4 (every degree up to 7; the
-// recorded route) or 2 (the tent's degree 3)
+// recorded route) or 2 (the tent's degree 3). gauss: the Gaussian's basis on a cell as
+// polynomials (gauss_table below; the fast route), or null for erf and exp at every node.
 struct Filter {
     int64_t kind, radius, k;
     double alpha, bias;
     int nodes = 4;
+    std::shared_ptr<const struct GaussTable> gauss = nullptr;
 };
 
 // An antiderivative of exp(alpha t^2) - bias.
 inline double gauss_primitive(double t, double alpha, double bias) {
     const double c = std::sqrt(-alpha);
     return (0.8862269254527580 / c) * std::erf(c * t) - bias * t;  // sqrt(pi)/2
+}
+
+// The Gaussian's fast route, for its 4 basis functions per axis (radius 2; other radii keep
+// erf and exp). On a cell, u and v in [-1/2, 1/2], Phi_a(u) = gauss_primitive(u + c_a) and
+// psi_b(v) = exp(alpha (v + c_b)^2) - bias (c = -3/2, -1/2, 1/2, 3/2) are smooth functions on
+// an interval of length 1: their Chebyshev interpolants of degree GAUSS_DEGREE are within a
+// few units in the last place (tests/test_same_bits.py holds the route within 1e-13 of erf
+// and exp at every node). The c's come in pairs +-c, and gauss_primitive is odd and the
+// Gaussian even, so each pair is one polynomial p(x) = E(x^2) + x O(x^2) read at x and -x:
+// Phi_{-c}(u) = -Phi_c(-u), psi_{-c}(v) = psi_c(-v). Horner's rule on E and O costs a fraction
+// of the 8 erf and exp calls per node, and its bits depend on nothing but IEEE adds and
+// multiplies. The fit runs in long double.
+inline constexpr int GAUSS_DEGREE = 20;
+inline constexpr int GAUSS_EVEN = GAUSS_DEGREE / 2 + 1, GAUSS_ODD = (GAUSS_DEGREE + 1) / 2;
+
+struct GaussTable {
+    // [h]: the pair c = +-(h + 1/2); even and odd coefficients, the constant term first
+    double phi_even[2][GAUSS_EVEN], phi_odd[2][GAUSS_ODD];
+    double psi_even[2][GAUSS_EVEN], psi_odd[2][GAUSS_ODD];
+};
+
+// the monomial coefficients (in s, constant first) of f's Chebyshev interpolant on [-1/2, 1/2]
+template <class F>
+inline void chebyshev_monomials(F f, long double* mono) {
+    constexpr int N = GAUSS_DEGREE + 1;
+    const long double pi = 3.141592653589793238462643383279502884L;
+    long double T[N][N] = {};  // T[n][d]: the coefficient of x^d in T_n
+    T[0][0] = 1.0L;
+    T[1][1] = 1.0L;
+    for (int n = 1; n + 1 < N; ++n)
+        for (int d = 0; d < N; ++d) T[n + 1][d] = (d > 0 ? 2.0L * T[n][d - 1] : 0.0L) - T[n - 1][d];
+    long double values[N], cheb[N];
+    for (int j = 0; j < N; ++j) values[j] = f(0.5L * std::cos(pi * (j + 0.5L) / N));  // s = x / 2
+    for (int n = 0; n < N; ++n) {
+        long double sum = 0.0L;
+        for (int j = 0; j < N; ++j) sum += values[j] * std::cos(pi * n * (j + 0.5L) / N);
+        cheb[n] = (n == 0 ? 1.0L : 2.0L) * sum / N;
+    }
+    long double scale = 1.0L;  // x = 2 s: the coefficient of s^d is 2^d times that of x^d
+    for (int d = 0; d < N; ++d, scale *= 2.0L) {
+        long double m = 0.0L;
+        for (int n = d; n < N; ++n) m += cheb[n] * T[n][d];
+        mono[d] = m * scale;
+    }
+}
+
+inline GaussTable gauss_table(double alpha, double bias) {
+    const long double a = alpha, b = bias;
+    const long double gc = std::sqrt(-a);
+    const long double gk = std::sqrt(3.141592653589793238462643383279502884L) / (2.0L * gc);
+    GaussTable G;
+    long double mono[GAUSS_DEGREE + 1];
+    for (int h = 0; h < 2; ++h) {
+        const long double c = h + 0.5L;
+        chebyshev_monomials([&](long double s) { return gk * std::erf(gc * (s + c)) - b * (s + c); }, mono);
+        for (int j = 0; j < GAUSS_EVEN; ++j) G.phi_even[h][j] = double(mono[2 * j]);
+        for (int j = 0; j < GAUSS_ODD; ++j) G.phi_odd[h][j] = double(mono[2 * j + 1]);
+        chebyshev_monomials([&](long double s) { return std::exp(a * (s + c) * (s + c)) - b; }, mono);
+        for (int j = 0; j < GAUSS_EVEN; ++j) G.psi_even[h][j] = double(mono[2 * j]);
+        for (int j = 0; j < GAUSS_ODD; ++j) G.psi_odd[h][j] = double(mono[2 * j + 1]);
+    }
+    return G;
+}
+
+// An edge's 12 nodes as three vectors of 4 (GCC's vector extension: element-wise IEEE
+// operations, so the bits of scalar code, in vector registers wherever the machine has them)
+typedef double v4 __attribute__((vector_size(32)));
+struct Nodes {
+    v4 r[3];
+};
+
+// p(x) = E(x^2) + x O(x^2) at the 12 nodes: hi = p(x), lo = sign * p(-x)
+inline void mirrored_pair(const double* E, const double* O, const Nodes& x, double sign, Nodes& hi, Nodes& lo) {
+    Nodes x2, e, o;
+    for (int r = 0; r < 3; ++r) {
+        x2.r[r] = x.r[r] * x.r[r];
+        e.r[r] = v4{} + E[GAUSS_EVEN - 1];
+        o.r[r] = v4{} + O[GAUSS_ODD - 1];
+    }
+    for (int j = GAUSS_EVEN - 2; j >= 0; --j)
+        for (int r = 0; r < 3; ++r) e.r[r] = e.r[r] * x2.r[r] + E[j];
+    for (int j = GAUSS_ODD - 2; j >= 0; --j)
+        for (int r = 0; r < 3; ++r) o.r[r] = o.r[r] * x2.r[r] + O[j];
+    for (int r = 0; r < 3; ++r) {
+        const v4 xo = x.r[r] * o.r[r];
+        hi.r[r] = e.r[r] + xo;
+        lo.r[r] = sign * (e.r[r] - xo);
+    }
 }
 
 // Integrals of phi_a(u) psi_b(v) over one polygon xs/ys[start .. start+n) lying in the cell
@@ -158,8 +249,59 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
         for (int64_t a = 0; a < k * k; ++a) out_[a] = out[a];
 }
 
+// piece_integrals_k<4, false> on the Gaussian's fast route (F.gauss): every edge's basis
+// values at its 12 nodes from the polynomials (mirrored_pair), its terms summed per node
+// lane and the lanes added at the end (the node sums in another order: the same within
+// rounding)
+inline void gauss_piece_integrals(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
+                                  const Filter& F, double* out, SidePhi* sides) {
+    const GaussTable& G = *F.gauss;
+    Nodes T, W, sum[16];
+    for (int r = 0; r < 3; ++r) {
+        T.r[r] = v4{GAUSS_T[4 * r], GAUSS_T[4 * r + 1], GAUSS_T[4 * r + 2], GAUSS_T[4 * r + 3]};
+        W.r[r] = v4{GAUSS_W[4 * r], GAUSS_W[4 * r + 1], GAUSS_W[4 * r + 2], GAUSS_W[4 * r + 3]};
+        for (int ab = 0; ab < 16; ++ab) sum[ab].r[r] = v4{};
+    }
+    for (int64_t i = 0; i < n; ++i) {
+        const int64_t j = i + 1 < n ? start + i + 1 : start;
+        const double u0 = xs[start + i] - ox;
+        const double v0 = ys[start + i] - oy;
+        const double du = xs[j] - ox - u0;
+        const double dv = ys[j] - oy - v0;
+        if (dv == 0.0) continue;
+        Nodes u, v, w, phi[4], psi[4];
+        for (int r = 0; r < 3; ++r) {  // the node loop's u, v and weight
+            u.r[r] = u0 + T.r[r] * du;
+            v.r[r] = v0 + T.r[r] * dv;
+            w.r[r] = W.r[r] * dv;
+        }
+        if (sides != nullptr && du == 0.0 && (u0 == -0.5 || u0 == 0.5)) {
+            const double* side = side_phi<false>(u0, 4, F, sides);  // on a cell's side: Phi known
+            for (int a = 0; a < 4; ++a)
+                for (int r = 0; r < 3; ++r) phi[a].r[r] = v4{} + side[a];
+        } else {
+            for (int h = 0; h < 2; ++h)  // Phi_{2+h}(u) = p(u), Phi_{1-h}(u) = -p(-u)
+                mirrored_pair(G.phi_even[h], G.phi_odd[h], u, -1.0, phi[2 + h], phi[1 - h]);
+        }
+        for (int h = 0; h < 2; ++h)  // psi_{2+h}(v) = p(v), psi_{1-h}(v) = p(-v)
+            mirrored_pair(G.psi_even[h], G.psi_odd[h], v, 1.0, psi[2 + h], psi[1 - h]);
+        for (int a = 0; a < 4; ++a)
+            for (int r = 0; r < 3; ++r) {
+                const v4 wa = w.r[r] * phi[a].r[r];
+                for (int b = 0; b < 4; ++b) sum[a * 4 + b].r[r] += wa * psi[b].r[r];
+            }
+    }
+    for (int ab = 0; ab < 16; ++ab) {
+        double total = 0.0;
+        for (int r = 0; r < 3; ++r)
+            for (int l = 0; l < 4; ++l) total += sum[ab].r[r][l];
+        out[ab] = total;
+    }
+}
+
 inline void piece_integrals(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
                             const Filter& F, double* out, double* phi, double* psi, SidePhi* sides = nullptr) {
+    if (F.gauss) return gauss_piece_integrals(xs, ys, start, n, ox, oy, F, out, sides);
     if (F.kind == KIND_POLYNOMIAL) {
         if (F.k == 2) return piece_integrals_k<2, true>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
         if (F.k == 4) return piece_integrals_k<4, true>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
