@@ -62,10 +62,23 @@ def save_figure(fig, path: Path) -> Path:
     """Write ``path`` (PNG) and its SVG and PDF twins; return the PNG path."""
     path = Path(path).with_suffix(".png")
     _plain_log_axes(fig)
+    box = _tight_box(fig)
     for fmt in FORMATS:
-        fig.savefig(path.with_suffix(f".{fmt}"), dpi=_DPI, bbox_inches="tight", metadata=_metadata(fmt))
+        fig.savefig(path.with_suffix(f".{fmt}"), dpi=_DPI, bbox_inches=box, metadata=_metadata(fmt))
     plt.close(fig)
     return path
+
+
+def _tight_box(fig):
+    """The figure's tight bounding box (inches, with savefig's pad), found once.
+
+    ``bbox_inches="tight"`` lays the figure out again in every format before drawing it;
+    the box is the one the PNG would get (the same Agg renderer at the same dpi), and the
+    pad is wider than any difference in text extents between the formats' renderers.
+    """
+    fig.set_dpi(_DPI)
+    fig.draw_without_rendering()
+    return fig.get_tightbbox(fig.canvas.get_renderer()).padded(plt.rcParams["savefig.pad_inches"])
 
 
 def _metadata(fmt: str) -> dict:
