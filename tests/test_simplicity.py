@@ -59,6 +59,22 @@ def test_random_grid_rings_agree_with_every_pair(sweep_only, points):
     _check([ring])
 
 
+@settings(max_examples=300, deadline=None)
+@given(st.lists(grid_points, min_size=1, max_size=3))
+def test_the_native_brute_force_names_the_pair_its_numpy_reference_names(rings):
+    # small outlines go to first_meeting_pair (src/samplers/simplicity.cpp); _brute_force is
+    # its plain numpy reference: the same first pair, or None from both
+    rings = [np.array(r, dtype=np.float64) for r in rings]
+    pts = np.concatenate(rings)
+    sizes = np.array([len(r) for r in rings])
+    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    a = np.arange(len(pts), dtype=np.int64)
+    b = a + 1
+    b[first + sizes - 1] = first
+    e, f = simplicity._native_first_pair(pts, a, b)
+    assert (None if e < 0 else (e, f)) == _brute_force(pts, a, b)
+
+
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(st.lists(st.tuples(st.floats(0, 2 * math.pi), st.floats(0.1, 1.0)), min_size=3, max_size=14, unique_by=lambda t: t[0]),
        st.lists(st.tuples(st.integers(-3, 3), st.integers(-3, 3)), min_size=3, max_size=5))

@@ -26,11 +26,13 @@ from typing import Sequence
 
 import numpy as np
 
+from aaeval.native.samplers import first_meeting_pair as _native_first_pair
 from aaeval.native.samplers import sweep as _native_sweep
 
 __all__ = ["ring_contact", "rings_contact", "BRUTE_FORCE_EDGES"]
 
-# Up to this many edges in all, every pair is tested (vectorised; no JIT compilation).
+# Up to this many edges in all, every pair whose boxes meet is tested, natively (the sweep's
+# sorting and bookkeeping do not pay on a small outline, most of what a font's glyphs are).
 BRUTE_FORCE_EDGES = 256
 
 
@@ -61,7 +63,8 @@ def rings_contact(rings: Sequence[np.ndarray]) -> tuple[int, int, int, int] | No
     last = first + sizes - 1
     b[last] = first
     if len(pts) <= BRUTE_FORCE_EDGES:
-        hit = _brute_force(pts, a, b)
+        e, f = _native_first_pair(pts, a, b)
+        hit = None if e < 0 else (int(e), int(f))
     else:
         hit = _duplicate_vertices(pts)
         if hit is None:
@@ -87,6 +90,9 @@ def _duplicate_vertices(pts: np.ndarray) -> tuple[int, int] | None:
 
 
 def _brute_force(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[int, int] | None:
+    """The plain reference of the native brute force (``first_meeting_pair`` in
+    ``src/samplers/simplicity.cpp``): the first pair, in ``np.triu_indices`` order, of edges
+    whose boxes meet and that meet; the tests hold the two to the same answers."""
     i, j = _pairs_with_meeting_boxes(pts, a, b)
     shared = (a[i] == a[j]) | (a[i] == b[j]) | (b[i] == a[j]) | (b[i] == b[j])
     p, q, r, s = pts[a[i]], pts[b[i]], pts[a[j]], pts[b[j]]

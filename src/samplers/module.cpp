@@ -217,6 +217,22 @@ std::pair<int64_t, int64_t> py_sweep(const Array& pts, const Array& a, const Arr
   return {e, f};
 }
 
+std::pair<int64_t, int64_t> py_first_meeting_pair(const Array& pts, const Array& a, const Array& b) {
+  const double* p = checked<double>(pts, "pts", {-1, 2});
+  const int64_t n = static_cast<int64_t>(pts.shape(0));
+  const int64_t* pa = checked<int64_t>(a, "a", {n});
+  const int64_t* pb = checked<int64_t>(b, "b", {n});
+  check_finite(p, 2 * n, "pts");
+  for (int64_t i = 0; i < n; ++i)
+    if (pa[i] < 0 || pa[i] >= n || pb[i] < 0 || pb[i] >= n) fail("ring arrays: vertex index out of range");
+  int64_t e = -1, f = -1;
+  {
+    nb::gil_scoped_release release;
+    first_meeting_pair(n, p, pa, pb, e, f);
+  }
+  return {e, f};
+}
+
 }  // namespace
 
 NB_MODULE(samplers, m) {
@@ -235,6 +251,8 @@ NB_MODULE(samplers, m) {
         "nearest depth listed latest index first.");
   m.def("sweep", &py_sweep, nb::arg("pts"), nb::arg("a"), nb::arg("b"), nb::arg("order"), nb::arg("incoming"),
         "Shamos-Hoey sweep over the ring edges (a[e], b[e]): two edges that meet, or (-1, -1).");
+  m.def("first_meeting_pair", &py_first_meeting_pair, nb::arg("pts"), nb::arg("a"), nb::arg("b"),
+        "The first pair of ring edges (a[e], b[e]), e < f in order, that meet, or (-1, -1).");
   m.def("profile_array", &py_profile_array, nb::arg("fkind"), nb::arg("fradius"), nb::arg("fpieces"),
         nb::arg("falpha"), nb::arg("fbias"), nb::arg("t"),
         "k(t) of a filter profile (the samplers' splat weight) at every t of a flat float64 array.");

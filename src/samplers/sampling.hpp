@@ -209,4 +209,10 @@ void abuffer_image(int64_t width, int64_t height, const Polygons& P, double eps_
 bool sweep(int64_t n, const double* pts, const int64_t* a, const int64_t* b, const int64_t* order,
            const int64_t* incoming, int64_t& e_out, int64_t& f_out);
 
+// The first pair of edges (e < f, in order of e, then f) that meet, or (-1, -1): every pair
+// whose bounding boxes meet is tested (simplicity.cpp), for rings too small for the sweep to
+// pay; the pair aaeval/scenes/simplicity.py's numpy reference (_brute_force) finds.
+bool first_meeting_pair(int64_t n, const double* pts, const int64_t* a, const int64_t* b, int64_t& e_out,
+                        int64_t& f_out);
+
 }  // namespace aaeval::samplers

@@ -156,4 +156,32 @@ bool sweep(int64_t n, const double* pts, const int64_t* a, const int64_t* b, con
   return true;
 }
 
+bool first_meeting_pair(int64_t n, const double* pts, const int64_t* a, const int64_t* b, int64_t& e_out,
+                        int64_t& f_out) {
+  // every pair in order of e, then f (np.triu_indices' order); boxes first, with the same
+  // closed comparisons, so a pair far apart is never judged by rounded orientations
+  e_out = f_out = -1;
+  const Rings R{pts, a, b, nullptr, nullptr};
+  std::vector<double> box(static_cast<size_t>(4 * n));  // x0, x1, y0, y1 of each edge
+  for (int64_t e = 0; e < n; ++e) {
+    box[4 * e] = py_min(R.x(a[e]), R.x(b[e]));
+    box[4 * e + 1] = py_max(R.x(a[e]), R.x(b[e]));
+    box[4 * e + 2] = py_min(R.y(a[e]), R.y(b[e]));
+    box[4 * e + 3] = py_max(R.y(a[e]), R.y(b[e]));
+  }
+  for (int64_t e = 0; e < n; ++e) {
+    const double* be = &box[4 * e];
+    for (int64_t f = e + 1; f < n; ++f) {
+      const double* bf = &box[4 * f];
+      if (!(be[0] <= bf[1] && bf[0] <= be[1] && be[2] <= bf[3] && bf[2] <= be[3])) continue;
+      if (R.meet(e, f)) {
+        e_out = e;
+        f_out = f;
+        return true;
+      }
+    }
+  }
+  return true;
+}
+
 }  // namespace aaeval::samplers
