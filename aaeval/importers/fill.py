@@ -394,6 +394,9 @@ def _side_windings(pts, ea, eb, w):
     return left, right
 
 
+SMALL_BLOCK = 40_000  # query x edge pairs below which _ray_windings takes one block
+
+
 def _ray_windings(A, B, w, queries):
     """For each query edge, the winding number at its midpoint of all the other edges,
     counted on the ray towards +x with the half-open rule (a.y <= y < b.y)."""
@@ -402,7 +405,10 @@ def _ray_windings(A, B, w, queries):
     ylo, yhi = np.minimum(A[:, 1], B[:, 1]), np.maximum(A[:, 1], B[:, 1])
     out = np.zeros(len(queries), dtype=np.int64)
     order = np.argsort(qy, kind="stable")
-    nb = max(1, int(math.sqrt(len(A))))
+    # bands of queries, each against the edges its y range meets: a large outline's blocks
+    # stay small; a small one (a glyph) is one block, as numpy's calls cost more than its
+    # arithmetic (the counts are integers: the same whichever edges a band leaves out)
+    nb = 1 if len(queries) * len(A) <= SMALL_BLOCK else max(1, int(math.sqrt(len(A))))
     bands = np.array_split(order, nb)
     for band in bands:
         if len(band) == 0:

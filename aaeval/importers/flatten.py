@@ -18,6 +18,7 @@ Three bounds, one per kind of curve:
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -52,13 +53,19 @@ def bezier_points(control, tol: float) -> np.ndarray:
     control = np.asarray(control, dtype=np.float64)
     n = bezier_steps(control, tol)
     charge(n)
-    t = np.arange(1, n + 1) / n
-    k = len(control) - 1
-    # Bernstein basis, (n, k+1)
-    basis = np.stack([math.comb(k, i) * t**i * (1 - t) ** (k - i) for i in range(k + 1)], axis=1)
-    points = basis @ control
+    points = _bernstein(len(control) - 1, n) @ control
     points[-1] = control[-1]  # the end point exactly, so consecutive segments join
     return points
+
+
+@functools.lru_cache(maxsize=256)
+def _bernstein(k: int, n: int) -> np.ndarray:
+    """The degree-k Bernstein basis at t = 1/n, 2/n, ..., 1, (n, k+1): the same for every
+    curve cut into n steps (a glyph's curves mostly take one to four), so made once."""
+    t = np.arange(1, n + 1) / n
+    basis = np.stack([math.comb(k, i) * t**i * (1 - t) ** (k - i) for i in range(k + 1)], axis=1)
+    basis.flags.writeable = False
+    return basis
 
 
 def arc_points(centre, rx: float, ry: float, rotation: float, start: float, sweep: float, tol: float) -> np.ndarray:
