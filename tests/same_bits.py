@@ -7,8 +7,9 @@ kernels must give the same bytes (``tests/test_same_bits.py``).
 One difference is explained instead: the exact filters' fast route takes a pixel holding
 two irregular pieces over what both hide as the second's piece less their overlap, where
 the numba kernel took the pixel integrator's pieces (the integrals are linear in the
-pieces), integrates the tent's edges with the 2 Gauss-Legendre points their degree 3
-needs, where the numba kernel took 4, and reads the Gaussian's basis at its edge nodes from
+pieces), takes the tent's four integrals by the shoelace formulas for area and moments and
+a cubic's four edge nodes as one vector (summing over the nodes in another order), where the
+numba kernel integrated along the edges one node at a time, and reads the Gaussian's basis at its edge nodes from
 polynomials within a few units in the last place of erf and exp (``gauss_table`` in
 ``src/catmull/moments.hpp``), where the numba kernel called them. The filters' digests are of the recorded route
 (``recorded=True``, :func:`render_recorded`), which still gives the numba bits, and the

@@ -134,12 +134,13 @@ Filter filter_of(int64_t kind, int64_t radius, int64_t k, double alpha, double b
     return {kind, radius, k, alpha, bias};
 }
 
-// The filter as a render takes it: the fast route integrates the tent's edges with the 2
-// Gauss-Legendre points their degree needs, and evaluates the Gaussian's basis as polynomials
-// (gauss_table); the recorded route (the same-bits digests) keeps 4 points and erf and exp.
+// The filter as a render takes it: the fast route (Filter.fast) takes the tent's integrals in
+// closed form, a cubic's edge nodes four at a time and the Gaussian's basis as polynomials
+// (gauss_table); the recorded route (the same-bits digests) keeps Gauss-Legendre one node at
+// a time and erf and exp at every node.
 Filter route_filter(Filter F, bool recorded) {
     if (recorded) return F;
-    if (F.kind == KIND_POLYNOMIAL && F.k == 2) F.nodes = 2;
+    F.fast = true;
     if (F.kind == KIND_GAUSSIAN && F.k == 4 && F.radius == 2)
         F.gauss = std::make_shared<const GaussTable>(gauss_table(F.alpha, F.bias));
     return F;

@@ -19,22 +19,21 @@ inline constexpr int64_t KIND_POLYNOMIAL = 1;
 inline constexpr int64_t KIND_GAUSSIAN = 2;
 
 // Gauss-Legendre nodes and weights on [0, 1] (numpy's leggauss, moved there): 4 points are
-// exact for the degree-7 edge polynomials of cubic filters; 12 for the Gaussian's edges.
+// exact for the degree-7 edge polynomials of cubic filters (and the tent's on the recorded
+// route); 12 for the Gaussian's edges.
 inline constexpr double POLY_T[4] = {0x1.1c6490c2719ecp-4, 0x1.51ee013116102p-2, 0x1.5708ff6774f7fp-1, 0x1.dc736de7b1cc2p-1};
 inline constexpr double POLY_W[4] = {0x1.64340f7e7b666p-3, 0x1.4de5f840c24cdp-2, 0x1.4de5f840c24cdp-2, 0x1.64340f7e7b666p-3};
-// 2 points are exact for the tent's degree-3 edge polynomials (the fast route, Filter.nodes)
-inline constexpr double TENT_T[2] = {0x1.b0cb174df99c8p-3, 0x1.93cd3a2c8198ep-1};
-inline constexpr double TENT_W[2] = {0x1.0000000000000p-1, 0x1.0000000000000p-1};
 inline constexpr double GAUSS_T[12] = {0x1.2e1c4e37a2fe0p-7, 0x1.88bc58023ba68p-5, 0x1.d73d4449dc328p-4, 0x1.a6961f47f100ep-3, 0x1.43ab96faba732p-2, 0x1.bfe1681c273c7p-2, 0x1.200f4bf1ec61cp-1, 0x1.5e2a3482a2c67p-1, 0x1.965a782e03bfcp-1, 0x1.c5185776c479bp-1, 0x1.e7743a7fdc45ap-1, 0x1.fb478ec721740p-1};
 inline constexpr double GAUSS_W[12] = {0x1.8275d9dea6d53p-6, 0x1.b60602bce61afp-5, 0x1.47d7258f22d96p-4, 0x1.a0163e6b1ab6bp-4, 0x1.de3155c256aaep-4, 0x1.fe40ce6d4f022p-4, 0x1.fe40ce6d4f022p-4, 0x1.de3155c256aaep-4, 0x1.a0163e6b1ab6bp-4, 0x1.47d7258f22d96p-4, 0x1.b60602bce61afp-5, 0x1.8275d9dea6d53p-6};
 
-// nodes: Gauss-Legendre points on a polynomial filter's edges, 4 (every degree up to 7; the
-// recorded route) or 2 (the tent's degree 3). gauss: the Gaussian's basis on a cell as
-// polynomials (gauss_table below; the fast route), or null for erf and exp at every node.
+// fast: the route a render takes (route_filter in module.cpp), where piece_integrals takes
+// the tent's four integrals in closed form, a cubic's edge nodes four at a time, and the
+// Gaussian's basis from gauss (its polynomials, gauss_table below); the recorded route (false,
+// gauss null) keeps Gauss-Legendre one node at a time and erf and exp at every node.
 struct Filter {
     int64_t kind, radius, k;
     double alpha, bias;
-    int nodes = 4;
+    bool fast = false;
     std::shared_ptr<const struct GaussTable> gauss = nullptr;
 };
 
@@ -179,10 +178,9 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
     double* phi = KT ? lphi : phi_;
     double* psi = KT ? lpsi : psi_;
     for (int64_t a = 0; a < k * k; ++a) out[a] = 0.0;
-    const bool two = POLY && F.nodes == 2;
-    const double* nodes = POLY ? (two ? TENT_T : POLY_T) : GAUSS_T;
-    const double* weights = POLY ? (two ? TENT_W : POLY_W) : GAUSS_W;
-    const int nq = POLY ? (two ? 2 : 4) : 12;
+    const double* nodes = POLY ? POLY_T : GAUSS_T;
+    const double* weights = POLY ? POLY_W : GAUSS_W;
+    const int nq = POLY ? 4 : 12;
     // gauss_primitive's constants, found once per call (the same values, so the same bits)
     const double gc = POLY ? 0.0 : std::sqrt(-F.alpha);
     const double gk = POLY ? 0.0 : 0.8862269254527580 / gc;
@@ -299,9 +297,61 @@ inline void gauss_piece_integrals(const double* xs, const double* ys, int64_t st
     }
 }
 
+// piece_integrals_k<4, true> on the fast route (the cubics): an edge's 4 Gauss-Legendre nodes
+// as one vector of 4 (Nodes' v4), every basis value and term computed for the 4 at once, the
+// node sums kept per lane and added at the end (the same sums in another order: within
+// rounding of the recorded route's, tests/test_same_bits.py)
+inline void cubic_piece_integrals(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
+                                  double* out) {
+    const v4 T{POLY_T[0], POLY_T[1], POLY_T[2], POLY_T[3]};
+    const v4 Wq{POLY_W[0], POLY_W[1], POLY_W[2], POLY_W[3]};
+    v4 sum[16];
+    for (int ab = 0; ab < 16; ++ab) sum[ab] = v4{};
+    for (int64_t i = 0; i < n; ++i) {
+        const int64_t j = i + 1 < n ? start + i + 1 : start;
+        const double u0 = xs[start + i] - ox;
+        const double v0 = ys[start + i] - oy;
+        const double du = xs[j] - ox - u0;
+        const double dv = ys[j] - oy - v0;
+        if (dv == 0.0) continue;  // the integral of Phi dv vanishes along a horizontal edge
+        const v4 u = u0 + T * du, v = v0 + T * dv, w = Wq * dv;
+        const v4 u2 = u * u, u3 = u2 * u;
+        const v4 wphi[4] = {w * u, w * (u2 / 2.0), w * (u3 / 3.0), w * ((u3 * u) / 4.0)};  // w Phi_a(u)
+        const v4 v2 = v * v;
+        const v4 psi[4] = {v4{} + 1.0, v, v2, v2 * v};
+        for (int a = 0; a < 4; ++a)
+            for (int b = 0; b < 4; ++b) sum[a * 4 + b] += wphi[a] * psi[b];
+    }
+    for (int ab = 0; ab < 16; ++ab) out[ab] = ((sum[ab][0] + sum[ab][1]) + sum[ab][2]) + sum[ab][3];
+}
+
+// The tent's integrals (1, v, u, u v over the polygon: out[a * 2 + b] = the integral of u^a v^b)
+// by the shoelace formulas for area and moments, term c_i = u_i v_{i+1} - u_{i+1} v_i per edge,
+// instead of Gauss-Legendre along the edges: the same integrals, a third of the arithmetic.
+inline void tent_piece_integrals(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
+                                 double* out) {
+    double area = 0.0, mu = 0.0, mv = 0.0, muv = 0.0;
+    for (int64_t i = 0; i < n; ++i) {
+        const int64_t j = i + 1 < n ? start + i + 1 : start;
+        const double u0 = xs[start + i] - ox, v0 = ys[start + i] - oy;
+        const double u1 = xs[j] - ox, v1 = ys[j] - oy;
+        const double c = u0 * v1 - u1 * v0;
+        area += c;
+        mu += (u0 + u1) * c;
+        mv += (v0 + v1) * c;
+        muv += (2.0 * (u0 * v0 + u1 * v1) + u0 * v1 + u1 * v0) * c;
+    }
+    out[0] = area / 2.0;
+    out[1] = mv / 6.0;
+    out[2] = mu / 6.0;
+    out[3] = muv / 24.0;
+}
+
 inline void piece_integrals(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
                             const Filter& F, double* out, double* phi, double* psi, SidePhi* sides = nullptr) {
     if (F.gauss) return gauss_piece_integrals(xs, ys, start, n, ox, oy, F, out, sides);
+    if (F.fast && F.kind == KIND_POLYNOMIAL && F.k == 2) return tent_piece_integrals(xs, ys, start, n, ox, oy, out);
+    if (F.fast && F.kind == KIND_POLYNOMIAL && F.k == 4) return cubic_piece_integrals(xs, ys, start, n, ox, oy, out);
     if (F.kind == KIND_POLYNOMIAL) {
         if (F.k == 2) return piece_integrals_k<2, true>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
         if (F.k == 4) return piece_integrals_k<4, true>(xs, ys, start, n, ox, oy, F, out, phi, psi, sides);
