@@ -112,7 +112,7 @@ def filtered_oracle(scene, name: str, order: int = 6) -> np.ndarray:
         x, y, w = _region_points(region, cells, rule)
         wx = profile(x[:, None] - cx[None, :])  # (points, W)
         wy = profile(y[:, None] - cy[None, :])  # (points, H)
-        return np.einsum("p,pj,pi->ji", w, wy, wx)
+        return (w[:, None] * wy).T @ wx  # sum_p w_p wy[p, j] wx[p, i], as one matrix product
 
     # the film's denominator: the filter over the whole image; the background gets what
     # the visible regions leave of it (a GEOS difference of their union is not robust
