@@ -141,6 +141,18 @@ struct SidePhi {
     double lo[64], hi[64];  // phi_a(-1/2), phi_a(+1/2)
 };
 
+// Edge i of the polygon xs/ys[start .. start+n) in cell coordinates (u = x - ox, v = y - oy):
+// its start (u0, v0) and its step to the next vertex (du, dv), the last edge closing the ring
+struct Edge {
+    double u0, v0, du, dv;
+};
+inline Edge edge_at(const double* xs, const double* ys, int64_t start, int64_t n, int64_t i, double ox, double oy) {
+    const int64_t j = i + 1 < n ? start + i + 1 : start;  // the next vertex (no division)
+    const double u0 = xs[start + i] - ox;
+    const double v0 = ys[start + i] - oy;
+    return {u0, v0, xs[j] - ox - u0, ys[j] - oy - v0};
+}
+
 // phi on a vertical cell side u0 = -1/2 or +1/2, found once per sink: what the node loop
 // computes at u = u0 + t * 0 = u0
 template <bool POLY>
@@ -191,11 +203,7 @@ inline void piece_integrals_k(const double* xs, const double* ys, int64_t start,
         }
     };
     for (int64_t i = 0; i < n; ++i) {
-        const int64_t j = i + 1 < n ? start + i + 1 : start;  // the next vertex (no division)
-        const double u0 = xs[start + i] - ox;
-        const double v0 = ys[start + i] - oy;
-        const double du = xs[j] - ox - u0;
-        const double dv = ys[j] - oy - v0;
+        const auto [u0, v0, du, dv] = edge_at(xs, ys, start, n, i, ox, oy);
         if (dv == 0.0) continue;  // the integral of Phi dv vanishes along a horizontal edge
         if (sides != nullptr && du == 0.0 && (u0 == -0.5 || u0 == 0.5)) {
             // an edge on a cell's vertical side: phi is the same at every node
@@ -261,11 +269,7 @@ inline void gauss_piece_integrals(const double* xs, const double* ys, int64_t st
         for (int ab = 0; ab < 16; ++ab) sum[ab].r[r] = v4{};
     }
     for (int64_t i = 0; i < n; ++i) {
-        const int64_t j = i + 1 < n ? start + i + 1 : start;
-        const double u0 = xs[start + i] - ox;
-        const double v0 = ys[start + i] - oy;
-        const double du = xs[j] - ox - u0;
-        const double dv = ys[j] - oy - v0;
+        const auto [u0, v0, du, dv] = edge_at(xs, ys, start, n, i, ox, oy);
         if (dv == 0.0) continue;
         Nodes u, v, w, phi[4], psi[4];
         for (int r = 0; r < 3; ++r) {  // the node loop's u, v and weight
@@ -308,11 +312,7 @@ inline void cubic_piece_integrals(const double* xs, const double* ys, int64_t st
     v4 sum[16];
     for (int ab = 0; ab < 16; ++ab) sum[ab] = v4{};
     for (int64_t i = 0; i < n; ++i) {
-        const int64_t j = i + 1 < n ? start + i + 1 : start;
-        const double u0 = xs[start + i] - ox;
-        const double v0 = ys[start + i] - oy;
-        const double du = xs[j] - ox - u0;
-        const double dv = ys[j] - oy - v0;
+        const auto [u0, v0, du, dv] = edge_at(xs, ys, start, n, i, ox, oy);
         if (dv == 0.0) continue;  // the integral of Phi dv vanishes along a horizontal edge
         const v4 u = u0 + T * du, v = v0 + T * dv, w = Wq * dv;
         const v4 u2 = u * u, u3 = u2 * u;
