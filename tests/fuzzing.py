@@ -227,7 +227,8 @@ def scene_file(draw, max_vertices=400):
 
 
 SANE_SPECS = ["catmull", "catmull-jagged", "point", "supersample:k=2", "supersample:k=3", "jitter:k=2,seed=3",
-              "abuffer", "skia", "weiler-atherton", "weiler-atherton:window=2"]
+              "abuffer", "skia", "weiler-atherton", "weiler-atherton:window=2",
+              "catmull:filter=tent", "catmull:filter=mitchell", "catmull:filter=gaussian"]
 
 
 @st.composite
@@ -238,7 +239,8 @@ def method_spec(draw):
     options = {
         "supersample": ["k=2", "k=3", "k=0", "k=-1", "k=2.5", "k=100000", "k=abc"],
         "jitter": ["k=2", "seed=3", "seed=-1", "k=100000", "seed=nan"],
-        "catmull": ["filter=box", "filter=nosuch", "specular=none", "power=nan", "power=inf"],
+        "catmull": ["filter=box", "filter=tent", "filter=mitchell", "filter=gaussian", "filter=nosuch",
+                    "specular=none", "power=nan", "power=inf"],
         "weiler-atherton": ["window=0", "window=2", "window=-1"],
     }.get(name, []) + ["bogus=1", "k", "=3"]
     chosen = draw(st.lists(st.sampled_from(options), max_size=2, unique=True)) if draw(st.booleans()) else []
