@@ -29,7 +29,7 @@ import pandas as pd  # noqa: E402
 from aaeval.imageio import linear_to_srgb8  # noqa: E402
 from aaeval.report.style import Styles, ground_truth_style  # noqa: E402
 
-__all__ = ["EXACT_BELOW", "UNIT", "FORMATS", "temporal_bars", "save_figure", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
+__all__ = ["EXACT_BELOW", "UNIT", "FORMATS", "metric_label", "temporal_bars", "save_figure", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
            "intensity_sums", "space_time", "stability", "image_grid", "validation"]
 
 # An error this small is float64 rounding of an exact render against an exact reference.
@@ -50,7 +50,7 @@ def _suptitle(fig, text: str, fontsize: float = 10) -> None:
     fig.suptitle(text, y=top + 0.42 / fig.get_figheight(), va="bottom", fontsize=fontsize)
 
 
-def _metric_label(name: str) -> str:
+def metric_label(name: str) -> str:
     """A metric's axis label from the registry: its title and which way is better."""
     from aaeval.metrics import METRICS
 
@@ -254,7 +254,7 @@ def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str
     _log_ticks(ax.yaxis)
     ax.set_xlabel("render time per megapixel (ms; speed pass, one worker: median of the rounds, bar: fastest to "
                   "slowest)")
-    ax.set_ylabel(f"{_metric_label(metric)} against the ground truth (mean over cells)")
+    ax.set_ylabel(f"{metric_label(metric)} against the ground truth (mean over cells)")
     ax.set_title(title)
     ax.grid(True, which="major", alpha=0.3)
     _legend(ax, ncols=1 if len(summary) <= 22 else 2)
@@ -284,7 +284,7 @@ def accuracy_dots(summary: pd.DataFrame, path: Path, *, metric: str, title: str,
     ax.set_xscale("log")
     ax.set_xlim(lo, hi)
     _log_ticks(ax.xaxis)
-    ax.set_xlabel(f"{_metric_label(metric)} against the ground truth (dot: mean over cells; bar: best to worst cell)")
+    ax.set_xlabel(f"{metric_label(metric)} against the ground truth (dot: mean over cells; bar: best to worst cell)")
     ax.set_title(title)
     ax.grid(True, axis="x", which="major", alpha=0.3)
     if ax.get_legend_handles_labels()[0]:  # below the axis, never over a point
@@ -443,7 +443,7 @@ def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: 
     ax.set_ylim(lo, hi)
     _log_ticks(ax.yaxis)
     ax.set_xlabel(label)
-    ax.set_ylabel(f"{_metric_label(metric)} (mean over cells)")
+    ax.set_ylabel(f"{metric_label(metric)} (mean over cells)")
     ax.grid(True, alpha=0.3)
     bx.set_xscale("log")
     bx.set_xlabel(label)

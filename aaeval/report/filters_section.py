@@ -18,7 +18,7 @@ import numpy as np
 import pandas as pd
 
 from aaeval.metrics import METRICS
-from aaeval.report.figures import UNIT, save_figure
+from aaeval.report.figures import UNIT, metric_label, save_figure
 from aaeval.report.findings import per_spec
 from aaeval.report.style import Styles
 from aaeval.report.html_tables import write_table
@@ -75,8 +75,9 @@ def _chart(table: pd.DataFrame, path: Path, styles: Styles, group: str) -> Path:
             ax.bar(np.arange(len(filters)) + (j - (len(methods) - 1) / 2) * width, rows[name].to_numpy(float),
                    width=width, color=st.colour, edgecolor="black", lw=0.5, label=method if panel == 0 else None,
                    hatch=None if j % 2 == 0 else "//", gid=st.gid)
-        ax.set_xticks(range(len(filters)), filters)
-        ax.set_ylabel(f"{METRICS[name].title} ({UNIT})", fontsize=8)
+        ax.set_xticks(range(len(filters)), filters, fontsize=7.5)
+        # the unit stands in the caption (UNIT): as an axis label it ran the height of the figure
+        ax.set_ylabel(metric_label(name), fontsize=8)
         ax.grid(True, axis="y", alpha=0.3)
         ax.set_title(METRICS[name].summary, fontsize=7.5)
     fig.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), ncols=min(4, len(methods)), fontsize=8)
