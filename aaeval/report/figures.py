@@ -14,6 +14,7 @@ an exact reference) is drawn on a marked "exact" strip under the axis' data rang
 from __future__ import annotations
 
 import math
+import textwrap
 from pathlib import Path
 
 import matplotlib
@@ -448,7 +449,8 @@ def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: 
     bx.set_xscale("log")
     bx.set_xlabel(label)
     bx.set_ylabel("fraction of cells failed")
-    bx.set_title(definition, fontsize=7.5)
+    # the definition under the panel, wrapped: as its one-line title it set the figure's width
+    bx.text(0.5, -0.16, textwrap.fill(definition, 85), transform=bx.transAxes, ha="center", va="top", fontsize=7)
     bx.set_ylim(-0.05, 1.05)
     bx.grid(True, alpha=0.3)
     _legend(bx)
