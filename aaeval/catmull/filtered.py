@@ -43,8 +43,10 @@ def knot_grid_sums(scene: Scene, filt: PixelFilter, threads: int = 0, recorded: 
     The default route differs from it by rounding only (at most 1e-13,
     ``tests/test_same_bits.py``): a pixel holding two irregular pieces over what both hide
     takes the second's visible part as its piece less their overlap (integrals are linear
-    in the pieces), not the pixel integrator's pieces of it; and the tent's edges take the
-    2 Gauss-Legendre points their degree 3 needs, not 4.
+    in the pieces), not the pixel integrator's pieces of it; the tent's integrals come in
+    closed form (shoelace moments) and a cubic's four edge nodes as one vector, summed in
+    another order; the Gaussian's basis at its nodes comes from polynomials fitted once per
+    render instead of erf and exp (``src/catmull/moments.hpp``).
     """
     args, fargs = _inputs(scene, filt)
     return _catmull.knot_grid_sums(*args, *fargs, thread_count(threads), bool(recorded))
