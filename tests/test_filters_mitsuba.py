@@ -68,5 +68,9 @@ def test_method_option_passes_the_rfilter():
     scene = mixed_scene(8, 6)
     direct = gt.render_mitsuba(scene, spp=16, sampler="stratified", seed=3, rfilter=dict(FILTERS["tent"].mitsuba))
     via_spec = render(scene, "mitsuba:spp=16,sampler=stratified,seed=3,filter=tent")
-    assert np.array_equal(direct, via_spec)
-    assert not np.array_equal(via_spec, render(scene, "mitsuba:spp=16,sampler=stratified,seed=3,cache=false"))
+    # the same up to float32 rounding: a filter wider than a pixel splats each sample into
+    # its neighbours with atomic adds from Dr.Jit's threads, whose order varies under load
+    # (a CI run once differed in the last bits); the box default differs by far more
+    assert np.abs(direct - via_spec).max() <= 1e-6
+    box = render(scene, "mitsuba:spp=16,sampler=stratified,seed=3,cache=false")
+    assert np.abs(via_spec - box).max() > 1e-3
