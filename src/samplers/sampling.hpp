@@ -212,7 +212,7 @@ bool sweep(int64_t n, const double* pts, const int64_t* a, const int64_t* b, con
 // The first pair of edges (e < f, in order of e, then f) that meet, or (-1, -1): every pair
 // whose bounding boxes meet is tested (simplicity.cpp), for rings too small for the sweep to
 // pay; the pair aaeval/scenes/simplicity.py's numpy reference (_brute_force) finds.
-bool first_meeting_pair(int64_t n, const double* pts, const int64_t* a, const int64_t* b, int64_t& e_out,
+void first_meeting_pair(int64_t n, const double* pts, const int64_t* a, const int64_t* b, int64_t& e_out,
                         int64_t& f_out);
 
 }  // namespace aaeval::samplers

@@ -156,7 +156,7 @@ bool sweep(int64_t n, const double* pts, const int64_t* a, const int64_t* b, con
   return true;
 }
 
-bool first_meeting_pair(int64_t n, const double* pts, const int64_t* a, const int64_t* b, int64_t& e_out,
+void first_meeting_pair(int64_t n, const double* pts, const int64_t* a, const int64_t* b, int64_t& e_out,
                         int64_t& f_out) {
   // every pair in order of e, then f (np.triu_indices' order); boxes first, with the same
   // closed comparisons, so a pair far apart is never judged by rounded orientations
@@ -177,11 +177,10 @@ bool first_meeting_pair(int64_t n, const double* pts, const int64_t* a, const in
       if (R.meet(e, f)) {
         e_out = e;
         f_out = f;
-        return true;
+        return;
       }
     }
   }
-  return true;
 }
 
 }  // namespace aaeval::samplers
