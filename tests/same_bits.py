@@ -19,6 +19,17 @@ Record (only while the numba kernels still exist) with::
 
     python3 -m tests.same_bits record <family>
 
+A shaded scene's digest is kept once per numpy route (a list): its shading calls numpy's
+float64 ``**``, exp, log and arccos, which numpy computes with AVX-512 code where the CPU
+has it and with libm elsewhere, a few units in the last place apart. Its geometry is
+numba's still (``tests/catmull_fragment_bits.py`` holds its fragments' bits). The shaded
+entries were recorded again, from the native kernels, when the shading stopped calling
+BLAS and LAPACK (whose kernels OpenBLAS picks per CPU: Skylake-X and Zen gave other bits);
+before that change the native kernels gave the numba digests on Skylake-X. Record both
+routes of the shaded entries with::
+
+    python3 -m tests.same_bits reshade <family>
+
 The scenes: random interpenetrating triangles and concave stars, degenerate placements
 (shared vertices, pixel-boundary edges, equal depths), near-coplanar stacks, every shipped
 scene (holes, content, shaded), generated benchmark-like scenes.
@@ -28,6 +39,8 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
+import subprocess
 import sys
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -141,16 +154,24 @@ def digest(image: np.ndarray) -> str:
     return hashlib.sha256(repr(image.shape).encode() + image.tobytes()).hexdigest()
 
 
-def digests_of(family: str) -> Iterator[tuple[str, str]]:
-    """``(scene id|spec, digest)`` of every scene and method of ``family``; a method that
-    refuses a scene (a shaded scene for a flat method, say) records the refusal's type."""
+def digests_of(family: str, only: set[str] | None = None) -> Iterator[tuple[str, str]]:
+    """``(scene id|spec, digest)`` of every scene (or those in ``only``) and method of
+    ``family``; a method that refuses a scene (a shaded scene for a flat method, say) records
+    the refusal's type."""
     for scene_id, make in scenes():
+        if only is not None and scene_id not in only:
+            continue
         scene = made(scene_id, make)
         for spec in FAMILY_METHODS[family]:
             try:
                 yield f"{scene_id}|{spec}", digest(recorded_image(scene_id, scene, spec))
             except (ValueError, NotImplementedError) as error:
                 yield f"{scene_id}|{spec}", f"refused: {type(error).__name__}"
+
+
+def matches(got: str, expected: str | list[str]) -> bool:
+    """Whether a digest is the recorded one (one of a shaded scene's, one per numpy route)."""
+    return got in expected if isinstance(expected, list) else got == expected
 
 
 def record(family: str) -> Path:
@@ -161,7 +182,36 @@ def record(family: str) -> Path:
     return out
 
 
+def shaded_digests(family: str) -> dict[str, str]:
+    """The digests of ``family`` on the shaded scenes, by this process's numpy route."""
+    shaded = {scene_id for scene_id, make in scenes() if has_shaded(made(scene_id, make))}
+    return {key: value for key, value in digests_of(family, only=shaded)}
+
+
+def _without_avx512() -> dict[str, str]:
+    """The environment of a process whose numpy dispatches none of its optimised paths."""
+    umath = np._core._multiarray_umath
+    on = [feature for feature in umath.__cpu_dispatch__ if umath.__cpu_features__.get(feature)]
+    return {**os.environ, "NPY_DISABLE_CPU_FEATURES": " ".join(on)}
+
+
+def reshade(family: str) -> Path:
+    """Record the shaded scenes' digests of ``family`` by both numpy routes (this process's
+    and one with numpy's dispatched code turned off), leaving every other entry as it is."""
+    out = DATA / f"same_bits_{family}.json"
+    digests = json.loads(out.read_text())
+    other = subprocess.run([sys.executable, "-m", "tests.same_bits", "shaded", family], cwd=ROOT,
+                           env=_without_avx512(), check=True, capture_output=True, text=True)
+    routes = (shaded_digests(family), json.loads(other.stdout))
+    for key in routes[0]:
+        found = sorted({route[key] for route in routes})
+        digests[key] = found if len(found) > 1 else found[0]
+    out.write_text(json.dumps(digests, indent=1, sort_keys=True) + "\n")
+    return out
+
+
 if __name__ == "__main__":
-    if len(sys.argv) != 3 or sys.argv[1] != "record" or sys.argv[2] not in FAMILY_METHODS:
-        raise SystemExit(f"usage: python3 -m tests.same_bits record {{{','.join(FAMILY_METHODS)}}}")
-    print(record(sys.argv[2]))
+    commands = {"record": record, "reshade": reshade, "shaded": lambda f: json.dumps(shaded_digests(f))}
+    if len(sys.argv) != 3 or sys.argv[1] not in commands or sys.argv[2] not in FAMILY_METHODS:
+        raise SystemExit(f"usage: python3 -m tests.same_bits {{record,reshade}} {{{','.join(FAMILY_METHODS)}}}")
+    print(commands[sys.argv[1]](sys.argv[2]))

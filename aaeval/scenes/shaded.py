@@ -203,15 +203,31 @@ def _normal_fields(core, rows) -> np.ndarray:
         return G
     v = np.array([r[0] for r in rows])  # (t, 3, 3)
     nv = np.array([r[1] for r in rows])
-    T = np.ones((len(rows), 3, 3))
-    T[:, 0, :] = v[:, :, 0]
-    T[:, 1, :] = v[:, :, 1]
-    det = np.linalg.det(T)
+    inv, det = _barycentric_inverse(v[:, :, 0], v[:, :, 1])
     ok = np.abs(det) > 1e-12 * (1 + np.abs(v[:, :, :2]).max(axis=(1, 2))) ** 2
-    inv = np.full_like(T, np.nan)
-    inv[ok] = np.linalg.inv(T[ok])
+    inv[~ok] = np.nan
     G[len(core):] = np.einsum("tvi,tvj->tij", nv, inv)  # sum over vertices v: n_v lambda_v
     return G
+
+
+def _barycentric_inverse(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Inverse and determinant of each triangle's ``T = [[x0 x1 x2], [y0 y1 y2], [1 1 1]]``.
+
+    Row v of the inverse maps (x, y, 1) to vertex v's barycentric weight. Written out as
+    cofactors over the determinant (twice the signed area) in elementwise numpy, so every CPU
+    gives the same bits: LAPACK's inverse goes through OpenBLAS kernels chosen per CPU, and
+    its G differed by 2e-12 between Skylake-X and Zen kernels.
+    """
+    x0, x1, x2 = x[:, 0], x[:, 1], x[:, 2]
+    y0, y1, y2 = y[:, 0], y[:, 1], y[:, 2]
+    det = (x1 * y2 - x2 * y1) - (x0 * y2 - x2 * y0) + (x0 * y1 - x1 * y0)
+    cofactors = np.stack([
+        np.stack([y1 - y2, x2 - x1, x1 * y2 - x2 * y1], axis=1),
+        np.stack([y2 - y0, x0 - x2, x2 * y0 - x0 * y2], axis=1),
+        np.stack([y0 - y1, x1 - x0, x0 * y1 - x1 * y0], axis=1),
+    ], axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return cofactors / det[:, None, None], det
 
 
 def rotation_matrix(axis: np.ndarray, degrees: float) -> np.ndarray:
@@ -219,14 +235,21 @@ def rotation_matrix(axis: np.ndarray, degrees: float) -> np.ndarray:
     a = np.asarray(axis, dtype=np.float64)
     t = math.radians(degrees)
     K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
-    return np.eye(3) + math.sin(t) * K + (1 - math.cos(t)) * (K @ K)
+    return np.eye(3) + math.sin(t) * K + (1 - math.cos(t)) * _times_transpose(K, K.T)
+
+
+def _times_transpose(points: np.ndarray, M: np.ndarray) -> np.ndarray:
+    """``points @ M.T`` for rows of 3 (a point or normal per row), summed in a fixed order
+    with elementwise numpy: the same bits on every CPU, where a BLAS product's order and
+    fused multiply-adds depend on the kernel OpenBLAS picks for the CPU."""
+    return points[:, 0:1] * M[:, 0] + points[:, 1:2] * M[:, 1] + points[:, 2:3] * M[:, 2]
 
 
 def _spun(obj: ShadedObject, frame: int) -> tuple[np.ndarray, np.ndarray]:
     if frame == 0 or obj.spin_degrees == 0.0:
         return obj.vertices, obj.normals
     R = rotation_matrix(obj.spin_axis, frame * obj.spin_degrees)
-    return (obj.vertices - obj.pivot) @ R.T + obj.pivot, obj.normals @ R.T
+    return _times_transpose(obj.vertices - obj.pivot, R) + obj.pivot, _times_transpose(obj.normals, R)
 
 
 # --- tessellation ------------------------------------------------------------------

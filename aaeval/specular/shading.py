@@ -54,7 +54,7 @@ def specular_term(N: np.ndarray, L: np.ndarray, ks, n) -> np.ndarray:
     """``ks max(R.E, 0)^n`` with ``R = 2 (N.L) N - L``, E toward the viewer; shape (k,)."""
     ndotl = np.einsum("ij,ij->i", N, L)
     R = 2.0 * ndotl[:, None] * N - L
-    rdote = np.maximum(R @ EYE, 0.0)
+    rdote = np.maximum(R[:, 0] * EYE[0] + R[:, 1] * EYE[1] + R[:, 2] * EYE[2], 0.0)  # no BLAS: same bits on every CPU
     with np.errstate(divide="ignore", invalid="ignore"):
         lobe = np.where(np.asarray(n) == 0, 1.0, rdote ** np.asarray(n, dtype=np.float64))
     return np.asarray(ks) * lobe
