@@ -19,12 +19,14 @@
 #include <type_traits>
 #include <vector>
 
+#include "common/results.hpp"
 #include "catmull/bands.hpp"
 #include "catmull/moments.hpp"
 #include "catmull/sink.hpp"
 #include "catmull/sweep.hpp"
 
 namespace nb = nanobind;
+namespace results = aaeval::results;
 using namespace aaeval::catmull;
 
 namespace {
@@ -146,13 +148,6 @@ Filter route_filter(Filter F, bool recorded) {
     return F;
 }
 
-template <class T>
-nb::ndarray<nb::numpy, T> to_numpy(std::vector<T>&& v, std::initializer_list<size_t> shape) {
-    if (v.empty()) v.reserve(1);
-    auto* owned = new std::vector<T>(std::move(v));
-    nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
-    return nb::ndarray<nb::numpy, T>(owned->data(), shape, owner);
-}
 
 template <class T>
 std::vector<T> concat(std::vector<FragmentSink>& sinks, std::vector<T> FragmentSink::*field) {
@@ -195,8 +190,9 @@ nb::tuple fragments(In start, In length, In x, In y, In planes, double eps_z, in
     std::vector<double> cx = concat(sinks, &FragmentSink::cx);
     std::vector<double> cy = concat(sinks, &FragmentSink::cy);
     const size_t n = pix.size();
-    return nb::make_tuple(to_numpy(std::move(pix), {n}), to_numpy(std::move(src), {n}),
-                          to_numpy(std::move(area), {n}), to_numpy(std::move(cx), {n}), to_numpy(std::move(cy), {n}));
+    return nb::make_tuple(results::from_vector(std::move(pix), {n}), results::from_vector(std::move(src), {n}),
+                          results::from_vector(std::move(area), {n}), results::from_vector(std::move(cx), {n}),
+                          results::from_vector(std::move(cy), {n}));
 }
 
 nb::ndarray<nb::numpy, double> render_flat(In start, In length, In x, In y, In planes, In colors, double eps_z,
@@ -209,8 +205,8 @@ nb::ndarray<nb::numpy, double> render_flat(In start, In length, In x, In y, In p
     // Not zeroed here: each band clears its own rows on its own thread, so the pages of a
     // large new image are first touched (and zeroed by the kernel) in parallel, not in one
     // serial pass before the bands start (100 MB at 2048x2048).
-    double* image = new double[size_t(width * height * 3)];
-    nb::capsule owner(image, [](void* p) noexcept { delete[] static_cast<double*>(p); });
+    double* image = nullptr;
+    auto array = results::new_array<double>({size_t(height), size_t(width), 3}, image, false);
     {
         nb::gil_scoped_release release;
         sort_polygons(P);
@@ -221,7 +217,7 @@ nb::ndarray<nb::numpy, double> render_flat(In start, In length, In x, In y, In p
             out.flush();
         });
     }
-    return nb::ndarray<nb::numpy, double>(image, {size_t(height), size_t(width), 3}, owner);
+    return array;
 }
 
 nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, In planes, double eps_z, In colors,
@@ -244,7 +240,7 @@ nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, I
             scan_rows(P, width + 1, r0, r1, eps_z, false, true, out);
         });
     }
-    return to_numpy(std::move(acc), {size_t(height + 1), size_t(width + 1), size_t(k), size_t(k), 3});
+    return results::from_vector(std::move(acc), {size_t(height + 1), size_t(width + 1), size_t(k), size_t(k), 3});
 }
 
 // The film's division, in place on pixel rows j0 .. j1 of image (H, W, 3): each pixel by the
@@ -283,10 +279,12 @@ nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In p
     // tx is not cleared up front: the sink writes every row it reaches whole (flush), and
     // the rows it never reached are cleared after the kernel
     const size_t row_len = size_t(width * k * 3);
-    std::unique_ptr<double[]> tx_store(new double[size_t(height + 1) * row_len + 1]);
+    std::unique_ptr<double, decltype(&std::free)> tx_store(
+        results::allocate<double>(size_t(height + 1) * row_len + 1, false), &std::free);
     double* tx = tx_store.get();
     std::vector<uint8_t> written(size_t(height + 1), 0);
-    std::vector<double> image(size_t(width * height * 3), 0.0);
+    double* image = nullptr;  // every row is written whole (contract_y_rows)
+    auto array = results::new_array<double>({size_t(height), size_t(width), 3}, image, false);
     {
         nb::gil_scoped_release release;
         sort_polygons(P);
@@ -302,11 +300,11 @@ nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In p
         for (int64_t n = 0; n <= height; ++n)
             if (!written[size_t(n)]) std::fill(tx + n * int64_t(row_len), tx + (n + 1) * int64_t(row_len), 0.0);
         run_bands(height, threads, [&](int64_t, int64_t j0, int64_t j1) {
-            contract_y_rows(tx, 0, height, ev, radius, k, 3, width, j0, j1, image.data());
-            if (wx != nullptr) divide_by_weights(image.data(), wx, wy, width, j0, j1);
+            contract_y_rows(tx, 0, height, ev, radius, k, 3, width, j0, j1, image);
+            if (wx != nullptr) divide_by_weights(image, wx, wy, width, j0, j1);
         });
     }
-    return to_numpy(std::move(image), {size_t(height), size_t(width), 3});
+    return array;
 }
 
 nb::ndarray<nb::numpy, double> combine_cells_py(In acc, In e, int64_t radius, int64_t width, int64_t height,
@@ -329,7 +327,7 @@ nb::ndarray<nb::numpy, double> combine_cells_py(In acc, In e, int64_t radius, in
             combine_rows(a, ev, radius, k, nch, width, height, j0, j1, image.data(), tx);
         });
     }
-    return to_numpy(std::move(image), {size_t(height), size_t(width), size_t(nch)});
+    return results::from_vector(std::move(image), {size_t(height), size_t(width), size_t(nch)});
 }
 
 void piece_integrals_py(In xs, In ys, int64_t start, int64_t n, double ox, double oy, int64_t kind, int64_t radius,
@@ -395,7 +393,7 @@ nb::ndarray<nb::numpy, double> clip_to_window(In xs, In ys, double x0, double y0
         std::vector<uint8_t> of(static_cast<size_t>(size));
         m = aaeval::geometry::clip_side(cx.data(), cy.data(), cf.data(), 0, m, l[0], l[1], l[2], -1, ox.data(),
                                         oy.data(), of.data(), 0);
-        if (m == 0) return to_numpy(std::vector<double>(), {0, 2});
+        if (m == 0) return results::from_vector(std::vector<double>(), {0, 2});
         cx.swap(ox);
         cy.swap(oy);
         cf.swap(of);
@@ -405,7 +403,7 @@ nb::ndarray<nb::numpy, double> clip_to_window(In xs, In ys, double x0, double y0
         out[size_t(2 * i)] = cx[size_t(i)];
         out[size_t(2 * i + 1)] = cy[size_t(i)];
     }
-    return to_numpy(std::move(out), {size_t(m), 2});
+    return results::from_vector(std::move(out), {size_t(m), 2});
 }
 
 }  // namespace

@@ -41,8 +41,8 @@ struct StageScan {
 template <class T>
 nb::ndarray<nb::numpy, T> copy_of(const std::vector<T>& v, size_t rows, size_t cols = 0) {
     std::vector<T> c(v.begin(), v.begin() + std::ptrdiff_t(cols ? rows * cols : rows));
-    if (cols) return to_numpy(std::move(c), {rows, cols});
-    return to_numpy(std::move(c), {rows});
+    if (cols) return results::from_vector(std::move(c), {rows, cols});
+    return results::from_vector(std::move(c), {rows});
 }
 
 nb::tuple sink_arrays(const FragmentSink& s) {
@@ -151,7 +151,7 @@ void bind_stages(nb::module_& m) {
         if (c1 < c0 || c1 - c0 > MAX_ENTRIES) fail("bad column range");
         std::vector<double> cov(size_t(c1 - c0 + 1));
         strip_coverage(p.x.data(), p.y.data(), start, n, row, c0, c1, cov.data(), 0);
-        return to_numpy(std::move(cov), {size_t(c1 - c0 + 1)});
+        return results::from_vector(std::move(cov), {size_t(c1 - c0 + 1)});
     }, nb::arg("xs"), nb::arg("ys"), nb::arg("start"), nb::arg("n"), nb::arg("row"), nb::arg("c0"), nb::arg("c1"));
     m.def("hidden_until", [](In planes, int64_t p, int64_t q, int64_t col, int64_t end, int64_t row, int64_t width) {
         const double* pl = data_of<const double>(planes, "planes", {-1, 3});

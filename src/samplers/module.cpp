@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "common/results.hpp"
 #include "samplers/depth.hpp"
 #include "samplers/sampling.hpp"
 
@@ -89,13 +90,10 @@ Scene checked_scene(const Array& starts, const Array& lengths, const Array& xs, 
   return {{n, s, l, x, y, pl}, c, bg};
 }
 
-template <typename T, typename Framework>
-nb::ndarray<Framework, T> owned(std::vector<size_t> shape, T*& data) {
-  size_t total = 1;
-  for (size_t e : shape) total *= e;
-  data = new T[total > 0 ? total : 1]();
-  nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<T*>(p); });
-  return nb::ndarray<Framework, T>(data, shape.size(), shape.data(), owner);
+// A new zeroed numpy array of `shape`; `data` points at it (common/results.hpp).
+template <typename T>
+nb::ndarray<nb::numpy, T> owned(const std::vector<size_t>& shape, T*& data) {
+  return aaeval::results::new_array<T>(shape, data, true);
 }
 
 // A filter profile (aaeval.filters.evaluate.profile_args) after its checks.
@@ -126,7 +124,7 @@ OutArray py_sample_image(int64_t width, int64_t height, const Array& starts, con
   check_size(width, k * k, 2);
   const Profile filter = checked_filter(fkind, fradius, fpieces, falpha, fbias);
   double* data;
-  OutArray image = owned<double, nb::numpy>({size_t(height), size_t(width), 3}, data);
+  OutArray image = owned<double>({size_t(height), size_t(width), 3}, data);
   bool ok;
   {
     nb::gil_scoped_release release;
@@ -146,7 +144,7 @@ OutArray py_abuffer_image(int64_t width, int64_t height, const Array& starts, co
   const Scene scene = checked_scene(starts, lengths, xs, ys, planes, eps_z, colors, background);
   check_size(width, height, 3);
   double* data;
-  OutArray image = owned<double, nb::numpy>({size_t(height), size_t(width), 3}, data);
+  OutArray image = owned<double>({size_t(height), size_t(width), 3}, data);
   {
     nb::gil_scoped_release release;
     abuffer_image(width, height, scene.polygons, eps_z, scene.colors, scene.background, data);
@@ -163,7 +161,7 @@ IndexArray py_tied_latest_first(const Array& order, const Array& depth, const Ar
   for (int64_t i = 0; i < n; ++i)
     if (o[i] < 0 || o[i] >= nd) fail("order: position " + std::to_string(o[i]) + " out of range");
   int64_t* out;
-  IndexArray result = owned<int64_t, nb::numpy>({size_t(n)}, out);
+  IndexArray result = owned<int64_t>({size_t(n)}, out);
   std::memcpy(out, o, sizeof(int64_t) * n);
   {
     nb::gil_scoped_release release;
@@ -180,7 +178,7 @@ OutArray py_profile_array(int64_t fkind, double fradius, const Array& fpieces, d
   for (size_t i = 0; i < n; ++i)
     if (std::isnan(tv[i])) fail("t: expected numbers, not NaN");
   double* data;
-  OutArray out = owned<double, nb::numpy>({n}, data);
+  OutArray out = owned<double>({n}, data);
   {
     nb::gil_scoped_release release;
     for (size_t i = 0; i < n; ++i) data[i] = profile_at(filter, tv[i]);

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <string>
 
+#include "common/results.hpp"
 #include "clipper.hpp"
 #include "convex.hpp"
 #include "near_ties.hpp"
@@ -102,17 +103,11 @@ wa::ShapeView shape(const In& xs, const In& ys, const In& labels, const In& star
     return s;
 }
 
-// A new numpy array owning the vector's data.
+// A new numpy array owning the vector's data (one dimension unless a shape is given).
 template <class T>
 nb::object numpy_of(std::vector<T>&& v, std::initializer_list<size_t> shape = {}) {
-    v.reserve(1);  // a real pointer even when empty
-    auto* owned = new std::vector<T>(std::move(v));
-    nb::capsule owner(owned, [](void* p) noexcept { delete (std::vector<T>*)p; });
-    if (shape.size() == 0) {
-        size_t n = owned->size();
-        return nb::cast(nb::ndarray<nb::numpy, T>(owned->data(), {n}, owner));
-    }
-    return nb::cast(nb::ndarray<nb::numpy, T>(owned->data(), shape, owner));
+    const std::vector<size_t> dims = shape.size() ? std::vector<size_t>(shape) : std::vector<size_t>{v.size()};
+    return nb::cast(aaeval::results::from_vector(std::move(v), dims));
 }
 
 nb::tuple shape_tuple(wa::Shape&& s) {
