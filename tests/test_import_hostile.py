@@ -81,6 +81,26 @@ def test_huge_paths_are_capped(tmp_path, capsys, monkeypatch):
     refused(["import", "svg", "h.svg", "-o", "x.toml"], capsys, "h.svg", "limit")
 
 
+def test_a_path_crossing_itself_into_too_many_edges_is_refused_before_the_cut(tmp_path, capsys, monkeypatch):
+    """A star of 200 points crosses itself about 15,000 times: cut there it would be some
+    30,000 edges, refused (here under a lowered limit) before the crossings are made, as a
+    2000-point star's 3 million edges are under the real one (it took 1.3 GB when the limit
+    was checked only after the cut)."""
+    import math
+
+    from aaeval.importers import fill
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(fill, "MAX_EDGES", 5000)
+    star = " L".join(f"{10 + 9 * math.cos(i * 2.399):.4f} {10 + 9 * math.sin(i * 2.399):.4f}" for i in range(200))
+    (tmp_path / "star.svg").write_text(SVG.format(f'<path d="M{star} Z"/>'))
+    err = refused(["import", "svg", "star.svg", "-o", "x.toml"], capsys, "star.svg", "crosses itself into",
+                  "over the limit of 5000")
+    edges = int(err.split(" crosses itself into ")[1].split()[0])
+    assert 25_000 < edges < 35_000, err  # 200 edges and two more per crossing
+    assert not (tmp_path / "x.toml").exists()
+
+
 def test_a_long_simple_path_imports(tmp_path):
     """A 2e4-vertex simple outline (Skia's Simplify: 9 s) resolves quickly and exactly."""
     import numpy as np
