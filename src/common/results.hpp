@@ -1,15 +1,16 @@
 // Results handed to Python: the memory of a new array the kernels write, and a vector given
 // over as it is. Shared by every module (nanobind).
 //
-// A large result (4 MB and more, as numpy's own) is 2 MB aligned and advised for transparent
-// huge pages, as numpy advises its own large arrays, where the kernel gives huge pages only
-// to memory that asks (transparent_hugepage = madvise). With 4 KB pages a new image is
-// mapped afresh and first touched page by page whenever malloc has no freed block of its
-// size at hand (a 2048 x 2048 RGB float64 image, 100 MB, always: above glibc's 32 MB mmap
-// threshold): 25,600 page faults, as many unmaps when freed. Measured on catmull's renders
-// of the benchmark scenes: 2048 x 2048 102 -> 64 ms; 1024 x 1024 interleaved with other
-// methods (bench_methods) 42 -> 32 ms; alone, where malloc hands back the block just freed,
-// 1-2% slower at 512 x 512 and 1024 x 1024.
+// A large result (16 MB and more: a 1024 x 1024 RGB float64 image is 25 MB) is 2 MB aligned
+// and advised for transparent huge pages, as numpy advises its own large arrays, where the
+// kernel gives huge pages only to memory that asks (transparent_hugepage = madvise). With
+// 4 KB pages a new image is mapped afresh and first touched page by page whenever malloc has
+// no freed block of its size at hand (a 2048 x 2048 image, 100 MB, always: above glibc's
+// 32 MB mmap threshold): 25,600 page faults, as many unmaps when freed. Measured on
+// catmull's renders of the benchmark scenes: 2048 x 2048 102 -> 64 ms; 1024 x 1024
+// interleaved with other methods (bench_methods) 42 -> 32 ms. Below 16 MB malloc hands back
+// the block a render just freed, already mapped (huge pages measured 1% slower at 512 x 512),
+// and a kernel's temporaries stay with malloc for the same reason.
 #pragma once
 
 #include <nanobind/nanobind.h>
@@ -28,7 +29,7 @@ namespace aaeval::results {
 namespace nb = nanobind;
 
 inline constexpr size_t HUGE_PAGE = size_t(2) << 20;
-inline constexpr size_t HUGE_FROM = size_t(4) << 20;
+inline constexpr size_t HUGE_FROM = size_t(16) << 20;
 
 // Memory for `count` values of T (at least one), zeroed if asked; freed with std::free.
 template <class T>
