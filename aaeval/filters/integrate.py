@@ -78,6 +78,16 @@ def piece_integrals(xs, ys, start, n, ox, oy, kind, radius, k, alpha, bias, out)
                              float(alpha), float(bias), out)
 
 
+def column_part_integrals(xs, ys, start, n, col, ox, oy, kind, radius, k, alpha, bias, out) -> bool:
+    """Integrals of ``phi_a(u) psi_b(v)`` over the polygon's part in pixel column
+    ``[col, col + 1]``, written to ``out[a, b]`` without cutting the part out: by Green's
+    theorem in the form along ``du``, to which the column's sides add nothing (the route a
+    render's front pieces take, ``src/catmull/moments.hpp``). ``False`` (``out`` untouched)
+    for a filter without that form (only the tent and the cubics have it)."""
+    return bool(_catmull.column_part_integrals(xs, ys, int(start), int(n), int(col), float(ox), float(oy), int(kind),
+                                               int(radius), int(k), float(alpha), float(bias), out))
+
+
 def accumulate_rings(xs, ys, starts, lengths, weights, width, height, kind, radius, k, alpha, bias, acc):
     """Cut every ring on the knot grid (inside the image) and accumulate its integrals per cell.
 

@@ -346,6 +346,22 @@ void piece_integrals_py(In xs, In ys, int64_t start, int64_t n, double ox, doubl
     piece_integrals(x, y, start, n, ox, oy, F, o, phi.data(), psi.data());
 }
 
+bool column_part_integrals_py(In xs, In ys, int64_t start, int64_t n, int64_t col, double ox, double oy, int64_t kind,
+                              int64_t radius, int64_t k, double alpha, double bias, Out out) {
+    const double* x = data_of<const double>(xs, "xs", {-1});
+    const double* y = data_of<const double>(ys, "ys", {int64_t(xs.shape(0))});
+    const int64_t nv = int64_t(xs.shape(0));
+    if (start < 0 || n < 0 || start > nv || n > nv - start) fail("the polygon is not inside the vertex arrays");
+    Filter F = filter_of(kind, radius, k, alpha, bias);
+    F.fast = true;  // the form belongs to the fast route
+    double* o = data_of<double>(out, "out", {k, k});
+    check_finite(x + start, size_t(n), "xs");
+    check_finite(y + start, size_t(n), "ys");
+    if (!(std::fabs(ox) <= MAX_MAGNITUDE && std::fabs(oy) <= MAX_MAGNITUDE)) fail("ox, oy must be finite");
+    if (!(std::fabs(double(col)) <= MAX_MAGNITUDE)) fail("col out of range");
+    return column_part_integrals(x, y, start, n, col, ox, oy, F, o);
+}
+
 void accumulate_rings_py(In xs, In ys, In starts, In lengths, In weights, int64_t width, int64_t height, int64_t kind,
                          int64_t radius, int64_t k, double alpha, double bias, Out acc) {
     const double* x = data_of<const double>(xs, "xs", {-1});
@@ -443,6 +459,11 @@ NB_MODULE(catmull, m) {
     m.def("piece_integrals", &piece_integrals_py, nb::arg("xs"), nb::arg("ys"), nb::arg("start"), nb::arg("n"),
           nb::arg("ox"), nb::arg("oy"), nb::arg("kind"), nb::arg("radius"), nb::arg("k"), nb::arg("alpha"),
           nb::arg("bias"), nb::arg("out"), "Integrals of the basis over one polygon inside a knot cell, into out.");
+    m.def("column_part_integrals", &column_part_integrals_py, nb::arg("xs"), nb::arg("ys"), nb::arg("start"),
+          nb::arg("n"), nb::arg("col"), nb::arg("ox"), nb::arg("oy"), nb::arg("kind"), nb::arg("radius"), nb::arg("k"),
+          nb::arg("alpha"), nb::arg("bias"), nb::arg("out"),
+          "Integrals of the basis over a polygon's part in pixel column col, into out, without cutting it out "
+          "(False: the filter has no such form).");
     m.def("accumulate_rings", &accumulate_rings_py, nb::arg("xs"), nb::arg("ys"), nb::arg("starts"),
           nb::arg("lengths"), nb::arg("weights"), nb::arg("width"), nb::arg("height"), nb::arg("kind"),
           nb::arg("radius"), nb::arg("k"), nb::arg("alpha"), nb::arg("bias"), nb::arg("acc"),

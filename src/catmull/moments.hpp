@@ -347,6 +347,100 @@ inline void tent_piece_integrals(const double* xs, const double* ys, int64_t sta
     out[3] = muv / 24.0;
 }
 
+// The part of a strip piece (a polygon inside the row strip) in pixel column [col, col + 1],
+// integrated without cutting it out: by Green's theorem in the other form, the integral of
+// phi_a(u) psi_b(v) over a region is minus the integral of phi_a(u) Psi_b(v) du along its
+// boundary (Psi_b an antiderivative of psi_b), to which the column's vertical sides add
+// nothing (du = 0): only the piece's own edges count, each cut to the column's x range as
+// strip_coverage cuts them. For the tent (closed form, the shoelace formulas' counterparts)
+// and the cubics (4 Gauss-Legendre nodes as one vector: the edge polynomials have degree 7
+// at most) on the fast route; false for a filter without this form (the caller clips).
+// (ox, oy): the cell's centre, as piece_integrals.
+// One edge of a strip piece cut to the column [lo, hi] in cell coordinates: (ua, va) to
+// (ub, vb); false if it adds nothing (vertical, or outside the column). An end inside the
+// column is the vertex itself (the line through it would give the same value).
+struct ColumnEdge {
+    double ua, va, ub, vb;
+};
+AAEVAL_INLINE bool column_edge(const double* xs, const double* ys, int64_t start, int64_t n, int64_t i, double lo,
+                               double hi, double ox, double oy, ColumnEdge& e) {
+    const int64_t j = i + 1 < n ? start + i + 1 : start;
+    const double x0 = xs[start + i], x1 = xs[j];
+    const double xa = geometry::pymin(geometry::pymax(x0, lo), hi);
+    const double xb = geometry::pymin(geometry::pymax(x1, lo), hi);
+    if (xa == xb) return false;  // vertical (du = 0), or outside the column
+    const double y0 = ys[start + i], y1 = ys[j];
+    double ya = y0, yb = y1;
+    if (xa != x0 || xb != x1) {
+        const double slope = (y1 - y0) / (x1 - x0);
+        if (xa != x0) ya = y0 + slope * (xa - x0);
+        if (xb != x1) yb = y0 + slope * (xb - x0);
+    }
+    e = {xa - ox, ya - oy, xb - ox, yb - oy};
+    return true;
+}
+
+// The tent's four integrals of a strip piece's column part (column_part_integrals): minus
+// the integral of u^a v^(b+1) / (b+1) du along each cut edge, in closed form.
+inline void tent_column_part(const double* xs, const double* ys, int64_t start, int64_t n, double lo, double hi,
+                             double ox, double oy, double* out) {
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+    ColumnEdge e;
+    for (int64_t i = 0; i < n; ++i) {
+        if (!column_edge(xs, ys, start, n, i, lo, hi, ox, oy, e)) continue;
+        const auto [ua, va, ub, vb] = e;
+        const double du = ub - ua;
+        s0 += du * (va + vb);
+        s1 += du * (va * va + va * vb + vb * vb);
+        s2 += du * (2.0 * (ua * va + ub * vb) + ua * vb + ub * va);
+        s3 += du * (ua * ((3.0 * va + 2.0 * vb) * va + vb * vb) + ub * (va * va + (2.0 * va + 3.0 * vb) * vb));
+    }
+    out[0] = -s0 / 2.0;  // out[a * 2 + b]: the integral of u^a v^b
+    out[1] = -s1 / 6.0;
+    out[2] = -s2 / 6.0;
+    out[3] = -s3 / 24.0;
+}
+
+// A cubic's sixteen: 4 Gauss-Legendre nodes per cut edge as one vector (degree 7 at most)
+inline void cubic_column_part(const double* xs, const double* ys, int64_t start, int64_t n, double lo, double hi,
+                              double ox, double oy, double* out) {
+    const v4 T{POLY_T[0], POLY_T[1], POLY_T[2], POLY_T[3]};
+    const v4 Wq{POLY_W[0], POLY_W[1], POLY_W[2], POLY_W[3]};
+    v4 sum[16];
+    for (int ab = 0; ab < 16; ++ab) sum[ab] = v4{};
+    ColumnEdge e;
+    for (int64_t i = 0; i < n; ++i) {
+        if (!column_edge(xs, ys, start, n, i, lo, hi, ox, oy, e)) continue;
+        const double du = e.ub - e.ua;
+        const v4 u = e.ua + T * du, v = e.va + T * (e.vb - e.va), w = Wq * du;
+        const v4 u2 = u * u;
+        const v4 phi[4] = {v4{} + 1.0, u, u2, u2 * u};
+        const v4 v2 = v * v;
+        const v4 wpsi[4] = {w * v, w * (v2 / 2.0), w * ((v2 * v) / 3.0), w * ((v2 * v2) / 4.0)};  // w Psi_b(v)
+        for (int a = 0; a < 4; ++a)
+            for (int b = 0; b < 4; ++b) sum[a * 4 + b] += phi[a] * wpsi[b];
+    }
+    for (int ab = 0; ab < 16; ++ab) out[ab] = -(((sum[ab][0] + sum[ab][1]) + sum[ab][2]) + sum[ab][3]);
+}
+
+// The part of a strip piece (a polygon inside the row strip) in pixel column [col, col + 1],
+// integrated without cutting it out: by Green's theorem in the other form, the integral of
+// phi_a(u) psi_b(v) over a region is minus the integral of phi_a(u) Psi_b(v) du along its
+// boundary (Psi_b an antiderivative of psi_b), to which the column's vertical sides add
+// nothing (du = 0): only the piece's own edges count, each cut to the column's x range as
+// strip_coverage cuts them. For the tent and the cubics on the fast route; false for a
+// filter without this form (the caller clips). (ox, oy): the cell's centre, as piece_integrals.
+inline bool column_part_integrals(const double* xs, const double* ys, int64_t start, int64_t n, int64_t col, double ox,
+                                  double oy, const Filter& F, double* out) {
+    if (!F.fast || F.kind != KIND_POLYNOMIAL || (F.k != 2 && F.k != 4)) return false;
+    const double lo = double(col), hi = double(col) + 1.0;
+    if (F.k == 2)
+        tent_column_part(xs, ys, start, n, lo, hi, ox, oy, out);
+    else
+        cubic_column_part(xs, ys, start, n, lo, hi, ox, oy, out);
+    return true;
+}
+
 inline void piece_integrals(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
                             const Filter& F, double* out, double* phi, double* psi, SidePhi* sides = nullptr) {
     if (F.gauss) return gauss_piece_integrals(xs, ys, start, n, ox, oy, F, out, sides);
@@ -616,6 +710,7 @@ struct MomentSink {
     // (sweep.hpp's two-layer case); signed_pieces off gives the integrator's pieces instead
     // (the recorded route, tests/test_same_bits.py)
     static constexpr bool SIGNED_PIECES = true;
+    static constexpr bool COLUMN_PARTS = true;
     bool signed_pieces = true;
     double* acc;
     const double* colors;
@@ -912,6 +1007,18 @@ struct MomentSink {
                            int64_t n) {
         integrate_piece(p, xs, ys, start, n);
         add(p, src, sign);
+    }
+    // a front strip piece's part in its pixel column, integrated without being cut out
+    // (column_part_integrals) where the filter has that form and the cell lies inside the
+    // image (a border cell is cut to the image first); false: the caller clips the part
+    bool emit_column_part(int64_t p, int64_t src, const double* xs, const double* ys, int64_t start, int64_t n,
+                          int64_t col) {
+        const Cell at = locate(p);
+        if (!(at.col > 0 && at.row > 0 && at.col < width && at.row < height)) return false;
+        if (!column_part_integrals(xs, ys, start, n, col, double(at.col) + 0.5, double(at.row) + 0.5, F, out.data()))
+            return false;
+        add(p, src, 1.0);
+        return true;
     }
     // the strip coverage's area is the polygon's own: its integrals come from the polygon
     void emit_strip_piece(int64_t p, int64_t src, double, const double* xs, const double* ys, int64_t start,

@@ -22,6 +22,12 @@
 //                                        another (two irregular pieces over what both hide:
 //                                        the second's part is its piece less the overlap)
 //
+//   emit_column_part(pix, src, xs, ys, start, n, col) -> bool
+//                                        only for a sink with COLUMN_PARTS true: a strip
+//                                        piece alone in front, the polygon xs, ys[start ..
+//                                        start+n) not yet cut to its pixel column col; false
+//                                        when the sink wants it cut (emit_strip_piece then)
+//
 // SIGNED_PIECES (static): whether the sink's results are linear in the pieces, so that a
 // piece less another is as good as the difference's own pieces. Sinks without it always get
 // visible pieces from the integrator.
@@ -42,6 +48,7 @@ namespace aaeval::catmull {
 // Fragments: pixel, source polygon (-1: background), area, area centroid.
 struct FragmentSink {
     static constexpr bool SIGNED_PIECES = false;
+    static constexpr bool COLUMN_PARTS = false;
     std::vector<int64_t> pix, src;
     std::vector<double> area, cx, cy;
 
@@ -101,6 +108,7 @@ struct FragmentSink {
 // same bits.
 struct ColorSink {
     static constexpr bool SIGNED_PIECES = false;
+    static constexpr bool COLUMN_PARTS = false;
     double* image;
     const double* colors;
     int64_t n_colors;

@@ -91,6 +91,8 @@ inline void emit_front_piece(const Strip& S, int64_t k, int64_t pix, int64_t col
     const double cv = coverage(S, k, col);
     const int64_t src = S.pieces[k][2];
     const int64_t n = S.pieces[k][1];
+    if constexpr (Sink::COLUMN_PARTS)
+        if (out.emit_column_part(pix, src, S.v.x.data(), S.v.y.data(), S.pieces[k][0], n, col)) return;
     const int64_t m = geometry::clip_to_column(S.v.x.data(), S.v.y.data(), S.v.f.data(), S.pieces[k][0], n,
                                                double(col), W.v.x.data(), W.v.y.data(), W.v.f.data(), 0, 4 * n + 8);
     if (m > 0)
