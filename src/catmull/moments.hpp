@@ -787,6 +787,21 @@ struct MomentSink {
         }
         return terms;
     }
+    // contract_row_k's adds of cell m's terms for a cell whose 2R = KT pixels m - R .. m + R - 1
+    // all lie in the image: by basis row b, each b's 2R pixels being contiguous in t (k, W, 3),
+    // the last of them (p = -R) receiving its first term (written). Every pixel gets the one
+    // operation it got pixel by pixel: the same bits, in vector registers.
+    template <int KT>
+    void scatter_inner_cell(double* __restrict__ t, const double* __restrict__ terms, int64_t m) const {
+        constexpr int64_t kn = KT * 3, P = KT;  // 2R = KT terms, pixel q = p's R - 1 - p
+        const int64_t i0 = m - P / 2;
+        for (int64_t b = 0; b < KT; ++b) {
+            double* __restrict__ tb = t + b * width * 3 + i0 * 3;
+            for (int64_t q = 0; q < P - 1; ++q)
+                for (int64_t ch = 0; ch < 3; ++ch) tb[q * 3 + ch] += terms[(P - 1 - q) * kn + b * 3 + ch];
+            for (int64_t ch = 0; ch < 3; ++ch) tb[(P - 1) * 3 + ch] = terms[b * 3 + ch];
+        }
+    }
     // the current row contracted along x into tx's row: contract_x_row's sums in its order,
     // walked by cell (cell m adds its term for piece p to pixel m - 1 - p; a pixel still
     // receives its cells' terms in the order of p), each cell's terms found once
@@ -822,6 +837,10 @@ struct MomentSink {
                     cell_terms_k<KT, 3>(cell, e + (p + R) * k, p + R, k, 3, identity, own.data() + (p + R) * kn);
                 }
                 terms = own.data();
+            }
+            if (KT && 2 * R == KT && m >= R && m + R <= width) {
+                scatter_inner_cell<KT>(t, terms, m);
+                continue;
             }
             for (int64_t p = R - 1; p >= -R; --p) {  // pixel i = m - 1 - p ascending
                 const int64_t i = m - 1 - p;
