@@ -9,7 +9,9 @@ two irregular pieces over what both hide as the second's piece less their overla
 the numba kernel took the pixel integrator's pieces (the integrals are linear in the
 pieces), takes the tent's four integrals by the shoelace formulas for area and moments and
 a cubic's four edge nodes as one vector (summing over the nodes in another order), where the
-numba kernel integrated along the edges one node at a time, and reads the Gaussian's basis at its edge nodes from
+numba kernel integrated along the edges one node at a time, integrates a piece alone in front
+of its pixel along its own edges cut to the pixel's column (Green's theorem in its du form),
+where the numba kernel clipped the piece to the column first, and reads the Gaussian's basis at its edge nodes from
 polynomials within a few units in the last place of erf and exp (``gauss_table`` in
 ``src/catmull/moments.hpp``), where the numba kernel called them. The filters' digests are of the recorded route
 (``recorded=True``, :func:`render_recorded`), which still gives the numba bits, and the

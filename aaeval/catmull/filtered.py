@@ -45,7 +45,8 @@ def knot_grid_sums(scene: Scene, filt: PixelFilter, threads: int = 0, recorded: 
     takes the second's visible part as its piece less their overlap (integrals are linear
     in the pieces), not the pixel integrator's pieces of it; the tent's integrals come in
     closed form (shoelace moments) and a cubic's four edge nodes as one vector, summed in
-    another order; the Gaussian's basis at its nodes comes from polynomials fitted once per
+    another order; a piece alone in front of its pixel is integrated along its own edges
+    cut to the pixel's column, not clipped to it first; the Gaussian's basis at its nodes comes from polynomials fitted once per
     render instead of erf and exp (``src/catmull/moments.hpp``).
     """
     args, fargs = _inputs(scene, filt)
