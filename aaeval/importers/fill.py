@@ -16,7 +16,8 @@ crossing becomes one new vertex, the intersection rounded once to float64.
    instead of a quadratic run).
 2. For each pair: an end point within the snap distance of the other edge's interior
    splits that edge at the end point itself; two edges crossing properly are both split
-   at their intersection. Collinear overlaps split each other at their end points. This
+   at their intersection (refused first if that would leave more than :data:`MAX_EDGES`
+   edges). Collinear overlaps split each other at their end points. This
    is repeated on the pieces until nothing more is cut (an intersection rounded to float64
    can cross a nearly parallel neighbour; the second pass cuts it).
 3. Sub-edges between the same two vertices are merged, their directions summed as a
@@ -39,8 +40,9 @@ from aaeval.scenes.simplicity import ring_contact
 
 __all__ = ["resolve_fill", "snap_distance", "FillError", "MAX_PAIRS", "MAX_EDGES"]
 
-# Stated limits: an outline with more edges, or whose edges' boxes overlap in more
-# pairs (a quadratic number of crossings), is refused instead of running for hours.
+# Stated limits: an outline with more edges (as given, or once its crossings would be cut:
+# checked before the cut), or whose edges' boxes overlap in more pairs (a quadratic number
+# of crossings), is refused instead of running for hours.
 MAX_EDGES = 300_000
 MAX_PAIRS = 40_000_000
 # A ring thinner than this (area over its extent squared) is a rounding crumb of a
