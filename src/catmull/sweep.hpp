@@ -84,7 +84,8 @@ inline PixelList pixel_list(const int64_t* zl, int64_t n_zl, int64_t* plist, con
 }
 
 // Emit strip piece k's part in pixel column col with its shape (its area alone if clipping
-// leaves nothing). W has room for 6 n + 16 vertices (n: the piece's).
+// leaves nothing), or the piece uncut to a sink that integrates column parts itself
+// (emit_column_part). W has room for 6 n + 16 vertices (n: the piece's).
 template <class Sink>
 inline void emit_front_piece(const Strip& S, int64_t k, int64_t pix, int64_t col, int64_t row, PixelWork& W,
                              Sink& out) {
