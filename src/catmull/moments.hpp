@@ -347,15 +347,6 @@ inline void tent_piece_integrals(const double* xs, const double* ys, int64_t sta
     out[3] = muv / 24.0;
 }
 
-// The part of a strip piece (a polygon inside the row strip) in pixel column [col, col + 1],
-// integrated without cutting it out: by Green's theorem in the other form, the integral of
-// phi_a(u) psi_b(v) over a region is minus the integral of phi_a(u) Psi_b(v) du along its
-// boundary (Psi_b an antiderivative of psi_b), to which the column's vertical sides add
-// nothing (du = 0): only the piece's own edges count, each cut to the column's x range as
-// strip_coverage cuts them. For the tent (closed form, the shoelace formulas' counterparts)
-// and the cubics (4 Gauss-Legendre nodes as one vector: the edge polynomials have degree 7
-// at most) on the fast route; false for a filter without this form (the caller clips).
-// (ox, oy): the cell's centre, as piece_integrals.
 // One edge of a strip piece cut to the column [lo, hi] in cell coordinates: (ua, va) to
 // (ub, vb); false if it adds nothing (vertical, or outside the column). An end inside the
 // column is the vertex itself (the line through it would give the same value).
