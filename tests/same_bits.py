@@ -190,7 +190,7 @@ def shaded_digests(family: str) -> dict[str, str]:
     return {key: value for key, value in digests_of(family, only=shaded)}
 
 
-def _without_avx512() -> dict[str, str]:
+def _numpy_baseline_env() -> dict[str, str]:
     """The environment of a process whose numpy dispatches none of its optimised paths."""
     umath = np._core._multiarray_umath
     on = [feature for feature in umath.__cpu_dispatch__ if umath.__cpu_features__.get(feature)]
@@ -203,7 +203,7 @@ def reshade(family: str) -> Path:
     out = DATA / f"same_bits_{family}.json"
     digests = json.loads(out.read_text())
     other = subprocess.run([sys.executable, "-m", "tests.same_bits", "shaded", family], cwd=ROOT,
-                           env=_without_avx512(), check=True, capture_output=True, text=True)
+                           env=_numpy_baseline_env(), check=True, capture_output=True, text=True)
     routes = (shaded_digests(family), json.loads(other.stdout))
     for key in routes[0]:
         found = sorted({route[key] for route in routes})
