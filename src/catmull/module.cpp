@@ -19,6 +19,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "common/arrays.hpp"
 #include "common/results.hpp"
 #include "catmull/bands.hpp"
 #include "catmull/moments.hpp"
@@ -41,44 +42,14 @@ constexpr int64_t MAX_ENTRIES = int64_t(1) << 34;
 
 [[noreturn]] void fail(const std::string& msg) { throw nb::value_error(("catmull: " + msg).c_str()); }
 
-template <class T> const char* type_name() { return std::is_same_v<std::remove_const_t<T>, double> ? "float64" : "int64"; }
-
-std::string shape_of(size_t ndim, const int64_t* shape) {
-    std::string s = "(";
-    for (size_t i = 0; i < ndim; ++i) s += std::to_string(shape[i]) + (ndim == 1 || i + 1 < ndim ? "," : "");
-    return s + ")";
-}
-
 // the array's data after checking dtype, dimensions, C order and (where >= 0) the shape
 template <class T, class A>
 T* data_of(A& a, const char* name, std::initializer_list<int64_t> shape) {
-    const size_t ndim = shape.size();
-    std::string want = std::string(name) + " must be a C-contiguous " + type_name<T>() + " array with " +
-                       std::to_string(ndim) + " dimension" + (ndim == 1 ? "" : "s");
-    if (a.dtype() != nb::dtype<std::remove_const_t<T>>()) fail(want + " (got another dtype)");
-    if (a.ndim() != ndim) fail(want + " (got " + std::to_string(a.ndim()) + ")");
-    size_t i = 0;
-    for (int64_t s : shape) {
-        if (s >= 0 && int64_t(a.shape(i)) != s)
-            fail(std::string(name) + " has shape " + shape_of(a.ndim(), a.shape_ptr()) + ", expected " +
-                 std::to_string(s) + " along axis " + std::to_string(i));
-        ++i;
-    }
-    if (a.size() > 0) {
-        int64_t expect = 1;
-        for (size_t d = ndim; d-- > 0;) {
-            if (a.shape(d) > 1 && a.stride(d) != expect) fail(want + " (got a strided view)");
-            expect *= int64_t(a.shape(d));
-        }
-    }
-    return static_cast<T*>(a.data());
+    return aaeval::arrays::checked<T>("catmull", a, name, shape.size(), shape);
 }
 
 void check_finite(const double* v, size_t n, const char* name) {
-    for (size_t i = 0; i < n; ++i)
-        if (!(std::fabs(v[i]) <= MAX_MAGNITUDE))
-            fail(std::string(name) + "[" + std::to_string(i) + "] is " + std::to_string(v[i]) +
-                 ": values must be finite and at most 1e100 in magnitude");
+    aaeval::arrays::check_finite("catmull", v, n, name, MAX_MAGNITUDE, "1e100");
 }
 
 void check_size(int64_t width, int64_t height, int64_t per_pixel) {

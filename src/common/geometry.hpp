@@ -15,17 +15,12 @@
 
 #include <cmath>
 #include <cstdint>
+
+#include "common/numeric.hpp"
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
 
-// hot helpers are inlined into every caller, where the constant lines (pixel columns) and
-// the wanted sides fold away
-#if defined(__GNUC__)
-#define AAEVAL_INLINE inline __attribute__((always_inline))
-#else
-#define AAEVAL_INLINE inline
-#endif
 
 namespace aaeval::geometry {
 
@@ -33,9 +28,9 @@ namespace aaeval::geometry {
 // float64 rounding of pixel coordinates, far below any area the tests resolve.
 inline constexpr double EPS_LINE = 1e-11;
 
-// Python's min/max of two values (the first unless the second is strictly smaller/larger).
-template <class T> AAEVAL_INLINE T pymin(T a, T b) { return b < a ? b : a; }
-template <class T> AAEVAL_INLINE T pymax(T a, T b) { return b > a ? b : a; }
+// Python's min/max (common/numeric.hpp)
+using numeric::pymax;
+using numeric::pymin;
 
 // The correctly rounded square root (IEEE), as one instruction: std::sqrt keeps a library
 // call for errno on negative input, which the kernels never pass.

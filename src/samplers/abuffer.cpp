@@ -77,9 +77,9 @@ void z_range(const EdgeBuffers& E, int64_t m, int64_t col, int64_t row, double a
       } else {
         const double t = qq / pp;
         if (pp < 0.0)
-          t0 = py_max(t0, t);
+          t0 = pymax(t0, t);
         else
-          t1 = py_min(t1, t);
+          t1 = pymin(t1, t);
         if (t0 > t1) {
           ok = false;
           break;
@@ -89,16 +89,16 @@ void z_range(const EdgeBuffers& E, int64_t m, int64_t col, int64_t row, double a
     if (!ok) continue;
     for (double t : {t0, t1}) {
       const double z = a * (px + t * dx) + b * (py + t * dy) + c;
-      zlo = py_min(zlo, z);
-      zhi = py_max(zhi, z);
+      zlo = pymin(zlo, z);
+      zhi = pymax(zhi, z);
     }
   }
   for (double cy : {y0b, y1b}) {
     for (double cx : {x0b, x1b}) {
       if (inside(E, m, cx, cy)) {
         const double z = a * cx + b * cy + c;
-        zlo = py_min(zlo, z);
-        zhi = py_max(zhi, z);
+        zlo = pymin(zlo, z);
+        zhi = pymax(zhi, z);
       }
     }
   }
@@ -160,7 +160,7 @@ void resolve_pixel(const int64_t* order, int64_t n, const Fragments& F, const do
       } else {
         const double span = (F.zmax[f] - F.zmin[f]) + (F.zmax[g] - F.zmin[g]);
         front = span > 0.0 ? (F.zmax[g] - F.zmin[f]) / span : 0.5;
-        front = py_min(1.0, py_max(0.0, front));
+        front = pymin(1.0, pymax(0.0, front));
       }
       w_back = shared * (1.0 - front);
       w_front -= w_back;
@@ -221,8 +221,8 @@ void abuffer_image(int64_t width, int64_t height, const Polygons& P, double eps_
       double xlo, xhi;
       const int64_t m = strip_edges(P, p, static_cast<double>(r), static_cast<double>(r) + 1.0, E, xlo, xhi);
       if (m == 0) continue;
-      const int64_t c0 = imax(0, to_i64(std::floor(xlo)));
-      const int64_t c1 = imin(width - 1, to_i64(std::floor(xhi)));
+      const int64_t c0 = pymax(int64_t(0), to_i64(std::floor(xlo)));
+      const int64_t c1 = pymin(width - 1, to_i64(std::floor(xhi)));
       if (c0 > c1) continue;
       coverage_masks(E, m, r, width, c0, c1, masks);
       for (int64_t col = c0; col <= c1; ++col) {

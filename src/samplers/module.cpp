@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "common/arrays.hpp"
 #include "common/results.hpp"
 #include "samplers/depth.hpp"
 #include "samplers/sampling.hpp"
@@ -30,28 +31,10 @@ using IndexArray = nb::ndarray<nb::numpy, int64_t>;
 // The array's data after checking dtype T, ndim, C order and (where >= 0) each extent.
 template <typename T>
 const T* checked(const Array& x, const char* name, std::initializer_list<int64_t> shape) {
-  const size_t ndim = shape.size();
-  if (x.dtype() != nb::dtype<T>())
-    fail(std::string(name) + ": expected " + (std::is_same_v<T, double> ? "float64" : "int64") + " values");
-  if (x.ndim() != ndim) fail(std::string(name) + ": expected " + std::to_string(ndim) + " dimension(s)");
-  bool empty = false;
-  for (size_t d = 0; d < ndim; ++d) empty = empty || x.shape(d) == 0;
-  int64_t expected_stride = 1;
-  for (size_t d = ndim; d-- > 0;) {
-    const int64_t want = shape.begin()[d];
-    if (want >= 0 && static_cast<int64_t>(x.shape(d)) != want)
-      fail(std::string(name) + ": expected extent " + std::to_string(want) + " in dimension " + std::to_string(d) +
-           ", got " + std::to_string(x.shape(d)));
-    if (!empty && x.shape(d) > 1 && x.stride(d) != expected_stride) fail(std::string(name) + ": expected a C-contiguous array");
-    expected_stride *= static_cast<int64_t>(x.shape(d));
-  }
-  return static_cast<const T*>(x.data());
+  return aaeval::arrays::checked<const T>("", x, name, shape.size(), shape);
 }
 
-void check_finite(const double* v, size_t n, const char* name) {
-  for (size_t i = 0; i < n; ++i)
-    if (!std::isfinite(v[i])) fail(std::string(name) + ": expected finite values");
-}
+void check_finite(const double* v, size_t n, const char* name) { aaeval::arrays::check_finite("", v, n, name); }
 
 void check_size(int64_t width, int64_t height, int64_t per_pixel) {
   if (width < 0 || height < 0) fail("image size must not be negative");

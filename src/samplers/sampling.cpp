@@ -37,10 +37,10 @@ void splat_row(int64_t r, int64_t k, bool jitter, const std::vector<double>& off
       const double y = static_cast<double>(r) + (static_cast<double>(j) + v) * inv_k;
       const int64_t p = best_p[col * ns + s];
       const double* c = p == NO_POLYGON ? background : colors + 3 * p;
-      for (int64_t py = imax(0, r - reach); py < imin(height, r + reach + 1); ++py) {
+      for (int64_t py = pymax(int64_t(0), r - reach); py < pymin(height, r + reach + 1); ++py) {
         const double wy = profile_at(f, y - static_cast<double>(py) - 0.5);
         if (wy == 0.0) continue;
-        for (int64_t px = imax(0, col - reach); px < imin(width, col + reach + 1); ++px) {
+        for (int64_t px = pymax(int64_t(0), col - reach); px < pymin(width, col + reach + 1); ++px) {
           const double w = wy * profile_at(f, x - static_cast<double>(px) - 0.5);
           if (w == 0.0) continue;
           den[py * width + px] += w;
@@ -99,8 +99,8 @@ bool sample_image(int64_t width, int64_t height, const Polygons& P, double eps_z
         const double a = P.planes[3 * p], b = P.planes[3 * p + 1], c = P.planes[3 * p + 2];
         if (jitter) {
           // samples of a stratum row have different y: test each one
-          const int64_t c0 = imax(0, to_i64(std::floor(xlo)));
-          const int64_t c1 = imin(width - 1, to_i64(std::floor(xhi)));
+          const int64_t c0 = pymax(int64_t(0), to_i64(std::floor(xlo)));
+          const int64_t c1 = pymin(width - 1, to_i64(std::floor(xhi)));
           for (int64_t col = c0; col <= c1; ++col) {
             for (int64_t i = 0; i < k; ++i) {
               const int64_t s = j * k + i;
@@ -111,7 +111,7 @@ bool sample_image(int64_t width, int64_t height, const Polygons& P, double eps_z
                 double& bz = best_z[col * ns + s];
                 int64_t& bp = best_p[col * ns + s];
                 if (bp == NO_POLYGON || nearer_or_tied(z, bz, eps_z)) {
-                  bz = py_min(z, bz);
+                  bz = pymin(z, bz);
                   bp = p;
                 }
               }
@@ -130,7 +130,7 @@ bool sample_image(int64_t width, int64_t height, const Polygons& P, double eps_z
               double& bz = best_z[col * ns + s];
               int64_t& bp = best_p[col * ns + s];
               if (bp == NO_POLYGON || nearer_or_tied(z, bz, eps_z)) {
-                bz = py_min(z, bz);
+                bz = pymin(z, bz);
                 bp = p;
               }
             }

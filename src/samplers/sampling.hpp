@@ -19,9 +19,14 @@
 #include <limits>
 #include <vector>
 
-#include "samplers/numeric.hpp"
+#include "common/numeric.hpp"
 
 namespace aaeval::samplers {
+
+using numeric::pymax;
+using numeric::pymin;
+using numeric::to_i64;
+using numeric::wrap_add;
 
 constexpr int64_t NO_POLYGON = -1;
 constexpr double INF = std::numeric_limits<double>::infinity();
@@ -46,11 +51,11 @@ inline void row_buckets(int64_t height, const Polygons& P, std::vector<int64_t>&
   for (int64_t p = 0; p < P.n; ++p) {
     double ymin = INF, ymax = -INF;
     for (int64_t i = P.start[p]; i < P.start[p] + P.length[p]; ++i) {
-      ymin = py_min(ymin, P.ys[i]);
-      ymax = py_max(ymax, P.ys[i]);
+      ymin = pymin(ymin, P.ys[i]);
+      ymax = pymax(ymax, P.ys[i]);
     }
-    int64_t a = imax(0, to_i64(std::floor(ymin)));
-    int64_t b = imin(height - 1, wrap_add(to_i64(std::ceil(ymax)), -1));
+    int64_t a = pymax(int64_t(0), to_i64(std::floor(ymin)));
+    int64_t b = pymin(height - 1, wrap_add(to_i64(std::ceil(ymax)), -1));
     r0[p] = a;
     r1[p] = b;
     for (int64_t r = a; r <= b; ++r) row_start[r + 1] += 1;
@@ -67,7 +72,7 @@ struct EdgeBuffers {
   std::vector<double> x0, y0, x1, y1, xc;
   explicit EdgeBuffers(const Polygons& P) {
     int64_t maxv = 3;
-    for (int64_t p = 0; p < P.n; ++p) maxv = imax(maxv, P.length[p]);
+    for (int64_t p = 0; p < P.n; ++p) maxv = pymax(maxv, P.length[p]);
     x0.resize(maxv);
     y0.resize(maxv);
     x1.resize(maxv);
@@ -101,16 +106,16 @@ inline int64_t strip_edges(const Polygons& P, int64_t p, double ya, double yb, E
     ++m;
     double xa, xb;
     if (y1 > y0) {
-      double ta = py_max(ya, y0);
-      double tb = py_min(yb, y1);
+      double ta = pymax(ya, y0);
+      double tb = pymin(yb, y1);
       xa = x0 + (ta - y0) * (x1 - x0) / (y1 - y0);
       xb = x0 + (tb - y0) * (x1 - x0) / (y1 - y0);
     } else {
       xa = x0;
       xb = x1;
     }
-    xlo = py_min(xlo, xa, xb);
-    xhi = py_max(xhi, xa, xb);
+    xlo = pymin(xlo, xa, xb);
+    xhi = pymax(xhi, xa, xb);
   }
   return m;
 }
@@ -154,11 +159,11 @@ inline double grid_x(int64_t g, int64_t k) { return (static_cast<double>(g) + 0.
 inline void grid_range(double xa, double xb, int64_t k, int64_t n, int64_t& g0, int64_t& g1) {
   const double kd = static_cast<double>(k);
   const double lim = static_cast<double>(n) / kd + 1.0;
-  xa = py_min(py_max(xa, -1.0), lim);
-  xb = py_min(py_max(xb, -1.0), lim);
-  g0 = imax(0, wrap_add(to_i64(std::ceil(xa * kd - 0.5)), -1));
+  xa = pymin(pymax(xa, -1.0), lim);
+  xb = pymin(pymax(xb, -1.0), lim);
+  g0 = pymax(int64_t(0), wrap_add(to_i64(std::ceil(xa * kd - 0.5)), -1));
   while (g0 < n && grid_x(g0, k) < xa) ++g0;
-  g1 = imin(n, imax(g0, wrap_add(to_i64(std::ceil(xb * kd - 0.5)), 1)));
+  g1 = pymin(n, pymax(g0, wrap_add(to_i64(std::ceil(xb * kd - 0.5)), 1)));
   while (g1 > g0 && grid_x(g1 - 1, k) >= xb) --g1;
 }
 
@@ -180,7 +185,7 @@ constexpr int64_t KIND_GAUSSIAN = 2;
 inline double profile_at(const Profile& f, double t) {
   if (f.kind == KIND_BOX) return std::fabs(t) <= 0.5 ? 1.0 : 0.0;
   if (std::fabs(t) >= f.radius) return 0.0;
-  if (f.kind == KIND_GAUSSIAN) return py_max(0.0, std::exp(f.alpha * t * t) - f.bias);
+  if (f.kind == KIND_GAUSSIAN) return pymax(0.0, std::exp(f.alpha * t * t) - f.bias);
   int64_t p = to_i64(std::floor(t));
   int64_t r = f.rows / 2;
   double s = t - (static_cast<double>(p) + 0.5);

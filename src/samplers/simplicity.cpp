@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "samplers/numeric.hpp"
+#include "common/numeric.hpp"
 #include "samplers/sampling.hpp"
 
 namespace aaeval::samplers {
@@ -27,8 +27,8 @@ struct Rings {
   }
 
   bool within(int64_t u, int64_t v, int64_t w) const {  // w on segment uv, given collinear
-    return py_min(x(u), x(v)) <= x(w) && x(w) <= py_max(x(u), x(v)) && py_min(y(u), y(v)) <= y(w) &&
-           y(w) <= py_max(y(u), y(v));
+    return pymin(x(u), x(v)) <= x(w) && x(w) <= pymax(x(u), x(v)) && pymin(y(u), y(v)) <= y(w) &&
+           y(w) <= pymax(y(u), y(v));
   }
 
   // Whether edges e and f meet (consecutive ones: whether they fold along each other).
@@ -164,10 +164,10 @@ void first_meeting_pair(int64_t n, const double* pts, const int64_t* a, const in
   const Rings R{pts, a, b, nullptr, nullptr};
   std::vector<double> box(static_cast<size_t>(4 * n));  // x0, x1, y0, y1 of each edge
   for (int64_t e = 0; e < n; ++e) {
-    box[4 * e] = py_min(R.x(a[e]), R.x(b[e]));
-    box[4 * e + 1] = py_max(R.x(a[e]), R.x(b[e]));
-    box[4 * e + 2] = py_min(R.y(a[e]), R.y(b[e]));
-    box[4 * e + 3] = py_max(R.y(a[e]), R.y(b[e]));
+    box[4 * e] = pymin(R.x(a[e]), R.x(b[e]));
+    box[4 * e + 1] = pymax(R.x(a[e]), R.x(b[e]));
+    box[4 * e + 2] = pymin(R.y(a[e]), R.y(b[e]));
+    box[4 * e + 3] = pymax(R.y(a[e]), R.y(b[e]));
   }
   for (int64_t e = 0; e < n; ++e) {
     const double* be = &box[4 * e];

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <string>
 
+#include "common/arrays.hpp"
 #include "common/results.hpp"
 #include "clipper.hpp"
 #include "convex.hpp"
@@ -29,40 +30,14 @@ using Out = nb::ndarray<nb::device::cpu>;
 
 [[noreturn]] void refuse(const std::string& msg) { throw nb::value_error(msg.c_str()); }
 
-template <class T>
-const char* dtype_name() {
-    return std::is_same_v<std::remove_const_t<T>, double> ? "float64" : "int64";
-}
-
 // The array's data as T*, after checking its dtype, dimensions and C order; shape[d] must
-// equal dims[d] where that is >= 0.
+// equal dims[d] where that is >= 0 (common/arrays.hpp).
 template <class T, class A>
 T* checked(A& a, const char* name, size_t ndim, std::initializer_list<i64> dims = {}) {
-    if (a.dtype() != nb::dtype<T>())
-        refuse(std::string(name) + " must be a " + dtype_name<T>() + " array");
-    if (a.ndim() != ndim)
-        refuse(std::string(name) + " must have " + std::to_string(ndim) + " dimension(s), not " +
-               std::to_string(a.ndim()));
-    i64 expect = 1;
-    if (a.size() > 0)  // (an empty array is contiguous whatever its strides)
-        for (size_t d = ndim; d-- > 0;) {
-            if (a.shape(d) != 1 && a.stride(d) != expect) refuse(std::string(name) + " must be C-contiguous");
-            expect *= (i64)a.shape(d);
-        }
-    size_t d = 0;
-    for (i64 want : dims) {
-        if (want >= 0 && (i64)a.shape(d) != want)
-            refuse(std::string(name) + " has " + std::to_string(a.shape(d)) + " entries along axis " +
-                   std::to_string(d) + ", expected " + std::to_string(want));
-        ++d;
-    }
-    return (T*)a.data();
+    return aaeval::arrays::checked<T>("", a, name, ndim, dims);
 }
 
-void check_finite(const double* p, i64 n, const char* name) {
-    for (i64 i = 0; i < n; ++i)
-        if (!std::isfinite(p[i])) refuse(std::string(name) + " must be finite (entry " + std::to_string(i) + " is not)");
-}
+void check_finite(const double* p, i64 n, const char* name) { aaeval::arrays::check_finite("", p, size_t(n), name); }
 
 // a tolerance: a number >= 0 (not NaN; infinite is allowed, as the kernels never index by it)
 void check_scalar(double v, const char* name) {
