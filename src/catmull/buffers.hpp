@@ -1,6 +1,5 @@
-// Growable workspace buffers with the numba kernel's growth rule (room for n: max(n, 2 size)),
-// so every capacity test the kernel makes (the two-layer shortcut's, the integrator's retry)
-// sees the sizes the numba kernel saw and takes the same branch.
+// Growable workspace buffers. Room for n gives max(n, 2 size) entries: doubling keeps the
+// number of regrowths logarithmic in the largest pixel a render meets.
 #pragma once
 
 #include <cstdint>

@@ -83,7 +83,7 @@ inline int depth_relation(const double* planes, int64_t q, int64_t f, const doub
 // The integrator's workspace. Polygons are records recs[j] = (start, length, source) into
 // the vertex buffer with their signed area areas[j]; `items` holds the lists' members,
 // lists[L] = (first item, count), `stack` the lists still to resolve, `visible` the records
-// of the visible pieces found. Sizes start and grow as the numba kernel's did.
+// of the visible pieces found. The sizes fit most pixels; a larger one grows them all (grow_all).
 struct PixelWork {
     Verts v{4096};
     Rows<int64_t, 3> recs{1024};

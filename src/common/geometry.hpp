@@ -9,8 +9,9 @@
 // Algorithm"), and points within EPS_LINE of the line belong to both sides, so no
 // near-duplicate vertices are made.
 //
-// Every floating-point operation is in the order of the numba kernels these replace (the
-// images keep their bits); build with -ffp-contract=off.
+// Every floating-point operation runs in a fixed order, with no contraction into FMAs
+// (build with -ffp-contract=off), so the images' bits are the same on every machine and
+// the recorded digests (tests/same_bits.py) hold.
 #pragma once
 
 #include <cmath>
@@ -124,7 +125,7 @@ AAEVAL_INLINE SplitCounts clip_split(const double* xs, const double* ys, const u
             sp = s;
         }
     }
-    // (numba evaluated both settles in this order; with one part unwanted its count is 0)
+    // (both parts settled, in this order; with one part unwanted its count is 0)
     const int64_t ra = settle_flags(afs, astart, ma);
     const int64_t rb = settle_flags(bfs, bstart, mb);
     return {ra, rb};

@@ -1,8 +1,7 @@
 // Carpenter 1984 A-buffer: per pixel, every polygon reaching a subsample is a fragment (a
 // 4 x 8 bit coverage mask and the z range of its plane over the polygon inside the pixel),
-// resolved front to back with the paper's blend where two z ranges overlap. Port of the
-// numba kernel aaeval/renderers/_abuffer_kernel.py (its docstring, kept in
-// aaeval/renderers/abuffer.py, explains the method) with its operation order kept.
+// resolved front to back with the paper's blend where two z ranges overlap
+// (aaeval/renderers/abuffer.py explains the method).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -177,10 +176,11 @@ void resolve_pixel(const int64_t* order, int64_t n, const Fragments& F, const do
   out[2] = (acc2 + w_bg * background[2]) / static_cast<double>(SUBSAMPLES);
 }
 
-// Sorts one pixel's fragments on (zmin ascending, polygon descending). The numba kernel
-// sorted by insertion (quadratic in the depth of the pixel); a stable merge sort on the
-// same key gives the same permutation whenever the key is a strict weak order, i.e. when
-// no zmin is NaN, so deep pixels take it and any pixel with a NaN keeps the insertion sort.
+// Sorts one pixel's fragments on (zmin ascending, polygon descending). Insertion sort is
+// quadratic in the depth of the pixel; a stable merge sort on the same key gives the same
+// permutation whenever the key is a strict weak order, i.e. when no zmin is NaN, so deep
+// pixels take it and a pixel with a NaN keeps the insertion sort, whose order a NaN does
+// not make undefined.
 void sort_pixel(int64_t* order, int64_t n, const Fragments& F) {
   const double* zmin = F.zmin.data();
   const int64_t* poly = F.poly.data();

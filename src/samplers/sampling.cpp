@@ -1,6 +1,6 @@
 // Point sampling: k x k samples per pixel on the regular grid or jittered in their strata,
-// box-averaged or splatted through a filter (Mitsuba's film). Port of the numba kernel
-// aaeval/renderers/_sampling_kernel.py with its operation order kept.
+// box-averaged or splatted through a filter (Mitsuba's film), in a fixed operation order
+// (sampling.hpp).
 #include <cmath>
 #include <cstdint>
 #include <vector>

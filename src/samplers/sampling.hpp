@@ -9,8 +9,8 @@
 //   polygons sharing an edge compute the same crossing;
 // - depth: z = a x + b y + c, polygons visited in file order, a later one wins when
 //   nearer_or_tied (depth.hpp).
-// Every expression keeps the operation order of the numba kernels it replaces (bitwise
-// identical images); the inputs are checked by the bindings (module.cpp) before any of
+// Every expression runs in a fixed order (no FMA contraction), so the images' bits are the
+// same on every machine; the inputs are checked by the bindings (module.cpp) before any of
 // this runs.
 #pragma once
 
@@ -197,7 +197,7 @@ inline double profile_at(const Profile& f, double t) {
 
 // The filtered image (height, width, 3) from k x k point samples per pixel into image
 // (zeroed by the caller); returns false when a pixel's collected filter weight is zero
-// (the numba kernel raised ZeroDivisionError there).
+// (the binding raises ZeroDivisionError: a pixel without weight has no value).
 bool sample_image(int64_t width, int64_t height, const Polygons& P, double eps_z, const double* colors,
                   const double* background, int64_t k, bool jitter, uint64_t seed, const Profile& filter,
                   double* image);

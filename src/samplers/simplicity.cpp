@@ -1,7 +1,7 @@
 // The Shamos-Hoey sweep line of the simplicity check (aaeval/scenes/simplicity.py, which
 // explains it): edges enter an ordered list at their left end and leave it at their right
-// end, and only edges that become neighbours are tested. Port of the numba sweep with its
-// orientation arithmetic kept, so both judge every near-tie the same way.
+// end, and only edges that become neighbours are tested. Its orientation arithmetic is
+// simplicity.py's, in the same order, so both judge every near-tie the same way.
 #include <cstdint>
 #include <vector>
 

@@ -141,8 +141,8 @@ void points(const ShapeView& s, const ShapeView& c, double eps, std::vector<doub
     }
 }
 
-// Permutation sorting the points by x, then y, equal points in input order (what the
-// numba kernel's insertion sort and two stable argsorts both give).
+// Permutation sorting the points by x, then y, equal points in input order (a stable
+// sort: the order is the same whatever sort gives it).
 std::vector<i64> lex_order(const std::vector<double>& px, const std::vector<double>& py) {
     i64 n = (i64)px.size();
     std::vector<i64> o(n);

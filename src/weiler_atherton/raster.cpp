@@ -20,8 +20,8 @@ struct Diff {
     double* at(i64 r, i64 c) { return d.data() + (r * w1 + c) * k; }
 };
 
-// First and last cell [c, c + 1), 0 <= c < n, that the interval lo < hi overlaps (as the
-// numba kernel computed it: int() of a float out of range is INT64_MIN there, wrapping).
+// First and last cell [c, c + 1), 0 <= c < n, that the interval lo < hi overlaps (an end
+// out of int64's range is INT64_MIN by to_int, and top wraps: both fall outside the clamp).
 inline void unit_cells(double lo, double hi, i64 n, i64& c0, i64& c1) {
     c0 = std::max<i64>(to_int(std::floor(lo)), 0);
     i64 top = (i64)((std::uint64_t)to_int(std::ceil(hi)) - 1u);

@@ -3,9 +3,9 @@
 // A shape is four arrays: xs, ys (the vertices, contour after contour), labels (labels[v]
 // labels the edge from vertex v to the next one of its contour) and starts (contour i is
 // vertices starts[i]..starts[i + 1] - 1). Main contours have positive shoelace area,
-// holes negative. Every function here repeats the floating-point operations of the
-// numba kernels it replaced in the same order (no reassociation, no FMA: the family is
-// built with -ffp-contract=off), so the results are the same bits.
+// holes negative. Every function here runs its floating-point operations in a fixed order
+// (no reassociation, no FMA: the family is built with -ffp-contract=off), so the results
+// have the same bits on every machine.
 #pragma once
 
 #include <cmath>
@@ -50,12 +50,12 @@ struct Shape {
     }
 };
 
-// Python's min(a, b) and max(a, b) (numba's too): the first argument unless the second
+// Python's min(a, b) and max(a, b): the first argument unless the second
 // compares strictly smaller (larger); common/geometry.hpp's.
 inline double pmin(double a, double b) { return aaeval::geometry::pymin(a, b); }
 inline double pmax(double a, double b) { return aaeval::geometry::pymax(a, b); }
 
-// Python's float a % b (the remainder takes the divisor's sign), as numba computes it.
+// Python's float a % b (the remainder takes the divisor's sign).
 inline double pmod(double vx, double wx) {
     double mod = std::fmod(vx, wx);
     if (mod != 0.0) {
@@ -66,7 +66,7 @@ inline double pmod(double vx, double wx) {
     return mod;
 }
 
-// int(x) of a float64 as numba compiles it on x86-64 (cvttsd2si): truncation, and
+// int(x) of a float64 as x86-64's cvttsd2si computes it: truncation, and
 // INT64_MIN for NaN or anything out of range (instead of C++'s undefined behaviour).
 inline i64 to_int(double x) {
     if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0)) return INT64_MIN;
@@ -74,7 +74,7 @@ inline i64 to_int(double x) {
 }
 
 // Shoelace area of the contour made of vertices a..b-1 (positive: main contour): the fan
-// from the first vertex of common/geometry.hpp, the numba kernel's sum in its order.
+// from the first vertex of common/geometry.hpp, summed in its order.
 inline double ring_area_of(const double* xs, const double* ys, i64 a, i64 b) {
     if (b - a < 3) return 0.0;  // (no vertex read: a may be the end of the arrays)
     return aaeval::geometry::signed_area(xs, ys, a, b - a);
