@@ -1,34 +1,37 @@
-"""The scene list and image digests behind the native port's same-bits regression (issue 20).
+"""The scene list and image digests behind the kernels' same-bits regression.
 
-Before a numba kernel family was deleted, its images on every scene here were recorded as
-SHA-256 digests (``tests/data/same_bits_<family>.json``) by the numba code; the native
-kernels must give the same bytes (``tests/test_same_bits.py``).
+Every kernel family's images on every scene here are kept as SHA-256 digests
+(``tests/data/same_bits_<family>.json``); the kernels must give the same bytes
+(``tests/test_same_bits.py``), so a change that moves any bit of any image shows, and is
+either a fault or recorded again on purpose.
 
-One difference is explained instead: the exact filters' fast route takes a pixel holding
-two irregular pieces over what both hide as the second's piece less their overlap, where
-the numba kernel took the pixel integrator's pieces (the integrals are linear in the
-pieces), takes the tent's four integrals by the shoelace formulas for area and moments and
-a cubic's four edge nodes as one vector (summing over the nodes in another order), where the
-numba kernel integrated along the edges one node at a time, integrates a piece alone in front
-of its pixel along its own edges cut to the pixel's column (Green's theorem in its du form),
-where the numba kernel clipped the piece to the column first, and reads the Gaussian's basis at its edge nodes from
-polynomials within a few units in the last place of erf and exp (``gauss_table`` in
-``src/catmull/moments.hpp``), where the numba kernel called them. The filters' digests are of the recorded route
-(``recorded=True``, :func:`render_recorded`), which still gives the numba bits, and the
-route the method takes stays within :data:`FAST_ROUTE_TOLERANCE` of it.
+The exact filters' digests (``catmull:filter=...``) were recorded again from the native
+kernels when the second route through them was deleted: the one route left takes a pixel
+holding two irregular pieces over what both hide as the second's piece less their overlap,
+takes the tent's integrals by the shoelace formulas and a cubic's four edge nodes as one
+vector, integrates a piece alone in front of its pixel along its own edges cut to the
+pixel's column, and reads the Gaussian's basis from polynomials (``gauss_table`` in
+``src/catmull/filter_basis.hpp``); the two-layer case now grows its scratch space instead
+of falling back to the pixel integrator when it is short. These move the images by
+rounding only. Before they were recorded, the images whose digests changed (553 of the 805
+catmull entries, all of them exact-filter images; the box filter's and every other
+family's entries did not change) were checked against the independent quadrature oracle
+(``tests/filter_oracle.py``, GEOS visible regions) within ``tests/test_filters.py``'s
+tolerance (1e-9): 545 of them, the largest gap 8.5e-13. The 512 x 512 benchmark scene's
+five, where the oracle takes too long, were checked against the deleted route's images
+within its former tolerance (1e-13; the largest gap 7.8e-14); three Gaussian images of the
+largest scenes (generated random@30 and random@300, shipped content/pangram), whose order-14
+oracle ran past a quarter of an hour each, were not checked.
 
-Record (only while the numba kernels still exist) with::
+Record a family with::
 
     python3 -m tests.same_bits record <family>
 
 A shaded scene's digest is kept once per numpy route (a list): its shading calls numpy's
 float64 ``**``, exp, log and arccos, which numpy computes with AVX-512 code where the CPU
-has it and with libm elsewhere, a few units in the last place apart. Its geometry is
-numba's still (``tests/catmull_fragment_bits.py`` holds its fragments' bits). The shaded
-entries were recorded again, from the native kernels, when the shading stopped calling
-BLAS and LAPACK (whose kernels OpenBLAS picks per CPU: Skylake-X and Zen gave other bits);
-before that change the native kernels gave the numba digests on Skylake-X. Record both
-routes of the shaded entries with::
+has it and with libm elsewhere, a few units in the last place apart
+(``tests/catmull_fragment_bits.py`` holds its fragments' bits). Record both routes of the
+shaded entries with::
 
     python3 -m tests.same_bits reshade <family>
 
@@ -71,15 +74,8 @@ FAMILY_METHODS: dict[str, tuple[str, ...]] = {
 }
 
 
-#: the largest difference allowed between an exact-filter image on the fast route and on the
-#: recorded one: rounding of the pieces' integrals, and the integrator's own tolerances
-#: (EPS_LINE, AREA_EMPTY) on the slivers it cuts; measured up to 7.8e-14 (catmullrom) on the 512 x 512
-#: benchmark scene
-FAST_ROUTE_TOLERANCE = 1e-13
-
-
 # per process, for the tests that run on one worker (xdist_group "same_bits"): the scenes,
-# and the recorded images of the exact filters, which the fast-route test compares with
+# and the images of the exact filters
 _MADE: dict[str, Scene] = {}
 _RECORDED: dict[str, np.ndarray] = {}
 
@@ -92,8 +88,8 @@ def made(scene_id: str, make: Callable[[], Scene]) -> Scene:
 
 
 def recorded_image(scene_id: str, scene: Scene, spec: str) -> np.ndarray:
-    """:func:`render_recorded` of ``spec`` on scene ``scene_id``, an exact filter's kept for
-    this process (a refusal is raised every time)."""
+    """:func:`render_recorded` of ``spec`` on scene ``scene_id`` (an exact filter's kept for
+    this process; a refusal is raised every time)."""
     key = f"{scene_id}|{spec}"
     if key in _RECORDED:
         return _RECORDED[key]
@@ -103,14 +99,14 @@ def recorded_image(scene_id: str, scene: Scene, spec: str) -> np.ndarray:
     return image
 
 
-def render_recorded(scene: Scene, spec: str, recorded: bool = True) -> np.ndarray:
-    """The image of ``spec`` as the digests were recorded: an exact filter on its recorded
-    route (``recorded=False``: the fast route the method takes); every other spec (and a
-    shaded scene, which the filters refuse) as rendered."""
+def render_recorded(scene: Scene, spec: str) -> np.ndarray:
+    """The image of ``spec`` as the digests were recorded: an exact filter's pixel sums
+    divided by the film's weights (what ``catmull:filter=...`` renders); every other spec
+    (and a shaded scene, which the filters refuse) as rendered."""
     name, _, option = spec.partition(":filter=")
     if name == "catmull" and option and not has_shaded(scene):
         filt = get_filter(option)
-        return divide_by_weight(filter_sums(scene, filt, recorded=recorded), scene, filt)
+        return divide_by_weight(filter_sums(scene, filt), scene, filt)
     return render(scene, spec)
 
 

@@ -3,7 +3,7 @@
 The scene is shifted by half a pixel and rendered at ``(W + 1) x (H + 1)`` by the same
 scanline stages as ``catmull``: the pixels of that render are exactly the knot cells
 ``[m - 1/2, m + 1/2] x [n - 1/2, n + 1/2]`` of the original image, so every visible piece
-the kernel emits lies inside one cell. The kernel's moment sink (``src/catmull/moments.hpp``)
+the kernel emits lies inside one cell. The kernel's moment sink (``src/catmull/moment_sink.hpp``)
 accumulates each one's integrals against the filter's basis times its colour per cell;
 cells on the image border are cut to the image first (samples lie only inside it).
 :func:`aaeval.filters.integrate.combine_cells` then turns cells into pixels;
@@ -36,44 +36,40 @@ def _inputs(scene: Scene, filt: PixelFilter):
             (int(kind), int(radius), int(k), float(alpha), float(bias)))
 
 
-def knot_grid_sums(scene: Scene, filt: PixelFilter, threads: int = 0, recorded: bool = False) -> np.ndarray:
+def knot_grid_sums(scene: Scene, filt: PixelFilter, threads: int = 0) -> np.ndarray:
     """Per-cell integrals ``(H + 1, W + 1, k, k, 3)`` of the visible colour (background included).
 
-    ``recorded``: the route the same-bits digests were recorded on (``tests/same_bits.py``).
-    The default route differs from it by rounding only (at most 1e-13,
-    ``tests/test_same_bits.py``): a pixel holding two irregular pieces over what both hide
-    takes the second's visible part as its piece less their overlap (integrals are linear
-    in the pieces), not the pixel integrator's pieces of it; the tent's integrals come in
-    closed form (shoelace moments) and a cubic's four edge nodes as one vector, summed in
-    another order; a piece alone in front of its pixel is integrated along its own edges
-    cut to the pixel's column, not clipped to it first; the Gaussian's basis at its nodes comes from polynomials fitted once per
-    render instead of erf and exp (``src/catmull/moments.hpp``).
+    A pixel holding two irregular pieces over what both hide takes the second's visible part
+    as its piece less their overlap (integrals are linear in the pieces); the tent's
+    integrals come in closed form (shoelace moments) and a cubic's four edge nodes as one
+    vector; a piece alone in front of its pixel is integrated along its own edges cut to the
+    pixel's column; the Gaussian's basis at its nodes comes from polynomials fitted once per
+    render (``src/catmull/filter_basis.hpp``).
     """
     args, fargs = _inputs(scene, filt)
-    return _catmull.knot_grid_sums(*args, *fargs, thread_count(threads), bool(recorded))
+    return _catmull.knot_grid_sums(*args, *fargs, thread_count(threads))
 
 
-def filter_sums(scene: Scene, filt: PixelFilter, threads: int = 0, recorded: bool = False) -> np.ndarray:
+def filter_sums(scene: Scene, filt: PixelFilter, threads: int = 0) -> np.ndarray:
     """Pixel sums ``(H, W, 3)`` of the visible colour against the filter (before the film's division).
 
-    The same bits as ``combine_cells(knot_grid_sums(scene, filt, recorded=...), filt, W, H)``,
-    without the cells: the kernel's sink contracts each row of cells along x as soon as the
-    row is done. ``recorded``: as in :func:`knot_grid_sums`.
+    The same bits as ``combine_cells(knot_grid_sums(scene, filt), filt, W, H)``, without the
+    cells: the kernel's sink contracts each row of cells along x as soon as the row is done.
     """
-    return _native_filter_sums(scene, filt, threads, recorded)
+    return _native_filter_sums(scene, filt, threads)
 
 
-def filtered_pixels(scene: Scene, filt: PixelFilter, threads: int = 0, recorded: bool = False) -> np.ndarray:
+def filtered_pixels(scene: Scene, filt: PixelFilter, threads: int = 0) -> np.ndarray:
     """The filtered image ``(H, W, 3)``: :func:`filter_sums` divided by the weight each pixel
     collects inside the image (Mitsuba's film), in the same native call; the same bits as
     ``aaeval.filters.exact.divide_by_weight(filter_sums(...), scene, filt)``."""
     weights = (np.ascontiguousarray(axis_weights(filt, scene.width), dtype=np.float64),
                np.ascontiguousarray(axis_weights(filt, scene.height), dtype=np.float64))
-    return _native_filter_sums(scene, filt, threads, recorded, *weights)
+    return _native_filter_sums(scene, filt, threads, *weights)
 
 
-def _native_filter_sums(scene, filt, threads, recorded, *weights):
+def _native_filter_sums(scene, filt, threads, *weights):
     """The native filter_sums call (``weights``: the film's x and y weights, or none)."""
     args, fargs = _inputs(scene, filt)
     e = np.ascontiguousarray(cell_basis_matrix(filt), dtype=np.float64)
-    return _catmull.filter_sums(*args, *fargs, e, thread_count(threads), bool(recorded), *weights)
+    return _catmull.filter_sums(*args, *fargs, e, thread_count(threads), *weights)

@@ -184,7 +184,7 @@ inline void gauss_piece_integrals(const double* xs, const double* ys, int64_t st
 // piece_integrals_k<4, true> on the fast route (the cubics): an edge's 4 Gauss-Legendre nodes
 // as one vector of 4 (Nodes' v4), every basis value and term computed for the 4 at once, the
 // node sums kept per lane and added at the end (the same sums in another order: within
-// rounding of the recorded route's, tests/test_same_bits.py)
+// rounding of the plain route's)
 inline void cubic_piece_integrals(const double* xs, const double* ys, int64_t start, int64_t n, double ox, double oy,
                                   double* out) {
     const v4 T{POLY_T[0], POLY_T[1], POLY_T[2], POLY_T[3]};

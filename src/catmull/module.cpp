@@ -107,12 +107,9 @@ Filter filter_of(int64_t kind, int64_t radius, int64_t k, double alpha, double b
     return {kind, radius, k, alpha, bias};
 }
 
-// The filter as a render takes it: the fast route (Filter.fast) takes the tent's integrals in
-// closed form, a cubic's edge nodes four at a time and the Gaussian's basis as polynomials
-// (gauss_table); the recorded route (the same-bits digests) keeps Gauss-Legendre one node at
-// a time and erf and exp at every node.
-Filter route_filter(Filter F, bool recorded) {
-    if (recorded) return F;
+// The filter as a render takes it (Filter.fast): the tent's integrals in closed form, a
+// cubic's edge nodes four at a time and the Gaussian's basis as polynomials (gauss_table).
+Filter render_filter(Filter F) {
     F.fast = true;
     if (F.kind == KIND_GAUSSIAN && F.k == 4 && F.radius == 2)
         F.gauss = std::make_shared<const GaussTable>(gauss_table(F.alpha, F.bias));
@@ -193,11 +190,11 @@ nb::ndarray<nb::numpy, double> render_flat(In start, In length, In x, In y, In p
 
 nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, In planes, double eps_z, In colors,
                                               int64_t width, int64_t height, int64_t kind, int64_t radius, int64_t k,
-                                              double alpha, double bias, int64_t threads, bool recorded) {
+                                              double alpha, double bias, int64_t threads) {
     Polygons P = polygons(start, length, x, y, planes);
     const double* c = colors_of(colors, P.n);
     check_eps(eps_z);
-    const Filter F = route_filter(filter_of(kind, radius, k, alpha, bias), recorded);
+    const Filter F = render_filter(filter_of(kind, radius, k, alpha, bias));
     check_size(width, height, 3 * k * k);
     check_threads(threads);
     std::vector<double> acc(size_t((height + 1) * (width + 1) * k * k * 3), 0.0);
@@ -207,7 +204,6 @@ nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, I
         // the scene moved by (1/2, 1/2) at (W + 1) x (H + 1) pixels: the knot cells
         run_bands(height + 1, threads, [&](int64_t, int64_t r0, int64_t r1) {
             MomentSink out(acc.data(), c, P.n + 1, width, height, F);
-            out.signed_pieces = !recorded;
             scan_rows(P, width + 1, r0, r1, eps_z, false, true, out);
         });
     }
@@ -233,12 +229,12 @@ void divide_by_weights(double* image, const double* wx, const double* wy, int64_
 // combine_cells(knot_grid_sums(...)). e: (2R, k), the filter's cell-local coefficients.
 nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In planes, double eps_z, In colors,
                                            int64_t width, int64_t height, int64_t kind, int64_t radius, int64_t k,
-                                           double alpha, double bias, In e, int64_t threads, bool recorded,
+                                           double alpha, double bias, In e, int64_t threads,
                                            std::optional<In> weights_x, std::optional<In> weights_y) {
     Polygons P = polygons(start, length, x, y, planes);
     const double* c = colors_of(colors, P.n);
     check_eps(eps_z);
-    const Filter F = route_filter(filter_of(kind, radius, k, alpha, bias), recorded);
+    const Filter F = render_filter(filter_of(kind, radius, k, alpha, bias));
     if (radius < 1) fail("radius must be at least 1");
     check_size(width, height, 3 * k * k);
     check_threads(threads);
@@ -265,7 +261,6 @@ nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In p
             MomentSink out(nullptr, c, P.n + 1, width, height, F);
             out.rows_to(tx, ev, radius);
             out.written = written.data();
-            out.signed_pieces = !recorded;
             scan_rows(P, width + 1, r0, r1, eps_z, false, true, out);
             out.flush();
         });
@@ -414,13 +409,11 @@ NB_MODULE(catmull, m) {
     m.def("knot_grid_sums", &knot_grid_sums, nb::arg("start"), nb::arg("length"), nb::arg("x"), nb::arg("y"),
           nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"), nb::arg("width"), nb::arg("height"),
           nb::arg("kind"), nb::arg("radius"), nb::arg("k"), nb::arg("alpha"), nb::arg("bias"), nb::arg("threads"),
-          nb::arg("recorded") = false,
-          "Per-cell integrals (H+1, W+1, k, k, 3) of the visible colour of a scene moved by (1/2, 1/2) "
-          "(recorded=True: the route the same-bits digests were recorded on).");
+          "Per-cell integrals (H+1, W+1, k, k, 3) of the visible colour of a scene moved by (1/2, 1/2).");
     m.def("filter_sums", &filter_sums, nb::arg("start"), nb::arg("length"), nb::arg("x"), nb::arg("y"),
           nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"), nb::arg("width"), nb::arg("height"),
           nb::arg("kind"), nb::arg("radius"), nb::arg("k"), nb::arg("alpha"), nb::arg("bias"), nb::arg("e"),
-          nb::arg("threads"), nb::arg("recorded") = false, nb::arg("weights_x") = nb::none(),
+          nb::arg("threads"), nb::arg("weights_x") = nb::none(),
           nb::arg("weights_y") = nb::none(),
           "Pixel sums (H, W, 3) of the visible colour against a filter (e: (2R, k)), of a scene moved by (1/2, 1/2); "
           "with weights_x (W,) and weights_y (H,), each pixel divided by weights_y[j] * weights_x[i] (the film).");

@@ -22,11 +22,9 @@ namespace aaeval::catmull {
 // received (for emit_rest). One sink per band: bands write disjoint rows of acc.
 struct MomentSink {
     // integrals are linear in the pieces: a visible part may come as a piece less another
-    // (sweep.hpp's two-layer case); signed_pieces off gives the integrator's pieces instead
-    // (the recorded route, tests/test_same_bits.py)
+    // (sweep.hpp's two-layer case)
     static constexpr bool SIGNED_PIECES = true;
     static constexpr bool COLUMN_PARTS = true;
-    bool signed_pieces = true;
     double* acc;
     const double* colors;
     int64_t n_colors, width, height;

@@ -16,8 +16,8 @@
 //   emit_rest(pix, src, x0, y0)          src covers the rest of the pixel: the square minus
 //                                        what was emitted for this pixel so far
 //   emit_signed_piece(pix, src, sign, xs, ys, start, n)
-//                                        only for a sink with SIGNED_PIECES true (and its
-//                                        signed_pieces on): the polygon counted with sign
+//                                        only for a sink with SIGNED_PIECES true: the
+//                                        polygon counted with sign
 //                                        (+1 or -1); a visible part may come as a piece less
 //                                        another (two irregular pieces over what both hide:
 //                                        the second's part is its piece less the overlap)

@@ -123,6 +123,7 @@ void bind_stages(nb::module_& m) {
             s.check_piece(ka);
             s.check_piece(kb);
             PixelWork W;
+            W.v.grow_to(two_layer_room(s.sc.strip.pieces[ka][1], s.sc.strip.pieces[kb][1]));
             return two_layer_overlap(s.sc.strip, ka, kb, x0, W.v.x.data(), W.v.y.data(), W.v.f.data(), W.v.size());
         }, nb::arg("ka"), nb::arg("kb"), nb::arg("x0"))
         .def("integrate", [](StageScan& s, std::vector<int64_t> plist, int64_t solid, double x0, double y0,

@@ -166,7 +166,8 @@ inline Run solid_run(int64_t k, int64_t* zl, int64_t n_zl, const Strip& S, const
 // Strip pieces ka (in front) and kb clipped to pixel column x0, and kb's part overlapping
 // ka's: each a polygon in the scratch space (wx, wy from 0: ka's, ma vertices; from at_b:
 // kb's, mb; from at_o: the overlap, mo, none when mo < 3), and the overlap's area, or -1.0
-// if ka's part is not convex there (or the scratch space, `cap` vertices, is too small).
+// if ka's part is not convex there (or the scratch space, `cap_w` vertices, is smaller than
+// two_layer_room: the caller grows it first).
 // For a pixel whose visible pieces are ka over kb over what both hide the visible parts
 // follow without the integrator. The overlap is kb's part clipped by each of ka's own edges
 // in turn.
@@ -174,6 +175,15 @@ struct TwoLayer {
     double overlap;
     int64_t ma, at_b, mb, at_o, mo;
 };
+
+// the scratch space two_layer_parts needs for pieces of na and nb vertices: ka's and kb's
+// clipped parts, then two halves for the overlap's clips (each clip adds at most one vertex
+// per edge)
+inline int64_t two_layer_room(int64_t na, int64_t nb) {
+    const int64_t tmp = (2 * na + 4) + (2 * nb + 4);
+    const int64_t cap = 2 * nb + 2 * na + 8;
+    return tmp + 2 * cap + 2 * nb + 8;
+}
 
 inline TwoLayer two_layer_parts(const Strip& S, int64_t ka, int64_t kb, double x0, double* wx, double* wy,
                                 uint8_t* wf, int64_t cap_w) {
@@ -230,13 +240,6 @@ inline double two_layer_overlap(const Strip& S, int64_t ka, int64_t kb, double x
     return two_layer_parts(S, ka, kb, x0, wx, wy, wf, cap_w).overlap;
 }
 
-// Whether the sink takes signed pieces (emit_signed_piece, sink.hpp) and wants them.
-template <class Sink>
-inline bool takes_signed_pieces(const Sink& out) {
-    if constexpr (Sink::SIGNED_PIECES) return out.signed_pieces;
-    else return false;
-}
-
 // The two-layer case with shapes: the front piece, the second piece, less their overlap, and
 // the rest of the pixel to what both hide. Only for sinks that take signed pieces.
 template <class Sink>
@@ -283,10 +286,7 @@ inline void sweep_row(Scan& sc, Sink& out, const double* planes, int64_t row, in
     double* zdepth = sc.zlist.depth.data();
     int64_t* plist = sc.zlist.pixel.data();
     const std::vector<int64_t>& head = S.bucket_head;
-    // the numba kernel's two-layer shortcut saw the integrator's vertex buffer as it was when
-    // the row began (a grown buffer reached it only on the next row): its size decides
-    const int64_t row_cap = W.v.size();
-    const bool signed_two_layer = takes_signed_pieces(out);
+    constexpr bool signed_two_layer = Sink::SIGNED_PIECES;
     const double y0 = double(row);
     int64_t n_zl = 0;
     int64_t col = 0;
@@ -334,8 +334,11 @@ inline void sweep_row(Scan& sc, Sink& out, const double* planes, int64_t row, in
                 second = plist[1];
                 if (in_front_on_square(planes, S.pieces[first][2], S.pieces[second][2], x0, y0, eps_z) &&
                     (n_pl == 2 || (in_front_on_square(planes, S.pieces[second][2], back, x0, y0, eps_z) &&
-                                   in_front_on_square(planes, S.pieces[first][2], back, x0, y0, eps_z))))
-                    tl = two_layer_parts(S, first, second, x0, W.v.x.data(), W.v.y.data(), W.v.f.data(), row_cap);
+                                   in_front_on_square(planes, S.pieces[first][2], back, x0, y0, eps_z)))) {
+                    const int64_t room = two_layer_room(S.pieces[first][1], S.pieces[second][1]);
+                    if (W.v.size() < room) W.v.grow_to(room);
+                    tl = two_layer_parts(S, first, second, x0, W.v.x.data(), W.v.y.data(), W.v.f.data(), W.v.size());
+                }
             }
             if (behind != -2) {
                 if (centroids) {
