@@ -118,21 +118,21 @@ inline void contract_y_rows_k(const double* t, int64_t n0, int64_t n1, const dou
     }
 }
 
-#define AAEVAL_KC_DISPATCH(fn, k, nch, ...)                                  \
-    do {                                                                     \
-        if ((k) == 2 && (nch) == 3) return fn<2, 3>(__VA_ARGS__);            \
-        if ((k) == 4 && (nch) == 3) return fn<4, 3>(__VA_ARGS__);            \
-        if ((k) == 2 && (nch) == 4) return fn<2, 4>(__VA_ARGS__);            \
-        if ((k) == 4 && (nch) == 4) return fn<4, 4>(__VA_ARGS__);            \
-        return fn<0, 0>(__VA_ARGS__);                                        \
+#define AAEVAL_KC_DISPATCH(fn, k, nch, ...)                       \
+    do {                                                          \
+        if ((k) == 2 && (nch) == 3) return fn<2, 3>(__VA_ARGS__); \
+        if ((k) == 4 && (nch) == 3) return fn<4, 3>(__VA_ARGS__); \
+        if ((k) == 2 && (nch) == 4) return fn<2, 4>(__VA_ARGS__); \
+        if ((k) == 4 && (nch) == 4) return fn<4, 4>(__VA_ARGS__); \
+        return fn<0, 0>(__VA_ARGS__);                             \
     } while (0)
 
 inline void contract_x_row(const double* cells, const double* e, int64_t R, int64_t k, int64_t nch, int64_t width,
                            double* t) {
     AAEVAL_KC_DISPATCH(contract_x_row_k, k, nch, cells, e, R, k, nch, width, t);
 }
-inline void contract_y_rows(const double* t, int64_t n0, int64_t n1, const double* e, int64_t R, int64_t k,
-                            int64_t nch, int64_t width, int64_t j0, int64_t j1, double* image) {
+inline void contract_y_rows(const double* t, int64_t n0, int64_t n1, const double* e, int64_t R, int64_t k, int64_t nch,
+                            int64_t width, int64_t j0, int64_t j1, double* image) {
     AAEVAL_KC_DISPATCH(contract_y_rows_k, k, nch, t, n0, n1, e, R, k, nch, width, j0, j1, image);
 }
 #undef AAEVAL_KC_DISPATCH

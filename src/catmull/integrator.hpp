@@ -57,8 +57,8 @@ inline bool in_front_on_square(const double* planes, int64_t p, int64_t q, doubl
 // f everywhere on q; 1: in front everywhere on q; 2: the planes cross inside q. Tested on
 // the signed distance of q's vertices to the line where the planes meet, with the clipper's
 // tolerance, so after a split along that line every piece classifies cleanly.
-inline int depth_relation(const double* planes, int64_t q, int64_t f, const double* xs, const double* ys,
-                          int64_t start, int64_t n, double eps_z) {
+inline int depth_relation(const double* planes, int64_t q, int64_t f, const double* xs, const double* ys, int64_t start,
+                          int64_t n, double eps_z) {
     const double da = planes[3 * q] - planes[3 * f];
     const double db = planes[3 * q + 1] - planes[3 * f + 1];
     const double dc = planes[3 * q + 2] - planes[3 * f + 2];
@@ -131,8 +131,8 @@ inline PolygonsUsed pixel_polygons(const Strip& S, const int64_t* plist, int64_t
             if (tmp + 2 * n + 4 > wcap) {
                 used = -1;
             } else {
-                const int64_t m = geometry::clip_to_column(S.v.x.data(), S.v.y.data(), S.v.f.data(), S.pieces[k][0],
-                                                           n, x0, wx, wy, wf, used, tmp);
+                const int64_t m = geometry::clip_to_column(S.v.x.data(), S.v.y.data(), S.v.f.data(), S.pieces[k][0], n,
+                                                           x0, wx, wy, wf, used, tmp);
                 if (m > 0) {
                     W.areas[size_t(n_rec)] = geometry::signed_area(wx, wy, used, m);
                     n_rec = record(W.recs, n_rec, used, m, S.pieces[k][2]);
@@ -330,8 +330,8 @@ inline int64_t integrate_pixel(PixelWork& W, int64_t n_init, int64_t n_vert, con
             }
             const int64_t at_b = n_vert + 2 * n + 2;  // a half-plane clip at most doubles the vertices
             if (at_b + 2 * n + 2 > wcap) return -1;
-            const geometry::SplitCounts m = geometry::clip_split(wx, wy, wf, recs[p][0], n, a, b, c, true, true,
-                                                                 wx, wy, wf, n_vert, wx, wy, wf, at_b);
+            const geometry::SplitCounts m = geometry::clip_split(wx, wy, wf, recs[p][0], n, a, b, c, true, true, wx, wy,
+                                                                 wf, n_vert, wx, wy, wf, at_b);
             const int64_t src_p = recs[p][2];
             double area_a = 0.0;
             if (m.a > 0) area_a = geometry::signed_area(wx, wy, n_vert, m.a);

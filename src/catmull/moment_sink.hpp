@@ -55,8 +55,16 @@ struct MomentSink {
 
     MomentSink(double* acc_, const double* colors_, int64_t n_colors_, int64_t width_, int64_t height_,
                const Filter& F_)
-        : acc(acc_), colors(colors_), n_colors(n_colors_), width(width_), height(height_), F(F_),
-          out(size_t(F_.k * F_.k)), emitted(size_t(F_.k * F_.k), 0.0), phi(size_t(F_.k)), psi(size_t(F_.k)) {}
+        : acc(acc_),
+          colors(colors_),
+          n_colors(n_colors_),
+          width(width_),
+          height(height_),
+          F(F_),
+          out(size_t(F_.k * F_.k)),
+          emitted(size_t(F_.k * F_.k), 0.0),
+          phi(size_t(F_.k)),
+          psi(size_t(F_.k)) {}
 
     const double* color(int64_t s) const { return colors + 3 * (s < 0 ? n_colors + s : s); }
 
@@ -180,9 +188,12 @@ struct MomentSink {
     void flush() {
         if (tx == nullptr || cur_row < 0) return;
         if (written != nullptr) written[cur_row] = 1;
-        if (F.k == 2) contract_row_k<2>();
-        else if (F.k == 4) contract_row_k<4>();
-        else contract_row_k<0>();
+        if (F.k == 2)
+            contract_row_k<2>();
+        else if (F.k == 4)
+            contract_row_k<4>();
+        else
+            contract_row_k<0>();
         const int64_t kk3 = F.k * F.k * 3;
         for (int64_t col : touched) std::fill(rowacc.begin() + col * kk3, rowacc.begin() + (col + 1) * kk3, 0.0);
         touched.clear();
@@ -221,7 +232,7 @@ struct MomentSink {
         double* em = emitted.data();
         const double* o = out.data();
         const double c0 = c[0], c1 = c[1], c2 = c[2];  // held in registers across the stores
-        if (scale == 1.0) {  // most pieces: 1.0 * o is o (the same bits without the product)
+        if (scale == 1.0) {                            // most pieces: 1.0 * o is o (the same bits without the product)
             for (int64_t ab = 0; ab < k * k; ++ab) {
                 const double v = o[ab];
                 em[ab] += v;
@@ -268,8 +279,12 @@ struct MomentSink {
         const Cell at = locate(p);
         const int64_t row = at.row;
         const int64_t col = at.col;
-        return {row, col, geometry::pymax(double(col), 0.5), geometry::pymin(double(col) + 1.0, double(width) + 0.5),
-                geometry::pymax(double(row), 0.5), geometry::pymin(double(row) + 1.0, double(height) + 0.5)};
+        return {row,
+                col,
+                geometry::pymax(double(col), 0.5),
+                geometry::pymin(double(col) + 1.0, double(width) + 0.5),
+                geometry::pymax(double(row), 0.5),
+                geometry::pymin(double(row) + 1.0, double(height) + 0.5)};
     }
     // out = the piece's integrals, cut to the image if its cell is on the border
     void integrate_piece(int64_t p, const double* xs, const double* ys, int64_t start, int64_t n) {
@@ -285,7 +300,8 @@ struct MomentSink {
             std::fill(out.begin(), out.end(), 0.0);
             return;
         }
-        piece_integrals(box.x.data(), box.y.data(), r.start, r.n, ox, oy, F, out.data(), phi.data(), psi.data(), &sides);
+        piece_integrals(box.x.data(), box.y.data(), r.start, r.n, ox, oy, F, out.data(), phi.data(), psi.data(),
+                        &sides);
     }
     // out = the integrals over the whole cell (cut to the image). An interior cell is the
     // unit square around its centre: every input of the quadrature (u0 = -1/2, du = 1, ...)
@@ -297,11 +313,16 @@ struct MomentSink {
             out = inner_integrals;
             return;
         }
-        sx[0] = w.x0; sy[0] = w.y0;
-        sx[1] = w.x1; sy[1] = w.y0;
-        sx[2] = w.x1; sy[2] = w.y1;
-        sx[3] = w.x0; sy[3] = w.y1;
-        piece_integrals(sx, sy, 0, 4, double(w.col) + 0.5, double(w.row) + 0.5, F, out.data(), phi.data(), psi.data(), &sides);
+        sx[0] = w.x0;
+        sy[0] = w.y0;
+        sx[1] = w.x1;
+        sy[1] = w.y0;
+        sx[2] = w.x1;
+        sy[2] = w.y1;
+        sx[3] = w.x0;
+        sy[3] = w.y1;
+        piece_integrals(sx, sy, 0, 4, double(w.col) + 0.5, double(w.row) + 0.5, F, out.data(), phi.data(), psi.data(),
+                        &sides);
         if (inner) {
             inner_integrals = out;
             have_inner = true;

@@ -185,10 +185,9 @@ inline void clip_to_strip(ActiveList& A, Strip& S, int64_t row, int64_t width) {
         const int64_t src = A.recs[k][2];
         if (used + 2 * n + 4 > S.v.size()) S.v.grow_to(used + 2 * n + 4);
         if (new_used + 2 * n + 4 > A.spare.size()) A.spare.grow_to(new_used + 2 * n + 4);
-        const geometry::SplitCounts m =
-            geometry::clip_split(A.v.x.data(), A.v.y.data(), A.v.f.data(), s, n, 0.0, 1.0, -y_bot, true, true,
-                                 S.v.x.data(), S.v.y.data(), S.v.f.data(), used,
-                                 A.spare.x.data(), A.spare.y.data(), A.spare.f.data(), new_used);
+        const geometry::SplitCounts m = geometry::clip_split(
+            A.v.x.data(), A.v.y.data(), A.v.f.data(), s, n, 0.0, 1.0, -y_bot, true, true, S.v.x.data(), S.v.y.data(),
+            S.v.f.data(), used, A.spare.x.data(), A.spare.y.data(), A.spare.f.data(), new_used);
         if (m.a > 0 && geometry::signed_area(S.v.x.data(), S.v.y.data(), used, m.a) > COV_EMPTY) {
             // the pixel columns the piece's x range reaches, clamped to the image
             const double* sx = S.v.x.data();

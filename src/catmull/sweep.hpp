@@ -24,8 +24,7 @@ struct ZList {
     std::vector<int64_t> items;
     std::vector<double> depth;
     std::vector<int64_t> pixel;
-    explicit ZList(int64_t n_polys)
-        : items(size_t(n_polys)), depth(size_t(n_polys)), pixel(size_t(n_polys + 1)) {}
+    explicit ZList(int64_t n_polys) : items(size_t(n_polys)), depth(size_t(n_polys)), pixel(size_t(n_polys + 1)) {}
 };
 
 // Move the z-list to column col; returns its new length. Pieces of the x-bucket at this
@@ -58,7 +57,9 @@ inline int64_t update_zlist(int64_t* zl, double* zdepth, int64_t n_zl, const Str
     return n_zl;
 }
 
-AAEVAL_INLINE double coverage(const Strip& S, int64_t k, int64_t col) { return S.cov[size_t(S.span[k][2] + col - S.span[k][0])]; }
+AAEVAL_INLINE double coverage(const Strip& S, int64_t k, int64_t col) {
+    return S.cov[size_t(S.span[k][2] + col - S.span[k][0])];
+}
 
 struct PixelList {
     int64_t n, solid;
@@ -74,8 +75,8 @@ inline PixelList pixel_list(const int64_t* zl, int64_t n_zl, int64_t* plist, con
         const int64_t k = zl[t];
         const double cv = coverage(S, k, col);
         if (cv <= COV_EMPTY) continue;
-        if (solid >= 0 && in_front_on_square(planes, S.pieces[solid][2], S.pieces[k][2], double(col), double(row),
-                                             eps_z))
+        if (solid >= 0 &&
+            in_front_on_square(planes, S.pieces[solid][2], S.pieces[k][2], double(col), double(row), eps_z))
             continue;
         plist[n_pl++] = k;
         if (solid < 0 && cv >= COV_SOLID) solid = k;
@@ -94,8 +95,8 @@ inline void emit_front_piece(const Strip& S, int64_t k, int64_t pix, int64_t col
     const int64_t n = S.pieces[k][1];
     if constexpr (Sink::COLUMN_PARTS)
         if (out.emit_column_part(pix, src, S.v.x.data(), S.v.y.data(), S.pieces[k][0], n, col)) return;
-    const int64_t m = geometry::clip_to_column(S.v.x.data(), S.v.y.data(), S.v.f.data(), S.pieces[k][0], n,
-                                               double(col), W.v.x.data(), W.v.y.data(), W.v.f.data(), 0, 4 * n + 8);
+    const int64_t m = geometry::clip_to_column(S.v.x.data(), S.v.y.data(), S.v.f.data(), S.pieces[k][0], n, double(col),
+                                               W.v.x.data(), W.v.y.data(), W.v.f.data(), 0, 4 * n + 8);
     if (m > 0)
         out.emit_strip_piece(pix, src, cv, W.v.x.data(), W.v.y.data(), 0, m);
     else
@@ -113,9 +114,9 @@ inline int64_t hidden_until(const double* planes, int64_t p, int64_t q, int64_t 
     const double db = P[1] - Q[1];
     const double dc = P[2] - Q[2];
     const double y0 = double(row);
-    const double margin = 1e-9 * ((std::fabs(P[0]) + std::fabs(Q[0]) + std::fabs(P[1]) + std::fabs(Q[1])) *
-                                      (double(width) + y0 + 2.0) +
-                                  std::fabs(P[2]) + std::fabs(Q[2]) + 1.0);
+    const double margin =
+        1e-9 * ((std::fabs(P[0]) + std::fabs(Q[0]) + std::fabs(P[1]) + std::fabs(Q[1])) * (double(width) + y0 + 2.0) +
+                std::fabs(P[2]) + std::fabs(Q[2]) + 1.0);
     const double rest = pymax(da, 0.0) + db * y0 + pymax(db, 0.0) + dc;
     int64_t last;
     if (da * double(col) + rest >= -margin) {
@@ -185,8 +186,8 @@ inline int64_t two_layer_room(int64_t na, int64_t nb) {
     return tmp + 2 * cap + 2 * nb + 8;
 }
 
-inline TwoLayer two_layer_parts(const Strip& S, int64_t ka, int64_t kb, double x0, double* wx, double* wy,
-                                uint8_t* wf, int64_t cap_w) {
+inline TwoLayer two_layer_parts(const Strip& S, int64_t ka, int64_t kb, double x0, double* wx, double* wy, uint8_t* wf,
+                                int64_t cap_w) {
     const double* sx = S.v.x.data();
     const double* sy = S.v.y.data();
     const uint8_t* sf = S.v.f.data();
@@ -235,8 +236,8 @@ inline TwoLayer two_layer_parts(const Strip& S, int64_t ka, int64_t kb, double x
 }
 
 // The area of two_layer_parts' overlap (-1.0: not this case).
-inline double two_layer_overlap(const Strip& S, int64_t ka, int64_t kb, double x0, double* wx, double* wy,
-                                 uint8_t* wf, int64_t cap_w) {
+inline double two_layer_overlap(const Strip& S, int64_t ka, int64_t kb, double x0, double* wx, double* wy, uint8_t* wf,
+                                int64_t cap_w) {
     return two_layer_parts(S, ka, kb, x0, wx, wy, wf, cap_w).overlap;
 }
 
@@ -278,8 +279,8 @@ struct Scan {
 //   overlap, emit_two_layer) for a sink that takes signed pieces;
 // - otherwise the pixel integrator (integrate).
 template <class Sink>
-inline void sweep_row(Scan& sc, Sink& out, const double* planes, int64_t row, int64_t width, double eps_z,
-                      bool jagged, bool centroids) {
+inline void sweep_row(Scan& sc, Sink& out, const double* planes, int64_t row, int64_t width, double eps_z, bool jagged,
+                      bool centroids) {
     const Strip& S = sc.strip;
     PixelWork& W = sc.work;
     int64_t* zl = sc.zlist.items.data();

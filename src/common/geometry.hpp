@@ -22,7 +22,6 @@
 #include <emmintrin.h>
 #endif
 
-
 namespace aaeval::geometry {
 
 // Distance (pixels) under which a point counts as lying on a clipping line: far above
@@ -72,9 +71,9 @@ struct SplitCounts {
 // line). Edges lying on the line get flag 1; the others keep the flag of the edge they are
 // part of. The outputs must not overlap the input (they may share its buffers).
 AAEVAL_INLINE SplitCounts clip_split(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
-                              double a, double b, double c, bool want_a, bool want_b,
-                              double* axs, double* ays, uint8_t* afs, int64_t astart,
-                              double* bxs, double* bys, uint8_t* bfs, int64_t bstart) {
+                                     double a, double b, double c, bool want_a, bool want_b, double* axs, double* ays,
+                                     uint8_t* afs, int64_t astart, double* bxs, double* bys, uint8_t* bfs,
+                                     int64_t bstart) {
     int64_t ma = 0, mb = 0;
     if (n > 0) {
         int64_t prev = start + n - 1;
@@ -134,10 +133,10 @@ AAEVAL_INLINE SplitCounts clip_split(const double* xs, const double* ys, const u
 // The part of a polygon on side keep (-1: A, +1: B) of a line, at ostart; its vertex count.
 // A clip adds at most one vertex per edge: leave 2 n + 2 entries.
 AAEVAL_INLINE int64_t clip_side(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
-                         double a, double b, double c, int keep, double* oxs, double* oys, uint8_t* ofs,
-                         int64_t ostart) {
-    const SplitCounts m = clip_split(xs, ys, fs, start, n, a, b, c, keep < 0, keep > 0,
-                                     oxs, oys, ofs, ostart, oxs, oys, ofs, ostart);
+                                double a, double b, double c, int keep, double* oxs, double* oys, uint8_t* ofs,
+                                int64_t ostart) {
+    const SplitCounts m =
+        clip_split(xs, ys, fs, start, n, a, b, c, keep < 0, keep > 0, oxs, oys, ofs, ostart, oxs, oys, ofs, ostart);
     return keep < 0 ? m.a : m.b;
 }
 

@@ -19,10 +19,22 @@
 
 namespace aaeval::numeric {
 
-template <class T> AAEVAL_INLINE T pymin(T a, T b) { return b < a ? b : a; }
-template <class T> AAEVAL_INLINE T pymax(T a, T b) { return b > a ? b : a; }
-template <class T> AAEVAL_INLINE T pymin(T a, T b, T c) { return pymin(pymin(a, b), c); }
-template <class T> AAEVAL_INLINE T pymax(T a, T b, T c) { return pymax(pymax(a, b), c); }
+template <class T>
+AAEVAL_INLINE T pymin(T a, T b) {
+    return b < a ? b : a;
+}
+template <class T>
+AAEVAL_INLINE T pymax(T a, T b) {
+    return b > a ? b : a;
+}
+template <class T>
+AAEVAL_INLINE T pymin(T a, T b, T c) {
+    return pymin(pymin(a, b), c);
+}
+template <class T>
+AAEVAL_INLINE T pymax(T a, T b, T c) {
+    return pymax(pymax(a, b), c);
+}
 
 inline int64_t to_i64(double x) {
     if (x >= -9223372036854775808.0 && x < 9223372036854775808.0) return static_cast<int64_t>(x);

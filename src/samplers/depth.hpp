@@ -19,25 +19,25 @@ inline bool nearer_or_tied(double z, double nearest, double eps) { return z <= n
 // Short runs are sorted by insertion, long ones by a stable merge sort on the same key:
 // the same permutation (both are stable), without the quadratic cost on deep stacks.
 inline void tied_latest_first(int64_t* order, int64_t n, const double* depth, const int64_t* index, double eps) {
-  int64_t a = 0;
-  while (a < n) {
-    int64_t b = a + 1;
-    while (b < n && depth[order[b]] <= depth[order[a]] + eps) ++b;
-    if (b - a > 16) {
-      std::stable_sort(order + a, order + b, [index](int64_t x, int64_t y) { return index[x] > index[y]; });
-    } else {
-      for (int64_t i = a + 1; i < b; ++i) {
-        int64_t item = order[i];
-        int64_t j = i - 1;
-        while (j >= a && index[order[j]] < index[item]) {
-          order[j + 1] = order[j];
-          --j;
+    int64_t a = 0;
+    while (a < n) {
+        int64_t b = a + 1;
+        while (b < n && depth[order[b]] <= depth[order[a]] + eps) ++b;
+        if (b - a > 16) {
+            std::stable_sort(order + a, order + b, [index](int64_t x, int64_t y) { return index[x] > index[y]; });
+        } else {
+            for (int64_t i = a + 1; i < b; ++i) {
+                int64_t item = order[i];
+                int64_t j = i - 1;
+                while (j >= a && index[order[j]] < index[item]) {
+                    order[j + 1] = order[j];
+                    --j;
+                }
+                order[j + 1] = item;
+            }
         }
-        order[j + 1] = item;
-      }
+        a = b;
     }
-    a = b;
-  }
 }
 
 }  // namespace aaeval::samplers
