@@ -20,6 +20,7 @@ from aaeval.renderers.registry import Option, register_method
 from aaeval.scenes import Scene, parse_scene
 from aaeval.scenes.shaded import has_shaded
 from aaeval.specular.methods import PARAMETERS as SPECULAR_PARAMETERS
+from aaeval.specular.exact import render_exact
 from aaeval.specular.render import render_shaded
 
 __all__ = ["render_catmull", "render_catmull_jagged", "FILTER_OPTION", "BOX_ONLY", "THREADS"]
@@ -65,6 +66,9 @@ BOX_ONLY = {"filter": Option(str, DEFAULT_FILTER, "pixel filter: box only (cover
                              choices=(DEFAULT_FILTER,))}
 
 
+SHADING = Option(str, "piece", "shaded scenes: one Phong shade per visible piece at its centroid (piece) or the "
+                 "shade integrated over each visible piece (exact, aaeval.specular.exact)", choices=("piece", "exact"))
+
 THREADS = Option(int, 0, "bands of rows rendered in parallel on this many threads (0: all cores); "
                  "the image does not depend on it", minimum=0)
 
@@ -72,15 +76,18 @@ THREADS = Option(int, 0, "bands of rows rendered in parallel on this many thread
 @register_method(
     "catmull",
     summary="Catmull 1978: exact box filter (or another filter=), hidden surfaces solved inside each pixel",
-    options={**SPECULAR_OPTIONS, **FILTER_OPTION, "threads": THREADS},
+    options={**SPECULAR_OPTIONS, **FILTER_OPTION, "threads": THREADS, "shading": SHADING},
     exact=True,
     warmup=_warmup,
 )
-def render_catmull(scene: Scene, filter: str = DEFAULT_FILTER, threads: int = 0, **specular_options) -> np.ndarray:
+def render_catmull(scene: Scene, filter: str = DEFAULT_FILTER, threads: int = 0, shading: str = "piece",
+                   **specular_options) -> np.ndarray:
     if filter != DEFAULT_FILTER:
         if has_shaded(scene):
             raise ValueError(f"catmull: filter={filter} supports flat-coloured scenes only, not [shaded] objects")
         return filtered_image(scene, FILTERS[filter], threads=threads)
+    if has_shaded(scene) and shading == "exact":
+        return render_exact(scene, threads=threads, **specular_options)
     if has_shaded(scene):
         return render_shaded(scene, **specular_options)
     return render_flat(scene, threads=threads)
