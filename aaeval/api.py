@@ -135,7 +135,7 @@ def sweep(config, out: str | Path, **options: Any) -> Path:
     elif not isinstance(config, Experiment):
         config = load_experiment(config)
     options.setdefault("quiet", True)
-    run_sweep(config, out, log=lambda *a, **k: None, **options)
+    run_sweep(config, out, **options)
     return Path(out)
 
 
