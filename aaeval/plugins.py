@@ -16,16 +16,24 @@ built-in registries are filled (the end of :mod:`aaeval.renderers`, of
 :mod:`aaeval.specular.methods`, and the start of the command line for metrics). A plugin
 that fails to load (an import error, an exception while registering, a name registered
 twice) is named in one line on stderr and skipped; the others load. See ``docs/plugins.md``.
+
+A sweep cell whose method, metric or specular clamp comes from a plugin carries the
+plugin's identity in its key (:func:`cell_plugins`: distribution name, version and a
+digest of its module files), so an edited or upgraded plugin reruns its cells.
 """
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import sys
 import threading
 from importlib import metadata
+from pathlib import Path
 from types import ModuleType
+from typing import Any, Callable, Iterable
 
-__all__ = ["GROUPS", "load_plugins", "load_all", "loaded", "failed"]
+__all__ = ["GROUPS", "load_plugins", "load_all", "loaded", "failed", "plugin_identity", "cell_plugins"]
 
 GROUPS = ("aaeval.methods", "aaeval.metrics", "aaeval.specular")
 
@@ -33,6 +41,8 @@ _lock = threading.RLock()
 _done: set[str] = set()
 _loaded: dict[str, list[str]] = {}
 _failed: dict[str, list[str]] = {}
+# top-level module of a loaded entry point -> (distribution name, version)
+_distributions: dict[str, tuple[str, str]] = {}
 
 
 _every: list = []
@@ -70,6 +80,7 @@ def load_plugins(group: str) -> list[str]:
                 _failed.setdefault(group, []).append(ep.name)
                 continue
             names.append(ep.name)
+            _note_distribution(ep)
         _loaded[group] = names
         return list(names)
 
@@ -99,3 +110,78 @@ def loaded(group: str) -> list[str]:
 def failed(group: str) -> list[str]:
     """Names of the entry points of ``group`` that failed to load."""
     return list(_failed.get(group, []))
+
+
+# --- a plugin's identity, for the keys of sweep cells ---------------------------------
+
+#: Files of a plugin package whose content is part of its identity (code, compiled code).
+CODE_SUFFIXES = (".py", ".so", ".pyd")
+
+
+def _note_distribution(ep) -> None:
+    top = ep.value.split(":")[0].strip().split(".")[0]
+    dist = getattr(ep, "dist", None)  # Python >= 3.10; before, the module names the plugin
+    _distributions[top] = (dist.metadata["Name"] or dist.name, dist.version) if dist is not None else (top, "unknown")
+
+
+@functools.lru_cache(maxsize=None)
+def _files_digest(top: str) -> str:
+    """sha256 over the code files of the top-level module ``top`` (path and content of each)."""
+    module = sys.modules.get(top)
+    if module is None:
+        return "not-imported"
+    if hasattr(module, "__path__"):  # a package: every code file below it
+        files = sorted((f.relative_to(root).as_posix(), f) for root in map(Path, module.__path__)
+                       for f in root.rglob("*") if f.suffix in CODE_SUFFIXES and "__pycache__" not in f.parts)
+    else:
+        path = Path(getattr(module, "__file__", "") or "")
+        files = [(path.name, path)] if path.is_file() else []
+    digest = hashlib.sha256()
+    for name, path in files:
+        digest.update(name.encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()[:16]
+
+
+def plugin_identity(obj: Callable | None) -> dict[str, str] | None:
+    """Who provides the registered function ``obj``: ``distribution``, ``version`` and
+    ``files`` (a digest of the providing package's code files); None for aaeval's own.
+
+    Only a package loaded through an entry point is a plugin: a function registered by
+    hand (a test, a notebook cell) is None, as every process that runs the cell could not
+    know it otherwise and would compute another key.
+    """
+    top = (getattr(obj, "__module__", None) or "").split(".")[0]
+    if top not in _distributions:
+        return None
+    name, version = _distributions[top]
+    return {"distribution": name, "version": version, "files": _files_digest(top)}
+
+
+def cell_plugins(spec, metrics: Iterable[str] = ()) -> list[dict[str, str]]:
+    """The plugins a cell depends on: its method's, its specular clamp's and its metrics'.
+
+    Parameters
+    ----------
+    spec : MethodSpec
+        The cell's method (its ``specular`` option, if any, names the clamp).
+    metrics : iterable of str
+        The metric names the cell computes.
+
+    Returns
+    -------
+    plugins : list of dict
+        Distinct :func:`plugin_identity` values, sorted; empty for built-ins only (a cell
+        of built-ins keeps the key it always had).
+    """
+    from aaeval.metrics import METRICS
+    from aaeval.renderers import METHODS
+
+    used: list[Any] = [METHODS[spec.name].render]
+    specular = spec.options.get("specular")
+    if specular not in (None, "none"):
+        from aaeval.specular.methods import SPECULAR_METHODS
+
+        used.append(SPECULAR_METHODS[specular].clamp)
+    used += [METRICS[name].func for name in metrics]
+    found = {tuple(sorted(i.items())): i for i in map(plugin_identity, used) if i is not None}
+    return [found[k] for k in sorted(found)]

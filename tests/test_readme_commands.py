@@ -1,5 +1,6 @@
-"""Docs that run (issue 19): every shell line of the README's ``sh`` code blocks is run, as
-written, in a temporary folder, and must exit 0.
+"""Docs that run (issue 19): every shell line of the ``sh`` code blocks of the README and of
+the pages it sends a developer to (docs/development.md, docs/performance.md: the inner test
+loop, the benchmarks) is run, as written, in a temporary folder, and must exit 0.
 
 The folder holds what the lines name: ``configs/scenes`` (the shipped scenes),
 ``scripts/quickstart.sh`` and ``benchmarks/`` (copies: their outputs land here, never in the
@@ -64,7 +65,8 @@ def readme_commands(text: str) -> list[str]:
     return commands
 
 
-COMMANDS = readme_commands((ROOT / "README.md").read_text())
+PAGES = ("README.md", "docs/development.md", "docs/performance.md")
+COMMANDS = [c for page in PAGES for c in readme_commands((ROOT / page).read_text())]
 
 
 def test_the_readme_has_the_commands_this_test_runs():

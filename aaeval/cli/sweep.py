@@ -77,7 +77,45 @@ def dry_run(experiment, out) -> int:
     print(f"{experiment.name}: {len(planned)} cells in {len(experiment.groups)} groups, "
           f"{len({p.key for p in planned})} distinct, {len({p.key for p in planned} & done)} done "
           f"(reference: {', '.join(sorted({g.reference.label() for g in experiment.groups}))})")
+    for line in plugin_lines(planned, SweepStore(out), done):
+        print(line)
     width = max(len(f"{g}  {s}") for g, s, _ in rows) if rows else 0
     for (group, scene, spec), flags in rows.items():
         print(f"  {f'{group}  {scene}':<{width}}  {spec:<40} frames {sum(flags):3d}/{len(flags):<3d} done")
     return 0
+
+
+def plugin_lines(planned, store, done: set[str]) -> list[str]:
+    """What the dry run says of plugins: each plugin in the cells' keys, and the finished
+    cells that rerun because the plugin behind them changed (another version or code)."""
+    users: dict[tuple, int] = {}
+    for p in planned:
+        for plugin in p.manifest_row()["plugins"]:
+            ident = (plugin["distribution"], plugin["version"], plugin["files"])
+            users[ident] = users.get(ident, 0) + 1
+    lines = [f"  plugin {name} {version} (code {files}): in the key of {n} cell(s)"
+             for (name, version, files), n in users.items()]
+    try:
+        previous = store.read_manifest()["cells"]
+    except (OSError, ValueError):  # no folder yet, or a damaged manifest: nothing to compare
+        return lines
+    where = lambda row: (row["group"], row["scene"], row["difficulty"], str(row["spec"]), row["frame"])  # noqa: E731
+    before = {where(row): row for row in previous if isinstance(row, dict) and row.get("key") in done}
+    changed: dict[str, int] = {}
+    for p in planned:
+        row = p.manifest_row()
+        old = before.get(where(row))
+        if p.key not in done and old is not None and old.get("plugins", []) != row["plugins"]:
+            for was, now in _plugin_changes(old.get("plugins", []), row["plugins"]):
+                changed[f"{was} -> {now}"] = changed.get(f"{was} -> {now}", 0) + 1
+    lines += [f"  {n} finished cell(s) rerun: plugin changed, {change}" for change, n in changed.items()]
+    return lines
+
+
+def _plugin_changes(old: list[dict], new: list[dict]) -> list[tuple[str, str]]:
+    def text(p):
+        return f"{p['distribution']} {p['version']} (code {p['files']})"
+
+    old_by, new_by = {p["distribution"]: p for p in old}, {p["distribution"]: p for p in new}
+    return [(text(old_by[n]) if n in old_by else "none", text(new_by[n]) if n in new_by else "none")
+            for n in sorted(set(old_by) | set(new_by)) if old_by.get(n) != new_by.get(n)]

@@ -11,7 +11,7 @@ import math
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterator
+from typing import TYPE_CHECKING, Any, Iterator
 
 import numpy as np
 
@@ -22,6 +22,10 @@ from aaeval.experiments.provenance import write_provenance
 from aaeval.experiments.record import SCHEMA_VERSION, json_safe
 from aaeval.experiments.store import ReferenceCache, SweepStore, cell_key, code_version, reference_key
 from aaeval.experiments.tasks import run_cell, run_reference
+from aaeval.plugins import cell_plugins
+
+if TYPE_CHECKING:
+    from aaeval.renderers import MethodSpec
 
 __all__ = ["PlannedCell", "plan", "manifest", "record_identity", "run_sweep", "SweepSummary", "progress_bar"]
 
@@ -37,7 +41,8 @@ class PlannedCell:
         return {"key": self.key, "group": c.group, "scene": c.scene_source.name, "difficulty": c.scene_source.difficulty,
                 "difficulty_label": c.scene_source.difficulty_label, "scene_digest": c.scene_source.digest, "spec": c.spec,
                 "frame": c.frame, "reference": c.reference, "reference_key": self.reference_key,
-                "frames": c.scene_source.frames, "repeats": c.repeats}
+                "frames": c.scene_source.frames, "repeats": c.repeats,
+                "plugins": cell_plugins(c.spec, c.metrics)}
 
 
 def plan(experiment: Experiment) -> list[PlannedCell]:
@@ -49,8 +54,8 @@ def plan(experiment: Experiment) -> list[PlannedCell]:
         Two cells with one key: the config repeats itself (the message names both).
     """
     version = code_version()
-    planned = [PlannedCell(c, cell_key(c.identity(), version),
-                           reference_key(c.scene_source.digest, c.frame, c.reference, version))
+    planned = [PlannedCell(c, cell_key(cell_identity(c), version),
+                           reference_key(c.scene_source.digest, c.frame, c.reference, _with_plugins(version, c.reference)))
                for c in experiment.cells()]
     seen: dict[str, PlannedCell] = {}
     for p in planned:
@@ -60,6 +65,23 @@ def plan(experiment: Experiment) -> list[PlannedCell]:
                               f"is given twice (also as group {a.group!r} scene {a.scene_source.name!r}); give each cell once")
         seen[p.key] = p
     return planned
+
+
+def cell_identity(cell: Cell) -> dict:
+    """What a cell's key is made of: :meth:`Cell.identity` and, when its method, clamp or a
+    metric comes from a plugin, those plugins (name, version, digest of their code files),
+    so that an edited plugin reruns its cells; a cell of built-ins keeps its key."""
+    identity = cell.identity()
+    plugins = cell_plugins(cell.spec, cell.metrics)
+    if plugins:
+        identity["plugins"] = plugins
+    return identity
+
+
+def _with_plugins(version: str, reference: MethodSpec) -> str:
+    """The code version a reference image depends on: aaeval's, and its plugin's if any."""
+    plugins = cell_plugins(reference)
+    return version + "".join(f"+{p['distribution']}={p['version']}:{p['files']}" for p in plugins)
 
 
 def manifest(experiment: Experiment, planned: list[PlannedCell]) -> dict:

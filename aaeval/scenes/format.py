@@ -148,6 +148,17 @@ class Scene:
     def shape(self) -> tuple[int, int, int]:
         return (self.height, self.width, 3)
 
+    def __repr__(self) -> str:  # short: the dataclass repr would print every vertex
+        from aaeval.api import scene_repr
+
+        return scene_repr(self)
+
+    def _repr_png_(self) -> bytes:
+        """The scene rendered (exact box filter) for Jupyter."""
+        from aaeval.api import scene_png
+
+        return scene_png(self)
+
 
 def _translated(arrays: PolygonArrays, shift: np.ndarray) -> PolygonArrays:
     vertices = arrays.vertices.copy()
