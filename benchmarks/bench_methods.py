@@ -45,6 +45,7 @@ METHODS = [
     "catmull-jagged:threads=1",
     "weiler-atherton",
     "skia",
+    "blend2d",
     "supersample:k=4",
     "supersample:k=16",
     "catmull:threads=0",

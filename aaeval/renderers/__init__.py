@@ -26,6 +26,7 @@ from aaeval.renderers import supersample  # noqa: E402,F401
 from aaeval.renderers import jitter  # noqa: E402,F401
 from aaeval.renderers import abuffer  # noqa: E402,F401
 from aaeval.renderers import skia_painter  # noqa: E402,F401
+from aaeval.renderers import blend2d_painter  # noqa: E402,F401
 from aaeval.renderers import mitsuba  # noqa: E402,F401
 from aaeval.renderers import weiler_atherton  # noqa: E402,F401
 from aaeval.renderers import freetype  # noqa: E402,F401

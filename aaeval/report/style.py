@@ -53,6 +53,7 @@ METHOD_STYLES: dict[str, MethodStyle] = {
     "jitter": MethodStyle("#CC79A7", "D", (8, 2, 1, 2)),
     "abuffer": MethodStyle("#009E73", "P", (2, 2)),
     "skia": MethodStyle("#000000", "X", (5, 1, 1, 1, 1, 1)),
+    "blend2d": MethodStyle("#777777", "x", (2, 1, 5, 1)),
     "mitsuba": MethodStyle("#999933", "h", (1, 3)),
     "freetype": MethodStyle("#332288", "*", (3, 1, 1, 1)),
     "resvg": MethodStyle("#661100", "d", (6, 1.5, 1, 1.5, 1, 1.5)),
