@@ -46,7 +46,8 @@ def _rule_points(tri, m, p=10):
                 u, v = np.meshgrid(g, g, indexing="ij")
                 P = (A[:, None, None, 0] + u[None, ..., None] * (A[:, None, None, 1] - A[:, None, None, 0])
                      + (u * v)[None, ..., None] * (A[:, None, None, 2] - A[:, None, None, 1]))
-                area = 0.5 * np.abs(np.cross(A[:, 1] - A[:, 0], A[:, 2] - A[:, 0]))
+                e1, e2 = A[:, 1] - A[:, 0], A[:, 2] - A[:, 0]
+                area = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])  # the 2-D cross product
                 W = 2 * area[:, None, None] * (w[:, None] * w[None, :] * u)[None]
                 pts.append(P.reshape(len(tri), -1, 2))
                 wts.append(W.reshape(len(tri), -1))
