@@ -78,7 +78,16 @@ def run(args) -> int:
         atomic_write(args.json, lambda tmp: Path(tmp).write_text(text))
         if not args.quiet:
             print(f"wrote {args.json}", file=sys.stderr)
-    return 0
+    return _report_failures(document)
+
+
+def _report_failures(document: dict) -> int:
+    """One line on stderr per method that failed on some frame; 1 when any did (the table
+    still shows every row, the failed ones with their reason)."""
+    failed = [row for row in document["rows"] if row.get("error")]
+    for row in failed:
+        print(f"aaeval compare: {row['method']} failed on frame {row['frame']}: {row['error']}", file=sys.stderr)
+    return 1 if failed else 0
 
 
 def _run_with_progress(plan, run_comparison) -> dict:

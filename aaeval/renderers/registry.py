@@ -38,6 +38,8 @@ __all__ = [
     "INCIDENTAL_OPTIONS",
     "Option",
     "MethodError",
+    "MethodFailure",
+    "check_image",
     "register_method",
     "parse_spec",
     "format_spec",
@@ -483,16 +485,44 @@ def check_budget(scene: Scene, method: Method, options: Mapping[str, Any]) -> No
 
 def render(scene: Scene, spec: str | MethodSpec, *, frame: int | None = None) -> np.ndarray:
     """Render ``scene`` (at ``frame`` if given) with the method ``spec`` names (a
-    :class:`MethodSpec`, or a string parsed here)."""
-    spec = MethodSpec.parse(spec)
-    method, options = spec.method, spec.options
-    if frame is not None:
-        scene = scene.at_frame(frame)
-    check_budget(scene, method, options)
-    image = method.render(scene, **dict(options))
-    expected = scene.shape
-    if image.shape != expected:
-        raise RuntimeError(f"method {method.name!r} returned shape {image.shape}, expected {expected}")
+    :class:`MethodSpec`, or a string parsed here); the image of :func:`render_timed`."""
+    return render_timed(scene, spec, frame=frame)[0]
+
+
+class MethodFailure(MethodError):
+    """A method that raised, or returned something that is not an image of its scene: one
+    line naming the method and the rule (an input error of the plugin, exit 2 from the CLI;
+    a failed row in compare and sweeps)."""
+
+
+def _first_line(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    detail = text[0][:300] if text else ""
+    return f"{type(exc).__name__}{': ' + detail if detail else ''}"
+
+
+# Far above any radiance a scene here holds, far below where a squared error or an
+# image's sum overflows float64 (a -1e300 image would make every error metric infinite).
+MAX_PIXEL_MAGNITUDE = 1e100
+
+
+def check_image(name: str, image, shape: tuple[int, int, int]) -> np.ndarray:
+    """The rules every method's result follows: an ndarray of real floats, the scene's
+    ``(H, W, 3)``, every value finite and within
+    :data:`MAX_PIXEL_MAGNITUDE`. Returns ``image``; :class:`MethodFailure` otherwise."""
+    where = f"method {name!r}"
+    if not isinstance(image, np.ndarray):
+        raise MethodFailure(f"{where} returned {type(image).__name__}, expected a numpy array of shape {shape}")
+    if image.dtype.kind != "f":
+        raise MethodFailure(f"{where} returned dtype {image.dtype}, expected real floats (float64 linear RGB)")
+    if image.shape != shape:
+        raise MethodFailure(f"{where} returned shape {image.shape}, expected {shape}")
+    if not np.isfinite(image).all():
+        bad = int(np.count_nonzero(~np.isfinite(image)))
+        raise MethodFailure(f"{where} returned {bad} value(s) that are NaN or infinite; every value must be finite")
+    if image.size and float(np.abs(image).max()) > MAX_PIXEL_MAGNITUDE:
+        raise MethodFailure(f"{where} returned a value of magnitude {float(np.abs(image).max()):.3g}; every value "
+                            f"must be within +-{MAX_PIXEL_MAGNITUDE:g} (so that errors and sums stay finite)")
     return image
 
 
@@ -501,7 +531,7 @@ _warmed: set[str] = set()
 
 def render_timed(scene: Scene, spec: str | MethodSpec, *, frame: int | None = None) -> tuple[np.ndarray, float]:
     """Render and return ``(image, seconds)``; JIT compilation and the budget check are
-    done before the clock starts."""
+    done before the clock starts, the result's checks (:func:`check_image`) after it stops."""
     spec = MethodSpec.parse(spec)
     method, options = spec.method, spec.options
     if frame is not None:
@@ -509,14 +539,20 @@ def render_timed(scene: Scene, spec: str | MethodSpec, *, frame: int | None = No
     check_budget(scene, method, options)  # before the warm-up: a refusal costs nothing
     if method.name not in _warmed:
         if method.warmup is not None:
-            method.warmup()
+            try:
+                method.warmup()
+            except (Exception, RecursionError) as exc:  # noqa: BLE001
+                raise MethodFailure(f"method {method.name!r} failed in its warm-up: {_first_line(exc)}") from None
         _warmed.add(method.name)
     start = time.perf_counter()
-    image = method.render(scene, **dict(options))
+    try:
+        image = method.render(scene, **dict(options))
+    except MethodError:
+        raise
+    except (Exception, RecursionError) as exc:  # noqa: BLE001 - a method's failure is its result
+        raise MethodFailure(f"method {method.name!r} failed: {_first_line(exc)}") from None
     seconds = time.perf_counter() - start
-    if image.shape != scene.shape:
-        raise RuntimeError(f"method {method.name!r} returned shape {image.shape}, expected {scene.shape}")
-    return image, seconds
+    return check_image(method.name, image, scene.shape), seconds
 
 
 def _load_builtin_methods() -> None:
