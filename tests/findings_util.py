@@ -27,7 +27,7 @@ options.supersample = { k = [2, 4] }
 name = "specular"
 reference = "mitsuba:spp=64,seed=0"
 metrics = ["rmse", "highlight_rmse"]
-temporal = ["temporal_bias", "flicker", "highlight_bias", "highlight_energy_flicker"]
+temporal = ["temporal_bias", "flicker", "highlight_bias", "highlight_profile_flicker"]
 scenes = [{generator = "shininess", difficulty = [500], size = 16, frames = 3}]
 methods = ["catmull"]
 options.catmull = { specular = ["none", "amanatides", "toksvig"] }

@@ -116,7 +116,7 @@ def test_highlight_flicker_ranks_alike_in_findings_chart_and_section(out):
     table = table[:table.index("</table>")]
     specular = re.findall(r"<tr><td>([^<]+)</td>", table)
     assert findings == specular and len(findings) == 3
-    chart = _flicker_order_from_chart(out, "specular", "highlight_energy_flicker")
+    chart = _flicker_order_from_chart(out, "specular", "highlight_profile_flicker")
     assert chart == [_gid(label) for label in findings]
     # bias and flicker are two columns, in the findings and in the section
     assert "hl bias (time-avg energy)" in block and "hl bias (time-avg energy)" in table

@@ -38,7 +38,7 @@ def test_section_states_one_ground_truth_and_ranks_by_flicker(out):
     assert "mitsuba:seed=0,spp=64" in section or "mitsuba:spp=64" in section
     results, temporal = read_table(out / "results.parquet"), read_table(out / "temporal.parquet")
     table = specular_table(results, temporal, "specular")
-    flicker = table["highlight_energy_flicker"].to_list()
+    flicker = table["highlight_profile_flicker"].to_list()
     assert flicker == sorted(flicker) and len(flicker) == 3
     shown = re.findall(r"<tr><td>([^<]+)</td>", section[section.index("<table class='specular'"):])
     assert shown[:3] == table["label"].to_list()

@@ -34,6 +34,7 @@ from aaeval.metrics.specular import (
     highlight_bias,
     highlight_energy_bias,
     highlight_energy_flicker,
+    highlight_profile_flicker,
     highlight_flicker,
     highlight_rmse,
 )
@@ -308,6 +309,9 @@ register_metric("highlight_bias", highlight_bias, kind="temporal", title="hl bia
 register_metric("highlight_energy_flicker", highlight_energy_flicker, kind="temporal",
                 title="hl flicker (energy, frame to frame)", fmt=".3e", mask="highlight",
                 summary="std over frames of the highlight energy ratio test / reference (what is left after hl bias)")
+register_metric("highlight_profile_flicker", highlight_profile_flicker, kind="temporal",
+                title="hl flicker (per cross-section)", fmt=".3e", mask="highlight",
+                summary="RMS over the highlight's rows of the std over frames of each row's energy error, / mean row energy")
 register_metric("highlight_flicker", highlight_flicker, kind="temporal", title="hl change error", fmt=".3e",
                 mask="highlight",
                 summary="RMS of the frame-to-frame change of the error over the highlight pixels (a moving bias counts)")

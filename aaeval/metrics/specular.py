@@ -8,6 +8,7 @@ where the ground truth's specular term is significant.
 from __future__ import annotations
 
 import numpy as np
+from scipy import ndimage
 
 from aaeval.metrics.image import masked_rmse
 
@@ -115,7 +116,7 @@ def highlight_flicker(frames_true, frames_test, *, mask) -> float:
     return float(np.sqrt(np.mean(change**2)))
 
 
-def highlight_profile_flicker(frames_true, frames_test, *, mask, axis: int = 1) -> float:
+def highlight_profile_flicker(frames_true, frames_test, *, mask, axis: int = 1, margin: int = 4) -> float:
     """Flicker of the highlight's cross-section energy, relative to the truth's.
 
     Sums the masked pixels along ``axis`` (1: along rows, for a highlight running up and
@@ -132,6 +133,10 @@ def highlight_profile_flicker(frames_true, frames_test, *, mask, axis: int = 1) 
         The region holding one highlight line.
     axis : {0, 1}, optional
         Image axis summed over: 1 sums each row (default), 0 each column.
+    margin : int, optional
+        Pixels the mask is widened by along ``axis``, so that energy a steady blur spreads
+        just outside the highlight still counts in its cross-section (a 1 px Gaussian,
+        truncated at 4 sigma, needs 4).
 
     Returns
     -------
@@ -142,6 +147,10 @@ def highlight_profile_flicker(frames_true, frames_test, *, mask, axis: int = 1) 
     mask = _still_mask(mask, frames_true.shape)
     if axis not in (0, 1):
         raise ValueError(f"axis must be 0 (columns) or 1 (rows), got {axis!r}")
+    if margin > 0:
+        reach = np.zeros((1, 2 * margin + 1) if axis == 1 else (2 * margin + 1, 1), dtype=bool)
+        reach[...] = True
+        mask = ndimage.binary_dilation(mask, structure=reach)
     weight = mask.astype(np.float64)
     if frames_true.ndim == 4:
         weight = weight[..., None]

@@ -44,16 +44,16 @@ QUESTIONS = (
     Question("edges", "Edge aliasing", "results", "edge_rmse", ("edge-aliasing", "khan-figures-moving"),
              what="error over the pixels a visible edge crosses, mean over scenes and frames"),
     Question("highlights", "Highlight aliasing", "results", "highlight_rmse", ("specular",),
-             extra=(("temporal", "highlight_bias"), ("temporal", "highlight_energy_flicker")),
+             extra=(("temporal", "highlight_bias"), ("temporal", "highlight_profile_flicker")),
              what="error over the highlight pixels, mean over scenes and frames; beside it the highlight's bias "
                   "(time-average of its energy error) and flicker (what is left, frame to frame)"),
     Question("temporal", "Temporal stability", "temporal", "flicker", ("edge-aliasing", "khan-figures-moving"),
              extra=(("temporal", "temporal_bias"),),
              what="flicker of the error over each animation (the error minus its time-average), mean over "
                   "animations; beside it the bias (the time-average)"),
-    Question("highlight-flicker", "Temporal stability of highlights", "temporal", "highlight_energy_flicker",
+    Question("highlight-flicker", "Temporal stability of highlights", "temporal", "highlight_profile_flicker",
              ("specular",), extra=(("temporal", "highlight_bias"),),
-             what="frame-to-frame change of the highlight's energy ratio to the truth, mean over animations; "
+             what="spread over frames of each highlight cross-section's energy error, relative, mean over animations; "
                   "beside it the highlight's bias"),
     Question("sums", "Sum invariance", "temporal", "sum_variation", ("invariance", "edge-aliasing"),
              what="(max - min) / mean of the image's intensity sum while the scene moves, mean over animations; "
@@ -141,7 +141,7 @@ def leader_sentence(question: Question, table: pd.DataFrame, group: str) -> str:
     metric = METRICS.get(question.column)
     noise = first.get("noise", math.nan)
     resolvable = (question.table != "speed" and metric is not None and metric.target is None
-                  and question.noise == "reference_noise_rmse" and question.column != "highlight_energy_flicker"
+                  and question.noise == "reference_noise_rmse" and question.column != "highlight_profile_flicker"
                   and math.isfinite(noise) and noise > 0)
     if a == b or (resolvable and abs(b - a) < noise):
         why = "equal" if a == b else f"they differ by less than the ground truth's noise ({noise:.3g})"

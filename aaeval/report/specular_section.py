@@ -41,7 +41,7 @@ from aaeval.specular.tables import cutoff_table, maximum  # noqa: E402
 __all__ = ["specular_section", "specular_table", "plate_scenes", "BIAS", "FLICKER", "ERROR"]
 
 #: The columns of the section: registered metric names.
-ERROR, BIAS, FLICKER = "highlight_rmse", "highlight_bias", "highlight_energy_flicker"
+ERROR, BIAS, FLICKER = "highlight_rmse", "highlight_bias", "highlight_profile_flicker"
 
 
 def plate_scenes() -> list[Path]:
