@@ -51,3 +51,12 @@ def test_markup_in_every_record_field_reaches_the_page_escaped(world, capsys):
     assert "alert(" not in page.replace("alert(&#x27;x&#x27;)", "")
     for f in ("reference_kind", "error", "host", "experiment", "group"):
         assert f"&lt;script&gt;alert(&#x27;x&#x27;)&lt;/script&gt;{f}" in page, f
+
+
+def test_a_fail_above_that_is_not_finite_is_refused(tmp_path, capsys):
+    from cli_util import refused
+    from sweep_util import write_config
+
+    for value in ("nan", "inf"):
+        config = write_config(tmp_path, TINY.replace('metrics = ["rmse"]', f'metrics = ["rmse"]\nfail_above = {value}'))
+        refused(["sweep", str(config), "--out", str(tmp_path / "o"), "--dry-run", "--quiet"], capsys, "fail_above")

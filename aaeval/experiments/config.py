@@ -31,6 +31,8 @@ Scene paths are relative to the config file.
 
 from __future__ import annotations
 
+import math
+
 import hashlib
 import itertools
 import json
@@ -208,8 +210,8 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
 
     fail_above = head.get("fail_above")
     if fail_above is not None and (isinstance(fail_above, bool) or not isinstance(fail_above, (int, float))
-                                   or fail_above <= 0):
-        raise ConfigError(f"{where}: [experiment].fail_above must be a positive number, got {fail_above!r}")
+                                   or not math.isfinite(fail_above) or fail_above <= 0):  # nan never compares above
+        raise ConfigError(f"{where}: [experiment].fail_above must be a finite positive number, got {fail_above!r}")
 
     raw_groups = document.get("groups")
     if not isinstance(raw_groups, list) or not raw_groups:
