@@ -60,3 +60,11 @@ def test_a_fail_above_that_is_not_finite_is_refused(tmp_path, capsys):
     for value in ("nan", "inf"):
         config = write_config(tmp_path, TINY.replace('metrics = ["rmse"]', f'metrics = ["rmse"]\nfail_above = {value}'))
         refused(["sweep", str(config), "--out", str(tmp_path / "o"), "--dry-run", "--quiet"], capsys, "fail_above")
+
+
+def test_a_toml_array_nested_2000_deep_is_refused(tmp_path, capsys):
+    from cli_util import refused
+
+    config = tmp_path / "deep.toml"
+    config.write_text("a = " + "[" * 2000 + "]" * 2000 + "\n")
+    refused(["sweep", str(config), "--out", str(tmp_path / "o"), "--dry-run", "--quiet"], capsys, "too deeply")
