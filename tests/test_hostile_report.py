@@ -68,3 +68,12 @@ def test_a_toml_array_nested_2000_deep_is_refused(tmp_path, capsys):
     config = tmp_path / "deep.toml"
     config.write_text("a = " + "[" * 2000 + "]" * 2000 + "\n")
     refused(["sweep", str(config), "--out", str(tmp_path / "o"), "--dry-run", "--quiet"], capsys, "too deeply")
+
+
+def test_a_billion_repeats_is_refused(tmp_path, capsys):
+    from cli_util import refused
+    from sweep_util import write_config
+
+    for value in ("1e9", "1000000000"):
+        config = write_config(tmp_path, TINY.replace('metrics = ["rmse"]', f'metrics = ["rmse"]\nrepeats = {value}'))
+        refused(["sweep", str(config), "--out", str(tmp_path / "o"), "--dry-run", "--quiet"], capsys, "repeats")

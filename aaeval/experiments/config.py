@@ -295,9 +295,14 @@ def _group(raw: Any, where: str, base: Path, reference: MethodSpec, metrics: tup
     return Group(name, scenes, tuple(specs), frames, reference, metrics, repeats, temporal)
 
 
+#: More timed renders per cell than any timing needs: a typo such as 1e9 would run for days.
+MAX_REPEATS = 1000
+
+
 def _repeats(raw: Any, where: str) -> int:
-    if isinstance(raw, bool) or not isinstance(raw, int) or raw < 1:
-        raise ConfigError(f"{where}: expected a whole number of timed renders >= 1, got {raw!r}")
+    if isinstance(raw, bool) or not isinstance(raw, int) or not 1 <= raw <= MAX_REPEATS:
+        raise ConfigError(f"{where}: expected a whole number of timed renders from 1 to {MAX_REPEATS}, "
+                          f"got {raw!r}")
     return raw
 
 
