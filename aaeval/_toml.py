@@ -28,6 +28,8 @@ def read_toml(path: str | Path, error: type[Exception], what: str) -> tuple[dict
         return tomllib.loads(text), text
     except tomllib.TOMLDecodeError as exc:
         raise error(f"{path}: not valid TOML ({exc})") from None
+    except RecursionError:  # tomllib recurses once per nested array or inline table
+        raise error(f"{path}: {what} nests arrays or tables too deeply for the TOML reader") from None
 
 
 def refuse_unknown_keys(table, allowed: set[str], where: str, error: type[Exception]) -> None:

@@ -31,6 +31,8 @@ Scene paths are relative to the config file.
 
 from __future__ import annotations
 
+import math
+
 import hashlib
 import itertools
 import json
@@ -208,8 +210,8 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
 
     fail_above = head.get("fail_above")
     if fail_above is not None and (isinstance(fail_above, bool) or not isinstance(fail_above, (int, float))
-                                   or fail_above <= 0):
-        raise ConfigError(f"{where}: [experiment].fail_above must be a positive number, got {fail_above!r}")
+                                   or not math.isfinite(fail_above) or fail_above <= 0):  # nan never compares above
+        raise ConfigError(f"{where}: [experiment].fail_above must be a finite positive number, got {fail_above!r}")
 
     raw_groups = document.get("groups")
     if not isinstance(raw_groups, list) or not raw_groups:
@@ -293,9 +295,14 @@ def _group(raw: Any, where: str, base: Path, reference: MethodSpec, metrics: tup
     return Group(name, scenes, tuple(specs), frames, reference, metrics, repeats, temporal)
 
 
+#: More timed renders per cell than any timing needs: a typo such as 1e9 would run for days.
+MAX_REPEATS = 1000
+
+
 def _repeats(raw: Any, where: str) -> int:
-    if isinstance(raw, bool) or not isinstance(raw, int) or raw < 1:
-        raise ConfigError(f"{where}: expected a whole number of timed renders >= 1, got {raw!r}")
+    if isinstance(raw, bool) or not isinstance(raw, int) or not 1 <= raw <= MAX_REPEATS:
+        raise ConfigError(f"{where}: expected a whole number of timed renders from 1 to {MAX_REPEATS}, "
+                          f"got {raw!r}")
     return raw
 
 

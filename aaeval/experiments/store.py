@@ -350,6 +350,11 @@ class SweepStore:
                 raise StoreError(f"{current} is not a folder; a sweep needs it as one (move it away)")
         return folder
 
+    def own_folder(self, name: str) -> Path:
+        """The sweep folder's subfolder ``name``, created if missing and checked to be a real
+        folder (:meth:`_folder`), for other writers of the folder such as the report."""
+        return self._folder(self.root / name)
+
     def writable(self, name: str) -> Path:
         """The path of the sweep folder's own file ``name`` (e.g. ``"results.parquet"``),
         its folders checked (:meth:`_folder`); it is written by replacing it atomically,

@@ -27,7 +27,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from aaeval.imageio import linear_to_srgb8  # noqa: E402
+from aaeval.imageio import atomic_write, linear_to_srgb8  # noqa: E402
 from aaeval.report.style import Styles, ground_truth_style  # noqa: E402
 
 __all__ = ["EXACT_BELOW", "UNIT", "FORMATS", "metric_label", "temporal_bars", "save_figure", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
@@ -65,7 +65,10 @@ def save_figure(fig, path: Path) -> Path:
     _plain_log_axes(fig)
     box = _tight_box(fig)
     for fmt in FORMATS:
-        fig.savefig(path.with_suffix(f".{fmt}"), dpi=_DPI, bbox_inches=box, metadata=_metadata(fmt))
+        # a temporary file moved into place: a link planted at the name is replaced, never written through
+        atomic_write(path.with_suffix(f".{fmt}"),
+                     lambda tmp, fmt=fmt: fig.savefig(tmp, format=fmt, dpi=_DPI, bbox_inches=box,
+                                                      metadata=_metadata(fmt)))
     plt.close(fig)
     return path
 

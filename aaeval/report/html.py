@@ -114,7 +114,7 @@ def reference_statement(rows: pd.DataFrame) -> str:
             level = "deterministic but not exact: its own error is unknown"
         what = "Mitsuba ground truth" if _is_ground_truth(spec) else "NOT the Mitsuba ground truth"
         extra = ", ".join(f"{k} {int(v)}" for k, v in (("spp", spp), ("seed", seed)) if pd.notna(v))
-        parts.append(f"<b>{html.escape(short_label(spec))}</b> ({what}; {kind}{'; ' + extra if extra else ''}; "
+        parts.append(f"<b>{html.escape(short_label(spec))}</b> ({what}; {html.escape(str(kind))}{'; ' + extra if extra else ''}; "
                      f"{level})")
     return "Reference: " + "; ".join(parts) + "."
 
@@ -172,9 +172,8 @@ class _Page:
 
     def __init__(self, store: SweepStore, results: pd.DataFrame, manifest: dict):
         self.store, self.root = store, store.root
-        self.figdir, self.tabdir, self.viewdir = (store.root / d for d in ("figures", "tables", "viewer"))
-        for d in (self.figdir, self.tabdir, self.viewdir):
-            d.mkdir(parents=True, exist_ok=True)
+        # real folders of the sweep folder (a planted link to a folder elsewhere is refused by name)
+        self.figdir, self.tabdir, self.viewdir = (store.own_folder(d) for d in ("figures", "tables", "viewer"))
         self.primary = manifest.get("primary", "rmse")
         self.fail_above = manifest.get("fail_above")
         self.styles = Styles(zip(results.get("method", []), results.get("options", [])))
