@@ -28,7 +28,7 @@ def _shape(scene):
     return (scene.height, scene.width, 3)
 
 BEHAVIOURS = {
-    "raises": lambda scene: (_ for _ in ()).throw(ValueError("the plugin's own bug")),
+    "raises": lambda scene: (_ for _ in ()).throw(KeyError("the plugin's own bug")),
     "none": lambda scene: None,
     "alist": lambda scene: [[0.0]],
     "flat": lambda scene: np.zeros(scene.width * scene.height),
@@ -49,7 +49,7 @@ register_method("bad-recurses", summary="test plugin: recursion", samples=lambda
 '''
 
 RULES = {
-    "raises": "failed: ValueError: the plugin's own bug",
+    "raises": "failed: KeyError: \"the plugin's own bug\"",
     "recurses": "failed: RecursionError",
     "none": "returned NoneType",
     "alist": "returned list",

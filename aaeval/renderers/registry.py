@@ -547,7 +547,7 @@ def render_timed(scene: Scene, spec: str | MethodSpec, *, frame: int | None = No
     start = time.perf_counter()
     try:
         image = method.render(scene, **dict(options))
-    except MethodError:
+    except ValueError:  # a method's own input error (an option the scene cannot take): one line already
         raise
     except (Exception, RecursionError) as exc:  # noqa: BLE001 - a method's failure is its result
         raise MethodFailure(f"method {method.name!r} failed: {_first_line(exc)}") from None
