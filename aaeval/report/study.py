@@ -291,6 +291,22 @@ def _labels(rows) -> list[str]:
     return list(dict.fromkeys(rows["label"]))  # the config's order
 
 
+def _method(rows, name: str, where: str):
+    """The rows of the method ``name``: its label in the tables or its spec as the sweep wrote
+    it (``weiler-atherton:window=8``), so a study names methods as its config does."""
+    from aaeval.renderers import MethodError, MethodSpec
+
+    try:  # the canonical spec: "convex=false" is written "convex=False"
+        canonical = str(MethodSpec.parse(name))
+    except MethodError:
+        canonical = name
+    picked = rows[(rows["label"] == name) | (rows["spec"].astype(str).isin({name, canonical}))]
+    if picked.empty:
+        raise StudyError(f"{where}: {name!r} is not a method of the group (labels: {_labels(rows)}; "
+                         f"specs: {list(dict.fromkeys(rows['spec'].astype(str)))})")
+    return picked
+
+
 def _sums(sweep, item: Mapping, study: Study, where: str) -> list[str]:
     """Per scene and method: the intensity sum's min, max and mean over the frames against
     the reference's sum, its bias and its relative variation."""
@@ -319,9 +335,10 @@ def _sums(sweep, item: Mapping, study: Study, where: str) -> list[str]:
                 f"over {len(ref_sums)} frames (relative variation "
                 f"{_fmt(np.ptp(ref_sums) / abs(ref_sums.mean()), '.1e')}).", ""]
         out += _table(["method", "frames", "sum min", "sum max", "sum mean", "bias of the mean", "(max-min)/mean"], table)
+        swing = (f" Widest swing: `{worst[0]}`, from {_fmt(worst[2])} to {_fmt(worst[3])} (relative variation "
+                 f"{_fmt(worst[1], '.3g')})." if worst[0] not in steady else "")
         out += ["", f"Within {tol:g} (relative) of the reference's sum in every frame: "
-                f"{', '.join(f'`{m}`' for m in steady) or 'no method'}. Widest swing: `{worst[0]}`, from "
-                f"{_fmt(worst[2])} to {_fmt(worst[3])} (relative variation {_fmt(worst[1], '.3g')}).", ""]
+                f"{', '.join(f'`{m}`' for m in steady) or 'no method'}.{swing}", ""]
     return out
 
 
@@ -354,21 +371,23 @@ def _temporal(sweep, item: Mapping, study: Study, where: str) -> list[str]:
     out = _table(["scene", "method", "frames", *titles], table)
     ratio = item.get("ratio")
     if ratio is not None:
-        if not (isinstance(ratio, list) and len(ratio) == 2 and all(r in labels for r in ratio)):
-            raise StudyError(f"{where}.ratio: expected two of the group's methods {labels}, got {ratio!r}")
+        if not (isinstance(ratio, list) and len(ratio) == 2 and all(isinstance(r, str) for r in ratio)):
+            raise StudyError(f"{where}.ratio: expected two of the group's methods, got {ratio!r}")
         m = metrics[0]
+        first, second = (_method(rows, r, f"{where}.ratio") for r in ratio)
         parts, values = [], []
         for scene in scenes:
-            a = rows[(rows["scene"] == scene) & (rows["label"] == ratio[0])][m]
-            b = rows[(rows["scene"] == scene) & (rows["label"] == ratio[1])][m]
+            a = first[first["scene"] == scene][m]
+            b = second[second["scene"] == scene][m]
             if a.empty or b.empty:
                 continue
             value = float(a.iloc[0]) / float(b.iloc[0]) if float(b.iloc[0]) else float("inf")
             values.append(value)
             parts.append(f"`{scene}` {_fmt(value, '.3g')}x")
         if values:
-            out += ["", f"{titles[0]} of `{ratio[0]}` over that of `{ratio[1]}`: {', '.join(parts)} "
-                    f"(from {_fmt(min(values), '.3g')}x to {_fmt(max(values), '.3g')}x)."]
+            spread = f" (from {_fmt(min(values), '.3g')}x to {_fmt(max(values), '.3g')}x)" if len(values) > 1 else ""
+            out += ["", f"{titles[0]} of `{first['label'].iloc[0]}` over that of `{second['label'].iloc[0]}`: "
+                    f"{', '.join(parts)}{spread}."]
     return out + [""]
 
 
@@ -384,20 +403,30 @@ def _errors(sweep, item: Mapping, study: Study, where: str) -> list[str]:
     if missing:
         raise StudyError(f"{where}.metrics: {missing} not measured in the results")
     store = SweepStore(study.results)
-    table, worst = [], {}
+    table, worst, over = [], {}, {}
+    seeded = bool((rows["reference_noise_rmse"].astype(float) > 0).any())
     for scene, of_scene in rows.groupby("scene", sort=False):
-        noise = of_scene["reference_noise_rmse"].astype(float)
+        noise = float(of_scene["reference_noise_rmse"].astype(float).mean())
         for label in _labels(of_scene):
             s = of_scene[of_scene["label"] == label]
             diff = max((_max_abs(store, row) for row in s.itertuples()), default=float("nan"))
             worst.setdefault(label, []).append(diff)
+            first = float(s[metrics[0]].astype(float).mean())
+            ratio = first / noise if noise > 0 else float("nan")
+            over.setdefault(label, []).append(ratio)
             table.append([f"`{scene}`", f"`{label}`", *(_fmt(s[m].astype(float).mean(), ".3e") for m in metrics),
-                          _fmt(diff, ".3e"), _fmt(noise.mean(), ".1e")])
+                          _fmt(diff, ".3e"), _fmt(noise, ".1e"), *([_fmt(ratio, ".2f")] if seeded else [])])
     titles = [METRICS.get_entry(m).title if m in METRICS else m for m in metrics]
-    out = _table(["scene", "method", *(f"{t} (mean)" for t in titles), "max abs diff", "reference noise RMSE"], table)
+    out = _table(["scene", "method", *(f"{t} (mean)" for t in titles), "max abs diff", "reference noise RMSE",
+                  *([f"{titles[0]} / noise"] if seeded else [])], table)
     ranked = sorted(worst, key=lambda k: max(worst[k]))
     out += ["", "Largest absolute difference from the reference over every scene, frame, pixel and channel: "
             + ", ".join(f"`{k}` {_fmt(max(worst[k]), '.2e')}" for k in ranked) + "."]
+    if seeded:  # a seeded truth: which methods it cannot tell from itself (the reference's own noise)
+        factor = float(item.get("noise_factor", 1.5))
+        within = [k for k in over if max(over[k]) <= factor]
+        out += ["", f"{titles[0]} within {factor:g}x the truth's noise on every scene: "
+                f"{', '.join(f'`{k}`' for k in within) or 'no method'}."]
     return out + [""]
 
 
@@ -417,19 +446,16 @@ def _pairs(sweep, item: Mapping, study: Study, where: str) -> list[str]:
     if not isinstance(pairs, list) or not pairs or not all(isinstance(p, list) and len(p) == 2 for p in pairs):
         raise StudyError(f"{where}.pairs: expected a list of [method, method] label pairs")
     rows = _group(sweep.results, item, where)
-    labels = _labels(rows)
     store = SweepStore(study.results)
     table = []
     for a, b in pairs:
-        for label in (a, b):
-            if label not in labels:
-                raise StudyError(f"{where}.pairs: {label!r} is not a method of the group (methods: {labels})")
-        for scene, of_scene in rows.groupby("scene", sort=False):
-            left = of_scene[of_scene["label"] == a].set_index("frame")["key"]
-            right = of_scene[of_scene["label"] == b].set_index("frame")["key"]
+        first, second = _method(rows, a, f"{where}.pairs"), _method(rows, b, f"{where}.pairs")
+        for scene in dict.fromkeys(rows["scene"]):
+            left = first[first["scene"] == scene].set_index("frame")["key"]
+            right = second[second["scene"] == scene].set_index("frame")["key"]
             frames = sorted(set(left.index) & set(right.index))
             diffs = [float(np.max(np.abs(store.load_image(left[k]) - store.load_image(right[k])))) for k in frames]
-            table.append([f"`{a}` vs `{b}`", f"`{scene}`", str(len(frames)), _fmt(max(diffs), ".3e")])
+            table.append([f"`{first['label'].iloc[0]}` vs `{second['label'].iloc[0]}`", f"`{scene}`", str(len(frames)), _fmt(max(diffs), ".3e")])
     return _table(["pair", "scene", "frames", "max abs diff"], table) + [""]
 
 
@@ -489,16 +515,16 @@ def _hidden_lines(sweep, item: Mapping, study: Study, where: str) -> list[str]:
         target = folder / f"{Path(rel).stem}.svg"
         atomic_write(target, lambda tmp, svg=svg: Path(tmp).write_text(svg))
         table.append([f"[`{Path(rel).stem}`](hidden-lines/{target.name})", str(len(scene.polygons)), str(len(edges)),
-                      _fmt(visible, ".2f"), _fmt(outline, ".2f"), f"{visible / outline:.1%}" if outline else "n/a"])
-    return _table(["scene (drawing)", "polygons", "visible segments", "visible length (px)", "outline length (px)",
-                   "visible share"], table) + [""]
+                      _fmt(visible, ".2f"), _fmt(outline, ".2f")])
+    return _table(["scene (drawing)", "polygons", "visible segments", "visible length (px)",
+                   "all outlines (px)"], table) + [""]
 
 
 #: Summary kinds a study.toml may name: title, keys, writer.
 SUMMARIES: dict[str, Summary] = {
     "sums": Summary("Intensity sum per frame", {"group", "tolerance"}, _sums),
     "temporal": Summary("Over the animation", {"group", "metrics", "ratio"}, _temporal),
-    "errors": Summary("Error against the reference", {"group", "metrics"}, _errors),
+    "errors": Summary("Error against the reference", {"group", "metrics", "noise_factor"}, _errors),
     "pairs": Summary("Difference between two methods", {"group", "pairs"}, _pairs),
     "pixel": Summary("One pixel", {"group", "pixel", "frame", "tolerance"}, _pixel),
     "hidden_lines": Summary("Hidden lines", {"scenes"}, _hidden_lines),
