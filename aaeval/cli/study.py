@@ -25,7 +25,9 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    from aaeval.report.study import load_study, run_study
+    import sys
+
+    from aaeval.report.study import IncompleteSweep, load_study, run_study
     from aaeval.imageio import check_outputs
 
     if args.workers is not None and args.workers < 1:
@@ -34,7 +36,11 @@ def run(args) -> int:
     check_outputs({"README": study.readme})
     if not args.no_run:
         check_outputs({"--results": study.results, "--cache": args.cache}, folders=True)
-    section = run_study(study, run=not args.no_run, workers=args.workers, quiet=args.quiet, cache_dir=args.cache)
+    try:
+        section = run_study(study, run=not args.no_run, workers=args.workers, quiet=args.quiet, cache_dir=args.cache)
+    except IncompleteSweep as exc:  # exit 1 as for 'aaeval sweep': a rerun finishes the cells
+        print(f"aaeval study: {exc}", file=sys.stderr)
+        return 1
     if args.show:
         print(section)
     print(f"study: {study.readme} (measured part regenerated from {study.results})")

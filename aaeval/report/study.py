@@ -42,7 +42,7 @@ import numpy as np
 
 from aaeval._toml import read_toml, refuse_unknown_keys
 
-__all__ = ["BEGIN", "END", "StudyError", "Study", "load_study", "run_study", "generate_section",
+__all__ = ["BEGIN", "END", "StudyError", "IncompleteSweep", "Study", "load_study", "run_study", "generate_section",
            "replace_section", "SUMMARIES"]
 
 #: The markers around the generated part of a study's README; nothing outside them is touched.
@@ -54,6 +54,11 @@ RUN_FILE = "study_run.json"
 
 class StudyError(ValueError):
     """A study folder, its ``study.toml`` or its README breaks a rule; the message names the file."""
+
+
+class IncompleteSweep(RuntimeError):
+    """Some cells of the study's sweep could not run (a worker died); they run on the next try.
+    The README is left as it was: a section from part of the cells would misstate the study."""
 
 
 @dataclass(frozen=True)
@@ -194,7 +199,8 @@ def run_study(study: Study, *, run: bool = True, workers: int | None = None, qui
         summary = run_sweep(experiment, study.results, workers=workers, quiet=quiet, cache_dir=cache_dir)
         wall = time.perf_counter() - start
         if summary.lost:
-            raise StudyError(f"{study.results}: {len(summary.lost)} cell(s) could not run; run the study again")
+            raise IncompleteSweep(f"{study.results}: {len(summary.lost)} cell(s) could not run ({summary.lost[0]}); "
+                                  "finished cells are kept, run the study again")
         if summary.ran:  # a rerun that found everything done keeps the time of the run that did the work
             record = {"wall_s": wall, "cells_run": summary.ran, "cells": summary.total, "failed": summary.failed,
                       "executor": summary.executor,
