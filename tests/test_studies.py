@@ -167,6 +167,12 @@ def test_cli_regenerates_without_running(tmp_path, capsys):
     assert err.count("\n") == 1 and "no results.parquet" in err
     assert main(["study", str(folder), "-j", "1", "-q", "--cache", str(tmp_path / "cache")]) == 0
     assert "Generated " in (folder / "README.md").read_text()
+    # a config edited since the sweep: its README is not rewritten from the old results
+    (folder / "config.toml").write_text(CONFIG.replace('"point", ', ""))
+    before = (folder / "README.md").read_text()
+    assert main(["study", str(folder), "--no-run"]) == 2
+    assert "another version" in capsys.readouterr().err
+    assert (folder / "README.md").read_text() == before
 
 
 @pytest.mark.parametrize("readme, message", [
@@ -186,11 +192,14 @@ def test_readme_without_its_markers_is_refused(tmp_path, readme, message):
     (lambda s: s.replace('group = "fence"\n\n[[summaries]]\nkind = "temporal"',
                          'group = "fence"\ncolour = "red"\n\n[[summaries]]\nkind = "temporal"'), "unknown key"),
     (lambda s: s.replace('paper = "E. Catmull, test"\n', ""), "paper"),
+    (lambda s: s.replace('pixel = [1, 2]', 'pixel = [1, 2]\ntolerance = "small"'), "tolerance"),
+    (lambda s: s.replace('pixel = [1, 2]', 'pixel = [1, 2]\nframe = 99'), "frame"),
 ])
 def test_bad_study_file_is_one_line(tmp_path, capsys, edit, message):
     folder = _tiny(tmp_path)
     (folder / "study.toml").write_text(edit(STUDY))
-    assert main(["study", str(folder), "--no-run"]) == 2
+    # run first: a summary's values are checked against the results it reads
+    assert main(["study", str(folder), "-j", "1", "-q", "--cache", str(tmp_path / "cache")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err and "study.toml" in err
 

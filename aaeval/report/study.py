@@ -228,6 +228,11 @@ def generate_section(study: Study, now: datetime | None = None) -> str:
 
     if not (study.results / "results.parquet").is_file():
         raise StudyError(f"{study.results}: no results.parquet; run 'aaeval study {study.folder}' without --no-run")
+    stored = study.results / "experiment.toml"
+    if stored.is_file() and stored.read_bytes() != study.config.read_bytes():
+        # the numbers would describe another version of the study: never written as this one's
+        raise StudyError(f"{study.results}: its sweep ran another version of {study.config}; run "
+                         f"'aaeval study {study.folder}' without --no-run")
     sweep = open_sweep(study.results)
     results = sweep.results
     provenance = read_provenance(study.results) or {}
@@ -283,6 +288,20 @@ def _group(frame, item: Mapping, where: str):
     return rows
 
 
+def _number(item: Mapping, key: str, default: float, where: str) -> float:
+    value = item.get(key, default)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
+        raise StudyError(f"{where}.{key}: expected a finite number >= 0, got {value!r}")
+    return float(value)
+
+
+def _names(item: Mapping, key: str, where: str, default: list[str] | None = None) -> list[str]:
+    value = item.get(key, default)
+    if not isinstance(value, list) or not value or not all(isinstance(m, str) for m in value):
+        raise StudyError(f"{where}.{key}: expected a non-empty list of names, got {value!r}")
+    return value
+
+
 def _fmt(x: float, spec: str = ".4g") -> str:
     if x is None or (isinstance(x, float) and math.isnan(x)):
         return "n/a"
@@ -316,7 +335,7 @@ def _method(rows, name: str, where: str):
 def _sums(sweep, item: Mapping, study: Study, where: str) -> list[str]:
     """Per scene and method: the intensity sum's min, max and mean over the frames against
     the reference's sum, its bias and its relative variation."""
-    tol = float(item.get("tolerance", 1e-9))
+    tol = _number(item, "tolerance", 1e-9, where)
     rows = _group(sweep.results, item, where)
     out: list[str] = []
     for scene, of_scene in rows.groupby("scene", sort=False):
@@ -327,7 +346,8 @@ def _sums(sweep, item: Mapping, study: Study, where: str) -> list[str]:
             s = of_scene[of_scene["label"] == label].sort_values("frame")
             sums = s["intensity_sum"].to_numpy(float)
             truth = ref.loc[s["frame"]].to_numpy(float)
-            dev = np.abs(sums - truth) / np.abs(truth)
+            with np.errstate(divide="ignore", invalid="ignore"):  # a black scene: any sum but 0 is off
+                dev = np.where(truth == 0, np.abs(sums), np.abs(sums - truth) / np.abs(truth))
             variation = float(np.ptp(sums) / abs(sums.mean())) if sums.mean() else float("inf")
             bias = float(sums.mean() / truth.mean() - 1.0)
             table.append([f"`{label}`", str(len(sums)), _fmt(sums.min()), _fmt(sums.max()), _fmt(sums.mean()),
@@ -351,9 +371,7 @@ def _sums(sweep, item: Mapping, study: Study, where: str) -> list[str]:
 def _temporal(sweep, item: Mapping, study: Study, where: str) -> list[str]:
     """Per scene and method: temporal metrics from ``temporal.parquet``; with ``ratio = [A, B]``
     the ratio metric(A) / metric(B) per scene for the first metric."""
-    metrics = item.get("metrics")
-    if not isinstance(metrics, list) or not metrics or not all(isinstance(m, str) for m in metrics):
-        raise StudyError(f"{where}.metrics: expected a non-empty list of temporal metric names")
+    metrics = _names(item, "metrics", where)
     if sweep.temporal.empty:
         raise StudyError(f"{study.results}: no temporal.parquet (the group's animations have not all finished)")
     rows = _group(sweep.temporal, item, where)
@@ -403,7 +421,7 @@ def _errors(sweep, item: Mapping, study: Study, where: str) -> list[str]:
     from aaeval.experiments.store import SweepStore
     from aaeval.metrics import METRICS
 
-    metrics = item.get("metrics", ["rmse"])
+    metrics = _names(item, "metrics", where, ["rmse"])
     rows = _group(sweep.results, item, where)
     missing = [m for m in metrics if m not in rows]
     if missing:
@@ -429,7 +447,7 @@ def _errors(sweep, item: Mapping, study: Study, where: str) -> list[str]:
     out += ["", "Largest absolute difference from the reference over every scene, frame, pixel and channel: "
             + ", ".join(f"`{k}` {_fmt(max(worst[k]), '.2e')}" for k in ranked) + "."]
     if seeded:  # a seeded truth: which methods it cannot tell from itself (the reference's own noise)
-        factor = float(item.get("noise_factor", 1.5))
+        factor = _number(item, "noise_factor", 1.5, where)
         within = [k for k in over if max(over[k]) <= factor]
         out += ["", f"{titles[0]} within {factor:g}x the truth's noise on every scene: "
                 f"{', '.join(f'`{k}`' for k in within) or 'no method'}."]
@@ -473,8 +491,12 @@ def _pixel(sweep, item: Mapping, study: Study, where: str) -> list[str]:
     if not (isinstance(pixel, list) and len(pixel) == 2 and all(isinstance(v, int) for v in pixel)):
         raise StudyError(f"{where}.pixel: expected [row, column]")
     frame = item.get("frame", 0)
-    tol = float(item.get("tolerance", 0.01))
+    if isinstance(frame, bool) or not isinstance(frame, int):
+        raise StudyError(f"{where}.frame: expected a frame number, got {frame!r}")
+    tol = _number(item, "tolerance", 0.01, where)
     rows = _group(sweep.results, item, where)
+    if not (rows["frame"] == frame).any():
+        raise StudyError(f"{where}.frame: frame {frame} is not in the group's results")
     rows = rows[rows["frame"] == frame]
     store = SweepStore(study.results)
     r, c = pixel
