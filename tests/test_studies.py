@@ -94,7 +94,12 @@ pairs = [["weiler-atherton", "catmull"]]
 kind = "pixel"
 group = "fence"
 pixel = [1, 2]
+
+[[summaries]]
+kind = "hidden_lines"
+scenes = ["SCENE"]
 """
+INTERPENETRATING = ROOT / "configs" / "scenes" / "interpenetrating.toml"
 HEAD = "# Tiny study\n\nHand-written: the claim.\n\n## What was measured\n\n"
 TAIL = "\n\nHand-written text after the section stays.\n"
 
@@ -103,7 +108,7 @@ def _tiny(tmp_path: Path) -> Path:
     folder = tmp_path / "tiny"
     folder.mkdir()
     (folder / "config.toml").write_text(CONFIG)
-    (folder / "study.toml").write_text(STUDY)
+    (folder / "study.toml").write_text(STUDY.replace("SCENE", str(INTERPENETRATING)))
     (folder / "README.md").write_text(f"{HEAD}{BEGIN}\nold text\n{END}{TAIL}")
     return folder
 
@@ -154,6 +159,13 @@ def test_generated_section_replaced_from_the_store(tmp_path):
     pixel = _row(text, "`catmull` (reference)")
     reference = store.load_reference(r[r["frame"] == 0]["reference_key"].iloc[0])
     assert [float(v) for v in pixel[1:4]] == pytest.approx(list(reference[1, 2]), abs=1e-4)
+    # hidden lines: the drawing is written beside the README, its segments counted
+    from aaeval.scenes import load_scene
+    from aaeval.weiler_atherton.lines import visible_edges
+
+    svg = (folder / "hidden-lines" / "interpenetrating.svg").read_text()
+    lines = _row(text, "[`interpenetrating`](hidden-lines/interpenetrating.svg)")
+    assert int(lines[2]) == svg.count("<line ") == len(visible_edges(load_scene(INTERPENETRATING)))
     # regenerating from the same results (no run) with the same date changes nothing
     before = text
     run_study(load_study(folder), run=False, now=when)
@@ -197,7 +209,7 @@ def test_readme_without_its_markers_is_refused(tmp_path, readme, message):
 ])
 def test_bad_study_file_is_one_line(tmp_path, capsys, edit, message):
     folder = _tiny(tmp_path)
-    (folder / "study.toml").write_text(edit(STUDY))
+    (folder / "study.toml").write_text(edit(STUDY.replace("SCENE", str(INTERPENETRATING))))
     # run first: a summary's values are checked against the results it reads
     assert main(["study", str(folder), "-j", "1", "-q", "--cache", str(tmp_path / "cache")]) == 2
     err = capsys.readouterr().err
@@ -212,3 +224,36 @@ def test_missing_folder_is_one_line(tmp_path, capsys):
 def test_replace_section_keeps_the_rest():
     text = f"a\n{BEGIN}\nx\n{END}\nb\n"
     assert replace_section(text, "new") == f"a\n{BEGIN}\n\nnew\n\n{END}\nb\n"
+
+
+def test_errors_against_a_seeded_truth_print_its_noise(tmp_path):
+    # Mitsuba on 3 x 3 pixels (about 1 s): the error table divides each error by the truth's noise
+    folder = tmp_path / "seeded"
+    folder.mkdir()
+    fig1 = ROOT / "configs" / "scenes" / "catmull_fig1.toml"
+    (folder / "config.toml").write_text(f"""
+[experiment]
+name = "seeded"
+reference = "mitsuba:spp=64,seed=0"
+metrics = ["rmse"]
+
+[[groups]]
+name = "fig1"
+scenes = ["{fig1}"]
+methods = ["point", "catmull"]
+""")
+    (folder / "study.toml").write_text('[study]\npaper = "E. Catmull"\nseed = "x.txt"\n\n'
+                                       '[[summaries]]\nkind = "errors"\ngroup = "fig1"\n')
+    (folder / "README.md").write_text(f"{BEGIN}\n{END}\n")
+    run_study(load_study(folder), workers=1, cache_dir=tmp_path / "cache")
+    text = (folder / "README.md").read_text()
+    from aaeval.api import open_sweep
+
+    r = open_sweep(folder / "results").results.set_index("label")
+    row = _row(text, "`catmull_fig1`")  # the first row: point
+    assert row[1] == "`point`"
+    noise = float(r.loc["point", "reference_noise_rmse"])
+    assert noise > 0
+    assert float(row[2]) == pytest.approx(r.loc["point", "rmse"], rel=1e-3)
+    assert float(row[5]) == pytest.approx(r.loc["point", "rmse"] / noise, rel=1e-2)
+    assert "within 1.5x the truth's noise" in text
