@@ -74,6 +74,8 @@ seed = "000_test.txt"
 [[summaries]]
 kind = "sums"
 group = "fence"
+steady = ["catmull", "weiler-atherton"]
+unsteady = ["point"]
 
 [[summaries]]
 kind = "temporal"
@@ -89,6 +91,7 @@ group = "fence"
 kind = "pairs"
 group = "fence"
 pairs = [["weiler-atherton", "catmull"]]
+below = 0.0   # never holds (no difference is below 0): a failed expectation is reported
 
 [[summaries]]
 kind = "pixel"
@@ -132,6 +135,10 @@ def test_generated_section_replaced_from_the_store(tmp_path):
     assert text.startswith(HEAD + BEGIN) and text.endswith(END + TAIL)
     assert "old text" not in text
     assert "Generated 2026-01-02 03:04 UTC" in text
+    # expectations: the sums' holds, the impossible bound on the pair does not, and the count says so
+    assert "`catmull`, `weiler-atherton` within 1e-09 of the reference's sum in every frame, `point` not. **Holds**" in text
+    assert "every difference below 0. **Does not hold**" in text
+    assert "1 of 2 hold" in text
     from aaeval.api import open_sweep
 
     sweep = open_sweep(folder / "results")
@@ -206,6 +213,8 @@ def test_readme_without_its_markers_is_refused(tmp_path, readme, message):
     (lambda s: s.replace('paper = "E. Catmull, test"\n', ""), "paper"),
     (lambda s: s.replace('pixel = [1, 2]', 'pixel = [1, 2]\ntolerance = "small"'), "tolerance"),
     (lambda s: s.replace('pixel = [1, 2]', 'pixel = [1, 2]\nframe = 99'), "frame"),
+    (lambda s: s.replace('unsteady = ["point"]', 'unsteady = ["nearest"]'), "not a method of the group"),
+    (lambda s: s.replace('ratio = ["point", "catmull"]', 'ratio_above = 2.0'), "ratio_above"),
 ])
 def test_bad_study_file_is_one_line(tmp_path, capsys, edit, message):
     folder = _tiny(tmp_path)

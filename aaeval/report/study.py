@@ -18,6 +18,12 @@ A study folder holds::
     kind = "sums"                               # see SUMMARIES
     group = "picket-fence"
     title = "Intensity sum per frame"
+    steady = ["catmull"]                        # expectations: the claim, stated before the run
+    unsteady = ["point"]
+
+Expectations (``steady``/``unsteady``, ``agree``/``disagree``, ``within_noise``, ``below``,
+``ratio_above``/``ratio_below``: each summary's ``expects``) are the study's prediction,
+written by hand; whether each holds, and the number it turns on, is read from the results.
 
 Every number written between the markers is read from the results folder (``results.parquet``,
 ``temporal.parquet``, the stored images) or, for ``hidden_lines``, from the drawings the
@@ -127,7 +133,8 @@ def load_study(folder: str | Path, results: str | Path | None = None) -> Study:
         if not isinstance(item, Mapping) or item.get("kind") not in SUMMARIES:
             kind = item.get("kind") if isinstance(item, Mapping) else item
             raise StudyError(f"{where}.kind: {kind!r} is not a summary kind; kinds: {', '.join(sorted(SUMMARIES))}")
-        refuse_unknown_keys(item, SUMMARIES[item["kind"]].keys | {"kind", "title", "note"}, where, StudyError)
+        summary = SUMMARIES[item["kind"]]
+        refuse_unknown_keys(item, summary.keys | summary.expects | {"kind", "title", "note"}, where, StudyError)
     out = Path(results) if results is not None else folder / str(head.get("results", "results"))
     return Study(folder, head["paper"].strip(), head["seed"].strip(), config, readme, out, tuple(summaries))
 
@@ -246,14 +253,19 @@ def generate_section(study: Study, now: datetime | None = None) -> str:
         f"Machine: {machine or 'not recorded'} cores, {provenance.get('executor', 'executor not recorded')}."
         + (f" The sweep ran {run['cells_run']} cells in {run['wall_s']:.1f} s of wall time." if run else ""),
     ]
+    checks: list[bool] = []  # one per expectation of study.toml, in order
+    body: list[str] = []
     for i, item in enumerate(study.summaries):
         summary = SUMMARIES[item["kind"]]
         where = f"{study.folder / 'study.toml'}: summaries[{i}]"
-        lines += ["", f"### {item.get('title', summary.title)}", ""]
+        body += ["", f"### {item.get('title', summary.title)}", ""]
         if item.get("note"):
-            lines += [str(item["note"]).strip(), ""]
-        lines += summary.write(sweep, item, study, where)
-    return "\n".join(lines)
+            body += [str(item["note"]).strip(), ""]
+        body += summary.write(sweep, item, study, where, checks)
+    if checks:
+        lines += ["", f"**Expectations** (the claim as `study.toml` states it, checked against these results): "
+                  f"{sum(checks)} of {len(checks)} hold."]
+    return "\n".join(lines + body)
 
 
 def _run_record(results: Path) -> dict | None:
@@ -274,7 +286,8 @@ def _run_record(results: Path) -> dict | None:
 class Summary:
     title: str
     keys: set[str]  # its keys in study.toml besides kind, title and note
-    write: Callable[..., list[str]]  # write(sweep, item, study, where) -> markdown lines
+    write: Callable[..., list[str]]  # write(sweep, item, study, where, checks) -> markdown lines
+    expects: set[str] = field(default_factory=set)  # its expectation keys (see _verdict)
 
 
 def _group(frame, item: Mapping, where: str):
@@ -300,6 +313,24 @@ def _names(item: Mapping, key: str, where: str, default: list[str] | None = None
     if not isinstance(value, list) or not value or not all(isinstance(m, str) for m in value):
         raise StudyError(f"{where}.{key}: expected a non-empty list of names, got {value!r}")
     return value
+
+
+def _expected(item: Mapping, key: str, rows, where: str) -> list[str]:
+    """The labels of the methods an expectation ``key`` names (none when the key is absent)."""
+    if key not in item:
+        return []
+    return [_method(rows, name, f"{where}.{key}")["label"].iloc[0] for name in _names(item, key, where)]
+
+
+def _verdict(checks: list[bool], expectation: str, ok: bool, measured: str = "") -> list[str]:
+    """One line stating an expectation of study.toml and whether the results bear it out;
+    the expectation is the study's prediction, the verdict and ``measured`` come from the data."""
+    checks.append(bool(ok))
+    return ["", f"Expected: {expectation}. **{'Holds' if ok else 'Does not hold'}**{measured}."]
+
+
+def _quoted(labels: list[str]) -> str:
+    return ", ".join(f"`{m}`" for m in labels)
 
 
 def _fmt(x: float, spec: str = ".4g") -> str:
@@ -332,12 +363,14 @@ def _method(rows, name: str, where: str):
     return picked
 
 
-def _sums(sweep, item: Mapping, study: Study, where: str) -> list[str]:
+def _sums(sweep, item: Mapping, study: Study, where: str, checks: list[bool]) -> list[str]:
     """Per scene and method: the intensity sum's min, max and mean over the frames against
     the reference's sum, its bias and its relative variation."""
     tol = _number(item, "tolerance", 1e-9, where)
     rows = _group(sweep.results, item, where)
+    want_steady, want_moving = _expected(item, "steady", rows, where), _expected(item, "unsteady", rows, where)
     out: list[str] = []
+    steady_per_scene: list[set] = []
     for scene, of_scene in rows.groupby("scene", sort=False):
         ref = of_scene.groupby("frame")["reference_intensity_sum"].first()
         ref_label = of_scene["reference"].iloc[0]
@@ -365,10 +398,16 @@ def _sums(sweep, item: Mapping, study: Study, where: str) -> list[str]:
                  f"{_fmt(worst[1], '.3g')})." if worst[0] not in steady else "")
         out += ["", f"Within {tol:g} (relative) of the reference's sum in every frame: "
                 f"{', '.join(f'`{m}`' for m in steady) or 'no method'}.{swing}", ""]
+        steady_per_scene.append(set(steady))
+    if want_steady or want_moving:
+        ok = all(set(want_steady) <= got and not set(want_moving) & got for got in steady_per_scene)
+        parts = [f"{_quoted(want_steady)} within {tol:g} of the reference's sum in every frame" if want_steady else "",
+                 f"{_quoted(want_moving)} not" if want_moving else ""]
+        out += _verdict(checks, ", ".join(p for p in parts if p), ok) + [""]
     return out
 
 
-def _temporal(sweep, item: Mapping, study: Study, where: str) -> list[str]:
+def _temporal(sweep, item: Mapping, study: Study, where: str, checks: list[bool]) -> list[str]:
     """Per scene and method: temporal metrics from ``temporal.parquet``; with ``ratio = [A, B]``
     the ratio metric(A) / metric(B) per scene for the first metric."""
     metrics = _names(item, "metrics", where)
@@ -394,6 +433,8 @@ def _temporal(sweep, item: Mapping, study: Study, where: str) -> list[str]:
                           *(_fmt(r[m].iloc[0], ".3e") for m in metrics)])
     out = _table(["scene", "method", "frames", *titles], table)
     ratio = item.get("ratio")
+    if ratio is None and {"ratio_above", "ratio_below"} & set(item):
+        raise StudyError(f"{where}: ratio_above / ratio_below bound a ratio: give ratio = [method, method]")
     if ratio is not None:
         if not (isinstance(ratio, list) and len(ratio) == 2 and all(isinstance(r, str) for r in ratio)):
             raise StudyError(f"{where}.ratio: expected two of the group's methods, got {ratio!r}")
@@ -412,10 +453,18 @@ def _temporal(sweep, item: Mapping, study: Study, where: str) -> list[str]:
             spread = f" (from {_fmt(min(values), '.3g')}x to {_fmt(max(values), '.3g')}x)" if len(values) > 1 else ""
             out += ["", f"{titles[0]} of `{first['label'].iloc[0]}` over that of `{second['label'].iloc[0]}`: "
                     f"{', '.join(parts)}{spread}."]
+            if "ratio_above" in item:
+                bound = _number(item, "ratio_above", 0, where)
+                out += _verdict(checks, f"the ratio above {bound:g}x on every scene", min(values) > bound,
+                                f" (smallest {_fmt(min(values), '.3g')}x)")
+            if "ratio_below" in item:
+                bound = _number(item, "ratio_below", 0, where)
+                out += _verdict(checks, f"the ratio below {bound:g}x on every scene", max(values) < bound,
+                                f" (largest {_fmt(max(values), '.3g')}x)")
     return out + [""]
 
 
-def _errors(sweep, item: Mapping, study: Study, where: str) -> list[str]:
+def _errors(sweep, item: Mapping, study: Study, where: str, checks: list[bool]) -> list[str]:
     """Per scene and method: the mean over frames of image metrics, the largest absolute pixel
     difference from the reference (read from the stored images) and the reference's noise."""
     from aaeval.experiments.store import SweepStore
@@ -451,6 +500,12 @@ def _errors(sweep, item: Mapping, study: Study, where: str) -> list[str]:
         within = [k for k in over if max(over[k]) <= factor]
         out += ["", f"{titles[0]} within {factor:g}x the truth's noise on every scene: "
                 f"{', '.join(f'`{k}`' for k in within) or 'no method'}."]
+        want = _expected(item, "within_noise", rows, where)
+        if want:
+            out += _verdict(checks, f"{_quoted(want)} within {factor:g}x the truth's noise on every scene",
+                            set(want) <= set(within))
+    elif "within_noise" in item:
+        raise StudyError(f"{where}.within_noise: the group's reference is not seeded: it has no noise to be within")
     return out + [""]
 
 
@@ -462,7 +517,7 @@ def _max_abs(store, row) -> float:
     return float(np.max(np.abs(image - reference)))
 
 
-def _pairs(sweep, item: Mapping, study: Study, where: str) -> list[str]:
+def _pairs(sweep, item: Mapping, study: Study, where: str, checks: list[bool]) -> list[str]:
     """The largest absolute difference between two methods' stored images, frame by frame."""
     from aaeval.experiments.store import SweepStore
 
@@ -471,7 +526,7 @@ def _pairs(sweep, item: Mapping, study: Study, where: str) -> list[str]:
         raise StudyError(f"{where}.pairs: expected a list of [method, method] label pairs")
     rows = _group(sweep.results, item, where)
     store = SweepStore(study.results)
-    table = []
+    table, largest = [], 0.0
     for a, b in pairs:
         first, second = _method(rows, a, f"{where}.pairs"), _method(rows, b, f"{where}.pairs")
         for scene in dict.fromkeys(rows["scene"]):
@@ -479,11 +534,17 @@ def _pairs(sweep, item: Mapping, study: Study, where: str) -> list[str]:
             right = second[second["scene"] == scene].set_index("frame")["key"]
             frames = sorted(set(left.index) & set(right.index))
             diffs = [float(np.max(np.abs(store.load_image(left[k]) - store.load_image(right[k])))) for k in frames]
-            table.append([f"`{first['label'].iloc[0]}` vs `{second['label'].iloc[0]}`", f"`{scene}`", str(len(frames)), _fmt(max(diffs), ".3e")])
-    return _table(["pair", "scene", "frames", "max abs diff"], table) + [""]
+            table.append([f"`{first['label'].iloc[0]}` vs `{second['label'].iloc[0]}`", f"`{scene}`", str(len(frames)),
+                          _fmt(max(diffs), ".3e")])
+            largest = max(largest, *diffs)
+    out = _table(["pair", "scene", "frames", "max abs diff"], table)
+    if "below" in item:
+        bound = _number(item, "below", 0, where)
+        out += _verdict(checks, f"every difference below {bound:g}", largest < bound, f" (largest {largest:.2e})")
+    return out + [""]
 
 
-def _pixel(sweep, item: Mapping, study: Study, where: str) -> list[str]:
+def _pixel(sweep, item: Mapping, study: Study, where: str, checks: list[bool]) -> list[str]:
     """One pixel of one frame, every method's stored value against the reference's."""
     from aaeval.experiments.store import SweepStore
 
@@ -514,11 +575,16 @@ def _pixel(sweep, item: Mapping, study: Study, where: str) -> list[str]:
     out = [f"Pixel (row {r}, column {c}) of frame {frame} of `{rows['scene'].iloc[0]}`, linear RGB.", ""]
     out += _table(["method", "R", "G", "B", "max abs diff"], table)
     out += ["", f"Within {tol:g} of the reference in every channel: {', '.join(f'`{m}`' for m in agree) or 'none'}; "
-            f"off: {', '.join(f'`{m}`' for m in off) or 'none'}.", ""]
-    return out
+            f"off: {', '.join(f'`{m}`' for m in off) or 'none'}."]
+    want_agree, want_off = _expected(item, "agree", rows, where), _expected(item, "disagree", rows, where)
+    if want_agree or want_off:
+        parts = [f"{_quoted(want_agree)} within {tol:g}" if want_agree else "",
+                 f"{_quoted(want_off)} off" if want_off else ""]
+        out += _verdict(checks, ", ".join(p for p in parts if p), set(want_agree) <= set(agree) and set(want_off) <= set(off))
+    return out + [""]
 
 
-def _hidden_lines(sweep, item: Mapping, study: Study, where: str) -> list[str]:
+def _hidden_lines(sweep, item: Mapping, study: Study, where: str, checks: list[bool]) -> list[str]:
     """Weiler-Atherton's visible edges of each named scene, drawn into ``hidden-lines/`` of the
     study folder: segments kept and their length against every polygon outline's length."""
     from aaeval.imageio import atomic_write
@@ -550,10 +616,10 @@ def _hidden_lines(sweep, item: Mapping, study: Study, where: str) -> list[str]:
 
 #: Summary kinds a study.toml may name: title, keys, writer.
 SUMMARIES: dict[str, Summary] = {
-    "sums": Summary("Intensity sum per frame", {"group", "tolerance"}, _sums),
-    "temporal": Summary("Over the animation", {"group", "metrics", "ratio"}, _temporal),
-    "errors": Summary("Error against the reference", {"group", "metrics", "noise_factor"}, _errors),
-    "pairs": Summary("Difference between two methods", {"group", "pairs"}, _pairs),
-    "pixel": Summary("One pixel", {"group", "pixel", "frame", "tolerance"}, _pixel),
+    "sums": Summary("Intensity sum per frame", {"group", "tolerance"}, _sums, {"steady", "unsteady"}),
+    "temporal": Summary("Over the animation", {"group", "metrics", "ratio"}, _temporal, {"ratio_above", "ratio_below"}),
+    "errors": Summary("Error against the reference", {"group", "metrics", "noise_factor"}, _errors, {"within_noise"}),
+    "pairs": Summary("Difference between two methods", {"group", "pairs"}, _pairs, {"below"}),
+    "pixel": Summary("One pixel", {"group", "pixel", "frame", "tolerance"}, _pixel, {"agree", "disagree"}),
     "hidden_lines": Summary("Hidden lines", {"scenes"}, _hidden_lines),
 }
