@@ -208,8 +208,7 @@ def test_readme_without_its_markers_is_refused(tmp_path, readme, message):
 
 @pytest.mark.parametrize("edit, message", [
     (lambda s: s.replace('kind = "sums"', 'kind = "averages"'), "not a summary kind"),
-    (lambda s: s.replace('group = "fence"\n\n[[summaries]]\nkind = "temporal"',
-                         'group = "fence"\ncolour = "red"\n\n[[summaries]]\nkind = "temporal"'), "unknown key"),
+    (lambda s: s.replace('unsteady = ["point"]', 'unsteady = ["point"]\ncolour = "red"'), "unknown key"),
     (lambda s: s.replace('paper = "E. Catmull, test"\n', ""), "paper"),
     (lambda s: s.replace('pixel = [1, 2]', 'pixel = [1, 2]\ntolerance = "small"'), "tolerance"),
     (lambda s: s.replace('pixel = [1, 2]', 'pixel = [1, 2]\nframe = 99'), "frame"),
