@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import time
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
@@ -265,7 +266,7 @@ def generate_section(study: Study, now: datetime | None = None) -> str:
     if checks:
         lines += ["", f"**Expectations** (the claim as `study.toml` states it, checked against these results): "
                   f"{sum(checks)} of {len(checks)} hold."]
-    return "\n".join(lines + body)
+    return re.sub(r"\n{3,}", "\n\n", "\n".join(lines + body))  # one blank line between blocks
 
 
 def _run_record(results: Path) -> dict | None:
