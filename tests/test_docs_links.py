@@ -1,4 +1,4 @@
-"""Every relative link of README.md and docs/*.md resolves in the repository: markdown
+"""Every relative link of README.md, docs/*.md and the studies' READMEs (experiments/) resolves in the repository: markdown
 links (with their #anchors) and inline code spans naming a file or folder of the repository."""
 
 from __future__ import annotations
@@ -9,10 +9,10 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md")), *sorted((ROOT / "experiments").rglob("README.md"))]
 _LINK = re.compile(r"(?<!!)\[[^\]]*\]\(([^)\s]+)\)|!\[[^\]]*\]\(([^)\s]+)\)")
 _CODE = re.compile(r"`([^`\s]+)`")
-_TOP = ("aaeval/", "configs/", "docs/", "scripts/", "tests/", "benchmarks/", ".ci/")
+_TOP = ("aaeval/", "configs/", "docs/", "scripts/", "tests/", "benchmarks/", ".ci/", "experiments/")
 
 
 def _prose(text: str) -> str:

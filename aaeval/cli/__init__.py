@@ -25,6 +25,7 @@ COMMANDS = [
     "aaeval.cli.compare",
     "aaeval.cli.sweep",
     "aaeval.cli.report",
+    "aaeval.cli.study",
     "aaeval.cli.hidden_lines",
     "aaeval.cli.import_content",
 ]
