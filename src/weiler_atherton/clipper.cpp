@@ -16,10 +16,7 @@ namespace {
 constexpr double TWO_PI = 2.0 * 3.141592653589793;
 constexpr i64 SMALL_SORT = 24;
 
-struct Crossing {
-    bool hit;
-    double x, y;
-};
+struct Crossing { bool hit; double x, y; };
 
 // Where two segments cross strictly inside both (each end farther than eps from the
 // other line); hit false otherwise.
@@ -92,8 +89,7 @@ bool contains(const std::vector<i64>& sorted, i64 key) {
 void snap(const ShapeView& s, const ShapeView& c, double eps, std::vector<double>& ox, std::vector<double>& oy) {
     ox.assign(c.x, c.x + c.n);
     oy.assign(c.y, c.y + c.n);
-    // only a clip vertex within eps of the subject's box can meet a subject vertex (the
-    // same snaps, without comparing every pair)
+    // only a clip vertex within eps of the subject's box can snap (the same snaps)
     Box sb = shape_bbox(s.x, s.y, s.n);
     for (i64 j = 0; j < c.n; ++j) {
         double qx = c.x[j], qy = c.y[j];
@@ -121,9 +117,8 @@ void points(const ShapeView& s, const ShapeView& c, double eps, std::vector<doub
     py.assign(s.y, s.y + s.n);
     px.insert(px.end(), c.x, c.x + c.n);
     py.insert(py.end(), c.y, c.y + c.n);
-    // the clip edges whose boxes meet the subject's box grown by eps, in contour order:
-    // only these can cross a subject edge (the same crossings, in the same order, without
-    // testing every pair of edges)
+    // only clip edges whose boxes meet the subject's (grown by eps) can cross it: the
+    // same crossings, in the same order, without testing every pair of edges
     Box sb = shape_bbox(s.x, s.y, s.n);
     std::vector<i64> near;
     for (i64 rc = 0; rc + 1 < c.nst; ++rc) {
@@ -223,9 +218,8 @@ i64 split(const i64* vid, const i64* labels, const i64* starts, i64 nst, const s
             double p0x = ux[i0], p0y = uy[i0], p1x = ux[i1], p1y = uy[i1];
             double x0 = pmin(p0x, p1x), x1 = pmax(p0x, p1x), y0 = pmin(p0y, p1y), y1 = pmax(p0y, p1y);
             if (other && (x0 > other->x1 + eps || x1 < other->x0 - eps || y0 > other->y1 + eps || y1 < other->y0 - eps)) {
-                // a clip edge away from the subject's box: no point of the subject nor any
-                // crossing lies on it, and what it is cut into lies outside the subject
-                // and is dropped whole (classify), so it is left as it is
+                // a clip edge away from the subject's box: no subject point or crossing is
+                // on it, and classify drops it whole however it is cut: left as it is
                 out.ids.push_back(i0);
                 out.lab.push_back(labels[v]);
                 continue;
@@ -522,7 +516,7 @@ void classify(const IdShape& s, const IdShape& c, const std::vector<double>& ux,
             if (a == b || contains(s_keys, a * nu + b) || contains(s_keys, b * nu + a)) continue;
             double mx = 0.5 * (ux[a] + ux[b]), my = 0.5 * (uy[a] + uy[b]);
             if (mx < sb.x0 || mx > sb.x1 || my < sb.y0 || my > sb.y1) continue;  // outside the subject's box: winding 0
-            if (s_index.winding(0.5 * (ux[a] + ux[b]), 0.5 * (uy[a] + uy[b])) > 0) {
+            if (s_index.winding(mx, my) > 0) {
                 ins.add(a, b, c.lab[v]);
                 outs.add(b, a, c.lab[v]);  // walked backwards: it bounds the outside part
             }

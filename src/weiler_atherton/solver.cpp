@@ -426,13 +426,11 @@ struct Solver {
         }
     }
 
-    // Piece pid, or when it has more than SPLIT_VERTICES vertices its halves, split in
-    // two across the middle of its box's longer side, and so on (the parts appended to
-    // out). Clipping behind many small polygons leaves a large piece (a background) one
-    // polygon with a hole for each, and every later clip there had to take in all of it;
-    // halved, a clip meets only the halves under it, and these stay small. This is the
-    // paper's screen subdivision done piece by piece, where a piece grows; the cut edges
-    // are labelled EDGE_CUT, as window borders are.
+    // Piece pid, or if it has over SPLIT_VERTICES vertices its halves across the middle
+    // of its box's longer side, and so on (appended to out). Behind many small polygons a
+    // large piece (a background) becomes one polygon with a hole for each, and every later
+    // clip there took in all of it; halved, a clip meets only the halves under it. The
+    // paper's screen subdivision, piece by piece; cut edges are EDGE_CUT, as window borders.
     void halve(i64 pid, std::vector<i64>& out) {
         ShapeView s = arena.piece(pid);
         Box b = arena.box[pid];
@@ -447,10 +445,7 @@ struct Solver {
         const i64 hl[4] = {EDGE_CUT, EDGE_CUT, EDGE_CUT, EDGE_CUT}, hs[2] = {0, 4};
         auto [a, c] = clip_arrays(s, ShapeView{hx, hy, hl, hs, 4, 2}, eps);
         i64 source = arena.source(pid);
-        if (a.st.size() < 2 || c.st.size() < 2) {  // the line missed it (on a whole pixel line)
-            out.push_back(pid);
-            return;
-        }
+        if (a.st.size() < 2 || c.st.size() < 2) return out.push_back(pid);  // the line missed it
         i64 ka = arena.add(a, source), kc = arena.add(c, source);
         halve(ka, out);
         halve(kc, out);
@@ -468,8 +463,9 @@ struct Solver {
                        const std::array<double, 4>& win, const i64* group) {
         std::vector<i64> position(npoly, -1);
         for (i64 p = 0; p < n; ++p) position[order[p]] = p;
-        std::vector<i64> pos;    // per piece: depth position of its polygon while it waits, -1 once taken
-        std::vector<i64> stamp;  // per piece: the last clip polygon that saw it (dedup across buckets)
+        // per piece: its polygon's depth position while it waits (-1 once taken), and the
+        // last clip polygon that saw it (met once though in many buckets)
+        std::vector<i64> pos, stamp;
         auto grow = [&]() {
             if ((i64)pos.size() < arena.size()) {
                 pos.resize(arena.size(), -1);
