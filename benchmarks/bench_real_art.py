@@ -28,6 +28,7 @@ from aaeval._toml import read_toml
 from aaeval.renderers import render_timed
 from aaeval.scenes.format import SceneError, parse_scene
 from aaeval.scenes.generate import illustration_like, random_triangles
+from smoke import SMOKE, smallest
 
 CONTENT = Path(__file__).resolve().parents[1] / "configs" / "scenes" / "content"
 METHODS = ["catmull:threads=1", "weiler-atherton", "weiler-atherton:indexed=false", "skia", "blend2d"]
@@ -51,10 +52,13 @@ def enlarged(name: str, side: int = 512):
 
 
 def scenes(sizes):
-    out = [("illustration", enlarged("illustration")), ("icons", enlarged("icons")), ("map", enlarged("map")),
-           ("pangram", enlarged("pangram", 0))]
-    out += [(f"tiger-like seed {s}, {n} layers", illustration_like(s, n=n)) for s in (1, 2) for n in sizes]
-    out.append(("random 512x512, 2000x40", random_triangles(2000, 512, 512, size=40.0, seed=1)))
+    big = 64 if SMOKE else 512
+    out = [("illustration", enlarged("illustration", big)), ("icons", enlarged("icons", big)),
+           ("map", enlarged("map", big)), ("pangram", enlarged("pangram", 0))]
+    side = 64 if SMOKE else 512
+    out += [(f"tiger-like seed {s}, {n} layers", illustration_like(s, n=n, size=side)) for s in (1, 2) for n in sizes]
+    n = 20 if SMOKE else 2000
+    out.append((f"random {side}x{side}, {n}x40", random_triangles(n, side, side, size=40.0, seed=1)))
     return out
 
 
@@ -64,7 +68,7 @@ def main() -> None:
     parser.add_argument("--methods", nargs="+", default=METHODS)
     parser.add_argument("--sizes", nargs="+", type=int, default=[100, 339, 1000])
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results"))
-    args = parser.parse_args()
+    args = smallest(parser.parse_args(), repeats=1, sizes=[5])
     args.out.mkdir(parents=True, exist_ok=True)
     rows = []
     print(f"median of {args.repeats} interleaved repeats after warm-up; spread = min-max; ratio to catmull:threads=1")
