@@ -139,3 +139,34 @@ def test_the_first_broken_pair_is_named():
     document["polygons"][0]["holes"].append(square(2.25, 5.25, 0.5))
     with pytest.raises(SceneError, match=r"holes\[400\]: hole overlaps holes\[0\]"):
         parse_scene(document, source="s")
+
+
+# --- large files --------------------------------------------------------------------
+
+
+def test_a_large_file_reads_as_tomllib_reads_it_and_fails_in_its_words(tmp_path):
+    # files of FAST_READER_BYTES and more go through rtoml when it is installed; the
+    # document must be tomllib's, and any error tomllib's one line
+    import tomllib
+
+    from aaeval._toml import FAST_READER_BYTES, read_toml
+
+    body = "".join(f'[[polygons]]\ncolor = [0.5, 0.25, 1]\nvertices = [[{k}, 0, 1e-3], [{k + 1}.5, 0, -2], [{k}, 1, 3]]\n'
+                   for k in range(FAST_READER_BYTES // 60))
+    good = tmp_path / "good.toml"
+    good.write_text("[image]\nwidth = 8\nheight = 8\n" + body)
+    assert good.stat().st_size >= FAST_READER_BYTES
+    assert read_toml(good, SceneError, "scene file")[0] == tomllib.loads(good.read_text())
+    for bad_tail in ("x = = 1\n", "a = " + "[" * 3000 + "]" * 3000 + "\n", "color = [0, 0, 0]\n"):  # a repeated key
+        bad = tmp_path / "bad.toml"
+        bad.write_text(good.read_text() + bad_tail)
+        with pytest.raises(SceneError) as got:
+            read_toml(bad, SceneError, "scene file")
+        try:
+            tomllib.loads(bad.read_text())
+            words = "nests arrays or tables too deeply"
+        except tomllib.TOMLDecodeError as exc:
+            words = str(exc)
+        except RecursionError:
+            words = "nests arrays or tables too deeply"
+        assert words in str(got.value)
