@@ -39,6 +39,7 @@ __all__ = [
     "register_generator",
     "generate_scene",
     "fan",
+    "illustration_like",
     "picket_fence",
     "random_polygons",
     "random_triangles",
@@ -235,6 +236,61 @@ def coplanar_stack(n: int = 3000, *, size: int = 12) -> Scene:
     polygons = [{"color": [i / n, 0.5, 0.25], "vertices": [[-1, -1, 2.0], [2.5 * size, -1, 2.0], [-1, 2.5 * size, 2.0]]}
                 for i in range(n)]
     return _scene(size, size, polygons, source=f"coplanar_stack(n={n})")
+
+
+def _blob(rng, centre, radius, k, wobble):
+    t = np.sort(rng.uniform(0, 2 * math.pi, 1)) + 2 * math.pi * np.arange(k) / k
+    r = np.ones(k)
+    for m in range(2, 6):
+        r += wobble / m * np.sin(m * t + rng.uniform(0, 2 * math.pi))
+    r *= radius
+    return centre + np.column_stack([r * np.cos(t), r * np.sin(t)]), r.min()
+
+
+def _stroke(rng, size, k):
+    start = rng.uniform(0, size, 2)
+    heading = rng.uniform(0, 2 * math.pi)
+    turn = rng.uniform(-0.02, 0.02)
+    step = rng.uniform(1.5, 4.0)
+    width = rng.uniform(0.6, 3.0)
+    angles = heading + turn * np.arange(k)  # radius of curvature step/|turn| >= 75 px > width
+    centre = start + np.cumsum(step * np.column_stack([np.cos(angles), np.sin(angles)]), axis=0)
+    normal = np.column_stack([-np.sin(angles), np.cos(angles)])
+    taper = width * np.sin(np.linspace(0.05, math.pi - 0.05, k))
+    return np.concatenate([centre + taper[:, None] * normal, (centre - taper[:, None] * normal)[::-1]])
+
+
+def illustration_like(seed: int = 0, n: int = 339, size: int = 512, stroke_share: float = 0.3) -> Scene:
+    """A full-size illustration like the Ghostscript tiger, from a seed (the tiger itself
+    is not shipped): a white background and ``n`` flat layers painted back to front, most
+    of them smooth blobs of 24-160 vertices (curves flattened as an SVG import would), a
+    fifth of those with a hole, and ``stroke_share`` of them thin tapered curved strokes
+    of 40-120 vertices like the tiger's whiskers. A blob is star-shaped about its centre
+    and a stroke is a centre line offset by less than its radius of curvature, so every
+    outline is simple; a hole is a smaller star-shaped ring within half the blob's inner
+    radius. Seed 0 is the scene profiled while making Weiler-Atherton's indexed loop;
+    seeds 1 and 2 are held out (``benchmarks/bench_real_art.py``).
+    """
+    rng = np.random.default_rng(seed)
+    polygons = [{"color": [1.0, 1.0, 1.0],
+                 "vertices": [[0, 0, n + 1], [size, 0, n + 1], [size, size, n + 1], [0, size, n + 1]]}]
+    for i in range(n):
+        z = float(n - i)  # later layers nearer: smaller depth
+        color = rng.uniform(0, 1, 3).tolist()
+        if rng.uniform() < stroke_share:
+            xy = _stroke(rng, size, int(rng.integers(20, 60)))
+            polygons.append({"color": color, "vertices": np.column_stack([xy, np.full(len(xy), z)]).tolist()})
+            continue
+        radius = size * rng.uniform(0.02, 0.18) * (1.0 - 0.6 * i / n)  # big shapes behind, details in front
+        k = int(rng.integers(24, 161))
+        centre = rng.uniform(0, size, 2)
+        xy, rmin = _blob(rng, centre, radius, k, rng.uniform(0.05, 0.35))
+        poly = {"color": color, "vertices": np.column_stack([xy, np.full(k, z)]).tolist()}
+        if rng.uniform() < 0.2:  # a hole about the blob's own centre, inside half its inner radius
+            hole, _ = _blob(rng, centre, 0.5 * rmin, int(rng.integers(12, 61)), 0.2)
+            poly["holes"] = [np.column_stack([hole, np.full(len(hole), z)]).tolist()]
+        polygons.append(poly)
+    return _scene(size, size, polygons, source=f"illustration_like(seed={seed}, n={n})")
 
 
 # --- helpers ------------------------------------------------------------------------

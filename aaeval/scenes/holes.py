@@ -16,12 +16,14 @@ show seams or stack coplanar nudges.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from itertools import chain
 from typing import Any, Mapping
 
 import numpy as np
 
 from aaeval.scenes.simplicity import rings_contact
 from aaeval.scenes.format import (
+    _check_planar,
     MAX_COORDINATE,
     PLANARITY_RTOL,
     Polygon,
@@ -87,6 +89,9 @@ def polygons_with_holes(raw_polygons: list, source: str) -> tuple[tuple[Polygon,
     A file without ``holes`` gives exactly the polygons it always gave (index = file
     position) and no :class:`HoledPolygon`.
     """
+    plain = _plain_polygons(raw_polygons, source)
+    if plain is not None:
+        return plain, ()
     polygons: list[Polygon] = []
     holed: list[HoledPolygon] = []
     for i, raw in enumerate(raw_polygons):
@@ -104,6 +109,98 @@ def polygons_with_holes(raw_polygons: list, source: str) -> tuple[tuple[Polygon,
         )
         holed.append(HoledPolygon((polygon.vertices, *holes), polygon.color, polygon.plane, i, first, len(pieces)))
     return tuple(polygons), tuple(holed)
+
+
+# A scene of many small polygons without holes (100,000 triangles) is checked polygon by
+# polygon array-wide: the same rules, in numpy over (polygons, k, 3) stacks, one stack a
+# vertex count k. Up to 7 vertices only, where numpy sums the k terms of a mean or of
+# Newell's normal one after another as the single-polygon code does (pairwise summation
+# starts at 8 terms), so every plane has the bits parse_polygon gives it (tested).
+PLAIN_BATCH_MIN = 64
+PLAIN_BATCH_MAX_VERTICES = 7
+_PLAIN_KEYS = {"color", "vertices"}
+
+
+def _plain_polygons(raw_polygons: list, source: str) -> tuple[Polygon, ...] | None:
+    """Every polygon checked at once, or None when the batch does not apply (fewer than
+    PLAIN_BATCH_MIN polygons, holes, over PLAIN_BATCH_MAX_VERTICES vertices, anything not
+    plain lists of numbers) or when a polygon breaks a rule: the polygon-by-polygon path
+    then runs and names the first broken rule in the file's words."""
+    n = len(raw_polygons)
+    if n < PLAIN_BATCH_MIN:
+        return None
+    if not all(type(r) is dict and r.keys() == _PLAIN_KEYS for r in raw_polygons):
+        return None
+    verts = [r["vertices"] for r in raw_polygons]
+    colors = [r["color"] for r in raw_polygons]
+    if not all(type(v) is list and 3 <= len(v) <= PLAIN_BATCH_MAX_VERTICES for v in verts):
+        return None
+    if not all(type(c) is list and len(c) == 3 for c in colors):
+        return None
+    points = list(chain.from_iterable(verts))  # (iterated in C: a Python loop over 300,000 points took a second)
+    if set(map(type, points)) != {list} or set(map(len, points)) != {3}:
+        return None
+    if not set(map(type, chain.from_iterable(points))) | set(map(type, chain.from_iterable(colors))) <= {float, int}:
+        return None
+    try:
+        color = np.array(colors, dtype=np.float64)
+    except OverflowError:
+        return None
+    if not (np.isfinite(color).all() and (color >= 0.0).all() and (color <= 1.0).all()):
+        return None
+    lengths = np.fromiter((len(v) for v in verts), dtype=np.int64, count=n)
+    vertices: list = [None] * n
+    planes = np.empty((n, 3))
+    one_by_one = []  # fits too thin for the batch's SVD test, or outlines of 4+ vertices to check for crossings
+    for k in np.unique(lengths).tolist():
+        idx = np.flatnonzero(lengths == k)
+        try:
+            v = np.array([verts[i] for i in idx.tolist()], dtype=np.float64)  # (m, k, 3)
+        except OverflowError:
+            return None
+        if not np.isfinite(v).all() or np.abs(v).max() > MAX_COORDINATE:
+            return None
+        if np.all(v == np.roll(v, -1, axis=1), axis=2).any():  # a repeated vertex
+            return None
+        centre = v.mean(axis=1)
+        centred = v - centre[:, None, :]
+        size = np.ptp(v, axis=1).max(axis=1)
+        if k == 3:
+            # the fit is thinner than 1e-12 of its length only for a sliver; a triangle of
+            # area above 1e-6 size^2 is far from that, and the rest (few) take the
+            # single-polygon test, SVD and exact collinearity (an SVD of each of 100,000
+            # triangles was a second)
+            cross = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+            one_by_one.extend(idx[np.sqrt(np.einsum("mj,mj->m", cross, cross)) <= 1e-6 * size * size].tolist())
+        else:
+            _, sing, axes = np.linalg.svd(centred, full_matrices=False)
+            thin = (size == 0.0) | (sing[:, 1] <= 1e-12 * sing[:, 0])
+            distance = np.abs(np.einsum("mkj,mj->mk", centred, axes[:, 2, :]))
+            if (distance.max(axis=1)[~thin] > PLANARITY_RTOL * size[~thin]).any():
+                return None
+            one_by_one.extend(idx.tolist())
+        # the plane as _plane_of computes it (Newell's normal about the mean)
+        nxt = np.roll(centred, -1, axis=1)
+        normal = np.stack([
+            np.sum((centred[:, :, 1] - nxt[:, :, 1]) * (centred[:, :, 2] + nxt[:, :, 2]), axis=1),
+            np.sum((centred[:, :, 2] - nxt[:, :, 2]) * (centred[:, :, 0] + nxt[:, :, 0]), axis=1),
+            np.sum((centred[:, :, 0] - nxt[:, :, 0]) * (centred[:, :, 1] + nxt[:, :, 1]), axis=1),
+        ], axis=1)
+        extent = np.ptp(v[:, :, :2], axis=1).max(axis=1)
+        edge_on = np.abs(normal[:, 2]) <= 1e-12 * np.maximum(extent, 1.0) ** 2
+        with np.errstate(divide="ignore", invalid="ignore"):
+            a, b = -normal[:, 0] / normal[:, 2], -normal[:, 1] / normal[:, 2]
+            plane = np.stack([a, b, centre[:, 2] - a * centre[:, 0] - b * centre[:, 1]], axis=1)
+        plane[edge_on] = np.nan
+        planes[idx] = plane
+        for i, row in zip(idx.tolist(), v):
+            vertices[i] = row
+    for i in sorted(one_by_one):  # the rules the batch leaves to the single-polygon checks
+        try:
+            check_simple(_check_planar(vertices[i], ""), "")
+        except SceneError:
+            return None
+    return tuple(map(Polygon, vertices, color, range(n), planes))
 
 
 # --- checks -------------------------------------------------------------------------
@@ -152,10 +249,31 @@ def _check_rings_apart(flat: list[np.ndarray], where: str) -> None:
 
     Rings that neither cross nor touch are nested or disjoint, so one vertex decides:
     a hole's first vertex must lie inside the outer ring and outside every other hole.
+
+    The rules are those of every pair (hole a, ring b < a), and the error is the first
+    broken pair in that order; but only pairs whose boxes overlap can break one (rings with
+    disjoint boxes neither meet nor hold each other's vertices), and one sweep over all the
+    rings (``rings_contact``) says whether any two meet at all. So a valid polygon costs a
+    sweep, one point-in-ring test per hole against the outer ring, and a test per pair of
+    holes with overlapping boxes, found by sorting the boxes: 2,000 holes took minutes
+    pair by pair. Only a polygon that breaks a rule is walked pair by pair, over those
+    pairs, to name the first.
     """
+    if len(flat) < 2:
+        return
+    boxes = np.array([np.concatenate([r[:, :2].min(axis=0), r[:, :2].max(axis=0)]) for r in flat])
+    partners = _overlapping_boxes(boxes[1:])  # among the holes (hole indices from 0)
+    firsts = np.array([r[0, :2] for r in flat[1:]])
+    inside_outer = np.concatenate([points_inside(firsts[k : k + 256], flat[0]) for k in range(0, len(firsts), 256)])
+    nested = any(_inside(flat[1 + a][0], flat[1 + b]) or _inside(flat[1 + b][0], flat[1 + a]) for a, b in partners)
+    if inside_outer.all() and not nested and rings_contact(flat) is None:
+        return
+    later: dict[int, list[int]] = {}
+    for a, b in partners:
+        later.setdefault(a + 1, []).append(b + 1)
     names = ["the outer ring"] + [f"holes[{h}]" for h in range(len(flat) - 1)]
     for a in range(1, len(flat)):
-        for b in range(a):
+        for b in [0, *sorted(later.get(a, []))]:
             meet = _rings_meet(flat[a], flat[b])
             if meet is not None:
                 raise SceneError(
@@ -166,6 +284,21 @@ def _check_rings_apart(flat: list[np.ndarray], where: str) -> None:
                 raise SceneError(f"{where}.{names[a]}: hole lies outside the outer ring")
             if b > 0 and (inside or _inside(flat[b][0], flat[a])):
                 raise SceneError(f"{where}.{names[a]}: hole overlaps {names[b]} (one lies inside the other)")
+
+
+def _overlapping_boxes(boxes: np.ndarray) -> list[tuple[int, int]]:
+    """Pairs ``(a, b)``, ``b < a``, of boxes (x0, y0, x1, y1) that overlap or touch: sorted
+    by x0, each box meets only those after it that start before it ends."""
+    order = np.argsort(boxes[:, 0], kind="stable")
+    x0 = boxes[order, 0]
+    ends = np.searchsorted(x0, boxes[order, 2], side="right")
+    pairs = []
+    for i in range(len(order)):
+        p = order[i]
+        for q in order[i + 1 : ends[i]].tolist():
+            if boxes[q, 1] <= boxes[p, 3] and boxes[p, 1] <= boxes[q, 3]:
+                pairs.append((max(p, q), min(p, q)))
+    return pairs
 
 
 def _rings_meet(p: np.ndarray, q: np.ndarray) -> tuple[int, int] | None:

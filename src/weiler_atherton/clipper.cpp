@@ -16,10 +16,7 @@ namespace {
 constexpr double TWO_PI = 2.0 * 3.141592653589793;
 constexpr i64 SMALL_SORT = 24;
 
-struct Crossing {
-    bool hit;
-    double x, y;
-};
+struct Crossing { bool hit; double x, y; };
 
 // Where two segments cross strictly inside both (each end farther than eps from the
 // other line); hit false otherwise.
@@ -92,8 +89,11 @@ bool contains(const std::vector<i64>& sorted, i64 key) {
 void snap(const ShapeView& s, const ShapeView& c, double eps, std::vector<double>& ox, std::vector<double>& oy) {
     ox.assign(c.x, c.x + c.n);
     oy.assign(c.y, c.y + c.n);
+    // only a clip vertex within eps of the subject's box can snap (the same snaps)
+    Box sb = shape_bbox(s.x, s.y, s.n);
     for (i64 j = 0; j < c.n; ++j) {
         double qx = c.x[j], qy = c.y[j];
+        if (qx < sb.x0 - eps || qx > sb.x1 + eps || qy < sb.y0 - eps || qy > sb.y1 + eps) continue;
         bool exact = false;
         for (i64 i = 0; i < s.n; ++i)
             if (s.x[i] == qx && s.y[i] == qy) {
@@ -117,24 +117,35 @@ void points(const ShapeView& s, const ShapeView& c, double eps, std::vector<doub
     py.assign(s.y, s.y + s.n);
     px.insert(px.end(), c.x, c.x + c.n);
     py.insert(py.end(), c.y, c.y + c.n);
+    // only clip edges whose boxes meet the subject's (grown by eps) can cross it: the
+    // same crossings, in the same order, without testing every pair of edges
+    Box sb = shape_bbox(s.x, s.y, s.n);
+    std::vector<i64> near;
+    for (i64 rc = 0; rc + 1 < c.nst; ++rc) {
+        i64 ca = c.st[rc], cb = c.st[rc + 1];
+        for (i64 u = ca; u < cb; ++u) {
+            i64 z = next_in_ring(u, ca, cb);
+            if (pmin(c.x[u], c.x[z]) > sb.x1 + eps || pmax(c.x[u], c.x[z]) < sb.x0 - eps) continue;
+            if (pmin(c.y[u], c.y[z]) > sb.y1 + eps || pmax(c.y[u], c.y[z]) < sb.y0 - eps) continue;
+            near.push_back(u);
+            near.push_back(z);
+        }
+    }
     for (i64 r = 0; r + 1 < s.nst; ++r) {
         i64 a = s.st[r], b = s.st[r + 1];
         for (i64 v = a; v < b; ++v) {
             i64 w = next_in_ring(v, a, b);
             double p0x = s.x[v], p0y = s.y[v], p1x = s.x[w], p1y = s.y[w];
             double sx0 = pmin(p0x, p1x), sx1 = pmax(p0x, p1x), sy0 = pmin(p0y, p1y), sy1 = pmax(p0y, p1y);
-            for (i64 rc = 0; rc + 1 < c.nst; ++rc) {
-                i64 ca = c.st[rc], cb = c.st[rc + 1];
-                for (i64 u = ca; u < cb; ++u) {
-                    i64 z = next_in_ring(u, ca, cb);
-                    double q0x = c.x[u], q0y = c.y[u], q1x = c.x[z], q1y = c.y[z];
-                    if (pmin(q0x, q1x) > sx1 + eps || pmax(q0x, q1x) < sx0 - eps) continue;
-                    if (pmin(q0y, q1y) > sy1 + eps || pmax(q0y, q1y) < sy0 - eps) continue;
-                    Crossing k = proper_crossing(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, eps);
-                    if (k.hit) {
-                        px.push_back(k.x);
-                        py.push_back(k.y);
-                    }
+            for (size_t e = 0; e < near.size(); e += 2) {
+                i64 u = near[e], z = near[e + 1];
+                double q0x = c.x[u], q0y = c.y[u], q1x = c.x[z], q1y = c.y[z];
+                if (pmin(q0x, q1x) > sx1 + eps || pmax(q0x, q1x) < sx0 - eps) continue;
+                if (pmin(q0y, q1y) > sy1 + eps || pmax(q0y, q1y) < sy0 - eps) continue;
+                Crossing k = proper_crossing(p0x, p0y, p1x, p1y, q0x, q0y, q1x, q1y, eps);
+                if (k.hit) {
+                    px.push_back(k.x);
+                    py.push_back(k.y);
                 }
             }
         }
@@ -190,7 +201,7 @@ struct IdShape {
 // The contours (as point ids) with every point lying strictly inside an edge inserted
 // into it, ordered along the edge; returns the number of points inserted.
 i64 split(const i64* vid, const i64* labels, const i64* starts, i64 nst, const std::vector<double>& ux,
-          const std::vector<double>& uy, double eps, IdShape& out) {
+          const std::vector<double>& uy, double eps, IdShape& out, const Box* other = nullptr) {
     i64 nu = (i64)ux.size();
     out.ids.clear();
     out.lab.clear();
@@ -206,6 +217,13 @@ i64 split(const i64* vid, const i64* labels, const i64* starts, i64 nst, const s
             i64 i0 = vid[v], i1 = vid[next_in_ring(v, a, b)];
             double p0x = ux[i0], p0y = uy[i0], p1x = ux[i1], p1y = uy[i1];
             double x0 = pmin(p0x, p1x), x1 = pmax(p0x, p1x), y0 = pmin(p0y, p1y), y1 = pmax(p0y, p1y);
+            if (other && (x0 > other->x1 + eps || x1 < other->x0 - eps || y0 > other->y1 + eps || y1 < other->y0 - eps)) {
+                // a clip edge away from the subject's box: no subject point or crossing is
+                // on it, and classify drops it whole however it is cut: left as it is
+                out.ids.push_back(i0);
+                out.lab.push_back(labels[v]);
+                continue;
+            }
             i64 lo = lower_bound(ux, x0 - eps), hi = upper_bound(ux, x1 + eps);
             ts.clear();
             qs.clear();
@@ -475,7 +493,7 @@ struct WindingIndex {
 // (shared edges by the side the clip shape's interior is on), clip edges inside the
 // subject to both, walked backwards for the outside.
 void classify(const IdShape& s, const IdShape& c, const std::vector<double>& ux, const std::vector<double>& uy,
-              Edges& ins, Edges& outs) {
+              const Box& sb, Edges& ins, Edges& outs) {
     i64 nu = (i64)ux.size();
     std::vector<i64> s_keys = edge_keys(s, nu), c_keys = edge_keys(c, nu);
     const WindingIndex s_index(s, ux, uy), c_index(c, ux, uy);
@@ -496,7 +514,9 @@ void classify(const IdShape& s, const IdShape& c, const std::vector<double>& ux,
         for (i64 v = ra; v < rb; ++v) {
             i64 a = c.ids[v], b = c.ids[next_in_ring(v, ra, rb)];
             if (a == b || contains(s_keys, a * nu + b) || contains(s_keys, b * nu + a)) continue;
-            if (s_index.winding(0.5 * (ux[a] + ux[b]), 0.5 * (uy[a] + uy[b])) > 0) {
+            double mx = 0.5 * (ux[a] + ux[b]), my = 0.5 * (uy[a] + uy[b]);
+            if (mx < sb.x0 || mx > sb.x1 || my < sb.y0 || my > sb.y1) continue;  // outside the subject's box: winding 0
+            if (s_index.winding(mx, my) > 0) {
                 ins.add(a, b, c.lab[v]);
                 outs.add(b, a, c.lab[v]);  // walked backwards: it bounds the outside part
             }
@@ -537,11 +557,11 @@ std::pair<Shape, Shape> clip_arrays(const ShapeView& s, const ShapeView& c, doub
     point_ids(px, py, ux, uy, ids);
     IdShape s2, c2;
     i64 s_ins = split(ids.data(), s.lab, s.st, s.nst, ux, uy, eps, s2);
-    i64 c_ins = split(ids.data() + s.n, c.lab, c.st, c.nst, ux, uy, eps, c2);
+    i64 c_ins = split(ids.data() + s.n, c.lab, c.st, c.nst, ux, uy, eps, c2, &sb);
     if (s_ins == 0 && c_ins == 0 && !shares_a_point(ids, s.n, c.n, (i64)ux.size()))
         return holding_lists(s, cx.data(), cy.data(), c);
     Edges ins, outs;
-    classify(s2, c2, ux, uy, ins, outs);
+    classify(s2, c2, ux, uy, sb, ins, outs);
     return {trace(ins, ux, uy, eps), trace(outs, ux, uy, eps)};
 }
 

@@ -88,6 +88,12 @@ bool is_convex(const double* xs, const double* ys, i64 n) {
 // -- the short road for convex pairs (convex.hpp)
 
 constexpr i64 WORK_VERTICES = 64;  // a convex piece and outline with more vertices together take the paper's road
+// The indexed loop (solve_indexed) takes the convex road for convex pairs of any size:
+// cutting by m edge lines costs O(n m), no more than the paper's clipper on such a pair,
+// and its outside stays convex pieces instead of one growing polygon with holes. (The
+// chain loop keeps the limit above, so its images keep their recorded bits.)
+constexpr i64 INDEXED_WORK_VERTICES = i64(1) << 40;
+constexpr i64 SPLIT_VERTICES = 64;  // the indexed loop halves pieces with more vertices (Solver::halve)
 
 // Scratch rows for cutting one convex piece: current x, y; left part x, y; right part x,
 // y; line values; labels current, left, right. Rows grow (never shrink) to what a split
@@ -124,12 +130,12 @@ struct Work {
 
 // Whether a piece is one convex contour small enough for the scratch rows, with `extra`
 // vertices (those of the outline) added by the cuts.
-bool takes_convex_road(const ShapeView& s, i64 extra) {
-    return s.nst == 2 && s.n + extra + 2 <= WORK_VERTICES && is_convex(s.x, s.y, s.n);
+bool takes_convex_road(const ShapeView& s, i64 extra, i64 limit = WORK_VERTICES) {
+    return s.nst == 2 && s.n + extra + 2 <= limit && is_convex(s.x, s.y, s.n);
 }
 
 struct Outline {
-    std::vector<double> x, y;
+    std::vector<double> x, y, len;  // len: each edge's length (separation's margins, once an outline)
     std::vector<i64> lab, st;
     ShapeView view() const {
         return ShapeView{x.data(), y.data(), lab.data(), st.data(), (i64)x.size(), (i64)st.size()};
@@ -184,11 +190,11 @@ i64 cut_by_plane_line(Arena& arena, i64 pid, i64 source, double a, double b, dou
 // Piece pid (its box meeting the outline's box) split by an outline, its parts appended
 // to the inside and outside lists.
 void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps, bool convex_road, Work& w,
-                std::vector<i64>& inside, std::vector<i64>& outside) {
+                std::vector<i64>& inside, std::vector<i64>& outside, i64 limit = WORK_VERTICES) {
     i64 source = arena.source(pid);
     ShapeView s = arena.piece(pid);
     if (convex) {
-        int side = separation(s.x, s.y, s.n, o.x.data(), o.y.data(), (i64)o.x.size(), eps);
+        int side = separation(s.x, s.y, s.n, o.x.data(), o.y.data(), (i64)o.x.size(), eps, o.len.data());
         if (side == OUTSIDE) {
             outside.push_back(pid);
             return;
@@ -197,8 +203,27 @@ void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps
             inside.push_back(pid);
             return;
         }
-        if (convex_road && takes_convex_road(s, (i64)o.x.size())) {
+        if (convex_road && takes_convex_road(s, (i64)o.x.size(), limit)) {
             cut_by_outline(arena, pid, source, o, eps, w, inside, outside);
+            return;
+        }
+    }
+    if (limit > WORK_VERTICES) {  // the indexed loop
+        // No clip edge near the piece's box: the outline's boundary does not pass through
+        // the box, so the piece lies wholly inside or wholly outside it, as the winding
+        // number of any one of its points says. The clipper would find the same (its
+        // step 2) after sorting every vertex of both.
+        const Box& sb = arena.box[pid];
+        bool near = false;
+        i64 m = (i64)o.x.size();
+        for (i64 i = 0; i < m && !near; ++i) {
+            i64 j = i + 1 < m ? i + 1 : 0;
+            near = !(pmin(o.x[i], o.x[j]) > sb.x1 + eps || pmax(o.x[i], o.x[j]) < sb.x0 - eps ||
+                     pmin(o.y[i], o.y[j]) > sb.y1 + eps || pmax(o.y[i], o.y[j]) < sb.y0 - eps);
+        }
+        if (!near) {
+            double px = 0.5 * (s.x[0] + s.x[s.n > 1 ? 1 : 0]), py = 0.5 * (s.y[0] + s.y[s.n > 1 ? 1 : 0]);
+            (winding(px, py, o.x.data(), o.y.data(), o.st.data(), (i64)o.st.size()) > 0 ? inside : outside).push_back(pid);
             return;
         }
     }
@@ -214,6 +239,11 @@ Outline outline_of(const double* ox, const double* oy, const i64* ost, i64 src) 
     o.y.assign(oy + a, oy + b);
     o.lab.assign(b - a, EDGE_CUT);
     o.st = {0, b - a};
+    o.len.resize(b - a);
+    for (i64 i = 0; i < b - a; ++i) {
+        i64 j = i + 1 < b - a ? i + 1 : 0;
+        o.len[i] = std::hypot(o.x[j] - o.x[i], o.y[j] - o.y[i]);
+    }
     return o;
 }
 
@@ -395,136 +425,132 @@ struct Solver {
             run_tasks();
         }
     }
+
+    // Piece pid, or if it has over SPLIT_VERTICES vertices its halves across the middle
+    // of its box's longer side, and so on (appended to out). Behind many small polygons a
+    // large piece (a background) becomes one polygon with a hole for each, and every later
+    // clip there took in all of it; halved, a clip meets only the halves under it. The
+    // paper's screen subdivision, piece by piece; cut edges are EDGE_CUT, as window borders.
+    void halve(i64 pid, std::vector<i64>& out) {
+        ShapeView s = arena.piece(pid);
+        Box b = arena.box[pid];
+        if (s.n <= SPLIT_VERTICES || (b.x1 - b.x0 <= 1.0 && b.y1 - b.y0 <= 1.0)) {
+            out.push_back(pid);
+            return;
+        }
+        double x0 = b.x0 - 1, y0 = b.y0 - 1, x1 = b.x1 + 1, y1 = b.y1 + 1;
+        if (b.x1 - b.x0 >= b.y1 - b.y0) x1 = std::floor(0.5 * (b.x0 + b.x1));
+        else y1 = std::floor(0.5 * (b.y0 + b.y1));
+        const double hx[4] = {x0, x1, x1, x0}, hy[4] = {y0, y0, y1, y1};
+        const i64 hl[4] = {EDGE_CUT, EDGE_CUT, EDGE_CUT, EDGE_CUT}, hs[2] = {0, 4};
+        auto [a, c] = clip_arrays(s, ShapeView{hx, hy, hl, hs, 4, 2}, eps);
+        i64 source = arena.source(pid);
+        if (a.st.size() < 2 || c.st.size() < 2) return out.push_back(pid);  // the line missed it
+        i64 ka = arena.add(a, source), kc = arena.add(c, source);
+        halve(ka, out);
+        halve(kc, out);
+    }
+
+    // The same loop with the live pieces of later polygons found through a grid of
+    // buckets over the window instead of walking each later polygon's chain: a clip
+    // polygon meets only the pieces in the buckets its box covers. Walking the chains
+    // costs every clip a look at every piece of every overlapping polygon, and a large
+    // polygon behind many small ones (a background) ends up in thousands of pieces, so
+    // that walk grew with the square of the scene. The pieces a clip polygon meets are
+    // taken in depth order of their polygons, then in the order they were made (arena
+    // index): a deterministic order that does not depend on the grid.
+    void solve_indexed(const std::vector<i64>& first, const i64* order, i64 n, i64 npoly,
+                       const std::array<double, 4>& win, const i64* group) {
+        std::vector<i64> position(npoly, -1);
+        for (i64 p = 0; p < n; ++p) position[order[p]] = p;
+        // per piece: its polygon's depth position while it waits (-1 once taken), and the
+        // last clip polygon that saw it (met once though in many buckets)
+        std::vector<i64> pos, stamp;
+        auto grow = [&]() {
+            if ((i64)pos.size() < arena.size()) {
+                pos.resize(arena.size(), -1);
+                stamp.resize(arena.size(), -1);
+            }
+        };
+        // about two pieces' boxes a bucket at the start, at most 256 a side
+        double w = std::max(win[2] - win[0], 1e-300), h = std::max(win[3] - win[1], 1e-300);
+        double side = std::sqrt(std::max<double>(1.0, (double)first.size() / 2.0) * std::max(w, h) / std::min(w, h));
+        i64 gx = std::clamp<i64>((i64)std::ceil(side * (w >= h ? 1.0 : w / h)), 1, 256);
+        i64 gy = std::clamp<i64>((i64)std::ceil(side * (h >= w ? 1.0 : h / w)), 1, 256);
+        double cw = w / (double)gx, ch = h / (double)gy;
+        std::vector<std::vector<i64>> cells(gx * gy);
+        auto span = [&](const Box& b, i64& i0, i64& i1, i64& j0, i64& j1) {
+            i0 = std::clamp<i64>((i64)std::floor((b.x0 - win[0]) / cw), 0, gx - 1);
+            i1 = std::clamp<i64>((i64)std::floor((b.x1 - win[0]) / cw), 0, gx - 1);
+            j0 = std::clamp<i64>((i64)std::floor((b.y0 - win[1]) / ch), 0, gy - 1);
+            j1 = std::clamp<i64>((i64)std::floor((b.y1 - win[1]) / ch), 0, gy - 1);
+        };
+        auto enter = [&](i64 pid, i64 p) {
+            grow();
+            pos[pid] = p;
+            i64 i0, i1, j0, j1;
+            span(arena.box[pid], i0, i1, j0, j1);
+            for (i64 j = j0; j <= j1; ++j)
+                for (i64 i = i0; i <= i1; ++i) cells[j * gx + i].push_back(pid);
+        };
+        for (i64 pid : first) enter(pid, position[arena.source(pid)]);
+        std::vector<i64> inside, parts, met, halves;
+        const std::vector<i64> empty;
+        for (i64 p = 0; p < n; ++p) {
+            i64 src = order[p];
+            Outline o = outline_of(ox, oy, ost, src);
+            Box box = box_of(obb, src);
+            bool convex = is_convex(o.x.data(), o.y.data(), (i64)o.x.size());
+            met.clear();
+            i64 i0, i1, j0, j1;
+            span(box, i0, i1, j0, j1);
+            for (i64 j = j0; j <= j1; ++j)
+                for (i64 i = i0; i <= i1; ++i) {
+                    std::vector<i64>& cell = cells[j * gx + i];
+                    size_t keep = 0;
+                    for (i64 pid : cell) {
+                        if (pos[pid] < p) continue;  // taken or cut up: dropped from the bucket
+                        cell[keep++] = pid;
+                        if (stamp[pid] == p) continue;
+                        stamp[pid] = p;
+                        if (pos[pid] == p) met.push_back(pid);
+                        // pieces of one polygon cut into convex parts (one group) abut, never overlap
+                        else if (!disjoint(arena.box[pid], box) && (!group || group[arena.source(pid)] != group[src]))
+                            met.push_back(pid);
+                    }
+                    cell.resize(keep);
+                }
+            std::sort(met.begin(), met.end(), [&](i64 a, i64 b) { return pos[a] != pos[b] ? pos[a] < pos[b] : a < b; });
+            inside.clear();
+            size_t k = 0;
+            for (; k < met.size() && pos[met[k]] == p; ++k) {
+                inside.push_back(met[k]);
+                pos[met[k]] = -1;
+            }
+            if (inside.empty()) continue;  // nothing of this polygon is left in the window
+            for (; k < met.size(); ++k) {
+                i64 pid = met[k], q = pos[pid];
+                parts.clear();
+                clip_piece(arena, pid, convex, o, eps, convex_road, work, inside, parts, INDEXED_WORK_VERTICES);
+                if (parts.size() == 1 && parts[0] == pid) continue;  // wholly outside: it stays
+                pos[pid] = -1;
+                for (i64 part : parts) {
+                    halves.clear();
+                    halve(part, halves);
+                    for (i64 h : halves) enter(h, q);
+                }
+            }
+            settle(src, inside, empty);
+            run_tasks();
+        }
+    }
 };
 
 }  // namespace
 
-int separation(const double* sx, const double* sy, i64 ns, const double* cx, const double* cy, i64 nc, double eps) {
-    bool inside = true;
-    for (i64 i = 0; i < nc; ++i) {
-        i64 j = i + 1 < nc ? i + 1 : 0;
-        double ex = cx[j] - cx[i], ey = cy[j] - cy[i];
-        double margin = 2.0 * eps * std::hypot(ex, ey);
-        bool beyond = true;
-        for (i64 v = 0; v < ns; ++v) {
-            double d = ex * (sy[v] - cy[i]) - ey * (sx[v] - cx[i]);  // > 0: left, the inner side
-            if (d >= -margin) beyond = false;
-            if (d <= margin) inside = false;
-            if (!beyond && !inside) break;
-        }
-        if (beyond) return OUTSIDE;
-    }
-    return inside ? INSIDE : 0;
-}
-
-Shape half_plane(double a, double b, double c, const Box& bbox) {
-    double x0 = bbox.x0 - 1, y0 = bbox.y0 - 1, x1 = bbox.x1 + 1, y1 = bbox.y1 + 1;
-    const double bx[4] = {x0, x1, x1, x0}, by[4] = {y0, y0, y1, y1};  // positive shoelace area already
-    double xs[8], ys[8];
-    bool on_line[8] = {false};
-    int n = 0;
-    for (int k = 0; k < 4; ++k) {
-        int j = (k + 1) % 4;
-        double dp = a * bx[k] + b * by[k] + c;
-        double dq = a * bx[j] + b * by[j] + c;
-        if (dp <= 0) {
-            xs[n] = bx[k];
-            ys[n] = by[k];
-            on_line[n] = dp == 0;
-            ++n;
-        }
-        if ((dp < 0 && 0 < dq) || (dq < 0 && 0 < dp)) {
-            double t = dp / (dp - dq);
-            xs[n] = bx[k] + t * (bx[j] - bx[k]);
-            ys[n] = by[k] + t * (by[j] - by[k]);
-            on_line[n] = true;
-            ++n;
-        }
-    }
-    Shape s;
-    s.x.assign(xs, xs + n);
-    s.y.assign(ys, ys + n);
-    for (int k = 0; k < n; ++k) s.lab.push_back(on_line[k] && on_line[(k + 1) % n] ? EDGE_CROSSING : EDGE_CUT);
-    s.st = {0, n};
-    return s;
-}
-
-void later_neighbours(const double* obb, const i64* order, i64 n, std::vector<i64>& starts, std::vector<i64>& rows) {
-    std::vector<Box> bx(n);
-    for (i64 i = 0; i < n; ++i) bx[i] = box_of(obb, order[i]);
-    std::vector<i64> by_x(n);
-    for (i64 i = 0; i < n; ++i) by_x[i] = i;
-    std::stable_sort(by_x.begin(), by_x.end(), [&](i64 a, i64 b) { return bx[a].x0 < bx[b].x0; });
-    std::vector<i64> lo, hi;
-    for (i64 i = 0; i < n; ++i) {
-        i64 p = by_x[i];
-        for (i64 j = i + 1; j < n; ++j) {
-            i64 q = by_x[j];
-            if (bx[q].x0 >= bx[p].x1) break;
-            if (bx[q].y0 >= bx[p].y1 || bx[q].y1 <= bx[p].y0 || bx[q].x1 <= bx[p].x0) continue;
-            lo.push_back(std::min(p, q));
-            hi.push_back(std::max(p, q));
-        }
-    }
-    std::vector<i64> by_lo;
-    grouped(lo.data(), (i64)lo.size(), n, starts, by_lo);
-    rows.resize(by_lo.size());
-    for (size_t k = 0; k < by_lo.size(); ++k) rows[k] = hi[by_lo[k]];
-    for (i64 p = 0; p < n; ++p) std::sort(rows.begin() + starts[p], rows.begin() + starts[p + 1]);
-}
-
-Originals originals(const double* vertices, const i64* start, const i64* length, i64 n, const double* planes) {
-    Originals o;
-    o.starts.assign(n + 1, 0);
-    o.boxes.assign(4 * n, 0.0);
-    o.zmin.assign(n, 0.0);
-    auto vx = [&](i64 i) { return vertices[3 * i]; };
-    auto vy = [&](i64 i) { return vertices[3 * i + 1]; };
-    auto vz = [&](i64 i) { return vertices[3 * i + 2]; };
-    for (i64 p = 0; p < n; ++p) {
-        i64 a = start[p], b = a + length[p];
-        double zm = vz(a);
-        for (i64 i = a + 1; i < b; ++i)
-            if (vz(i) < zm) zm = vz(i);
-        o.zmin[p] = zm;
-        if (!(std::isfinite(planes[3 * p]) && std::isfinite(planes[3 * p + 1]) && std::isfinite(planes[3 * p + 2]))) {
-            o.starts[p + 1] = (i64)o.xs.size();
-            continue;
-        }
-        i64 first = (i64)o.xs.size();
-        for (i64 i = a; i < b; ++i) {
-            i64 j = i == a ? b - 1 : i - 1;
-            if (vx(i) != vx(j) || vy(i) != vy(j)) {
-                o.xs.push_back(vx(i));
-                o.ys.push_back(vy(i));
-            }
-        }
-        if ((i64)o.xs.size() == first) {  // all one point
-            o.xs.push_back(vx(a));
-            o.ys.push_back(vy(a));
-        }
-        i64 m = (i64)o.xs.size();
-        if (ring_area_of(o.xs.data(), o.ys.data(), first, m) < 0) {
-            std::reverse(o.xs.begin() + first, o.xs.end());
-            std::reverse(o.ys.begin() + first, o.ys.end());
-        }
-        o.starts[p + 1] = m;
-        Box bb = shape_bbox(o.xs.data() + first, o.ys.data() + first, m - first);
-        o.boxes[4 * p] = bb.x0;
-        o.boxes[4 * p + 1] = bb.y0;
-        o.boxes[4 * p + 2] = bb.x1;
-        o.boxes[4 * p + 3] = bb.y1;
-        for (i64 i = a; i < b; ++i) {
-            o.scale = pmax(pmax(o.scale, std::fabs(vx(i))), std::fabs(vy(i)));
-            o.zmax = pmax(o.zmax, std::fabs(vz(i)));
-        }
-    }
-    return o;
-}
-
 Visible solve_window(const double* ox, const double* oy, const i64* ost, i64 npoly, const double* obb,
                      const double* planes, const i64* order, i64 norder, const std::array<double, 4>& win,
-                     double eps, double eps_z, bool convex_road) {
+                     double eps, double eps_z, bool convex_road, bool indexed, const i64* group) {
     Solver S;
     S.ox = ox;
     S.oy = oy;
@@ -549,7 +575,8 @@ Visible solve_window(const double* ox, const double* oy, const i64* ost, i64 npo
         if (!within(box_of(obb, s), win)) piece = clip_arrays(piece.view(), window, eps).first;
         if (piece.st.size() > 1) first.push_back(S.arena.add(piece, s));
     }
-    S.solve(first, order, norder, npoly);
+    if (indexed) S.solve_indexed(first, order, norder, npoly, win, group);
+    else S.solve(first, order, norder, npoly);
     // the visible pieces flattened
     Visible out;
     const Arena& A = S.arena;

@@ -19,7 +19,9 @@ constexpr int INSIDE = 2;
 // For a convex clip contour: OUTSIDE when every subject vertex lies farther than 2 eps
 // beyond one clip edge's line, INSIDE when every one lies farther than 2 eps inside every
 // edge's line, else 0.
-int separation(const double* sx, const double* sy, i64 ns, const double* cx, const double* cy, i64 nc, double eps);
+// len: the clip edges' lengths when known (nullptr: computed here).
+int separation(const double* sx, const double* sy, i64 ns, const double* cx, const double* cy, i64 nc, double eps,
+               const double* len = nullptr);
 
 // The part a x + b y + c <= 0 of the bounding box (grown by one unit), as a convex shape
 // whose edge along the line is labelled EDGE_CROSSING.
@@ -47,9 +49,11 @@ struct Visible {
 
 // Visible pieces of the polygons `order` (depth-sorted) inside window `win`; ox, oy, ost:
 // every polygon's original outline (positive area), obb their boxes (4 a polygon),
-// planes their depth planes (3 a polygon).
+// planes their depth planes (3 a polygon). indexed: find the pieces a clip polygon meets
+// through a grid (solve_indexed); group (indexed only, may be null): per polygon, the
+// polygon it was cut from, parts of one group being known not to overlap.
 Visible solve_window(const double* ox, const double* oy, const i64* ost, i64 npoly, const double* obb,
                      const double* planes, const i64* order, i64 norder, const std::array<double, 4>& win,
-                     double eps, double eps_z, bool convex_road);
+                     double eps, double eps_z, bool convex_road, bool indexed = false, const i64* group = nullptr);
 
 }  // namespace wa
