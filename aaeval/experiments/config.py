@@ -448,8 +448,9 @@ def _generated(item: Mapping[str, Any], where: str) -> list[SceneSource]:
 def _animate(scenes: tuple[SceneSource, ...], raw: Any, where: str) -> tuple[SceneSource, ...]:
     """Give every scene of the group this [animation] table (static scenes set moving)."""
     if not isinstance(raw, Mapping):
-        raise ConfigError(f"{where}: expected a table {{frames = N, translate = [dx, dy]}}, got {raw!r}")
-    _no_unknown(raw, {"frames", "translate"}, where)
+        raise ConfigError(f"{where}: expected a table {{frames = N, translate = [dx, dy], phases = \"r2\"}}, "
+                          f"got {raw!r}")
+    _no_unknown(raw, {"frames", "translate", "phases", "seed"}, where)
     out = []
     for src in scenes:
         document = {**src.document, "animation": dict(raw)}
