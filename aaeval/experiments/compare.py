@@ -183,7 +183,8 @@ def run_comparison(plan: ComparisonPlan, *, on_render: Callable[[str, int], None
         if len(plan.frames) >= 2 and not failed:
             temporal, temporal_errors = series_metrics(
                 plan.temporal, reference_frames, method_frames[spec],
-                lambda name: cache.series_mask(digest, scene, plan.frames, name))
+                lambda name: cache.series_mask(digest, scene, plan.frames, name),
+                lambda: cache.exact_series(digest, scene, plan.frames))
         summary.append(
             {
                 "method": spec,

@@ -100,6 +100,19 @@ class SceneCache:
         """The mask ``name`` on each of ``frames``, stacked (F, H, W)."""
         return np.stack([self.mask(digest, scene, k, name) for k in frames])
 
+    def exact_series(self, digest: str, scene, frames: Sequence[int]) -> np.ndarray:
+        """The exact box-filtered image of each of ``frames`` (Catmull's area sampling of the
+        flat polygons), stacked (F, H, W, 3): the truth the metrics needing ``exact`` read."""
+        from aaeval.catmull import render_flat
+        from aaeval.scenes.shaded import has_shaded
+
+        if has_shaded(scene):
+            raise ValueError("no exact renderer shades: the exact frames exist for flat scenes only")
+        for k in frames:
+            if (digest, k, "exact") not in self._masks:
+                self._masks[(digest, k, "exact")] = render_flat(scene.at_frame(k))
+        return np.stack([self._masks[(digest, k, "exact")] for k in frames])
+
 
 #: This process's scene cache (each worker process has its own).
 SCENES = SceneCache()
@@ -189,8 +202,13 @@ def check_temporal_metrics(names: Sequence[str]) -> tuple[str, ...]:
     return check_metric_names(names, "temporal")
 
 
-def _context(metric, mask_of) -> dict:
-    return {"mask": mask_of(metric.mask)} if metric.mask else {}
+def _context(metric, mask_of, exact_of=None) -> dict:
+    context = {"mask": mask_of(metric.mask)} if metric.mask else {}
+    if "exact" in metric.needs:
+        if exact_of is None:
+            raise ValueError(f"metric {metric.name!r} needs the exact frames, and none were given")
+        context["exact"] = exact_of()
+    return context
 
 
 def frame_metrics(names: Sequence[str], reference: np.ndarray, image: np.ndarray,
@@ -212,17 +230,20 @@ def frame_metrics(names: Sequence[str], reference: np.ndarray, image: np.ndarray
 
 
 def series_metrics(names: Sequence[str], references: Sequence[np.ndarray], images: Sequence[np.ndarray],
-                   mask_of) -> tuple[dict[str, float], dict[str, str]]:
+                   mask_of, exact_of=None) -> tuple[dict[str, float], dict[str, str]]:
     """Every temporal metric in ``names`` over all frames, in frame order.
 
-    ``mask_of(name)`` returns the mask ``name`` stacked over the frames, (F, H, W).
+    ``mask_of(name)`` returns the mask ``name`` stacked over the frames, (F, H, W);
+    ``exact_of()`` the exact frames, (F, H, W, 3) (:meth:`SceneCache.exact_series`), for
+    the metrics that need them.
     """
     values, errors = {}, {}
     frames_true, frames_test = np.stack(references), np.stack(images)
     for name in names:
         metric = METRICS[name]
         try:
-            values[name] = compute_temporal_metric(name, frames_true, frames_test, **_context(metric, mask_of))
+            values[name] = compute_temporal_metric(name, frames_true, frames_test,
+                                                   **_context(metric, mask_of, exact_of))
         except Exception as exc:  # noqa: BLE001
             values[name] = math.nan
             errors[name] = f"{type(exc).__name__}: {exc}"

@@ -135,13 +135,18 @@ def temporal_frame(store: SweepStore, results: pd.DataFrame) -> pd.DataFrame:
             refs = [store.load_reference(k) for k in series["reference_key"]]
             frame_list = [int(k) for k in series["frame"]]
 
-            def mask_of(name, entry=entry, digest=digest, frame_list=frame_list):
+            def scene_of(entry=entry, digest=digest):
                 if entry is None:
                     raise RecordError(f"{store.root}/manifest.json has no scene {digest[:12]}… to build masks")
-                scene = scenes.scene(digest, entry["document"], entry["source"])
-                return scenes.series_mask(digest, scene, frame_list, name)
+                return scenes.scene(digest, entry["document"], entry["source"])
 
-            values, errors = series_metrics(wanted, refs, tests, mask_of)
+            def mask_of(name, digest=digest, frame_list=frame_list, scene_of=scene_of):
+                return scenes.series_mask(digest, scene_of(), frame_list, name)
+
+            def exact_of(digest=digest, frame_list=frame_list, scene_of=scene_of):
+                return scenes.exact_series(digest, scene_of(), frame_list)
+
+            values, errors = series_metrics(wanted, refs, tests, mask_of, exact_of)
             row.update(values)
             row["metric_errors"] = json.dumps(errors, sort_keys=True) if errors else None
         out.append(row)

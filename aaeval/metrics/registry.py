@@ -38,7 +38,7 @@ from aaeval.metrics.specular import (
     highlight_flicker,
     highlight_rmse,
 )
-from aaeval.metrics.temporal import flicker, image_flicker, sum_variation, temporal_bias
+from aaeval.metrics.temporal import flicker, image_flicker, sum_bias, sum_variation, temporal_bias
 from aaeval.options import Registry
 
 __all__ = [
@@ -63,9 +63,11 @@ class MetricError(ValueError):
 
 
 KINDS = ("image", "temporal")
-#: What a metric may need: the reference image(s), the scene, every frame of an animation.
-#: (A mask is declared by name in :attr:`Metric.mask`.)
-NEEDS = ("reference", "scene", "frames")
+#: What a metric may need: the reference image(s), the scene, every frame of an animation,
+#: the exact box-filtered frames (keyword ``exact``: Catmull's area sampling of the scene's
+#: flat polygons; such a metric applies to unshaded scenes only). (A mask is declared by
+#: name in :attr:`Metric.mask`.)
+NEEDS = ("reference", "scene", "frames", "exact")
 
 
 @dataclass(frozen=True)
@@ -111,6 +113,16 @@ class Metric:
         if self.target is not None:
             return f"closer to {self.target:g} is better"
         return "higher is better" if self.higher_is_better else "lower is better"
+
+    def applies_to(self, scene) -> bool:
+        """False where this metric can say nothing about ``scene``: its mask is always empty
+        there, or it needs exact frames of a shaded scene (no exact renderer shades)."""
+        from aaeval.metrics.masks import MASKS
+        from aaeval.scenes.shaded import has_shaded
+
+        if self.mask is not None and not MASKS.get_entry(self.mask).applies_to(scene):
+            return False
+        return not ("exact" in self.needs and has_shaded(scene))
 
     def format(self, value) -> str:
         """``value`` in this metric's format; ``n/a`` for NaN or None, ``inf`` spelled out."""
@@ -296,6 +308,9 @@ register_metric("highlight_energy_bias", highlight_energy_bias, kind="image", ti
 register_metric("sum_variation", sum_variation, kind="temporal", title="sum var", fmt=".3e",
                 needs=("frames",),
                 summary="(max - min) / mean of the test's intensity sums over the frames (no reference)")
+register_metric("sum_bias", sum_bias, kind="temporal", title="sum bias (typical frame)", fmt="+.2%",
+                needs=("frames", "exact"), target=0.0,
+                summary="median over frames of sum(test) / exact sum - 1 (exact: Catmull's area sampling)")
 register_metric("temporal_bias", temporal_bias, kind="temporal", title="bias (time-avg error)", fmt=".3e",
                 summary="RMS over pixels of the error's time-average (bias**2 + flicker**2 = MSE of all frames)")
 register_metric("flicker", flicker, kind="temporal", title="flicker (error minus its time-avg)", fmt=".3e",
