@@ -177,19 +177,61 @@ def render_reference(scene, spec: MethodSpec | str, frame: int, *, estimate_nois
 
     ``noise_rmse`` is 0 for an exact reference; for a seeded one (with ``estimate_noise``)
     the RMS per-pixel noise of one render, ``rmse(a, b) / sqrt(2)`` against a second render
-    with the next seed; NaN when not measured.
+    with the next seed; NaN when not measured. ``noise_metrics``: for every RMS metric
+    (:attr:`aaeval.metrics.Metric.rms`) that applies to the scene, that noise on the
+    metric's own pixels, then on its edge pixels and on its other pixels
+    (:func:`aaeval.metrics.agreement.noise_strata`); all 0 for an exact reference, absent
+    when not measured.
     """
     from aaeval.renderers import MethodSpec, render_timed
 
     spec = MethodSpec.parse(spec)
     image, seconds = render_timed(scene, spec, frame=frame)
-    noise = 0.0 if reference_kind(spec) == "exact" else math.nan
+    exact = reference_kind(spec) == "exact"
+    noise = 0.0 if exact else math.nan
     twin = noise_spec(spec) if estimate_noise else None
+    strata = _noise_strata(scene.at_frame(frame), image, image) if exact else None
     if twin is not None:
         other, _ = render_timed(scene, twin, frame=frame)
         noise = rmse(image, other) / math.sqrt(2.0)
-    return {"image": image, "render_s": seconds, "noise_rmse": noise, "noise_spec": twin,
-            "intensity_sum": intensity_sum(image)}
+        strata = _noise_strata(scene.at_frame(frame), image, other)
+    out = {"image": image, "render_s": seconds, "noise_rmse": noise, "noise_spec": twin,
+           "intensity_sum": intensity_sum(image)}
+    if strata is not None:
+        out["noise_metrics"] = strata
+    return out
+
+
+def _noise_strata(scene, image: np.ndarray, twin: np.ndarray) -> dict[str, list[float]]:
+    """Every applicable RMS metric's noise strata (:func:`aaeval.metrics.agreement.noise_strata`)."""
+    from aaeval.metrics.agreement import noise_strata
+
+    edge = build_mask("edge", scene)
+    out = {}
+    for name, metric in METRICS.items():
+        if metric.kind == "image" and metric.rms and metric.applies_to(scene):
+            mask = build_mask(metric.mask, scene) if metric.mask else np.ones(edge.shape, bool)
+            out[name] = list(noise_strata(image, twin, mask, edge))
+    return out
+
+
+def agreement(names: Sequence[str], reference: np.ndarray, image: np.ndarray, strata: Mapping[str, Sequence[float]],
+              mask_of) -> dict[str, float]:
+    """For every RMS metric of ``names`` whose noise strata are known: the fraction of its
+    pixels (and channels) where ``image`` passes the per-pixel z-test against ``reference``
+    (:func:`aaeval.metrics.agreement.z_test_pass_fraction`)."""
+    from aaeval.metrics.agreement import z_test_pass_fraction
+
+    out = {}
+    for name in names:
+        metric = METRICS[name]
+        if not metric.rms or name not in strata:
+            continue
+        _, sigma_edge, sigma_other = (math.nan if v is None else float(v) for v in strata[name])
+        edge = mask_of("edge")
+        mask = mask_of(metric.mask) if metric.mask else np.ones(edge.shape, bool)
+        out[name] = z_test_pass_fraction(reference, image, mask, edge, sigma_edge, sigma_other)
+    return out
 
 
 def check_image_metrics(names: Sequence[str]) -> tuple[str, ...]:
@@ -261,20 +303,25 @@ class FrameMeasurement:
     metric_errors: dict[str, str] = field(default_factory=dict)
     error: str | None = None
     traceback: str | None = None
+    agreement: dict[str, float] = field(default_factory=dict)
 
     def fields(self, width: int, height: int) -> dict[str, Any]:
         return {**self.timing.fields(width, height), "intensity_sum": self.intensity_sum, "metrics": self.metrics,
-                "metric_errors": self.metric_errors, "error": self.error, "traceback": self.traceback}
+                "metric_errors": self.metric_errors, "error": self.error, "traceback": self.traceback,
+                "agreement": self.agreement}
 
 
 def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | None, metrics: Sequence[str], *,
                   digest: str, repeats: int = 1, cache: SceneCache | None = None,
-                  reference_error: str | None = None) -> FrameMeasurement:
+                  reference_error: str | None = None,
+                  noise_metrics: Mapping[str, Sequence[float]] | None = None) -> FrameMeasurement:
     """Render one frame (timed), then measure it against ``reference``; never raises for the
     cell's own failures: they come back as ``error`` (and every metric NaN).
 
     ``digest`` names the scene's content in ``cache`` (masks are kept per digest and frame).
     ``reference_error``: why there is no reference (the cell fails with this message).
+    ``noise_metrics``: the reference's noise strata (:func:`render_reference`); with them
+    the record's ``agreement`` holds each RMS metric's z-test pass fraction.
     """
     cache = cache or SCENES
     out = FrameMeasurement(None, Timing.missing(repeats), metrics={m: math.nan for m in metrics})
@@ -288,6 +335,9 @@ def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | N
         out.intensity_sum = intensity_sum(image)
         out.metrics, out.metric_errors = frame_metrics(
             metrics, reference, image, lambda name: cache.mask(digest, scene, frame, name))
+        if noise_metrics:
+            out.agreement = agreement(metrics, reference, image, noise_metrics,
+                                      lambda name: cache.mask(digest, scene, frame, name))
     except Exception as exc:  # noqa: BLE001 - a failing cell is a result, not the end of the run
         out.error = f"{type(exc).__name__}: {exc}"
         out.traceback = traceback.format_exc(limit=6)
