@@ -332,6 +332,8 @@ def _policy_section(page: _Page, results: pd.DataFrame) -> str:
 
 
 def _how_to_read(page: _Page) -> str:
+    from aaeval.report.controls_table import controls_html
+
     return f"""<h2 id='how-to-read'>How to read this report</h2><ul>
 <li><b>Ground truth.</b> Every error is measured against the reference named at the top of each group (normally
 the Mitsuba high-spp render); its measured noise is stated with it. The section <a href='#ground-truth'>Ground
@@ -353,6 +355,9 @@ checkbox switches to each panel's own).</li>
 error, the part that stays with the object) and its flicker (what is left, frame to frame); for highlights the
 same split is made on the highlight's energy, so a clamp that dims the highlight wherever it goes shows as bias,
 not as flicker. Each is one registered metric (aaeval/metrics), used by every table, chart and section.</li>
+<li id='controls'><b>Controls.</b> Each temporal measure is checked on images whose answer is known before it judges
+a method (aaeval/metrics/controls.py; computed as this page was built):
+{controls_html()}</li>
 <li><b>Failed.</b> {html.escape(page.definition)} The same definition is used by every table and chart; a metric
 that could not be computed for a cell is listed separately and does not make the cell fail.</li>
 <li><b>The viewer.</b> Each group ends with an interactive viewer: pick a scene, scrub or play the frames, choose
