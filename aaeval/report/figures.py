@@ -304,30 +304,38 @@ def _scene_axes(scenes: list[str], entries: int, width: float = 7.6):
     return fig, axes[:, 0]
 
 
+def _error_panel(ax, rows: pd.DataFrame, x: str, metric: str, styles: Styles, *, lw: float | None = None) -> None:
+    """One scene's ``metric`` against the column ``x`` (frame or phase) on a log axis, one
+    curve per spec, the ground truth's noise of each frame as a grey curve."""
+    ref = rows.drop_duplicates("frame").sort_values(x)
+    lo, hi, exact = _log_limits(rows[metric], ref["reference_noise_rmse"])
+    at = _exact_strip(ax, lo, hi) if exact else None
+    if ref["reference_noise_rmse"].fillna(0).gt(0).any():
+        ax.plot(ref[x], ref["reference_noise_rmse"], label="ground-truth noise", **ground_truth_style())
+    for label, series in _sorted_specs(rows, styles):
+        series = series.sort_values(x)
+        style = _spec_style(series, styles).line()
+        if lw is not None:
+            style["lw"] = lw
+        y = _on_axis(series[metric], at) if exact else series[metric]
+        ax.plot(series[x], y, label=label, **style)
+    ax.set_yscale("log")
+    ax.set_ylim(lo, hi)
+    _log_ticks(ax.yaxis)
+    ax.set_ylabel(metric)
+    ax.grid(True, alpha=0.3)
+
+
 def error_per_frame(results: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles) -> Path:
     """The error of every frame, one curve per spec, one panel per animated scene; the
     ground truth's noise of each frame as a grey curve."""
     scenes = list(dict.fromkeys(results["scene"]))
     fig, axes = _scene_axes(scenes, results["spec"].nunique() + 1)
     for ax, scene in zip(axes, scenes):
-        rows = results[results["scene"] == scene]
-        ref = rows.drop_duplicates("frame").sort_values("frame")
-        lo, hi, exact = _log_limits(rows[metric], ref["reference_noise_rmse"])
-        at = _exact_strip(ax, lo, hi) if exact else None
-        if ref["reference_noise_rmse"].fillna(0).gt(0).any():
-            ax.plot(ref["frame"], ref["reference_noise_rmse"], label="ground-truth noise", **ground_truth_style())
-        for label, series in _sorted_specs(rows, styles):
-            series = series.sort_values("frame")
-            y = _on_axis(series[metric], at) if exact else series[metric]
-            ax.plot(series["frame"], y, label=label, **_spec_style(series, styles).line())
-        ax.set_yscale("log")
-        ax.set_ylim(lo, hi)
-        _log_ticks(ax.yaxis)
+        _error_panel(ax, results[results["scene"] == scene], "frame", metric, styles)
         _frame_ticks(ax)
         ax.set_title(scene)
         ax.set_xlabel("frame")
-        ax.set_ylabel(metric)
-        ax.grid(True, alpha=0.3)
         _legend(ax)
     _suptitle(fig, title)
     return save_figure(fig, path)
@@ -373,31 +381,20 @@ def phase_figure(results: pd.DataFrame, path: Path, *, metric: str, title: str, 
     fig, axes = plt.subplots(len(scenes), 2, figsize=(11.5, height * len(scenes) + 0.4), squeeze=False,
                              gridspec_kw={"hspace": 0.55, "wspace": 0.3})
     for (ax_error, ax_sum), scene in zip(axes, scenes):
-        rows = results[results["scene"] == scene].sort_values("phase")
-        ref = rows.drop_duplicates("frame")
-        lo, hi, exact = _log_limits(rows[metric], ref["reference_noise_rmse"])
-        at = _exact_strip(ax_error, lo, hi) if exact else None
-        if ref["reference_noise_rmse"].fillna(0).gt(0).any():
-            ax_error.plot(ref["phase"], ref["reference_noise_rmse"], label="ground-truth noise",
-                          **ground_truth_style())
+        rows = results[results["scene"] == scene]
+        thin = 0.6  # the phases are samples, not a path: thin joins, the markers carry it
+        _error_panel(ax_error, rows, "phase", metric, styles, lw=thin)
         ax_sum.axhline(1.0, color="0.3", lw=0.6)
         for label, series in _sorted_specs(rows, styles):
-            style = _spec_style(series, styles).line()
-            style["lw"] = 0.6  # the phases are samples, not a path: thin joins, the markers carry it
-            y = _on_axis(series[metric], at) if exact else series[metric]
-            ax_error.plot(series["phase"], y, label=label, **style)
+            series = series.sort_values("phase")
             ax_sum.plot(series["phase"], series["intensity_sum"] / series["reference_intensity_sum"], label=label,
-                        **style)
-        ax_error.set_yscale("log")
-        ax_error.set_ylim(lo, hi)
-        _log_ticks(ax_error.yaxis)
-        ax_error.set_ylabel(metric)
+                        **{**_spec_style(series, styles).line(), "lw": thin})
         ax_sum.set_ylabel("intensity sum over ground-truth sum")
+        ax_sum.grid(True, alpha=0.3)
         for ax in (ax_error, ax_sum):
             ax.set_xlim(0.0, 1.0)
             ax.set_xlabel("sub-pixel phase of the frame along x (px)")
             ax.set_title(scene)
-            ax.grid(True, alpha=0.3)
         _legend(ax_sum)
     _suptitle(fig, title)
     return save_figure(fig, path)
