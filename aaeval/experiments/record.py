@@ -76,7 +76,6 @@ class CellRecord:
     intensity_sum: float
     metrics: dict[str, float]
     metric_errors: dict[str, str]
-    agreement: dict[str, float]  # per RMS metric: fraction of its pixels passing the z-test against the truth
     # how and where it ran
     error: str | None
     traceback: str | None
@@ -86,6 +85,8 @@ class CellRecord:
     workers: int
     code_version: str
     finished_at: str
+    # per RMS metric: fraction of its pixels passing the z-test against the truth (none measured: empty)
+    agreement: dict[str, float] = field(default_factory=dict)
     schema_version: int = field(default=SCHEMA_VERSION)
 
     def to_json(self) -> dict:
@@ -108,8 +109,9 @@ class CellRecord:
         values = dict(data)
         for name in _FLOAT_FIELDS:
             values[name] = _float(values[name])
-        for name in ("metrics", "reference_noise", "agreement"):
-            values[name] = {k: _float(v) for k, v in values[name].items()}
+        values["metrics"] = {k: _float(v) for k, v in values["metrics"].items()}
+        for name in ("reference_noise", "agreement"):  # null: nothing was measured
+            values[name] = {k: _float(v) for k, v in (values[name] or {}).items()}
         return cls(**values)
 
     def table_row(self) -> dict:
