@@ -260,7 +260,8 @@ def _references(experiment, todo, store, cache, executor, progress, summary) -> 
     missing = []
     for key, p in wanted.items():
         hit = cache.get(key)
-        if hit is not None and experiment.noise_estimate and "noise_metrics" not in hit[1]:
+        if (hit is not None and experiment.noise_estimate and "noise_metrics" not in hit[1]
+                and reference_kind(p.cell.reference) != "deterministic"):  # a deterministic one has no noise
             hit = None  # cached before the noise was measured per metric: render it again
         if hit is not None:
             image, info = hit
