@@ -84,3 +84,36 @@ def test_per_scene_table_shows_each_animation():
     assert "data-spec='s' data-scene='f1' data-column='sum_bias'>-16.67%<" in page
     assert "data-spec='s' data-scene='f2' data-column='sum_variation'>1.000e-01<" in page
     assert per_scene_html(sums, frame[frame["scene"] == "f1"], "g", ["s", "t"]) == ""
+
+
+def test_noise_weight_is_the_colour_range_of_the_fragments_meeting_in_a_pixel():
+    from aaeval.metrics.agreement import noise_weight
+    from aaeval.scenes import parse_scene
+
+    scene = parse_scene({"image": {"width": 4, "height": 2, "background": [0.0, 0.0, 0.0]},
+                         "polygons": [{"color": [0.8, 0.3, 0.0], "vertices": [[1.5, 0, 0], [4, 0, 0], [4, 2, 0],
+                                                                                [1.5, 2, 0]]}]})
+    weight = noise_weight(scene)
+    assert np.allclose(weight[:, 1], [0.8, 0.3, 0.0])  # the edge's pixel: polygon against black
+    assert np.allclose(weight[:, [0, 2, 3]], 0.0)  # one colour: exact whatever the sampler
+
+
+def test_the_colour_weight_keeps_an_exact_method_agreeing_at_a_high_contrast_channel():
+    # half the edge pixels are one bright green edge, half a faint grey one: coverage noise
+    # scales with each channel's contrast, so one sigma for every value is 2.4x too small
+    # on the green channel of the bright edge
+    rng = np.random.default_rng(2)
+    edge = np.zeros((64, 64), bool)
+    edge[:, 16:48] = True
+    weight = np.zeros((64, 64, 3))
+    weight[:32][edge[:32]] = [0.0, 1.0, 0.0]
+    weight[32:][edge[32:]] = [0.05, 0.05, 0.05]
+    mean = np.full((64, 64, 3), 0.2)
+    truth = mean + 0.004 * rng.standard_normal((64, 64, 1)) * weight
+    twin = mean + 0.004 * rng.standard_normal((64, 64, 1)) * weight
+    _, pooled, other = noise_strata(truth, twin, edge, edge)  # no weight: one sigma for every value
+    _, scale, _ = noise_strata(truth, twin, edge, edge, weight)
+    assert scale == pytest.approx(0.004, rel=0.1)
+    with_weight = z_test_pass_fraction(truth, mean, edge, edge, scale, other, weight=weight)
+    without = z_test_pass_fraction(truth, mean, edge, edge, pooled, other)
+    assert agrees(with_weight) and not agrees(without)

@@ -100,6 +100,15 @@ class SceneCache:
         """The mask ``name`` on each of ``frames``, stacked (F, H, W)."""
         return np.stack([self.mask(digest, scene, k, name) for k in frames])
 
+    def noise_weight(self, digest: str, scene, frame: int) -> np.ndarray:
+        """:func:`aaeval.metrics.agreement.noise_weight` of the scene at ``frame``, kept."""
+        from aaeval.metrics.agreement import noise_weight
+
+        key = (digest, frame, "noise_weight")
+        if key not in self._masks:
+            self._masks[key] = noise_weight(scene.at_frame(frame))
+        return self._masks[key]
+
     def exact_series(self, digest: str, scene, frames: Sequence[int]) -> np.ndarray:
         """The exact box-filtered image of each of ``frames`` (Catmull's area sampling of the
         flat polygons), stacked (F, H, W, 3): the truth the metrics needing ``exact`` read."""
@@ -177,11 +186,11 @@ def render_reference(scene, spec: MethodSpec | str, frame: int, *, estimate_nois
 
     ``noise_rmse`` is 0 for an exact reference; for a seeded one (with ``estimate_noise``)
     the RMS per-pixel noise of one render, ``rmse(a, b) / sqrt(2)`` against a second render
-    with the next seed; NaN when not measured. ``noise_metrics``: for every RMS metric
+    with the next seed; NaN when not measured. ``noise_by_metric``: for every RMS metric
     (:attr:`aaeval.metrics.Metric.rms`) that applies to the scene, that noise on the
-    metric's own pixels, then on its edge pixels and on its other pixels
-    (:func:`aaeval.metrics.agreement.noise_strata`); all 0 for an exact reference, absent
-    when not measured.
+    metric's own pixels, then the scale of its edge values' noise model and the noise of its
+    other pixels (:func:`aaeval.metrics.agreement.noise_strata`); all 0 for an exact
+    reference, absent when not measured.
     """
     from aaeval.renderers import MethodSpec, render_timed
 
@@ -198,25 +207,25 @@ def render_reference(scene, spec: MethodSpec | str, frame: int, *, estimate_nois
     out = {"image": image, "render_s": seconds, "noise_rmse": noise, "noise_spec": twin,
            "intensity_sum": intensity_sum(image)}
     if strata is not None:
-        out["noise_metrics"] = strata
+        out["noise_by_metric"] = strata
     return out
 
 
 def _noise_strata(scene, image: np.ndarray, twin: np.ndarray) -> dict[str, list[float]]:
     """Every applicable RMS metric's noise strata (:func:`aaeval.metrics.agreement.noise_strata`)."""
-    from aaeval.metrics.agreement import noise_strata
+    from aaeval.metrics.agreement import noise_strata, noise_weight
 
-    edge = build_mask("edge", scene)
+    edge, weight = build_mask("edge", scene), noise_weight(scene)
     out = {}
     for name, metric in METRICS.items():
         if metric.kind == "image" and metric.rms and metric.applies_to(scene):
             mask = build_mask(metric.mask, scene) if metric.mask else np.ones(edge.shape, bool)
-            out[name] = list(noise_strata(image, twin, mask, edge))
+            out[name] = list(noise_strata(image, twin, mask, edge, weight))
     return out
 
 
 def agreement(names: Sequence[str], reference: np.ndarray, image: np.ndarray, strata: Mapping[str, Sequence[float]],
-              mask_of) -> dict[str, float]:
+              mask_of, weight: np.ndarray) -> dict[str, float]:
     """For every RMS metric of ``names`` whose noise strata are known: the fraction of its
     pixels (and channels) where ``image`` passes the per-pixel z-test against ``reference``
     (:func:`aaeval.metrics.agreement.z_test_pass_fraction`)."""
@@ -227,10 +236,10 @@ def agreement(names: Sequence[str], reference: np.ndarray, image: np.ndarray, st
         metric = METRICS[name]
         if not metric.rms or name not in strata:
             continue
-        _, sigma_edge, sigma_other = (math.nan if v is None else float(v) for v in strata[name])
+        _, scale_edge, sigma_other = (math.nan if v is None else float(v) for v in strata[name])
         edge = mask_of("edge")
         mask = mask_of(metric.mask) if metric.mask else np.ones(edge.shape, bool)
-        out[name] = z_test_pass_fraction(reference, image, mask, edge, sigma_edge, sigma_other)
+        out[name] = z_test_pass_fraction(reference, image, mask, edge, scale_edge, sigma_other, weight=weight)
     return out
 
 
@@ -314,13 +323,13 @@ class FrameMeasurement:
 def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | None, metrics: Sequence[str], *,
                   digest: str, repeats: int = 1, cache: SceneCache | None = None,
                   reference_error: str | None = None,
-                  noise_metrics: Mapping[str, Sequence[float]] | None = None) -> FrameMeasurement:
+                  noise_by_metric: Mapping[str, Sequence[float]] | None = None) -> FrameMeasurement:
     """Render one frame (timed), then measure it against ``reference``; never raises for the
     cell's own failures: they come back as ``error`` (and every metric NaN).
 
     ``digest`` names the scene's content in ``cache`` (masks are kept per digest and frame).
     ``reference_error``: why there is no reference (the cell fails with this message).
-    ``noise_metrics``: the reference's noise strata (:func:`render_reference`); with them
+    ``noise_by_metric``: the reference's noise strata (:func:`render_reference`); with them
     the record's ``agreement`` holds each RMS metric's z-test pass fraction.
     """
     cache = cache or SCENES
@@ -335,9 +344,10 @@ def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | N
         out.intensity_sum = intensity_sum(image)
         out.metrics, out.metric_errors = frame_metrics(
             metrics, reference, image, lambda name: cache.mask(digest, scene, frame, name))
-        if noise_metrics:
-            out.agreement = agreement(metrics, reference, image, noise_metrics,
-                                      lambda name: cache.mask(digest, scene, frame, name))
+        if noise_by_metric:
+            out.agreement = agreement(metrics, reference, image, noise_by_metric,
+                                      lambda name: cache.mask(digest, scene, frame, name),
+                                      cache.noise_weight(digest, scene, frame))
     except Exception as exc:  # noqa: BLE001 - a failing cell is a result, not the end of the run
         out.error = f"{type(exc).__name__}: {exc}"
         out.traceback = traceback.format_exc(limit=6)
