@@ -277,8 +277,10 @@ def findings_section(results: pd.DataFrame, temporal: pd.DataFrame, speed: pd.Da
              "is several rows), best first. The ground truth's own noise (RMS per pixel and channel, measured seed to "
              "seed, on the metric's own pixels where the metric is an RMS over some of them) stands beside each. "
              "Whether a method agrees with the truth, and so whether two methods tie, is a per-pixel z-test where "
-             f"the table shows one ({_z_test_words()}; each pixel's noise pooled over the metric's pixels of its kind, "
-             "edge or not); elsewhere differences smaller than the noise are not resolved.</p>"]
+             f"the table shows one ({_z_test_words()}; on a pixel an edge crosses, the noise is one scale pooled over "
+             "the metric's edge pixels times the range of the colours meeting there, per channel; elsewhere the "
+             "noise of the other pixels); where no test applies, differences smaller than the noise are not "
+             "resolved.</p>"]
     for q in QUESTIONS:
         group = _pick_group(q, tables)
         parts.append(f"<h3 id='finding-{q.key}'>{html.escape(q.title)}</h3>")
