@@ -35,8 +35,9 @@ SIGNIFICANCE = 0.01
 #: Fraction of the pixels (channels) that must pass for a method to agree with the truth.
 PASS_FRACTION = 0.9975
 #: Differences below this always pass: Mitsuba's film accumulates in float32, so a pixel it
-#: renders exactly (one flat colour) still differs from a float64 method by its rounding.
-ROUNDING = 1e-6
+#: renders exactly (one flat colour) still differs from a float64 method by its rounding
+#: (2.1e-6 seen at 4096 spp on a colour of 0.95; the same in both seeds, so no noise shows).
+ROUNDING = 1e-5
 
 
 def sidak_threshold(n: int, alpha: float = SIGNIFICANCE) -> float:
