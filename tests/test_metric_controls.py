@@ -97,3 +97,65 @@ def test_sum_variation_controls():
     # sums 1.1 S and 0.9 S: (max - min) / mean = 0.2
     popping = rgb(TRUTH * (1.0 + _alternating(0.1)))
     assert registry.compute_temporal_metric("sum_variation", truth, popping) == pytest.approx(0.2, rel=1e-9)
+
+
+# --- the library's controls (aaeval.metrics.controls), the ones the report prints ---------
+
+def test_sum_bias_controls():
+    truth = rgb(TRUTH)
+    exact = {"exact": truth}
+    assert registry.compute_temporal_metric("sum_bias", truth, truth, **exact) == pytest.approx(0.0, abs=1e-12)
+    steady = np.broadcast_to(truth[0], truth.shape)  # steady: every frame's sum is the exact one
+    assert registry.compute_temporal_metric("sum_bias", truth, steady, **exact) == pytest.approx(0.0, abs=1e-12)
+    assert registry.compute_temporal_metric("sum_bias", truth, truth * 0.83, **exact) == pytest.approx(-0.17)
+    # five frames in six 10% dark, one 50% bright: the typical frame is 10% dark
+    scale = np.where(np.arange(FRAMES) % 6 == 5, 1.5, 0.9)[:, None, None, None]
+    assert registry.compute_temporal_metric("sum_bias", truth, truth * scale, **exact) == pytest.approx(-0.1)
+
+
+def test_sum_bias_reads_the_exact_frames_not_the_reference():
+    truth = rgb(TRUTH)
+    noisy_reference = truth * 1.3  # a reference whose sum is off must not move the bias
+    assert registry.compute_temporal_metric("sum_bias", noisy_reference, truth, exact=truth) == \
+        pytest.approx(0.0, abs=1e-12)
+
+
+def test_every_temporal_measure_meets_the_known_answers_of_the_controls():
+    from aaeval.metrics.controls import control_scores
+
+    rows = control_scores()
+    checked = [r for r in rows if np.isfinite(r["expected"])]
+    missed = [(r["measure"], r["control"], r["score"], r["expected"]) for r in checked
+              if not abs(r["score"] - r["expected"]) <= 1e-9]
+    assert not missed
+    # every registered temporal measure is held to at least two known answers
+    temporal = [n for n, m in registry.METRICS.items() if m.kind == "temporal"]
+    counts = {n: sum(r["measure"] == n for r in checked) for n in temporal}
+    assert all(c >= 2 for c in counts.values()), counts
+
+
+def test_library_controls_match_this_file():
+    # the page's controls are the ones this file builds by hand
+    from aaeval.metrics.controls import controls
+
+    truth, tests, masks = controls()
+    assert np.array_equal(truth[..., 0], TRUTH)
+    assert np.array_equal(tests["steady_blur"][..., 0], STEADY_BLUR)
+    assert np.array_equal(masks["highlight"], MASK)
+
+
+def test_the_report_prints_every_measures_control_scores():
+    import re
+
+    from aaeval.metrics.controls import CONTROLS, control_scores
+    from aaeval.report.controls_table import controls_html
+
+    page = controls_html()
+    for r in control_scores():
+        cell = re.search(rf"data-measure='{r['measure']}' data-control='{r['control']}'>([^<]*)</td>", page)
+        assert cell, (r["measure"], r["control"])
+        shown = cell.group(1)
+        metric = registry.METRICS[r["measure"]]
+        assert shown.startswith(metric.format(r["score"]) if np.isfinite(r["score"]) else "n/a")
+    assert "✗" not in page  # no measure misses a known answer
+    assert len(CONTROLS) >= 4

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import shapely
+import shapely.affinity
 
 from aaeval.metrics.temporal import intensity_sum
 from aaeval.renderers import render
@@ -163,7 +164,7 @@ def point_samples(scene: Scene) -> np.ndarray:
     return shapely.contains_xy(fence, cols + 0.5, rows + 0.5)
 
 
-@pytest.mark.parametrize("name", ["picket_fence", "picket_fence_moire"])
+@pytest.mark.parametrize("name", ["picket_fence", "picket_fence_moire", "picket_fence_moire_21"])
 def test_picket_fence_catmull_sum_is_constant(name):
     scene = shipped(name)
     assert scene.frames >= 8 and 0 < scene.translate[0] < 1
@@ -187,6 +188,22 @@ def test_picket_fence_moire_point_samples_crawl_while_their_sum_stays():
     sums = [m.sum() for m in masks]
     assert max(sums) - min(sums) <= scene.height - 2  # at most one column's worth apart
     assert len({m.tobytes() for m in masks}) >= scene.frames // 2, "the aliased pattern moves"
+
+
+def test_the_20_bar_moire_fence_is_invariant_for_point_sampling_and_21_bars_are_not():
+    # 20 bars of period 1.3 px are two whole periods of the 13/10 beat with the pixel grid:
+    # whatever the translation, the point samples cover the same number of bars. One bar
+    # more and the count depends on where the fence stands (the 21-bar file's reason to be).
+    def spread(name):
+        scene = shipped(name)
+        counts = []
+        for shift in np.linspace(0.0, 1.3, 27, endpoint=False):
+            moved = [shapely.affinity.translate(outline(p), shift) for p in scene.polygons]
+            counts.append(sum(shapely.contains_xy(m, np.arange(scene.width) + 0.5, 1.5).sum() for m in moved))
+        return np.ptp(counts)
+
+    assert spread("picket_fence_moire") == 0
+    assert spread("picket_fence_moire_21") >= 1
 
 
 # --- interpenetrating pair ----------------------------------------------------------

@@ -173,6 +173,7 @@ def run_comparison(plan: ComparisonPlan, *, on_render: Callable[[str, int], None
             fields = measured.fields(scene.width, scene.height)
             rows.append({"method": spec, "frame": k, **fields.pop("metrics"), **fields})
             rows[-1].pop("traceback")
+            rows[-1].pop("agreement")  # no second truth here to test against
     reference_variation = relative_variation([r["intensity_sum"] for r in reference_rows])
     summary = []
     for spec in plan.methods:
@@ -183,7 +184,8 @@ def run_comparison(plan: ComparisonPlan, *, on_render: Callable[[str, int], None
         if len(plan.frames) >= 2 and not failed:
             temporal, temporal_errors = series_metrics(
                 plan.temporal, reference_frames, method_frames[spec],
-                lambda name: cache.series_mask(digest, scene, plan.frames, name))
+                lambda name: cache.series_mask(digest, scene, plan.frames, name),
+                lambda: cache.exact_series(digest, scene, plan.frames))
         summary.append(
             {
                 "method": spec,

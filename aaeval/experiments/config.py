@@ -5,8 +5,10 @@ A config file looks like::
     [experiment]
     name = "edges"
     reference = "catmull"                  # method spec every cell is compared against
-    metrics = ["rmse", "psnr"]             # per-frame metrics (see `aaeval metrics`)
-    temporal = ["sum_variation", "flicker"]  # metrics over the frames of an animation
+    metrics = ["rmse", "psnr"]             # per-frame metrics (see `aaeval metrics`); left out:
+                                           # every registered metric that applies to a group's scenes
+    temporal = ["sum_variation", "flicker"]  # metrics over the frames of an animation (left out: every
+                                           # applicable one, for groups that animate)
     repeats = 1                            # timed renders per cell (groups may override)
     primary = "rmse"                       # the error axis of the report's charts
 
@@ -48,7 +50,7 @@ from aaeval.renderers import MethodError, MethodSpec, parse_spec
 from aaeval.scenes import Scene, SceneError, parse_scene
 
 __all__ = ["ConfigError", "Experiment", "Group", "SceneSource", "Cell", "SpeedPass", "load_experiment",
-           "parse_experiment", "reference_for", "SPEED_MIN_PIXELS"]
+           "parse_experiment", "reference_for", "applicable_metrics", "SPEED_MIN_PIXELS"]
 
 
 class ConfigError(ValueError):
@@ -200,9 +202,12 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
     _no_unknown(head, _EXPERIMENT_KEYS, f"{where}: [experiment]")
     name = _string(head, "name", f"{where}: [experiment]", default=Path(where).stem)
     reference = _spec(_string(head, "reference", f"{where}: [experiment]"), f"{where}: [experiment].reference")
-    metrics = _metric_list(head.get("metrics", ["rmse"]), f"{where}: [experiment].metrics", temporal=False)
-    temporal = _metric_list(head.get("temporal", []), f"{where}: [experiment].temporal", temporal=True)
-    primary = _string(head, "primary", f"{where}: [experiment]", default=metrics[0])
+    # None: a group names none and measures every registered metric that applies to its scenes
+    metrics = _metric_list(head["metrics"], f"{where}: [experiment].metrics", temporal=False) \
+        if "metrics" in head else None
+    temporal = _metric_list(head["temporal"], f"{where}: [experiment].temporal", temporal=True) \
+        if "temporal" in head else None
+    primary = _string(head, "primary", f"{where}: [experiment]", default=metrics[0] if metrics else "rmse")
     repeats = _repeats(head.get("repeats", 1), f"{where}: [experiment].repeats")
     noise = head.get("noise_estimate", True)
     if not isinstance(noise, bool):
@@ -219,6 +224,7 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
     groups = []
     for i, raw in enumerate(raw_groups):
         groups.append(_group(raw, f"{where}: groups[{i}]", base, reference, metrics, repeats, temporal))
+    temporal = tuple(dict.fromkeys(m for g in groups for m in g.temporal))
     names = [g.name for g in groups]
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:
@@ -272,8 +278,8 @@ def _methods_and_options(raw: Mapping, where: str) -> tuple[list, Mapping]:
     return methods, options
 
 
-def _group(raw: Any, where: str, base: Path, reference: MethodSpec, metrics: tuple[str, ...], repeats: int,
-           temporal: tuple[str, ...]) -> Group:
+def _group(raw: Any, where: str, base: Path, reference: MethodSpec, metrics: tuple[str, ...] | None, repeats: int,
+           temporal: tuple[str, ...] | None) -> Group:
     if not isinstance(raw, Mapping):
         raise ConfigError(f"{where}: must be a table")
     _no_unknown(raw, _GROUP_KEYS, where)
@@ -287,6 +293,10 @@ def _group(raw: Any, where: str, base: Path, reference: MethodSpec, metrics: tup
     scenes = _scenes(raw.get("scenes"), f"{where}.scenes", base)
     if "animate" in raw:
         scenes = _animate(scenes, raw["animate"], f"{where}.animate")
+    if metrics is None:
+        metrics = applicable_metrics(scenes, "image")
+    if temporal is None:
+        temporal = applicable_metrics(scenes, "temporal") if any(src.frames > 1 for src in scenes) else ()
     methods, options = _methods_and_options(raw, where)
     specs = _expand_specs(methods, options, f"{where}")
     frames = _frames(raw.get("frames", "all"), f"{where}.frames", scenes)
@@ -445,11 +455,22 @@ def _generated(item: Mapping[str, Any], where: str) -> list[SceneSource]:
     return out
 
 
+def applicable_metrics(scenes, kind: str) -> tuple[str, ...]:
+    """Every registered ``kind`` metric that can say something about at least one of
+    ``scenes`` (:meth:`aaeval.metrics.Metric.applies_to`), in registration order: what a
+    group measures when neither it nor the experiment names its metrics."""
+    from aaeval.metrics import METRICS
+
+    return tuple(name for name, metric in METRICS.items()
+                 if metric.kind == kind and any(metric.applies_to(src.parsed) for src in scenes))
+
+
 def _animate(scenes: tuple[SceneSource, ...], raw: Any, where: str) -> tuple[SceneSource, ...]:
     """Give every scene of the group this [animation] table (static scenes set moving)."""
     if not isinstance(raw, Mapping):
-        raise ConfigError(f"{where}: expected a table {{frames = N, translate = [dx, dy]}}, got {raw!r}")
-    _no_unknown(raw, {"frames", "translate"}, where)
+        raise ConfigError(f"{where}: expected a table {{frames = N, translate = [dx, dy], phases = \"r2\"}}, "
+                          f"got {raw!r}")
+    _no_unknown(raw, {"frames", "translate", "phases", "seed"}, where)
     out = []
     for src in scenes:
         document = {**src.document, "animation": dict(raw)}

@@ -100,6 +100,28 @@ class SceneCache:
         """The mask ``name`` on each of ``frames``, stacked (F, H, W)."""
         return np.stack([self.mask(digest, scene, k, name) for k in frames])
 
+    def noise_weight(self, digest: str, scene, frame: int) -> np.ndarray:
+        """:func:`aaeval.metrics.agreement.noise_weight` of the scene at ``frame``, kept."""
+        from aaeval.metrics.agreement import noise_weight
+
+        key = (digest, frame, "noise_weight")
+        if key not in self._masks:
+            self._masks[key] = noise_weight(scene.at_frame(frame))
+        return self._masks[key]
+
+    def exact_series(self, digest: str, scene, frames: Sequence[int]) -> np.ndarray:
+        """The exact box-filtered image of each of ``frames`` (Catmull's area sampling of the
+        flat polygons), stacked (F, H, W, 3): the truth the metrics needing ``exact`` read."""
+        from aaeval.catmull import render_flat
+        from aaeval.scenes.shaded import has_shaded
+
+        if has_shaded(scene):
+            raise ValueError("no exact renderer shades: the exact frames exist for flat scenes only")
+        for k in frames:
+            if (digest, k, "exact") not in self._masks:
+                self._masks[(digest, k, "exact")] = render_flat(scene.at_frame(k))
+        return np.stack([self._masks[(digest, k, "exact")] for k in frames])
+
 
 #: This process's scene cache (each worker process has its own).
 SCENES = SceneCache()
@@ -164,19 +186,61 @@ def render_reference(scene, spec: MethodSpec | str, frame: int, *, estimate_nois
 
     ``noise_rmse`` is 0 for an exact reference; for a seeded one (with ``estimate_noise``)
     the RMS per-pixel noise of one render, ``rmse(a, b) / sqrt(2)`` against a second render
-    with the next seed; NaN when not measured.
+    with the next seed; NaN when not measured. ``noise_by_metric``: for every RMS metric
+    (:attr:`aaeval.metrics.Metric.rms`) that applies to the scene, that noise on the
+    metric's own pixels, then the scale of its edge values' noise model and the noise of its
+    other pixels (:func:`aaeval.metrics.agreement.noise_strata`); all 0 for an exact
+    reference, absent when not measured.
     """
     from aaeval.renderers import MethodSpec, render_timed
 
     spec = MethodSpec.parse(spec)
     image, seconds = render_timed(scene, spec, frame=frame)
-    noise = 0.0 if reference_kind(spec) == "exact" else math.nan
+    exact = reference_kind(spec) == "exact"
+    noise = 0.0 if exact else math.nan
     twin = noise_spec(spec) if estimate_noise else None
+    strata = _noise_strata(scene.at_frame(frame), image, image) if exact else None
     if twin is not None:
         other, _ = render_timed(scene, twin, frame=frame)
         noise = rmse(image, other) / math.sqrt(2.0)
-    return {"image": image, "render_s": seconds, "noise_rmse": noise, "noise_spec": twin,
-            "intensity_sum": intensity_sum(image)}
+        strata = _noise_strata(scene.at_frame(frame), image, other)
+    out = {"image": image, "render_s": seconds, "noise_rmse": noise, "noise_spec": twin,
+           "intensity_sum": intensity_sum(image)}
+    if strata is not None:
+        out["noise_by_metric"] = strata
+    return out
+
+
+def _noise_strata(scene, image: np.ndarray, twin: np.ndarray) -> dict[str, list[float]]:
+    """Every applicable RMS metric's noise strata (:func:`aaeval.metrics.agreement.noise_strata`)."""
+    from aaeval.metrics.agreement import noise_strata, noise_weight
+
+    edge, weight = build_mask("edge", scene), noise_weight(scene)
+    out = {}
+    for name, metric in METRICS.items():
+        if metric.kind == "image" and metric.rms and metric.applies_to(scene):
+            mask = build_mask(metric.mask, scene) if metric.mask else np.ones(edge.shape, bool)
+            out[name] = list(noise_strata(image, twin, mask, edge, weight))
+    return out
+
+
+def agreement(names: Sequence[str], reference: np.ndarray, image: np.ndarray, strata: Mapping[str, Sequence[float]],
+              mask_of, weight: np.ndarray) -> dict[str, float]:
+    """For every RMS metric of ``names`` whose noise strata are known: the fraction of its
+    pixels (and channels) where ``image`` passes the per-pixel z-test against ``reference``
+    (:func:`aaeval.metrics.agreement.z_test_pass_fraction`)."""
+    from aaeval.metrics.agreement import z_test_pass_fraction
+
+    out = {}
+    for name in names:
+        metric = METRICS[name]
+        if not metric.rms or name not in strata:
+            continue
+        _, scale_edge, sigma_other = (math.nan if v is None else float(v) for v in strata[name])
+        edge = mask_of("edge")
+        mask = mask_of(metric.mask) if metric.mask else np.ones(edge.shape, bool)
+        out[name] = z_test_pass_fraction(reference, image, mask, edge, scale_edge, sigma_other, weight=weight)
+    return out
 
 
 def check_image_metrics(names: Sequence[str]) -> tuple[str, ...]:
@@ -189,8 +253,13 @@ def check_temporal_metrics(names: Sequence[str]) -> tuple[str, ...]:
     return check_metric_names(names, "temporal")
 
 
-def _context(metric, mask_of) -> dict:
-    return {"mask": mask_of(metric.mask)} if metric.mask else {}
+def _context(metric, mask_of, exact_of=None) -> dict:
+    context = {"mask": mask_of(metric.mask)} if metric.mask else {}
+    if "exact" in metric.needs:
+        if exact_of is None:
+            raise ValueError(f"metric {metric.name!r} needs the exact frames, and none were given")
+        context["exact"] = exact_of()
+    return context
 
 
 def frame_metrics(names: Sequence[str], reference: np.ndarray, image: np.ndarray,
@@ -212,17 +281,20 @@ def frame_metrics(names: Sequence[str], reference: np.ndarray, image: np.ndarray
 
 
 def series_metrics(names: Sequence[str], references: Sequence[np.ndarray], images: Sequence[np.ndarray],
-                   mask_of) -> tuple[dict[str, float], dict[str, str]]:
+                   mask_of, exact_of=None) -> tuple[dict[str, float], dict[str, str]]:
     """Every temporal metric in ``names`` over all frames, in frame order.
 
-    ``mask_of(name)`` returns the mask ``name`` stacked over the frames, (F, H, W).
+    ``mask_of(name)`` returns the mask ``name`` stacked over the frames, (F, H, W);
+    ``exact_of()`` the exact frames, (F, H, W, 3) (:meth:`SceneCache.exact_series`), for
+    the metrics that need them.
     """
     values, errors = {}, {}
     frames_true, frames_test = np.stack(references), np.stack(images)
     for name in names:
         metric = METRICS[name]
         try:
-            values[name] = compute_temporal_metric(name, frames_true, frames_test, **_context(metric, mask_of))
+            values[name] = compute_temporal_metric(name, frames_true, frames_test,
+                                                   **_context(metric, mask_of, exact_of))
         except Exception as exc:  # noqa: BLE001
             values[name] = math.nan
             errors[name] = f"{type(exc).__name__}: {exc}"
@@ -240,20 +312,25 @@ class FrameMeasurement:
     metric_errors: dict[str, str] = field(default_factory=dict)
     error: str | None = None
     traceback: str | None = None
+    agreement: dict[str, float] = field(default_factory=dict)
 
     def fields(self, width: int, height: int) -> dict[str, Any]:
         return {**self.timing.fields(width, height), "intensity_sum": self.intensity_sum, "metrics": self.metrics,
-                "metric_errors": self.metric_errors, "error": self.error, "traceback": self.traceback}
+                "metric_errors": self.metric_errors, "error": self.error, "traceback": self.traceback,
+                "agreement": self.agreement}
 
 
 def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | None, metrics: Sequence[str], *,
                   digest: str, repeats: int = 1, cache: SceneCache | None = None,
-                  reference_error: str | None = None) -> FrameMeasurement:
+                  reference_error: str | None = None,
+                  noise_by_metric: Mapping[str, Sequence[float]] | None = None) -> FrameMeasurement:
     """Render one frame (timed), then measure it against ``reference``; never raises for the
     cell's own failures: they come back as ``error`` (and every metric NaN).
 
     ``digest`` names the scene's content in ``cache`` (masks are kept per digest and frame).
     ``reference_error``: why there is no reference (the cell fails with this message).
+    ``noise_by_metric``: the reference's noise strata (:func:`render_reference`); with them
+    the record's ``agreement`` holds each RMS metric's z-test pass fraction.
     """
     cache = cache or SCENES
     out = FrameMeasurement(None, Timing.missing(repeats), metrics={m: math.nan for m in metrics})
@@ -267,6 +344,10 @@ def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | N
         out.intensity_sum = intensity_sum(image)
         out.metrics, out.metric_errors = frame_metrics(
             metrics, reference, image, lambda name: cache.mask(digest, scene, frame, name))
+        if noise_by_metric:
+            out.agreement = agreement(metrics, reference, image, noise_by_metric,
+                                      lambda name: cache.mask(digest, scene, frame, name),
+                                      cache.noise_weight(digest, scene, frame))
     except Exception as exc:  # noqa: BLE001 - a failing cell is a result, not the end of the run
         out.error = f"{type(exc).__name__}: {exc}"
         out.traceback = traceback.format_exc(limit=6)

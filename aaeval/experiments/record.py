@@ -24,10 +24,10 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 __all__ = ["SCHEMA_VERSION", "CellRecord", "RecordError", "RECORD_FIELDS", "TABLE_FIELDS", "TIMING_FIELDS",
-           "json_safe", "dumps"]
+           "json_safe", "dumps", "noise_column", "agreement_column"]
 
 #: Bump when a field is added, removed or changes meaning.
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
 
 #: Timing fields, in the record and the results table (issue 10's report reads these names).
 TIMING_FIELDS = ("render_s", "render_s_min", "render_s_max", "repeats", "megapixels", "ms_per_mpix")
@@ -65,6 +65,7 @@ class CellRecord:
     reference_seed: int | None
     reference_noise_rmse: float
     reference_intensity_sum: float
+    reference_noise: dict[str, float]  # per RMS metric: the truth's noise on that metric's pixels
     # the measurement
     repeats: int
     render_s: float
@@ -84,6 +85,8 @@ class CellRecord:
     workers: int
     code_version: str
     finished_at: str
+    # per RMS metric: fraction of its pixels passing the z-test against the truth (none measured: empty)
+    agreement: dict[str, float] = field(default_factory=dict)
     schema_version: int = field(default=SCHEMA_VERSION)
 
     def to_json(self) -> dict:
@@ -107,6 +110,8 @@ class CellRecord:
         for name in _FLOAT_FIELDS:
             values[name] = _float(values[name])
         values["metrics"] = {k: _float(v) for k, v in values["metrics"].items()}
+        for name in ("reference_noise", "agreement"):  # null: nothing was measured
+            values[name] = {k: _float(v) for k, v in (values[name] or {}).items()}
         return cls(**values)
 
     def table_row(self) -> dict:
@@ -116,12 +121,27 @@ class CellRecord:
         row["metric_errors"] = json.dumps(self.metric_errors, sort_keys=True) if self.metric_errors else None
         for name, value in self.metrics.items():
             row[name] = value
+        for name, value in self.reference_noise.items():
+            row[noise_column(name)] = value
+        for name, value in self.agreement.items():
+            row[agreement_column(name)] = value
         return row
 
 
+def noise_column(metric: str) -> str:
+    """The results table's column of the truth's noise on ``metric``'s own pixels."""
+    return f"{metric}__noise"
+
+
+def agreement_column(metric: str) -> str:
+    """The results table's column of ``metric``'s z-test pass fraction against the truth."""
+    return f"{metric}__agreement"
+
+
 RECORD_FIELDS = tuple(f.name for f in dataclasses.fields(CellRecord))
-#: Columns of ``results.parquet`` that come from record fields (metrics add one column each).
-TABLE_FIELDS = tuple(n for n in RECORD_FIELDS if n != "metrics")
+#: Columns of ``results.parquet`` that come from record fields (metrics add one column each,
+#: RMS metrics two more: :func:`noise_column` and :func:`agreement_column`).
+TABLE_FIELDS = tuple(n for n in RECORD_FIELDS if n not in ("metrics", "reference_noise", "agreement"))
 _FLOAT_FIELDS = tuple(f.name for f in dataclasses.fields(CellRecord) if f.type == "float")
 
 

@@ -186,6 +186,9 @@ def record_identity(p: PlannedCell, ref_meta: dict) -> dict:
         "reference": c.reference, "reference_key": p.reference_key, "reference_kind": reference_kind(c.reference),
         "reference_spp": c.reference.options.get("spp"), "reference_seed": c.reference.options.get("seed"),
         "reference_noise_rmse": ref_meta.get("noise_rmse", math.nan),
+        # the truth's noise on each RMS metric's own pixels (the first of its strata)
+        "reference_noise": {name: strata[0] for name, strata in (ref_meta.get("noise_by_metric") or {}).items()
+                            if name in c.metrics},
         "reference_intensity_sum": ref_meta.get("intensity_sum", math.nan),
         "width": c.scene_source.parsed.width, "height": c.scene_source.parsed.height,
     }
@@ -257,6 +260,9 @@ def _references(experiment, todo, store, cache, executor, progress, summary) -> 
     missing = []
     for key, p in wanted.items():
         hit = cache.get(key)
+        if (hit is not None and experiment.noise_estimate and "noise_by_metric" not in hit[1]
+                and reference_kind(p.cell.reference) != "deterministic"):  # a deterministic one has no noise
+            hit = None  # cached before the noise was measured per metric: render it again
         if hit is not None:
             image, info = hit
             store.write_reference(key, image)
@@ -276,6 +282,7 @@ def _references(experiment, todo, store, cache, executor, progress, summary) -> 
         else:
             info = {"spec": missing[i].cell.reference, "render_s": result["render_s"],
                     "noise_rmse": result["noise_rmse"], "noise_spec": result["noise_spec"],
+                    "noise_by_metric": result.get("noise_by_metric"),
                     "intensity_sum": result["intensity_sum"], "host": result["host"]}
             cache.put(key, result["image"], json_safe(info))  # strict JSON: an unmeasured noise is null
             store.write_reference(key, result["image"])
@@ -299,7 +306,8 @@ def _cells(todo, refs, store, executor, progress, summary) -> None:
                 loaded[p.reference_key] = store.load_reference(p.reference_key)
             yield ({"identity": record_identity(p, info), "run": run, "document": p.cell.scene_source.document,
                     "source": p.cell.scene_source.source, "metrics": list(p.cell.metrics), "repeats": p.cell.repeats,
-                    "reference_image": loaded.get(p.reference_key), "reference_error": info.get("error")},)
+                    "reference_image": loaded.get(p.reference_key), "reference_error": info.get("error"),
+                    "noise_by_metric": info.get("noise_by_metric")},)
 
     lost = [p for p in todo if "lost" in refs.get(p.reference_key, {})]
     summary.lost += [f"{p.key}: reference not rendered ({refs[p.reference_key]['lost']})" for p in lost]

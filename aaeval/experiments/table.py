@@ -22,7 +22,8 @@ import pandas as pd
 
 from aaeval.experiments.measure import SceneCache, series_metrics
 from aaeval.metrics import relative_variation
-from aaeval.experiments.record import SCHEMA_VERSION, TABLE_FIELDS, CellRecord, RecordError
+from aaeval.experiments.record import (SCHEMA_VERSION, TABLE_FIELDS, CellRecord, RecordError, agreement_column,
+                                       noise_column)
 from aaeval.experiments.store import SweepStore
 from aaeval.imageio import atomic_write
 
@@ -61,12 +62,16 @@ def results_frame(store: SweepStore, *, heal: bool = True) -> pd.DataFrame:
         for name in metrics:
             flat.setdefault(name, math.nan)  # a metric another group measured
         out.append(flat)
-    columns = [*TABLE_FIELDS, *metrics]
+    from aaeval.metrics import METRICS
+
+    rms = [m for m in metrics if m in METRICS and METRICS[m].rms]
+    tests = [f(m) for m in rms for f in (noise_column, agreement_column)]
+    columns = [*TABLE_FIELDS, *metrics, *tests]
     frame = pd.DataFrame(out, columns=columns)
     frame["label"] = _labels(frame) if out else pd.Series(dtype=object)
     for col in ("render_s", "render_s_min", "render_s_max", "megapixels", "ms_per_mpix", "intensity_sum",
                 "reference_noise_rmse", "reference_intensity_sum", "difficulty", "spp", "seed", "reference_spp",
-                "reference_seed", *metrics):
+                "reference_seed", *metrics, *tests):
         frame[col] = pd.to_numeric(frame[col], errors="coerce").astype(float)
     return frame
 
@@ -135,13 +140,18 @@ def temporal_frame(store: SweepStore, results: pd.DataFrame) -> pd.DataFrame:
             refs = [store.load_reference(k) for k in series["reference_key"]]
             frame_list = [int(k) for k in series["frame"]]
 
-            def mask_of(name, entry=entry, digest=digest, frame_list=frame_list):
+            def scene_of(entry=entry, digest=digest):
                 if entry is None:
                     raise RecordError(f"{store.root}/manifest.json has no scene {digest[:12]}… to build masks")
-                scene = scenes.scene(digest, entry["document"], entry["source"])
-                return scenes.series_mask(digest, scene, frame_list, name)
+                return scenes.scene(digest, entry["document"], entry["source"])
 
-            values, errors = series_metrics(wanted, refs, tests, mask_of)
+            def mask_of(name, digest=digest, frame_list=frame_list, scene_of=scene_of):
+                return scenes.series_mask(digest, scene_of(), frame_list, name)
+
+            def exact_of(digest=digest, frame_list=frame_list, scene_of=scene_of):
+                return scenes.exact_series(digest, scene_of(), frame_list)
+
+            values, errors = series_metrics(wanted, refs, tests, mask_of, exact_of)
             row.update(values)
             row["metric_errors"] = json.dumps(errors, sort_keys=True) if errors else None
         out.append(row)

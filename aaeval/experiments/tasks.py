@@ -59,6 +59,7 @@ def run_cell(payload: dict[str, Any]) -> tuple[dict, np.ndarray | None]:
     measured = measure_frame(
         scene, identity["spec"], identity["frame"], payload["reference_image"], payload["metrics"],
         repeats=payload["repeats"], digest=identity["scene_digest"], cache=SCENES,
+        noise_by_metric=payload.get("noise_by_metric"),
         reference_error=parse_error or (payload.get("reference_error") and
                                         f"reference {identity['reference']} failed: {payload['reference_error']}"))
     record = CellRecord(

@@ -36,8 +36,8 @@ from aaeval.metrics.specular import (
     highlight_profile_flicker,
     highlight_rmse,
 )
-from aaeval.metrics.temporal import (flicker, image_flicker, intensity_sum, relative_variation, sum_variation,
-                                     temporal_bias)
+from aaeval.metrics.temporal import (flicker, image_flicker, intensity_sum, relative_variation, sum_bias,
+                                     sum_variation, temporal_bias)
 
 __all__ = [
     "METRICS",
@@ -69,6 +69,7 @@ __all__ = [
     "intensity_sum",
     "relative_variation",
     "sum_variation",
+    "sum_bias",
     "highlight_mask",
     "highlight_rmse",
     "highlight_energy_bias",

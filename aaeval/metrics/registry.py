@@ -38,7 +38,7 @@ from aaeval.metrics.specular import (
     highlight_flicker,
     highlight_rmse,
 )
-from aaeval.metrics.temporal import flicker, image_flicker, sum_variation, temporal_bias
+from aaeval.metrics.temporal import flicker, image_flicker, sum_bias, sum_variation, temporal_bias
 from aaeval.options import Registry
 
 __all__ = [
@@ -63,9 +63,11 @@ class MetricError(ValueError):
 
 
 KINDS = ("image", "temporal")
-#: What a metric may need: the reference image(s), the scene, every frame of an animation.
-#: (A mask is declared by name in :attr:`Metric.mask`.)
-NEEDS = ("reference", "scene", "frames")
+#: What a metric may need: the reference image(s), the scene, every frame of an animation,
+#: the exact box-filtered frames (keyword ``exact``: Catmull's area sampling of the scene's
+#: flat polygons; such a metric applies to unshaded scenes only). (A mask is declared by
+#: name in :attr:`Metric.mask`.)
+NEEDS = ("reference", "scene", "frames", "exact")
 
 
 @dataclass(frozen=True)
@@ -87,6 +89,11 @@ class Metric:
     target : float or None
         For a signed metric (a bias), the ideal value: closer to it is better, whatever the
         sign; ``higher_is_better`` is then False and means nothing.
+    rms : bool
+        The metric is the RMS of the per-pixel error over its pixels (its mask, or all):
+        the ground truth's noise is then measured on the same pixels with the same
+        reduction, and a per-pixel z-test says whether a method agrees with the truth
+        (:mod:`aaeval.metrics.agreement`).
     needs : tuple of str
         Subset of :data:`NEEDS`; temporal metrics always need ``frames``.
     mask : str or None
@@ -105,12 +112,23 @@ class Metric:
     mask: str | None
     summary: str
     target: float | None = None
+    rms: bool = False  # an RMS of per-pixel errors: the truth's noise in its terms is measurable
 
     @property
     def direction(self) -> str:
         if self.target is not None:
             return f"closer to {self.target:g} is better"
         return "higher is better" if self.higher_is_better else "lower is better"
+
+    def applies_to(self, scene) -> bool:
+        """False where this metric can say nothing about ``scene``: its mask is always empty
+        there, or it needs exact frames of a shaded scene (no exact renderer shades)."""
+        from aaeval.metrics.masks import MASKS
+        from aaeval.scenes.shaded import has_shaded
+
+        if self.mask is not None and not MASKS.get_entry(self.mask).applies_to(scene):
+            return False
+        return not ("exact" in self.needs and has_shaded(scene))
 
     def format(self, value) -> str:
         """``value`` in this metric's format; ``n/a`` for NaN or None, ``inf`` spelled out."""
@@ -144,7 +162,8 @@ METRICS: Registry = _MetricRegistry("metric", MetricError)
 
 def register_metric(name: str, func: Callable[..., float] | None = None, *, kind: str, title: str, fmt: str,
                     higher_is_better: bool = False, needs: tuple[str, ...] = ("reference",),
-                    mask: str | None = None, summary: str | None = None, target: float | None = None) -> Metric:
+                    mask: str | None = None, summary: str | None = None, target: float | None = None,
+                    rms: bool = False) -> Metric:
     """Register a metric; the only step needed for compare, sweeps, tables and reports to know it.
 
     ``register_metric(name, func, ...)`` returns the :class:`Metric`; without ``func`` it is
@@ -159,7 +178,7 @@ def register_metric(name: str, func: Callable[..., float] | None = None, *, kind
 
     if func is None:
         return lambda f: register_metric(name, f, kind=kind, title=title, fmt=fmt, higher_is_better=higher_is_better,
-                                         needs=needs, mask=mask, summary=summary, target=target).func
+                                         needs=needs, mask=mask, summary=summary, target=target, rms=rms).func
     if not isinstance(name, str) or not name.isidentifier():
         raise MetricError(f"metric name must be an identifier (it becomes a table column), got {name!r}")
     if name in METRICS:
@@ -183,7 +202,7 @@ def register_metric(name: str, func: Callable[..., float] | None = None, *, kind
         raise MetricError(f"metric {name!r}: bad number format {fmt!r}") from None
     doc = (inspect.getdoc(func) or "").split("\n", 1)[0]
     metric = Metric(name, func, kind, title, fmt, bool(higher_is_better), tuple(needs), mask, summary or doc,
-                    None if target is None else float(target))
+                    None if target is None else float(target), bool(rms))
     return METRICS.add(name, metric)
 
 
@@ -272,7 +291,7 @@ def _dispatch(registry: Mapping[str, Callable], kind: str, name: str, true, test
 
 
 # --- the built-in metrics -------------------------------------------------------------
-register_metric("rmse", rmse, kind="image", title="RMSE", fmt=".3e",
+register_metric("rmse", rmse, kind="image", title="RMSE", fmt=".3e", rms=True,
                 summary="root-mean-square error over pixels and channels")
 register_metric("psnr", psnr, kind="image", title="PSNR dB", fmt=".2f", higher_is_better=True,
                 summary="peak signal-to-noise ratio, data range 1 (scikit-image)")
@@ -284,9 +303,10 @@ register_metric("ciede2000_p95", ciede2000_p95, kind="image", title="ΔE00 p95",
                 summary="95th percentile of the CIEDE2000 colour difference")
 register_metric("flip", flip, kind="image", title="FLIP", fmt=".4f",
                 summary="mean LDR-FLIP error (flip-evaluator)")
-register_metric("edge_rmse", edge_rmse, kind="image", title="edge RMSE", fmt=".3e", mask="edge",
+register_metric("edge_rmse", edge_rmse, kind="image", title="edge RMSE", fmt=".3e", mask="edge", rms=True,
                 summary="RMSE over the pixels a visible edge crosses (exact coverage)")
 register_metric("highlight_rmse", highlight_rmse, kind="image", title="hl RMSE", fmt=".3e", mask="highlight",
+                rms=True,
                 summary="RMSE over the highlight pixels (ground-truth specular term > 0.02)")
 register_metric("highlight_energy_bias", highlight_energy_bias, kind="image", title="hl bias", fmt="+.3f",
                 mask="highlight", target=0.0,
@@ -296,6 +316,9 @@ register_metric("highlight_energy_bias", highlight_energy_bias, kind="image", ti
 register_metric("sum_variation", sum_variation, kind="temporal", title="sum var", fmt=".3e",
                 needs=("frames",),
                 summary="(max - min) / mean of the test's intensity sums over the frames (no reference)")
+register_metric("sum_bias", sum_bias, kind="temporal", title="sum bias (typical frame)", fmt="+.2%",
+                needs=("frames", "exact"), target=0.0,
+                summary="median over frames of sum(test) / exact sum - 1 (exact: Catmull's area sampling)")
 register_metric("temporal_bias", temporal_bias, kind="temporal", title="bias (time-avg error)", fmt=".3e",
                 summary="RMS over pixels of the error's time-average (bias**2 + flicker**2 = MSE of all frames)")
 register_metric("flicker", flicker, kind="temporal", title="flicker (error minus its time-avg)", fmt=".3e",

@@ -6,7 +6,8 @@ import numpy as np
 
 from aaeval.metrics._checks import check_frames_pair
 
-__all__ = ["intensity_sum", "relative_variation", "sum_variation", "temporal_bias", "flicker", "image_flicker"]
+__all__ = ["intensity_sum", "relative_variation", "sum_variation", "sum_bias", "temporal_bias", "flicker",
+           "image_flicker"]
 
 
 def intensity_sum(image: np.ndarray) -> float:
@@ -52,6 +53,40 @@ def sum_variation(frames_true, frames_test) -> float:
     """
     frames_true, frames_test = check_frames_pair(frames_true, frames_test)
     return relative_variation(frames_test.sum(axis=(1, 2, 3)))
+
+
+def sum_bias(frames_true, frames_test, *, exact) -> float:
+    """Bias of the test's intensity sum against the exact sum, in the typical frame.
+
+    ``median over frames of sum(test_k) / sum(exact_k) - 1``. :func:`sum_variation` says
+    how much a method's sum moves; this says where it sits: a regular 4 x 4 grid on a
+    fence of 0.3 px bars, one per pixel, sees one sample column per bar in four frames of
+    five (sum 90 against the exact 108: -16.7%) and two in the fifth (+66.7%). The median
+    is that typical frame; the mean over evenly spread phases would be 0 for every sampler
+    whose samples lie evenly in the pixel (their average over phases is the box filter), so
+    it would only measure how evenly the frames happened to fall.
+
+    Parameters
+    ----------
+    frames_true : array_like, shape (F, H, W, 3)
+        Reference frames; only checked against the test frames' shape (a sampled reference
+        has noise; the exact sums below have none).
+    frames_test : array_like, shape (F, H, W, 3)
+        The test method's frames.
+    exact : array_like, shape (F, H, W, 3)
+        The exact box-filtered frames (Catmull's area sampling) whose sums are the truth.
+
+    Returns
+    -------
+    bias : float
+        Signed relative bias (-0.167 is 16.7% too dark); NaN where an exact sum is 0.
+    """
+    frames_true, frames_test = check_frames_pair(frames_true, frames_test)
+    _, exact = check_frames_pair(frames_true, exact)
+    truth = exact.sum(axis=(1, 2, 3))
+    if np.any(truth == 0.0):
+        return float("nan")
+    return float(np.median(frames_test.sum(axis=(1, 2, 3)) / truth - 1.0))
 
 
 def temporal_bias(frames_true, frames_test) -> float:

@@ -31,7 +31,7 @@ from aaeval.imageio import atomic_write, linear_to_srgb8  # noqa: E402
 from aaeval.report.style import Styles, ground_truth_style  # noqa: E402
 
 __all__ = ["EXACT_BELOW", "UNIT", "FORMATS", "metric_label", "temporal_bars", "save_figure", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
-           "intensity_sums", "space_time", "stability", "image_grid", "validation"]
+           "intensity_sums", "phase_figure", "space_time", "stability", "image_grid", "validation"]
 
 # An error this small is float64 rounding of an exact render against an exact reference.
 EXACT_BELOW = 1e-10
@@ -304,30 +304,38 @@ def _scene_axes(scenes: list[str], entries: int, width: float = 7.6):
     return fig, axes[:, 0]
 
 
+def _error_panel(ax, rows: pd.DataFrame, x: str, metric: str, styles: Styles, *, lw: float | None = None) -> None:
+    """One scene's ``metric`` against the column ``x`` (frame or phase) on a log axis, one
+    curve per spec, the ground truth's noise of each frame as a grey curve."""
+    ref = rows.drop_duplicates("frame").sort_values(x)
+    lo, hi, exact = _log_limits(rows[metric], ref["reference_noise_rmse"])
+    at = _exact_strip(ax, lo, hi) if exact else None
+    if ref["reference_noise_rmse"].fillna(0).gt(0).any():
+        ax.plot(ref[x], ref["reference_noise_rmse"], label="ground-truth noise", **ground_truth_style())
+    for label, series in _sorted_specs(rows, styles):
+        series = series.sort_values(x)
+        style = _spec_style(series, styles).line()
+        if lw is not None:
+            style["lw"] = lw
+        y = _on_axis(series[metric], at) if exact else series[metric]
+        ax.plot(series[x], y, label=label, **style)
+    ax.set_yscale("log")
+    ax.set_ylim(lo, hi)
+    _log_ticks(ax.yaxis)
+    ax.set_ylabel(metric)
+    ax.grid(True, alpha=0.3)
+
+
 def error_per_frame(results: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles) -> Path:
     """The error of every frame, one curve per spec, one panel per animated scene; the
     ground truth's noise of each frame as a grey curve."""
     scenes = list(dict.fromkeys(results["scene"]))
     fig, axes = _scene_axes(scenes, results["spec"].nunique() + 1)
     for ax, scene in zip(axes, scenes):
-        rows = results[results["scene"] == scene]
-        ref = rows.drop_duplicates("frame").sort_values("frame")
-        lo, hi, exact = _log_limits(rows[metric], ref["reference_noise_rmse"])
-        at = _exact_strip(ax, lo, hi) if exact else None
-        if ref["reference_noise_rmse"].fillna(0).gt(0).any():
-            ax.plot(ref["frame"], ref["reference_noise_rmse"], label="ground-truth noise", **ground_truth_style())
-        for label, series in _sorted_specs(rows, styles):
-            series = series.sort_values("frame")
-            y = _on_axis(series[metric], at) if exact else series[metric]
-            ax.plot(series["frame"], y, label=label, **_spec_style(series, styles).line())
-        ax.set_yscale("log")
-        ax.set_ylim(lo, hi)
-        _log_ticks(ax.yaxis)
+        _error_panel(ax, results[results["scene"] == scene], "frame", metric, styles)
         _frame_ticks(ax)
         ax.set_title(scene)
         ax.set_xlabel("frame")
-        ax.set_ylabel(metric)
-        ax.grid(True, alpha=0.3)
         _legend(ax)
     _suptitle(fig, title)
     return save_figure(fig, path)
@@ -355,6 +363,39 @@ def intensity_sums(results: pd.DataFrame, path: Path, *, title: str, styles: Sty
         ax.set_ylabel("intensity sum over ground-truth sum")
         ax.grid(True, alpha=0.3)
         _legend(ax)
+    _suptitle(fig, title)
+    return save_figure(fig, path)
+
+
+def phase_figure(results: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles) -> Path:
+    """Each method's error and intensity sum against the sub-pixel phase of the frame.
+
+    ``results`` has a ``phase`` column (the frame's offset modulo 1 px along x, in [0, 1));
+    one row of two panels per scene: ``metric`` on a log axis (the ground truth's noise as a
+    grey curve) and the intensity sum over the ground truth's sum of the same frame. A
+    method that aliases with its sample grid draws a pattern that repeats with the grid's
+    spacing; area sampling is flat.
+    """
+    scenes = list(dict.fromkeys(results["scene"]))
+    height = max(2.6, 0.17 * (results["spec"].nunique() + 1))
+    fig, axes = plt.subplots(len(scenes), 2, figsize=(11.5, height * len(scenes) + 0.4), squeeze=False,
+                             gridspec_kw={"hspace": 0.55, "wspace": 0.3})
+    for (ax_error, ax_sum), scene in zip(axes, scenes):
+        rows = results[results["scene"] == scene]
+        thin = 0.6  # the phases are samples, not a path: thin joins, the markers carry it
+        _error_panel(ax_error, rows, "phase", metric, styles, lw=thin)
+        ax_sum.axhline(1.0, color="0.3", lw=0.6)
+        for label, series in _sorted_specs(rows, styles):
+            series = series.sort_values("phase")
+            ax_sum.plot(series["phase"], series["intensity_sum"] / series["reference_intensity_sum"], label=label,
+                        **{**_spec_style(series, styles).line(), "lw": thin})
+        ax_sum.set_ylabel("intensity sum over ground-truth sum")
+        ax_sum.grid(True, alpha=0.3)
+        for ax in (ax_error, ax_sum):
+            ax.set_xlim(0.0, 1.0)
+            ax.set_xlabel("sub-pixel phase of the frame along x (px)")
+            ax.set_title(scene)
+        _legend(ax_sum)
     _suptitle(fig, title)
     return save_figure(fig, path)
 

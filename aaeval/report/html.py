@@ -183,6 +183,7 @@ class _Page:
         self.shaded = {digest for digest, scene in manifest.get("scenes", {}).items()
                        if isinstance(scene, dict) and "shaded" in scene.get("document", {})}
         self.group_temporal = manifest.get("group_temporal", {})
+        self.scene_documents = manifest.get("scenes", {})
 
     def table(self, frame: pd.DataFrame, name: str, caption: str = "") -> str:
         return write_table(frame, self.tabdir, name, self.root, caption)  # names: fixed words and figure stems
@@ -204,6 +205,25 @@ def _accuracy_block(page: _Page, group: str, slug: str, summary: pd.DataFrame, r
                    "are not charted (cells may share the machine): see <a href='#speed'>Speed</a>.")
 
 
+def _with_phases(rows: pd.DataFrame, documents: dict) -> pd.DataFrame:
+    """``rows`` with a ``phase`` column: each frame's offset along x modulo 1 px, from the
+    scene's document in the manifest (:meth:`aaeval.scenes.Scene.offset`); rows of scenes
+    the manifest does not hold are left out."""
+    from aaeval.scenes import parse_scene
+    from aaeval.scenes.phases import subpixel_phase
+
+    phases = {}
+    for digest in rows["scene_digest"].unique():
+        entry = documents.get(digest)
+        if entry is None:
+            continue
+        scene = parse_scene(entry["document"], source=entry["source"])
+        for k in rows.loc[rows["scene_digest"] == digest, "frame"].unique():
+            phases[(digest, int(k))] = float(subpixel_phase(scene.offset(int(k)))[0])
+    phase = [phases.get((d, int(k)), math.nan) for d, k in zip(rows["scene_digest"], rows["frame"])]
+    return rows.assign(phase=phase).dropna(subset=["phase"])
+
+
 def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp: pd.DataFrame,
                     ref: str) -> list[str]:
     out = []
@@ -222,6 +242,15 @@ def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp
     out.append(figure_html(p, page.root, "Intensity sum of every frame divided by the ground truth's sum of the same "
                "frame (linear axis; 1 is right); the thick grey curve is the ground truth's own sum relative to "
                f"its frame 0. Area sampling keeps the sum while the scene moves inside the frame. {ref}"))
+    phased = _with_phases(animated, page.scene_documents)
+    if page.primary in animated and not phased.empty:
+        p = figures.phase_figure(phased, page.figdir / f"{slug}_phase", metric=page.primary,
+                                 title=f"{group}: against the sub-pixel phase", styles=page.styles)
+        out.append(figure_html(p, page.root, f"{page.primary} (left, log axis; the grey curve is the ground truth's "
+                   "noise) and the intensity sum over the ground truth's sum (right; 1 is right) of every frame, "
+                   "against the frame's sub-pixel phase along x: its offset from the scene as written, modulo 1 px. "
+                   "A sampler whose grid aliases with the motion repeats a pattern at the grid's spacing; area "
+                   f"sampling stays flat. {figures.UNIT}. {ref}"))
     names = [m for m in page.group_temporal.get(group, []) if m in temp and temp[m].notna().any()]
     if not temp.empty and names:
         p = figures.temporal_bars(temp, page.figdir / f"{slug}_temporal", group=group, metrics=names,
@@ -332,6 +361,8 @@ def _policy_section(page: _Page, results: pd.DataFrame) -> str:
 
 
 def _how_to_read(page: _Page) -> str:
+    from aaeval.report.controls_table import controls_html
+
     return f"""<h2 id='how-to-read'>How to read this report</h2><ul>
 <li><b>Ground truth.</b> Every error is measured against the reference named at the top of each group (normally
 the Mitsuba high-spp render); its measured noise is stated with it. The section <a href='#ground-truth'>Ground
@@ -353,6 +384,9 @@ checkbox switches to each panel's own).</li>
 error, the part that stays with the object) and its flicker (what is left, frame to frame); for highlights the
 same split is made on the highlight's energy, so a clamp that dims the highlight wherever it goes shows as bias,
 not as flicker. Each is one registered metric (aaeval/metrics), used by every table, chart and section.</li>
+<li id='controls'><b>Controls.</b> Each temporal measure is checked on images whose answer is known before it judges
+a method (aaeval/metrics/controls.py; computed as this page was built):
+{controls_html()}</li>
 <li><b>Failed.</b> {html.escape(page.definition)} The same definition is used by every table and chart; a metric
 that could not be computed for a cell is listed separately and does not make the cell fail.</li>
 <li><b>The viewer.</b> Each group ends with an interactive viewer: pick a scene, scrub or play the frames, choose

@@ -117,6 +117,17 @@ class Scene:
     extensions: Mapping[str, Any] = field(default_factory=dict)
     # the file's polygons with holes; each is already in ``polygons`` as abutting pieces
     holed: tuple = ()  # of aaeval.scenes.holes.HoledPolygon
+    # sub-pixel offsets added to the drift (aaeval.scenes.phases); "none" moves as before
+    phases: str = "none"
+    phase_seed: int = 0
+
+    def offset(self, k: int) -> np.ndarray:
+        """Where frame ``k`` is moved to, relative to the scene as written (px, (2,))."""
+        from aaeval.scenes.phases import phase_offsets
+
+        if self.phases == "none":  # the shipped motion, bit for bit: no offset added
+            return int(k) * self.translate
+        return int(k) * self.translate + phase_offsets(self.phases, int(k) + 1, self.phase_seed)[int(k)]
 
     @cached_property
     def arrays(self) -> PolygonArrays:
@@ -127,7 +138,8 @@ class Scene:
         """The scene translated to frame ``k`` (0-based) of its animation."""
         if not (isinstance(k, (int, np.integer)) and 0 <= k < self.frames):
             raise SceneError(f"{self.source}: frame {k} is outside 0..{self.frames - 1}")
-        shift = (int(k) - self.frame) * self.translate
+        shift = (int(k) - self.frame) * self.translate if self.phases == "none" else \
+            self.offset(int(k)) - self.offset(self.frame)
         if not shift.any():
             return replace(self, frame=int(k))
         arrays = _translated(self.arrays, shift)
@@ -236,9 +248,10 @@ def parse_scene(document: Mapping[str, Any], *, source: str = "<scene>") -> Scen
     background = rgb(image.get("background", [0.0, 0.0, 0.0]), f"{source}: [image].background")
 
     animation = _table(document, "animation", source, required=False)
-    _no_unknown(animation, {"frames", "translate"}, f"{source}: [animation]")
+    _no_unknown(animation, {"frames", "translate", "phases", "seed"}, f"{source}: [animation]")
     frames = _positive_int(animation, "frames", f"{source}: [animation]") if "frames" in animation else 1
     translate = vector(animation.get("translate", [0.0, 0.0]), 2, f"{source}: [animation].translate")
+    phases, phase_seed = _phases(animation, f"{source}: [animation]")
 
     raw_polygons = document.get("polygons", [])
     if not isinstance(raw_polygons, list):
@@ -246,7 +259,8 @@ def parse_scene(document: Mapping[str, Any], *, source: str = "<scene>") -> Scen
     from aaeval.scenes.holes import polygons_with_holes  # builds on this module's checks
 
     polygons, holed = polygons_with_holes(raw_polygons, source)
-    _check_animation_range(polygons, frames, translate, f"{source}: [animation]")
+    # phase offsets stay below 1 px: one more pixel of reach covers them
+    _check_animation_range(polygons, frames, translate, f"{source}: [animation]", extra=phases != "none")
 
     extensions = {
         name: SECTIONS[name].parse(document[name], f"{source}: [{name}]", dict(document))
@@ -261,6 +275,8 @@ def parse_scene(document: Mapping[str, Any], *, source: str = "<scene>") -> Scen
         frames=frames,
         translate=translate,
         source=source,
+        phases=phases,
+        phase_seed=phase_seed,
         extensions=extensions,
         holed=holed,
     )
@@ -319,11 +335,28 @@ def rgb(value: Any, where: str) -> np.ndarray:
     return colour
 
 
-def _check_animation_range(polygons, frames: int, translate: np.ndarray, where: str) -> None:
+def _phases(animation: Mapping, where: str) -> tuple[str, int]:
+    """``phases`` (one of :data:`aaeval.scenes.phases.PHASES`, default "none") and its ``seed``."""
+    from aaeval.scenes.phases import PHASES
+
+    phases = animation.get("phases", "none")
+    if not isinstance(phases, str) or phases not in PHASES:
+        raise SceneError(f"{where}.phases: expected one of {', '.join(repr(p) for p in PHASES)}, got {phases!r}")
+    if "seed" not in animation:
+        return phases, 0
+    seed = animation["seed"]
+    if phases != "random":
+        raise SceneError(f"{where}.seed: only phases = \"random\" takes a seed (phases is {phases!r})")
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**63:
+        raise SceneError(f"{where}.seed: expected a whole number in [0, 2**63), got {seed!r}")
+    return phases, seed
+
+
+def _check_animation_range(polygons, frames: int, translate: np.ndarray, where: str, extra: bool = False) -> None:
     """Refuse an animation that moves a vertex beyond the coordinate limit (or to infinity)."""
-    if frames < 2 or not translate.any() or not polygons:
+    if frames < 2 or not (translate.any() or extra) or not polygons:
         return
-    reach = max(float(np.abs(p.vertices[:, :2]).max()) for p in polygons)
+    reach = max(float(np.abs(p.vertices[:, :2]).max()) for p in polygons) + (1.0 if extra else 0.0)
     last = frames - 1
     with np.errstate(over="ignore"):
         moved = reach + last * float(np.abs(translate).max())

@@ -50,6 +50,10 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
     }
     if scene.frames != 1 or scene.translate.any():
         document["animation"] = {"frames": scene.frames, "translate": scene.translate.tolist()}
+        if scene.phases != "none":  # written only when set: a file without it reads as before
+            document["animation"]["phases"] = scene.phases
+            if scene.phases == "random":
+                document["animation"]["seed"] = scene.phase_seed
     document["polygons"] = [
         {"color": p.color.tolist(), "vertices": p.vertices.tolist()} for p in scene.polygons
     ]

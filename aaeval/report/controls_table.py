@@ -1,0 +1,48 @@
+"""The control scores of every temporal measure, for the report's "how to read".
+
+Computed on the page's build by :func:`aaeval.metrics.controls.control_scores` (never
+written by hand): a measure added to the registry appears here with its scores, and a
+measure that misses a known answer shows it.
+"""
+
+from __future__ import annotations
+
+import html
+import math
+
+from aaeval.metrics import METRICS
+from aaeval.metrics.controls import CONTROL_NOTES, CONTROLS, control_scores
+
+__all__ = ["controls_html"]
+
+#: A score this close to its known answer meets it (the controls are exact up to rounding).
+TOLERANCE = 1e-9
+
+
+def controls_html() -> str:
+    """One table: a row per registered temporal measure, a column per control, each cell
+    the measure's score on that control and, where the construction fixes one, the answer."""
+    rows: dict[str, dict[str, dict]] = {}
+    for r in control_scores():
+        rows.setdefault(r["measure"], {})[r["control"]] = r
+    head = "".join(f"<th title='{html.escape(CONTROL_NOTES[c])}'>{html.escape(c.replace('_', ' '))}</th>"
+                   for c in CONTROLS)
+    body = []
+    for name, by_control in rows.items():
+        metric = METRICS[name]
+        cells = []
+        for control in CONTROLS:
+            r = by_control[control]
+            score, expected = r["score"], r["expected"]
+            text = metric.format(score) if math.isfinite(score) else "n/a"
+            if math.isfinite(expected):
+                met = math.isfinite(score) and abs(score - expected) <= TOLERANCE
+                text += f" ({'=' if met else 'expected'} {metric.format(expected)}{'' if met else ' ✗'})"
+            cells.append(f"<td class='num' data-measure='{html.escape(name)}' data-control='{control}'>"
+                         f"{html.escape(text)}</td>")
+        body.append(f"<tr><td>{html.escape(metric.title)} <code>{html.escape(name)}</code></td>{''.join(cells)}</tr>")
+    notes = "; ".join(f"<i>{html.escape(c.replace('_', ' '))}</i>: {html.escape(CONTROL_NOTES[c])}" for c in CONTROLS)
+    return (f"<p>Every temporal measure on controls whose right answer is known (a thin highlight drifting "
+            f"0.15 px a frame, box-filtered exactly, is the truth; {notes}). In brackets the answer fixed by the "
+            f"construction, where there is one; n/a: the measure has nothing to measure there.</p>"
+            f"<table class='controls'><tr><th>measure</th>{head}</tr>{''.join(body)}</table>")
