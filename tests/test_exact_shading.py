@@ -54,6 +54,26 @@ def _rule_points(tri, m, p=10):
     return np.concatenate(pts, axis=1), np.concatenate(wts, axis=1)
 
 
+def _sides_of_terminator(piece, line, corner):
+    """The piece cut by shapely along the line a x + b y + c = 0 (max(N.L, 0) has its kink there,
+    where no fixed rule converges fast): a list of polygons, each on one side."""
+    a, b, c = line
+    x0, y0 = corner
+    # a quad covering the pixel's neighbourhood on the side a x + b y + c >= 0
+    box = shapely.box(x0 - 1, y0 - 1, x0 + 2, y0 + 2)
+    far = 10.0 / max(np.hypot(a, b), 1e-300)
+    foot = np.array([x0 + 0.5, y0 + 0.5]) - (a * (x0 + 0.5) + b * (y0 + 0.5) + c) / max(a * a + b * b, 1e-300) * np.array([a, b])
+    along = np.array([-b, a]) * far
+    normal = np.array([a, b]) * far
+    side = shapely.Polygon([foot - along, foot + along, foot + along + normal, foot - along + normal]).intersection(box)
+    parts = []
+    for half in (piece.intersection(side), piece.difference(side)):
+        for g in getattr(half, "geoms", [half]):
+            if g.geom_type == "Polygon" and g.area > 0:
+                parts.append(g)
+    return parts
+
+
 def oracle(scene, m):
     ex = expand_shaded(scene)
     f = ex.field
@@ -61,6 +81,8 @@ def oracle(scene, m):
     image = np.zeros((H, Wd, 3))
     covered = np.zeros((H, Wd))
     tris, owner, pixel = [], [], []
+    # N.L = 0 where L . (G (x, y, 1)) = 0: a line (a, b, c) per triangle for a directional light
+    terminator = np.einsum("j,pjk->pk", f.light.vector, f.G)
     for i, poly in enumerate(ex.scene.polygons):
         v = poly.vertices[:, :2]
         if not f.normals(np.array([i]), v[:, 0].mean(keepdims=True), v[:, 1].mean(keepdims=True))[0, 2] < 0:
@@ -72,12 +94,13 @@ def oracle(scene, m):
                 piece = shape.intersection(shapely.box(c, r, c + 1, r + 1))
                 if piece.area <= 0 or piece.geom_type != "Polygon":
                     continue
-                ring = np.asarray(piece.exterior.coords)[:-1]
-                for k in range(1, len(ring) - 1):
-                    tris.append([ring[0], ring[k], ring[k + 1]])
-                    owner.append(i)
-                    pixel.append((r, c))
                 covered[r, c] += piece.area
+                for part in _sides_of_terminator(piece, terminator[i], (c, r)):
+                    ring = np.asarray(part.exterior.coords)[:-1]
+                    for k in range(1, len(ring) - 1):
+                        tris.append([ring[0], ring[k], ring[k + 1]])
+                        owner.append(i)
+                        pixel.append((r, c))
     tris, owner, pixel = np.array(tris), np.array(owner), np.array(pixel)
     P, Wt = _rule_points(tris, m)
     own = np.repeat(owner, P.shape[1])
