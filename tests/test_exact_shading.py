@@ -1,9 +1,16 @@
 """catmull:shading=exact against an independent quadrature and against properties.
 
 Oracle: every front-facing triangle of a lone cylinder (no caps: the front half tiles the
-silhouette, nothing else is visible) cut to each pixel by shapely, each fan triangle cut
+silhouette, nothing else is visible) cut to each pixel by shapely, then cut by shapely along
+its terminator (the line where N.L = 0, where max(N.L, 0) has a kink), each fan triangle cut
 into m x m equal sub-triangles, each integrated by a 10-point Gauss rule per axis in numpy:
 no Catmull kernel, no adaptivity. m and 2m must agree before it is used.
+
+The silhouette pixels once differed by 2.4e-6 from this oracle. A third computation at one
+such pixel (visibility resolved by depth planes with shapely, no facing test) gave the
+oracle's pieces and value: the kernel was wrong. Its rule missed the terminator cutting a
+corner of a piece (no node of the rule or its halves fell there), so the kernel now cuts
+triangles along the kink before integrating.
 """
 
 import numpy as np
@@ -112,21 +119,19 @@ def oracle(scene, m):
     return image + (1 - covered)[..., None] * np.asarray(scene.background)
 
 
+# held out: none of these was used while the kernel was tuned (those were r=3 n=1000 frame 0 and
+# r=5 n=50 frame 1); thin and wide cylinders, narrow and wide highlights, several frames
 @pytest.mark.slow
-@pytest.mark.parametrize("radius,n,frame", [(3.0, 1000, 0), (3.0, 1000, 2), (5.0, 50, 1)])
+@pytest.mark.parametrize("radius,n,frame", [(2.2, 1000, 1), (2.2, 1000, 3), (3.7, 400, 2), (6.5, 30, 3)])
 def test_exact_matches_independent_quadrature(radius, n, frame):
     scene = cylinder_scene(radius, n, frame)
-    ref, finer = oracle(scene, 12), oracle(scene, 24)
+    ref, finer = oracle(scene, 6), oracle(scene, 12)
     result = exact_shading(scene, threads=1)
-    # highlight pixels: on the silhouette the oracle's visible set (triangles facing the
-    # viewer at their centroid) is not the kernel's, off by up to 2.4e-6 there
-    highlight = result.specular > 1e-3
-    assert highlight.sum() >= 5
-    assert np.abs(ref - finer)[highlight].max() < 1e-10  # the oracle has converged
-    err = np.abs(result.image - finer)[highlight].max()
+    assert (result.specular > 1e-3).sum() >= 5
+    assert np.abs(ref - finer).max() < 1e-11  # the oracle has converged, on every pixel
+    err = np.abs(result.image - finer).max()  # every pixel: silhouette, terminator, highlight
     assert err < 1e-9, err
     assert result.max_bound < 1e-9
-
 
 def test_flat_lit_equals_flat_renderer():
     scene = cylinder_scene(4.0, 1000, 1, ka=1.0, kd=0.0, ks=0.0)
