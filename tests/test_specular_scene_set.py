@@ -64,3 +64,46 @@ def test_wide_highlight_no_method_helps():
     f_clamp = highlight_profile_flicker(truth, clamped, mask=mask)
     assert f_none < 1e-3  # nothing aliases: measured 8.8e-5
     assert f_clamp >= 0.5 * f_none  # the clamp gains nothing here
+
+
+THIN_SWEEP = """
+[experiment]
+name = "thin"
+reference = "catmull:shading=exact"
+metrics = ["rmse", "highlight_rmse"]
+temporal = ["highlight_bias", "highlight_profile_flicker"]
+
+[[groups]]
+name = "specular-thin"
+scenes = ["{scene}"]
+frames = [0, 1, 2, 3, 4, 5]
+methods = ["catmull", "mitsuba:spp=4096,seed=0"]
+options.catmull = {{ specular = ["none", "amanatides"] }}
+"""
+
+
+@pytest.mark.slow
+def test_findings_rank_amanatides_ten_times_steadier_on_the_thin_highlight(tmp_path):
+    """Through a sweep (exact truth, Mitsuba cross-check row, the registered highlight mask)
+    to the table the findings' highlight-stability question ranks."""
+    import pandas as pd
+
+    from aaeval.experiments import load_experiment, run_sweep
+    from aaeval.renderers import MethodSpec
+    from aaeval.report.findings import QUESTIONS, ranked
+
+    config = tmp_path / "exp.toml"
+    config.write_text(THIN_SWEEP.format(scene=SCENES / "thin-highlight.toml"))
+    out = tmp_path / "sweep"
+    run_sweep(load_experiment(config), out, workers=1, quiet=True, cache_dir=tmp_path / "cache")
+    temporal = pd.read_parquet(out / "temporal.parquet")
+    question = next(q for q in QUESTIONS if q.key == "highlight-flicker")
+    group = next(g for g in question.groups if g in set(temporal["group"]))
+    assert group == "specular-thin"
+    table = ranked(temporal, group, question.column)
+    value = {MethodSpec.parse(spec).options["specular"]: v for m, spec, v in zip(table["method"], table["spec"],
+                                                                                  table["value"]) if m == "catmull"}
+    assert value["none"] >= 10 * value["amanatides"], value  # measured 74x
+    results = pd.read_parquet(out / "results.parquet")
+    assert set(results["reference_kind"]) == {"exact"}
+    assert (results["reference_noise_rmse"] > 0).all() and (results["reference_noise_rmse"] < 1e-12).all()

@@ -95,7 +95,13 @@ def _reference(results: pd.DataFrame, groups: list[str]) -> str:
 
 
 def _is_baseline(row) -> bool:
-    return row.method == "catmull" and '"specular": "none"' in row.options and '"shading": "exact"' not in row.options
+    """``catmull:specular=none`` with the default per-piece shading: one shade per visible piece."""
+    from aaeval.renderers import MethodSpec
+
+    if row.method != "catmull":
+        return False
+    options = MethodSpec.parse(row.spec).options
+    return options.get("specular") == "none" and options.get("shading") == "piece"
 
 
 def verdicts(table: pd.DataFrame) -> list[str]:
