@@ -47,13 +47,30 @@ inline const Rule& rule() {
 // the light (directional: unit vector; point: position, depth from the plane), and the
 // (possibly clamped) exponent and specular coefficient.
 struct Shade {
-    const double* G;      // 3 x 3, row-major
-    const double* plane;  // z = a x + b y + c
+    double G[9];      // 3 x 3, row-major
+    double plane[3];  // z = a x + b y + c
     bool point_light;
-    const double* light;
+    double light[3];
     double n, ks;
     double sigma;  // angular width of the lobe in normal angle, 1 / (2 sqrt n) (inf when n = 0)
 };
+
+// The same shade in coordinates whose origin is (ox, oy): (x, y) there is (x + ox, y + oy)
+// here. In image coordinates G's constant column is about the image position times its slope
+// (74 at x = 250 on a thin cylinder), and G (x, y, 1) cancels it down to a unit normal: its
+// rounding (1e-14 of the normal, 1e-11 of a lobe with n = 1000) is noise the error estimate
+// cannot refine away, and it drove pixels to 700,000 evaluations. Near the origin nothing
+// cancels.
+inline Shade shifted(const Shade& s, double ox, double oy) {
+    Shade l = s;
+    for (int r = 0; r < 3; ++r) l.G[3 * r + 2] = s.G[3 * r] * ox + s.G[3 * r + 1] * oy + s.G[3 * r + 2];
+    l.plane[2] = s.plane[0] * ox + s.plane[1] * oy + s.plane[2];
+    if (s.point_light) {
+        l.light[0] = s.light[0] - ox;
+        l.light[1] = s.light[1] - oy;
+    }
+    return l;
+}
 
 struct Value {
     double diffuse = 0.0, spec = 0.0;  // integrals of max(N.L, 0) and ks max(R.E, 0)^n
@@ -359,17 +376,26 @@ inline void integrate_smooth(const Shade& s, const Tri& T, double w_diffuse, dou
     integrate_smooth(s, {r1x, r1y, vx[l], vy[l], r2x, r2y}, w_diffuse, tol_area, which + 1, depth, out);
 }
 
+// T integrated in coordinates whose origin is the whole-pixel corner below its first vertex
+// (see shifted)
 inline void integrate_triangle(const Shade& s, const Tri& T, double w_diffuse, double tol_area, Integral& out) {
-    integrate_smooth(s, T, w_diffuse, tol_area, 0, 0, out);
+    const double ox = std::floor(T.ax), oy = std::floor(T.ay);
+    const Tri t{T.ax - ox, T.ay - oy, T.bx - ox, T.by - oy, T.cx - ox, T.cy - oy};
+    integrate_smooth(shifted(s, ox, oy), t, w_diffuse, tol_area, 0, 0, out);
 }
 
 // A polygon xs, ys[start .. start + n) as the fan from its first vertex (signed triangles:
-// exact for any simple outline, the shade being smooth on the whole plane of the pixel).
+// exact for any simple outline, the shade being smooth on the whole plane of the pixel),
+// in coordinates whose origin is the whole-pixel corner below its first vertex.
 inline void integrate_polygon(const Shade& s, const double* xs, const double* ys, int64_t start, int64_t n,
                               double w_diffuse, double tol_area, Integral& out) {
+    if (n < 3) return;
+    const double ox = std::floor(xs[start]), oy = std::floor(ys[start]);
+    const Shade l = shifted(s, ox, oy);
     for (int64_t i = 1; i + 1 < n; ++i) {
-        const Tri T{xs[start], ys[start], xs[start + i], ys[start + i], xs[start + i + 1], ys[start + i + 1]};
-        integrate_triangle(s, T, w_diffuse, tol_area, out);
+        const Tri T{xs[start] - ox, ys[start] - oy, xs[start + i] - ox, ys[start + i] - oy, xs[start + i + 1] - ox,
+                    ys[start + i + 1] - oy};
+        integrate_smooth(l, T, w_diffuse, tol_area, 0, 0, out);
     }
 }
 
