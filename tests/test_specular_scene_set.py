@@ -107,3 +107,19 @@ def test_findings_rank_amanatides_ten_times_steadier_on_the_thin_highlight(tmp_p
     results = pd.read_parquet(out / "results.parquet")
     assert set(results["reference_kind"]) == {"exact"}
     assert (results["reference_noise_rmse"] > 0).all() and (results["reference_noise_rmse"] < 1e-12).all()
+    # the report's specular section: the truth stated as exact with its bound, a verdict per clamp
+    from unittest import mock
+
+    from aaeval.report import figures, write_report
+
+    with mock.patch.object(figures, "FORMATS", ("png",)):
+        write_report(out)
+    page = (out / "index.html").read_text()
+    section = page[page.index("<h2 id='specular'>"):]
+    assert "quadrature error bound" in section
+    verdict = section[section.index("Verdict on each clamp in specular-thin"):]
+    verdict = verdict[:verdict.index("</ul>")]
+    import re
+
+    assert re.search(r"specular=amanatides: [0-9.]+x steadier than none", verdict), verdict
+    assert "mitsuba:spp=4096 (cross-check)" in verdict

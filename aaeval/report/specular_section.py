@@ -94,6 +94,12 @@ def _reference(results: pd.DataFrame, groups: list[str]) -> str:
     return "; ".join(parts)
 
 
+def _spp(spec: str) -> int:
+    from aaeval.renderers import MethodSpec
+
+    return int(MethodSpec.parse(spec).options.get("spp", 0))
+
+
 def _is_baseline(row) -> bool:
     """``catmull:specular=none`` with the default per-piece shading: one shade per visible piece."""
     from aaeval.renderers import MethodSpec
@@ -112,7 +118,8 @@ def verdicts(table: pd.DataFrame) -> list[str]:
     out = []
     for r in table.itertuples():
         if r.method == "mitsuba":
-            out.append(f"{html.escape(r.label)} (cross-check): {METRICS[ERROR].title} {METRICS[ERROR].format(getattr(r, ERROR))} "
+            role = "cross-check" if _spp(r.spec) >= 4096 else "sampled"
+            out.append(f"{html.escape(r.label)} ({role}): {METRICS[ERROR].title} {METRICS[ERROR].format(getattr(r, ERROR))} "
                        f"against this truth, bias {METRICS[BIAS].format(getattr(r, BIAS))}.")
             continue
         if not base or r.method != "catmull" or _is_baseline(r):
