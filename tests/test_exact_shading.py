@@ -1,9 +1,16 @@
 """catmull:shading=exact against an independent quadrature and against properties.
 
 Oracle: every front-facing triangle of a lone cylinder (no caps: the front half tiles the
-silhouette, nothing else is visible) cut to each pixel by shapely, each fan triangle cut
+silhouette, nothing else is visible) cut to each pixel by shapely, then cut by shapely along
+its terminator (the line where N.L = 0, where max(N.L, 0) has a kink), each fan triangle cut
 into m x m equal sub-triangles, each integrated by a 10-point Gauss rule per axis in numpy:
 no Catmull kernel, no adaptivity. m and 2m must agree before it is used.
+
+The silhouette pixels once differed by 2.4e-6 from this oracle. A third computation at one
+such pixel (visibility resolved by depth planes with shapely, no facing test) gave the
+oracle's pieces and value: the kernel was wrong. Its rule missed the terminator cutting a
+corner of a piece (no node of the rule or its halves fell there), so the kernel now cuts
+triangles along the kink before integrating.
 """
 
 import numpy as np
@@ -54,6 +61,26 @@ def _rule_points(tri, m, p=10):
     return np.concatenate(pts, axis=1), np.concatenate(wts, axis=1)
 
 
+def _sides_of_terminator(piece, line, corner):
+    """The piece cut by shapely along the line a x + b y + c = 0 (max(N.L, 0) has its kink there,
+    where no fixed rule converges fast): a list of polygons, each on one side."""
+    a, b, c = line
+    x0, y0 = corner
+    # a quad covering the pixel's neighbourhood on the side a x + b y + c >= 0
+    box = shapely.box(x0 - 1, y0 - 1, x0 + 2, y0 + 2)
+    far = 10.0 / max(np.hypot(a, b), 1e-300)
+    foot = np.array([x0 + 0.5, y0 + 0.5]) - (a * (x0 + 0.5) + b * (y0 + 0.5) + c) / max(a * a + b * b, 1e-300) * np.array([a, b])
+    along = np.array([-b, a]) * far
+    normal = np.array([a, b]) * far
+    side = shapely.Polygon([foot - along, foot + along, foot + along + normal, foot - along + normal]).intersection(box)
+    parts = []
+    for half in (piece.intersection(side), piece.difference(side)):
+        for g in getattr(half, "geoms", [half]):
+            if g.geom_type == "Polygon" and g.area > 0:
+                parts.append(g)
+    return parts
+
+
 def oracle(scene, m):
     ex = expand_shaded(scene)
     f = ex.field
@@ -61,6 +88,8 @@ def oracle(scene, m):
     image = np.zeros((H, Wd, 3))
     covered = np.zeros((H, Wd))
     tris, owner, pixel = [], [], []
+    # N.L = 0 where L . (G (x, y, 1)) = 0: a line (a, b, c) per triangle for a directional light
+    terminator = np.einsum("j,pjk->pk", f.light.vector, f.G)
     for i, poly in enumerate(ex.scene.polygons):
         v = poly.vertices[:, :2]
         if not f.normals(np.array([i]), v[:, 0].mean(keepdims=True), v[:, 1].mean(keepdims=True))[0, 2] < 0:
@@ -72,12 +101,13 @@ def oracle(scene, m):
                 piece = shape.intersection(shapely.box(c, r, c + 1, r + 1))
                 if piece.area <= 0 or piece.geom_type != "Polygon":
                     continue
-                ring = np.asarray(piece.exterior.coords)[:-1]
-                for k in range(1, len(ring) - 1):
-                    tris.append([ring[0], ring[k], ring[k + 1]])
-                    owner.append(i)
-                    pixel.append((r, c))
                 covered[r, c] += piece.area
+                for part in _sides_of_terminator(piece, terminator[i], (c, r)):
+                    ring = np.asarray(part.exterior.coords)[:-1]
+                    for k in range(1, len(ring) - 1):
+                        tris.append([ring[0], ring[k], ring[k + 1]])
+                        owner.append(i)
+                        pixel.append((r, c))
     tris, owner, pixel = np.array(tris), np.array(owner), np.array(pixel)
     P, Wt = _rule_points(tris, m)
     own = np.repeat(owner, P.shape[1])
@@ -89,21 +119,19 @@ def oracle(scene, m):
     return image + (1 - covered)[..., None] * np.asarray(scene.background)
 
 
+# held out: none of these was used while the kernel was tuned (those were r=3 n=1000 frame 0 and
+# r=5 n=50 frame 1); thin and wide cylinders, narrow and wide highlights, several frames
 @pytest.mark.slow
-@pytest.mark.parametrize("radius,n,frame", [(3.0, 1000, 0), (3.0, 1000, 2), (5.0, 50, 1)])
+@pytest.mark.parametrize("radius,n,frame", [(2.2, 1000, 1), (2.2, 1000, 3), (3.7, 400, 2), (6.5, 30, 3)])
 def test_exact_matches_independent_quadrature(radius, n, frame):
     scene = cylinder_scene(radius, n, frame)
-    ref, finer = oracle(scene, 12), oracle(scene, 24)
+    ref, finer = oracle(scene, 6), oracle(scene, 12)
     result = exact_shading(scene, threads=1)
-    # highlight pixels: on the silhouette the oracle's visible set (triangles facing the
-    # viewer at their centroid) is not the kernel's, off by up to 2.4e-6 there
-    highlight = result.specular > 1e-3
-    assert highlight.sum() >= 5
-    assert np.abs(ref - finer)[highlight].max() < 1e-10  # the oracle has converged
-    err = np.abs(result.image - finer)[highlight].max()
+    assert (result.specular > 1e-3).sum() >= 5
+    assert np.abs(ref - finer).max() < 1e-11  # the oracle has converged, on every pixel
+    err = np.abs(result.image - finer).max()  # every pixel: silhouette, terminator, highlight
     assert err < 1e-9, err
     assert result.max_bound < 1e-9
-
 
 def test_flat_lit_equals_flat_renderer():
     scene = cylinder_scene(4.0, 1000, 1, ka=1.0, kd=0.0, ks=0.0)

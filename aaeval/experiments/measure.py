@@ -180,11 +180,30 @@ def noise_spec(spec: MethodSpec) -> MethodSpec | None:
     return spec.with_options(seed=int(spec.options["seed"]) + 1)
 
 
+def exact_shading_bound(scene, spec, frame: int) -> float | None:
+    """RMS over pixels of the per-pixel error bound of ``catmull:shading=exact`` on a scene
+    with shaded objects (the quadrature's estimate; the image has no sampling noise), or
+    None for any other reference."""
+    from aaeval.scenes.shaded import has_shaded
+
+    if spec.method.name != "catmull" or spec.options.get("shading") != "exact":
+        return None
+    at = scene.at_frame(frame)
+    if not has_shaded(at):
+        return None
+    from aaeval.specular.exact import exact_shading
+
+    options = {k: v for k, v in spec.options.items() if k not in ("shading", "threads", "filter")}
+    bound = exact_shading(at, **options).bound
+    return float(np.sqrt(np.mean(bound ** 2)))
+
+
 def render_reference(scene, spec: MethodSpec | str, frame: int, *, estimate_noise: bool) -> dict:
     """The reference image of one frame, its render time and noise level (``spec`` a
     string only where it arrives from another process that could not parse it).
 
-    ``noise_rmse`` is 0 for an exact reference; for a seeded one (with ``estimate_noise``)
+    ``noise_rmse`` is 0 for an exact reference, the RMS of the per-pixel error bound for
+    ``catmull:shading=exact`` on a shaded scene (:func:`exact_shading_bound`); for a seeded one (with ``estimate_noise``)
     the RMS per-pixel noise of one render, ``rmse(a, b) / sqrt(2)`` against a second render
     with the next seed; NaN when not measured. ``noise_by_metric``: for every RMS metric
     (:attr:`aaeval.metrics.Metric.rms`) that applies to the scene, that noise on the
@@ -198,6 +217,10 @@ def render_reference(scene, spec: MethodSpec | str, frame: int, *, estimate_nois
     image, seconds = render_timed(scene, spec, frame=frame)
     exact = reference_kind(spec) == "exact"
     noise = 0.0 if exact else math.nan
+    bound = exact_shading_bound(scene, spec, frame)
+    if bound is not None:
+        # no sampling noise, but the quadrature's own error: its bound stands as the noise
+        noise = bound
     twin = noise_spec(spec) if estimate_noise else None
     strata = _noise_strata(scene.at_frame(frame), image, image) if exact else None
     if twin is not None:

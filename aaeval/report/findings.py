@@ -46,7 +46,7 @@ class Question:
 QUESTIONS = (
     Question("edges", "Edge aliasing", "results", "edge_rmse", ("edge-aliasing", "khan-figures-moving"),
              what="error over the pixels a visible edge crosses, mean over scenes and frames"),
-    Question("highlights", "Highlight aliasing", "results", "highlight_rmse", ("specular",),
+    Question("highlights", "Highlight aliasing", "results", "highlight_rmse", ("specular-thin", "specular"),
              extra=(("temporal", "highlight_bias"), ("temporal", "highlight_profile_flicker")),
              what="error over the highlight pixels, mean over scenes and frames; beside it the highlight's bias "
                   "(time-average of its energy error) and flicker (what is left, frame to frame)"),
@@ -55,7 +55,7 @@ QUESTIONS = (
              what="flicker of the error over each animation (the error minus its time-average), mean over "
                   "animations; beside it the bias (the time-average)"),
     Question("highlight-flicker", "Temporal stability of highlights", "temporal", "highlight_profile_flicker",
-             ("specular",), extra=(("temporal", "highlight_bias"),),
+             ("specular-thin", "specular"), extra=(("temporal", "highlight_bias"),),
              what="spread over frames of each highlight cross-section's energy error, relative, mean over animations; "
                   "beside it the highlight's bias"),
     Question("sums", "Sum invariance", "temporal", "sum_variation", ("invariance", "edge-aliasing"),

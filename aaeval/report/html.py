@@ -105,7 +105,10 @@ def reference_statement(rows: pd.DataFrame) -> str:
         kind = refs["reference_kind"].iloc[0]
         spp, seed = refs["reference_spp"].iloc[0], refs["reference_seed"].iloc[0]
         noise = refs.drop_duplicates(["scene", "frame"])["reference_noise_rmse"].astype(float)
-        if kind == "exact":
+        if kind == "exact" and noise.fillna(0).gt(0).any():
+            level = (f"no sampling noise; its quadrature error bound, RMS {noise.mean():.3g} per pixel (max "
+                     f"{noise.max():.3g} over {noise.notna().sum()} frames), stands as its noise")
+        elif kind == "exact":
             level = "noise 0"
         elif noise.notna().any():
             level = (f"measured noise RMS {noise.mean():.3g} per pixel channel, range {noise.min():.3g} to "

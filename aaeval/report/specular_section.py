@@ -1,4 +1,4 @@
-"""The specular study's section of the report: Amanatides 1992 against Mitsuba's Phong truth.
+"""The specular study's section of the report: Amanatides 1992 against the exact Phong truth.
 
 It reads the sweep's tables and computes no measure: every value is a registered metric
 (:mod:`aaeval.metrics`) the sweep measured on the specular groups (scenes with ``[shaded]``
@@ -38,7 +38,7 @@ from aaeval.scenes import Scene, load_scene  # noqa: E402
 from aaeval.specular.render import specular_aliasing_map  # noqa: E402
 from aaeval.specular.tables import cutoff_table, maximum  # noqa: E402
 
-__all__ = ["specular_section", "specular_table", "plate_scenes", "BIAS", "FLICKER", "ERROR"]
+__all__ = ["specular_section", "specular_table", "verdicts", "plate_scenes", "BIAS", "FLICKER", "ERROR"]
 
 #: The columns of the section: registered metric names.
 ERROR, BIAS, FLICKER = "highlight_rmse", "highlight_bias", "highlight_profile_flicker"
@@ -80,9 +80,65 @@ def _reference(results: pd.DataFrame, groups: list[str]) -> str:
     parts = []
     for r in refs.itertuples():
         noise = rows[rows["reference"] == r.reference].drop_duplicates(["scene", "frame"])["reference_noise_rmse"]
-        parts.append(f"<code>{html.escape(r.reference)}</code> ({int(r.reference_spp)} spp, seed "
-                     f"{int(r.reference_seed)}; noise RMS {noise.mean():.2e}, seed 1 against seed 0)")
+        if r.reference_kind == "exact":
+            # catmull:shading=exact: no samples, so no sampling noise; the quadrature's own
+            # error bound (RMS per pixel) is what the sweep recorded as its noise
+            parts.append(f"<code>{html.escape(r.reference)}</code> (the Phong model integrated exactly over every "
+                         f"visible piece: no sampling noise; its quadrature error bound, RMS {noise.mean():.2e} per "
+                         "pixel, stands as its noise)")
+            continue
+        spp = "" if pd.isna(r.reference_spp) else f"{int(r.reference_spp)} spp, "
+        seed = "" if pd.isna(r.reference_seed) else f"seed {int(r.reference_seed)}; "
+        parts.append(f"<code>{html.escape(r.reference)}</code> ({spp}{seed}noise RMS {noise.mean():.2e}, seed 1 "
+                     "against seed 0)")
     return "; ".join(parts)
+
+
+def _spp(spec: str) -> int:
+    from aaeval.renderers import MethodSpec
+
+    return int(MethodSpec.parse(spec).options.get("spp", 0))
+
+
+def _is_baseline(row) -> bool:
+    """``catmull:specular=none`` with the default per-piece shading: one shade per visible piece."""
+    from aaeval.renderers import MethodSpec
+
+    if row.method != "catmull":
+        return False
+    options = MethodSpec.parse(row.spec).options
+    return options.get("specular") == "none" and options.get("shading") == "piece"
+
+
+def verdicts(table: pd.DataFrame) -> list[str]:
+    """One sentence per clamp of a group's table (:func:`specular_table`), against the
+    group's truth: its highlight flicker and error beside ``catmull:specular=none``'s (the
+    one-shade-per-piece baseline), and the Mitsuba cross-check rows' error."""
+    base = [r for r in table.itertuples() if _is_baseline(r)]
+    out = []
+    for r in table.itertuples():
+        if r.method == "mitsuba":
+            role = "cross-check" if _spp(r.spec) >= 4096 else "sampled"
+            out.append(f"{html.escape(r.label)} ({role}): {METRICS[ERROR].title} {METRICS[ERROR].format(getattr(r, ERROR))} "
+                       f"against this truth, bias {METRICS[BIAS].format(getattr(r, BIAS))}.")
+            continue
+        if not base or r.method != "catmull" or _is_baseline(r):
+            continue
+        b = base[0]
+        f0, f1 = getattr(b, FLICKER), getattr(r, FLICKER)
+        e0, e1 = getattr(b, ERROR), getattr(r, ERROR)
+        if f1 > 0 and f0 / f1 >= 2:
+            steady = f"{f0 / f1:.3g}x steadier than none"
+        elif f1 > 0 and f1 / max(f0, 1e-300) >= 2:
+            steady = f"{f1 / max(f0, 1e-300):.3g}x less steady than none"
+        else:
+            steady = "as steady as none (within 2x)"
+        closer = "closer to" if e1 < e0 else "further from"
+        out.append(f"{html.escape(r.label)}: {steady} ({METRICS[FLICKER].format(f1)} against "
+                   f"{METRICS[FLICKER].format(f0)}); {closer} the truth ({METRICS[ERROR].title} "
+                   f"{METRICS[ERROR].format(e1)} against {METRICS[ERROR].format(e0)}), bias "
+                   f"{METRICS[BIAS].format(getattr(r, BIAS))}.")
+    return out
 
 
 def specular_section(out_dir: Path, figures_dir: Path, results: pd.DataFrame, temporal: pd.DataFrame, *,
@@ -96,9 +152,10 @@ def specular_section(out_dir: Path, figures_dir: Path, results: pd.DataFrame, te
     figures_dir.mkdir(parents=True, exist_ok=True)
     rel = _relative_to(figures_dir, out_dir)
     parts = ["<h2 id='specular'>Specular aliasing (Amanatides 1992)</h2>",
-             f"<p class='ref'>The one specular ground truth of this page: {_reference(results, groups)}, the Mitsuba "
-             "Phong render (the same Phong formula at every sample, box filter). The highlight mask (pixels where its "
-             "specular term exceeds 0.02) is read from this same render. Methods: the Catmull renderer (exact "
+             f"<p class='ref'>The specular truth of this page: {_reference(results, groups)}. Mitsuba's Phong render "
+             "at 4096 spp (the same Phong formula at every sample, box filter) is the cross-check row of each group "
+             "judged against the exact truth; the highlight mask (pixels where its specular term exceeds 0.02) is "
+             "read from it. Methods: the Catmull renderer (exact "
              "visibility, one shade per visible piece) under every registered specular method. Values: registered "
              "metrics from results.parquet and temporal.parquet, mean over each group's cells or animations, "
              f"{UNIT}.</p>"]
@@ -116,6 +173,10 @@ def specular_section(out_dir: Path, figures_dir: Path, results: pd.DataFrame, te
             "label": "method (options), best flicker first", ERROR: METRICS[ERROR].title, BIAS: METRICS[BIAS].title,
             FLICKER: METRICS[FLICKER].title, "noise": "ground truth noise RMS"})
         parts.append(_html_table(shown, group))
+        said = verdicts(table)
+        if said:
+            parts.append(f"<p class='verdict'>Verdict on each clamp in {html.escape(group)}, against this group's "
+                         "truth:</p><ul>" + "".join(f"<li>{v}</li>" for v in said) + "</ul>")
     parts.append(_figure(rel, _fig_power_cutoff(figures_dir),
                          "Amanatides' figure 2: frequency below which a fraction of the power of cos^n lies."))
     parts.append(_figure(rel, _fig_clamp_ratio(figures_dir),

@@ -1,7 +1,7 @@
 // The Phong shade integrated over triangles: a collapsed (Duffy) Gauss-Legendre rule on
-// each triangle, refined by longest-edge bisection where the rule and its two halves
-// disagree (the disagreement is the error estimate kept for the pixel), and bisected
-// ahead of that test where the triangle's normals spread wider than the highlight lobe
+// each triangle, refined into quarters where the rule and its four quarters disagree
+// (the disagreement is the error estimate kept for the pixel), and quartered ahead of
+// that test where the triangle's normals spread wider than the highlight lobe
 // near the lobe's peak (a lobe narrower than the rule's node spacing can fall between
 // the nodes of both estimates, which would then agree on a wrong value).
 #pragma once
@@ -12,7 +12,7 @@
 namespace aaeval::shading {
 
 inline constexpr int RULE = 6;  // Gauss-Legendre points per axis of the collapsed square
-inline constexpr int MAX_DEPTH = 20;  // bisections of one fan triangle, at most
+inline constexpr int MAX_DEPTH = 12;  // subdivisions of one fan triangle (into quarters, or by a kink), at most
 
 // Gauss-Legendre nodes and weights on [0, 1], by Newton's method on P_RULE.
 struct Rule {
@@ -47,13 +47,30 @@ inline const Rule& rule() {
 // the light (directional: unit vector; point: position, depth from the plane), and the
 // (possibly clamped) exponent and specular coefficient.
 struct Shade {
-    const double* G;      // 3 x 3, row-major
-    const double* plane;  // z = a x + b y + c
+    double G[9];      // 3 x 3, row-major
+    double plane[3];  // z = a x + b y + c
     bool point_light;
-    const double* light;
+    double light[3];
     double n, ks;
     double sigma;  // angular width of the lobe in normal angle, 1 / (2 sqrt n) (inf when n = 0)
 };
+
+// The same shade in coordinates whose origin is (ox, oy): (x, y) there is (x + ox, y + oy)
+// here. In image coordinates G's constant column is about the image position times its slope
+// (74 at x = 250 on a thin cylinder), and G (x, y, 1) cancels it down to a unit normal: its
+// rounding (1e-14 of the normal, 1e-11 of a lobe with n = 1000) is noise the error estimate
+// cannot refine away, and it drove pixels to 700,000 evaluations. Near the origin nothing
+// cancels.
+inline Shade shifted(const Shade& s, double ox, double oy) {
+    Shade l = s;
+    for (int r = 0; r < 3; ++r) l.G[3 * r + 2] = s.G[3 * r] * ox + s.G[3 * r + 1] * oy + s.G[3 * r + 2];
+    l.plane[2] = s.plane[0] * ox + s.plane[1] * oy + s.plane[2];
+    if (s.point_light) {
+        l.light[0] = s.light[0] - ox;
+        l.light[1] = s.light[1] - oy;
+    }
+    return l;
+}
 
 struct Value {
     double diffuse = 0.0, spec = 0.0;  // integrals of max(N.L, 0) and ks max(R.E, 0)^n
@@ -63,8 +80,8 @@ inline void unit_normal(const Shade& s, double x, double y, double* N) {
     const double* G = s.G;
     double v[3];
     for (int r = 0; r < 3; ++r) v[r] = G[3 * r] * x + G[3 * r + 1] * y + G[3 * r + 2];
-    const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    for (int r = 0; r < 3; ++r) N[r] = v[r] / len;
+    const double inv = 1.0 / std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);  // one division, not three
+    for (int r = 0; r < 3; ++r) N[r] = v[r] * inv;
 }
 
 inline void light_at(const Shade& s, double x, double y, double* L) {
@@ -80,6 +97,24 @@ inline void light_at(const Shade& s, double x, double y, double* L) {
     for (int r = 0; r < 3; ++r) L[r] = d[r] / len;
 }
 
+// x^n for x in [0, 1]: by repeated squaring where n is a whole number below 2^16 (the
+// shipped exponents; about a tenth of std::pow's time, which dominated the evaluations),
+// std::pow otherwise (a clamp's fractional n'). Both are within a few ulps of x^n.
+inline double lobe(double x, double n) {
+    if (n == 0.0) return 1.0;
+    if (n == std::floor(n) && n < 65536.0) {
+        unsigned k = unsigned(n);
+        double r = 1.0, b = x;
+        while (k) {
+            if (k & 1u) r *= b;
+            b *= b;
+            k >>= 1;
+        }
+        return r;
+    }
+    return std::pow(x, n);
+}
+
 // the documented Phong terms at one point (E = (0, 0, -1))
 inline Value shade_at(const Shade& s, double x, double y) {
     double N[3], L[3];
@@ -89,7 +124,7 @@ inline Value shade_at(const Shade& s, double x, double y) {
     const double rde = std::fmax(-(2.0 * ndl * N[2] - L[2]), 0.0);
     Value v;
     v.diffuse = std::fmax(ndl, 0.0);
-    v.spec = s.ks * (s.n == 0.0 ? 1.0 : std::pow(rde, s.n));
+    v.spec = s.ks * lobe(rde, s.n);
     return v;
 }
 
@@ -128,7 +163,7 @@ inline double angle_between(const double* a, const double* b) {
 }
 
 // Whether the triangle's normals spread wider than the lobe while the lobe's peak (normal
-// H = normalise(L + E)) is within 10 lobe widths of them: then it is bisected before any
+// H = normalise(L + E)) is within 10 lobe widths of them: then it is quartered before any
 // error test.
 inline bool lobe_unresolved(const Shade& s, const Tri& T) {
     if (!(s.sigma < 1.0) || s.ks == 0.0) return false;
@@ -178,37 +213,189 @@ struct Integral {
     int64_t evals = 0;
 };
 
-// Adaptive integral over T given its rule value q: accepted once |q - (q1 + q2)| is within
-// tol per unit area (tol_area) of T, the halves' sum kept with that difference as its bound.
+// T's four halves-in-both-directions (the medial subdivision; orientation kept). Refining
+// by longest-edge bisection instead halves one direction only: where the rule's error lies
+// along the other, the halves carry the parent's error and agree with it, and the estimate
+// |q - (q1 + q2)| read 5e-15 where the error was 3.7e-11 (a wide n = 50 highlight).
+inline void quarter(const Tri& T, Tri* c) {
+    const double abx = 0.5 * (T.ax + T.bx), aby = 0.5 * (T.ay + T.by);
+    const double bcx = 0.5 * (T.bx + T.cx), bcy = 0.5 * (T.by + T.cy);
+    const double cax = 0.5 * (T.cx + T.ax), cay = 0.5 * (T.cy + T.ay);
+    c[0] = {T.ax, T.ay, abx, aby, cax, cay};
+    c[1] = {abx, aby, T.bx, T.by, bcx, bcy};
+    c[2] = {cax, cay, bcx, bcy, T.cx, T.cy};
+    c[3] = {abx, aby, bcx, bcy, cax, cay};
+}
+
+// Adaptive integral over T given its rule value q: accepted once |q - (sum of the quarters)|
+// is within tol per unit area (tol_area) of T, the quarters' sum kept with that difference
+// as its bound (the quarters' own error is about 2^-12 of it for a smooth shade).
 inline void adapt(const Shade& s, const Tri& T, const Value& q, double w_diffuse, double tol_area, int depth,
                   Integral& out) {
-    Tri t1, t2;
-    bisect(T, t1, t2);
-    const Value q1 = rule_on(s, t1, out.evals), q2 = rule_on(s, t2, out.evals);
-    const double err = w_diffuse * std::fabs(q.diffuse - q1.diffuse - q2.diffuse) + std::fabs(q.spec - q1.spec - q2.spec);
+    Tri c[4];
+    quarter(T, c);
+    Value qc[4], sum;
+    for (int i = 0; i < 4; ++i) {
+        qc[i] = rule_on(s, c[i], out.evals);
+        sum.diffuse += qc[i].diffuse;
+        sum.spec += qc[i].spec;
+    }
+    const double err = w_diffuse * std::fabs(q.diffuse - sum.diffuse) + std::fabs(q.spec - sum.spec);
     const bool forced = depth < MAX_DEPTH && lobe_unresolved(s, T);
     if (!forced && (err <= tol_area * std::fabs(T.area()) + 1e-16 || depth >= MAX_DEPTH)) {
-        out.value.diffuse += q1.diffuse + q2.diffuse;
-        out.value.spec += q1.spec + q2.spec;
+        out.value.diffuse += sum.diffuse;
+        out.value.spec += sum.spec;
         out.bound += err;
         return;
     }
-    adapt(s, t1, q1, w_diffuse, tol_area, depth + 1, out);
-    adapt(s, t2, q2, w_diffuse, tol_area, depth + 1, out);
+    for (int i = 0; i < 4; ++i) adapt(s, c[i], qc[i], w_diffuse, tol_area, depth + 1, out);
 }
 
-inline void integrate_triangle(const Shade& s, const Tri& T, double w_diffuse, double tol_area, Integral& out) {
+// --- kinks: where max(., 0) cuts the shade ----------------------------------------------
+// max(N.L, 0) (the terminator) and max(R.E, 0)^n for small n have a kink (a jump in the
+// gradient) inside a triangle. A Gauss rule is not exact there, and its error estimate
+// is blind to a kink that cuts a corner no node of the rule or its halves falls in (the
+// silhouette pixels of a cylinder lit from near the viewer were 2.4e-6 off with a bound
+// of 1e-17). So a triangle is cut along each kink first, and every part is smooth.
+// Kink functions, with the sign of the max's argument:
+//   diffuse: k = (G p) . L, p = (x, y, 1) (N.L times |G p|): linear in (x, y) for a
+//            directional light, so the cut is exact; curved for a point light;
+//   specular (n < SPEC_KINK_N only; above it the lobe is C^15 at its kink and the rule
+//            resolves it): k = L_z |G p|^2 - 2 (G p . L) (G p)_z (R.E times |G p|^2).
+inline constexpr double SPEC_KINK_N = 16.0;
+
+inline double kink_at(const Shade& s, int which, double x, double y) {
+    const double* G = s.G;
+    double v[3], L[3];
+    for (int r = 0; r < 3; ++r) v[r] = G[3 * r] * x + G[3 * r + 1] * y + G[3 * r + 2];
+    light_at(s, x, y, L);
+    const double vl = v[0] * L[0] + v[1] * L[1] + v[2] * L[2];
+    if (which == 0) return vl;
+    return L[2] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) - 2.0 * vl * v[2];
+}
+
+inline bool has_kink(const Shade& s, int which) {
+    return which == 0 || (s.ks != 0.0 && s.n > 0.0 && s.n < SPEC_KINK_N);
+}
+
+// the point where the kink crosses the edge from (ax, ay), k = ka to (bx, by), k = kb (signs
+// opposite): regula falsi (Illinois), exact in one step when k is linear along the edge
+inline void kink_root(const Shade& s, int which, double ax, double ay, double ka, double bx, double by, double kb,
+                      double& rx, double& ry) {
+    double t0 = 0.0, t1 = 1.0, k0 = ka, k1 = kb, t = 0.5;
+    int side = 0;
+    for (int it = 0; it < 60; ++it) {
+        t = (t0 * k1 - t1 * k0) / (k1 - k0);
+        if (!(t > t0 && t < t1)) t = 0.5 * (t0 + t1);
+        const double k = kink_at(s, which, ax + t * (bx - ax), ay + t * (by - ay));
+        if (k == 0.0 || t1 - t0 < 1e-16) break;
+        if ((k > 0.0) == (k0 > 0.0)) {
+            t0 = t;
+            k0 = k;
+            if (side == -1) k1 *= 0.5;
+            side = -1;
+        } else {
+            t1 = t;
+            k1 = k;
+            if (side == 1) k0 *= 0.5;
+            side = 1;
+        }
+        if (std::fabs(k) < 1e-300) break;
+    }
+    rx = ax + t * (bx - ax);
+    ry = ay + t * (by - ay);
+}
+
+// T cut along kinks which..1 and integrated part by part. A curved kink is cut along the
+// chord between its edge crossings; the sliver between chord and curve (its width at the
+// chord's middle, |k| / |grad k|, times 2/3 of the chord's length, times the shade's
+// largest value there) is added to the bound, after bisecting T while it is above tolerance.
+inline void integrate_smooth(const Shade& s, const Tri& T, double w_diffuse, double tol_area, int which, int depth,
+                             Integral& out) {
     if (T.area() == 0.0) return;
-    adapt(s, T, rule_on(s, T, out.evals), w_diffuse, tol_area, 0, out);
+    while (which < 2 && !has_kink(s, which)) ++which;
+    if (which >= 2) {
+        adapt(s, T, rule_on(s, T, out.evals), w_diffuse, tol_area, 0, out);
+        return;
+    }
+    const double vx[3] = {T.ax, T.bx, T.cx}, vy[3] = {T.ay, T.by, T.cy};
+    double k[3];
+    int pos = 0, neg = 0;
+    for (int i = 0; i < 3; ++i) {
+        k[i] = kink_at(s, which, vx[i], vy[i]);
+        pos += k[i] > 0.0;
+        neg += k[i] < 0.0;
+    }
+    out.evals += 3;
+    if (pos == 0 || neg == 0) {  // one side (a vertex on the kink counts as either)
+        integrate_smooth(s, T, w_diffuse, tol_area, which + 1, depth, out);
+        return;
+    }
+    // the lone vertex: the one whose sign the other two (or the other non-zero one) do not share
+    int lone = 0;
+    for (int i = 0; i < 3; ++i) {
+        const int j = (i + 1) % 3, l = (i + 2) % 3;
+        const bool oi = k[i] > 0.0, oj = k[j] > 0.0, ol = k[l] > 0.0;
+        if (k[i] != 0.0 && (k[j] == 0.0 || oj != oi) && (k[l] == 0.0 || ol != oi)) {
+            lone = i;
+            break;
+        }
+    }
+    const int j = (lone + 1) % 3, l = (lone + 2) % 3;
+    double r1x = vx[j], r1y = vy[j], r2x = vx[l], r2y = vy[l];
+    if (k[j] != 0.0) kink_root(s, which, vx[lone], vy[lone], k[lone], vx[j], vy[j], k[j], r1x, r1y);
+    if (k[l] != 0.0) kink_root(s, which, vx[lone], vy[lone], k[lone], vx[l], vy[l], k[l], r2x, r2y);
+    out.evals += 2;
+    // the chord's distance from the kink at its middle (zero for a straight kink)
+    const double mx = 0.5 * (r1x + r2x), my = 0.5 * (r1y + r2y);
+    const double h = 1e-6 * (std::fabs(r2x - r1x) + std::fabs(r2y - r1y)) + 1e-12;
+    const double km = kink_at(s, which, mx, my);
+    const double gx = (kink_at(s, which, mx + h, my) - kink_at(s, which, mx - h, my)) / (2.0 * h);
+    const double gy = (kink_at(s, which, mx, my + h) - kink_at(s, which, mx, my - h)) / (2.0 * h);
+    out.evals += 5;
+    const double gap = std::fabs(km) / std::fmax(std::sqrt(gx * gx + gy * gy), 1e-300);
+    const double chord = std::hypot(r2x - r1x, r2y - r1y);
+    // in the sliver the max's argument is at most |k| at the chord's middle over |G p| (diffuse)
+    // or |G p|^2 (specular, then raised to n): the sliver's area times that
+    double v[3];
+    for (int r = 0; r < 3; ++r) v[r] = s.G[3 * r] * mx + s.G[3 * r + 1] * my + s.G[3 * r + 2];
+    const double vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    const double peak = which == 0 ? w_diffuse * std::fabs(km) / std::sqrt(vv) : s.ks * std::pow(std::fabs(km) / vv, s.n);
+    const double sliver = (2.0 / 3.0) * gap * chord * peak;
+    if (sliver > tol_area * std::fabs(T.area()) && gap > 1e-15 * chord && depth < MAX_DEPTH) {
+        Tri t1, t2;
+        bisect(T, t1, t2);
+        integrate_smooth(s, t1, w_diffuse, tol_area, which, depth + 1, out);
+        integrate_smooth(s, t2, w_diffuse, tol_area, which, depth + 1, out);
+        return;
+    }
+    if (gap > 1e-15 * chord) out.bound += sliver;
+    // lone side: (lone, r1, r2); the other: (r1, j, l) and (r1, l, r2), orientation kept
+    integrate_smooth(s, {vx[lone], vy[lone], r1x, r1y, r2x, r2y}, w_diffuse, tol_area, which + 1, depth, out);
+    integrate_smooth(s, {r1x, r1y, vx[j], vy[j], vx[l], vy[l]}, w_diffuse, tol_area, which + 1, depth, out);
+    integrate_smooth(s, {r1x, r1y, vx[l], vy[l], r2x, r2y}, w_diffuse, tol_area, which + 1, depth, out);
+}
+
+// T integrated in coordinates whose origin is the whole-pixel corner below its first vertex
+// (see shifted)
+inline void integrate_triangle(const Shade& s, const Tri& T, double w_diffuse, double tol_area, Integral& out) {
+    const double ox = std::floor(T.ax), oy = std::floor(T.ay);
+    const Tri t{T.ax - ox, T.ay - oy, T.bx - ox, T.by - oy, T.cx - ox, T.cy - oy};
+    integrate_smooth(shifted(s, ox, oy), t, w_diffuse, tol_area, 0, 0, out);
 }
 
 // A polygon xs, ys[start .. start + n) as the fan from its first vertex (signed triangles:
-// exact for any simple outline, the shade being smooth on the whole plane of the pixel).
+// exact for any simple outline, the shade being smooth on the whole plane of the pixel),
+// in coordinates whose origin is the whole-pixel corner below its first vertex.
 inline void integrate_polygon(const Shade& s, const double* xs, const double* ys, int64_t start, int64_t n,
                               double w_diffuse, double tol_area, Integral& out) {
+    if (n < 3) return;
+    const double ox = std::floor(xs[start]), oy = std::floor(ys[start]);
+    const Shade l = shifted(s, ox, oy);
     for (int64_t i = 1; i + 1 < n; ++i) {
-        const Tri T{xs[start], ys[start], xs[start + i], ys[start + i], xs[start + i + 1], ys[start + i + 1]};
-        integrate_triangle(s, T, w_diffuse, tol_area, out);
+        const Tri T{xs[start] - ox, ys[start] - oy, xs[start + i] - ox, ys[start + i] - oy, xs[start + i + 1] - ox,
+                    ys[start + i + 1] - oy};
+        integrate_smooth(l, T, w_diffuse, tol_area, 0, 0, out);
     }
 }
 

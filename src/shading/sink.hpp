@@ -66,7 +66,17 @@ struct ShadeSink {
                 break;
             }
         const double sigma = n > 0.0 ? 0.5 / std::sqrt(n) : std::numeric_limits<double>::infinity();
-        return Shade{M.G + 9 * s, M.planes + 3 * s, M.point_light, M.light, n, ks, sigma};
+        Shade sh;
+        for (int i = 0; i < 9; ++i) sh.G[i] = M.G[9 * s + i];
+        for (int i = 0; i < 3; ++i) {
+            sh.plane[i] = M.planes[3 * s + i];
+            sh.light[i] = M.light[i];
+        }
+        sh.point_light = M.point_light;
+        sh.n = n;
+        sh.ks = ks;
+        sh.sigma = sigma;
+        return sh;
     }
     double diffuse_weight(int64_t s) const {
         const double* c = color(s);
