@@ -90,9 +90,17 @@ def _interior(scene) -> np.ndarray:
     background there; a polygon of the background's colour counts as uncovered)."""
     from scipy.ndimage import binary_erosion
 
-    from aaeval.renderers import render
+    from aaeval.catmull import render_flat
+    from aaeval.scenes.shaded import has_shaded
 
-    image = render(scene, "catmull")
+    if has_shaded(scene):
+        from aaeval.renderers import render
+
+        image = render(scene, "catmull")
+    else:
+        # the flat kernel straight away: the same bits as the "catmull" method on a flat
+        # scene, without parsing a spec inside the sweep (specs are parsed where a config is read)
+        image = render_flat(scene)
     covered = np.any(np.abs(image - np.asarray(scene.background, dtype=float)) > 1e-9, axis=2)
     size = 2 * INTERIOR_MARGIN + 1
     return binary_erosion(covered, structure=np.ones((size, size), bool))
