@@ -20,6 +20,10 @@ A config file looks like::
     metrics = ["rmse", "highlight_rmse"]   # a group may override metrics, temporal, reference
     repeats = 5                            # timed renders per cell, after one untimed warm-up (default 1)
 
+``[experiment].max_seconds`` (default: ``AAEVAL_MAX_SECONDS``, else 600) is the time limit of
+one cell or reference, all its repeats: past it the cell is stopped and recorded as failed
+("timed out"), and a rerun tries it again.
+
 A method with a ``cache`` option (Mitsuba) gets ``cache=false`` unless the spec sets it, so
 its render time is a render, not a cache hit. References keep their cache.
 
@@ -167,13 +171,14 @@ class Experiment:
     noise_estimate: bool = True
     fail_above: float | None = None  # a cell whose primary error exceeds this counts as failed
     speed: tuple[SpeedPass, ...] = ()  # the speed pass: the only times the report charts
+    max_seconds: float | None = None  # a cell's time limit (None: AAEVAL_MAX_SECONDS or 600)
 
     def cells(self) -> list[Cell]:
         return [cell for group in self.groups for cell in group.cells()]
 
 
 _EXPERIMENT_KEYS = {"name", "description", "reference", "metrics", "temporal", "primary", "noise_estimate",
-                    "fail_above", "repeats"}
+                    "fail_above", "repeats", "max_seconds"}
 _GROUP_KEYS = {"name", "scenes", "methods", "frames", "options", "reference", "metrics", "temporal", "animate",
                "repeats"}
 _SPEED_KEYS = {"scenes", "methods", "options", "repeats", "threads", "accuracy"}
@@ -213,6 +218,12 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
                                    or not math.isfinite(fail_above) or fail_above <= 0):  # nan never compares above
         raise ConfigError(f"{where}: [experiment].fail_above must be a finite positive number, got {fail_above!r}")
 
+    max_seconds = head.get("max_seconds")
+    if max_seconds is not None and (isinstance(max_seconds, bool) or not isinstance(max_seconds, (int, float))
+                                    or not 0 < max_seconds <= MAX_CELL_SECONDS):
+        raise ConfigError(f"{where}: [experiment].max_seconds must be a number of seconds above 0 and at most "
+                          f"{MAX_CELL_SECONDS:g} (a day), got {max_seconds!r}")
+
     raw_groups = document.get("groups")
     if not isinstance(raw_groups, list) or not raw_groups:
         raise ConfigError(f"{where}: needs at least one [[groups]] table")
@@ -230,7 +241,8 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
         raise ConfigError(f"{where}: speed must be an array of [[speed]] tables")
     speed = tuple(_speed(raw, f"{where}: speed[{i}]", base, set(names)) for i, raw in enumerate(raw_speed))
     return Experiment(name, str(head.get("description", "")), where, text, tuple(groups), temporal, primary, noise,
-                      None if fail_above is None else float(fail_above), speed)
+                      None if fail_above is None else float(fail_above), speed,
+                      None if max_seconds is None else float(max_seconds))
 
 
 def _speed(raw: Any, where: str, base: Path, groups: set[str]) -> SpeedPass:
@@ -294,6 +306,9 @@ def _group(raw: Any, where: str, base: Path, reference: MethodSpec, metrics: tup
         repeats = _repeats(raw["repeats"], f"{where}.repeats")
     return Group(name, scenes, tuple(specs), frames, reference, metrics, repeats, temporal)
 
+
+#: The largest per-cell time limit a config may set (a day): above it, no limit at all.
+MAX_CELL_SECONDS = 86400.0
 
 #: More timed renders per cell than any timing needs: a typo such as 1e9 would run for days.
 MAX_REPEATS = 1000

@@ -16,12 +16,12 @@ from typing import TYPE_CHECKING, Any, Iterator
 import numpy as np
 
 from aaeval.experiments.config import Cell, ConfigError, Experiment
-from aaeval.experiments.executors import make_executor
+from aaeval.experiments.executors import TaskTimedOut, WorkerDied, make_executor, retried_error
 from aaeval.experiments.measure import reference_kind
 from aaeval.experiments.provenance import write_provenance
 from aaeval.experiments.record import SCHEMA_VERSION, json_safe
 from aaeval.experiments.store import ReferenceCache, SweepStore, cell_key, code_version, reference_key
-from aaeval.experiments.tasks import run_cell, run_reference
+from aaeval.experiments.tasks import failed_record, run_cell, run_reference
 from aaeval.plugins import cell_plugins
 
 if TYPE_CHECKING:
@@ -223,9 +223,11 @@ def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_
     unique: dict[str, PlannedCell] = {}
     for p in planned:
         unique.setdefault(p.key, p)
-    finished = store.finished()
-    if retry_failed:
-        finished = {k for k in finished if not store.read_cell(k).get("error")}
+    sound = store.check(heal=True)
+    # a cell whose worker died or was stopped at the time limit is retried by a plain rerun;
+    # one whose method answered with an error only under --retry-failed
+    finished = {k for k, r in sound.items()
+                if not retried_error(r.get("error")) and not (retry_failed and r.get("error"))}
     todo = [p for k, p in unique.items() if k not in finished]
     summary = SweepSummary(total=len(unique), skipped=len(unique) - len(todo))
     if not todo:
@@ -233,7 +235,7 @@ def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_
         write_results(store)
         return summary
 
-    executor = make_executor(workers, scheduler)
+    executor = make_executor(workers, scheduler, experiment.max_seconds)
     write_manifest()
     summary.executor = executor.description
     write_provenance(store.root, executor.description, executor.workers)
@@ -308,7 +310,11 @@ def _cells(todo, refs, store, executor, progress, summary) -> None:
         progress.advance(task, len(lost))
     work = list(payloads())
     for i, result, exc in executor.run(run_cell, work):
-        if exc is not None:
+        if isinstance(exc, (WorkerDied, TaskTimedOut)):  # the cell's own doing: recorded as failed
+            store.write_cell(failed_record(work[i][0], str(exc)), None)
+            summary.ran += 1
+            summary.failed += 1
+        elif exc is not None:
             summary.lost.append(f"{todo[i].key}: {type(exc).__name__}: {exc}")
         else:
             record, image = result
