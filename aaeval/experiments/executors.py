@@ -295,6 +295,11 @@ class SchedulerLost(ConnectionError):
     (not recorded) and run on the next sweep."""
 
 
+class WorkersLost(SchedulerLost):
+    """Every worker of the Dask cluster died and none joined in time: lost like
+    :class:`SchedulerLost` (its tasks would wait forever)."""
+
+
 def _seconds(name: str, default: float) -> float:
     text = os.environ.get(name)
     if not text:
@@ -419,17 +424,31 @@ class DaskExecutor:
             # tasks render and time: never let Dask skip one as a duplicate of a pure call
             futures = [self.client.submit(fn, *p, pure=False) for p in payloads]
             index = {f.key: i for i, f in enumerate(futures)}
-            for future in as_completed(futures):
-                i = index[future.key]
-                if future.status == "cancelled":
-                    raise SchedulerLost("its task was cancelled")
-                if future.status == "error":
-                    outcome = (i, None, future.exception())
-                else:
-                    outcome = (i, future.result(), None)
-                returned.add(i)
-                yield outcome
-                future.release()
+            finished = as_completed(futures)
+            watch = _ClusterWatch(self)
+            while not finished.is_empty():
+                batch = finished.next_batch(block=False)
+                for future in batch:
+                    i = index[future.key]
+                    if i in returned:  # cancelled here at its time limit: already answered
+                        continue
+                    if future.status == "cancelled":
+                        raise SchedulerLost("its task was cancelled")
+                    if future.status == "error":
+                        exc = future.exception()
+                        if type(exc).__name__ == "KilledWorker":  # it took down every worker it was given
+                            exc = WorkerDied(f"worker died: every worker that ran it died ({_short(exc)})")
+                        outcome = (i, None, exc)
+                    else:
+                        outcome = (i, future.result(), None)
+                    returned.add(i)
+                    yield outcome
+                    future.release()
+                if not batch:
+                    for i in watch.overdue(futures, index, returned):
+                        returned.add(i)
+                        yield i, None, _timed_out(self.max_seconds)
+                    time.sleep(0.05)
         except (KeyboardInterrupt, SystemExit):
             with _quietly():
                 self.client.cancel(futures)  # the cluster stops computing cells nobody will write
@@ -439,9 +458,12 @@ class DaskExecutor:
         except BaseException as exc:  # noqa: BLE001 - a lost connection comes in many classes
             if self.client.status == "running" and not isinstance(exc, SchedulerLost) and self._live_workers():
                 raise  # the cluster is fine: not ours to hide
-            self.lost = SchedulerLost(f"the Dask scheduler at {self.address} was lost during the sweep "
-                                      f"({type(exc).__name__}: {str(exc) or 'connection closed'}); finished cells "
-                                      "are kept, rerun the sweep when it is back")
+            if isinstance(exc, WorkersLost):
+                self.lost = exc
+            else:
+                self.lost = SchedulerLost(f"the Dask scheduler at {self.address} was lost during the sweep "
+                                          f"({type(exc).__name__}: {str(exc) or 'connection closed'}); finished cells "
+                                          "are kept, rerun the sweep when it is back")
             for i in range(len(payloads)):
                 if i not in returned:
                     yield i, None, self.lost
@@ -449,6 +471,64 @@ class DaskExecutor:
     def close(self) -> None:
         if self._own:
             close_quietly(self.client)
+
+
+def _short(exc: BaseException, limit: int = 300) -> str:
+    text = " ".join(str(exc).split())
+    return text if len(text) <= limit else text[:limit] + "..."
+
+
+class _ClusterWatch:
+    """What a Dask sweep checks while it waits (once a second): a task processing past the
+    time limit is cancelled and its worker restarted where it has a nanny (Dask cannot stop a
+    running task otherwise); a cluster left without any worker for ``AAEVAL_DASK_WORKER_TIMEOUT``
+    seconds ends the sweep, naming it (its tasks would wait forever)."""
+
+    def __init__(self, executor: "DaskExecutor"):
+        self.executor = executor
+        self.grace = _seconds("AAEVAL_DASK_WORKER_TIMEOUT", WORKER_TIMEOUT)
+        self.since: dict = {}  # task key -> when it was first seen processing
+        self.empty_since: float | None = None
+        self.next_check = 0.0
+
+    def overdue(self, futures, index, returned) -> list[int]:
+        now = time.monotonic()
+        if now < self.next_check:
+            return []
+        self.next_check = now + 1.0
+        ex = self.executor
+        if ex._live_workers() == 0:
+            self.empty_since = self.empty_since or now
+            if now - self.empty_since > self.grace:
+                raise WorkersLost(f"the last worker of the Dask cluster at {ex.address} died and none joined "
+                                  f"within {self.grace:g} s (AAEVAL_DASK_WORKER_TIMEOUT); finished cells are kept, "
+                                  "rerun the sweep when it has workers")
+            return []
+        self.empty_since = None
+        try:
+            processing = ex.client.processing()
+        except Exception:  # noqa: BLE001 - no answer now: checked again in a second
+            return []
+        late, workers = [], set()
+        running = {}
+        for worker, keys in processing.items():
+            for key in keys:
+                running[key] = worker
+        for key in list(self.since):
+            if key not in running:
+                del self.since[key]
+        for key, worker in running.items():
+            started = self.since.setdefault(key, now)
+            i = index.get(key)
+            if i is not None and i not in returned and now - started > ex.max_seconds:
+                with _quietly():
+                    futures[i].cancel()
+                late.append(i)
+                workers.add(worker)
+        if workers:
+            with _quietly():  # a worker without a nanny cannot be restarted: its thread runs on
+                ex.client.restart_workers(list(workers), timeout=30, raise_for_error=False)
+        return late
 
 
 class _quietly:
