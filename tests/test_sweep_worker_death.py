@@ -48,6 +48,16 @@ def render_segv(scene):
     time.sleep(5)
 
 
+@register_method("huge", summary="test plugin: -1e300 everywhere (an infinite RMSE)")
+def render_huge(scene):
+    return np.full(scene.shape, -1e300)
+
+
+@register_method("objects", summary="test plugin: an object array")
+def render_objects(scene):
+    return np.full(scene.shape, None, dtype=object)
+
+
 @register_method("flaky", summary="test plugin: dies unless FLAKY_OK is set")
 def render_flaky(scene):
     if not os.environ.get("FLAKY_OK"):
@@ -55,12 +65,19 @@ def render_flaky(scene):
     return np.full(scene.shape, 0.5)
 '''
 
+METRIC = '''
+from aaeval.metrics.registry import register_metric
+
+register_metric("infinite", lambda reference, image: float("inf"), kind="image", title="always inf", fmt=".3g")
+'''
+
 CONFIG = """
 [experiment]
 name = "death"
 reference = "catmull"
-metrics = ["rmse"]
+metrics = {metrics}
 temporal = []
+fail_above = 0.5
 
 [[groups]]
 name = "edges"
@@ -74,15 +91,18 @@ def site(tmp_path) -> Path:
     site = tmp_path / "site"
     site.mkdir()
     (site / "aaeval_death_plugin.py").write_text(PLUGIN)
-    fake_install(site, "aaeval-death-plugin", {"aaeval.methods": {
-        name: "aaeval_death_plugin" for name in ("sleepy", "exits", "segv", "flaky")}})
+    fake_install(site, "aaeval-death-plugin", {
+        "aaeval.methods": {name: "aaeval_death_plugin" for name in ("sleepy", "exits", "segv", "flaky", "huge",
+                                                                    "objects")},
+        "aaeval.metrics": {"infinite": "aaeval_death_metric"}})
+    (site / "aaeval_death_metric.py").write_text(METRIC)
     return site
 
 
-def sweep(site: Path, tmp_path: Path, methods: list[str], *, frames: int = 1, workers: int = 2,
+def sweep(site: Path, tmp_path: Path, methods: list[str], *, frames: int = 1, workers: int = 2, metrics=("rmse",),
           env: dict | None = None, timeout: float = 300) -> tuple[subprocess.CompletedProcess, float, Path]:
     config = tmp_path / "death.toml"
-    config.write_text(CONFIG.format(frames=frames, methods=json.dumps(methods)))
+    config.write_text(CONFIG.format(frames=frames, methods=json.dumps(methods), metrics=json.dumps(list(metrics))))
     out = tmp_path / "out"
     full = {**os.environ, **(env or {}),
             "PYTHONPATH": os.pathsep.join([str(site), str(ROOT), os.environ.get("PYTHONPATH", "")])}
@@ -135,6 +155,24 @@ def test_a_rerun_retries_the_cells_whose_worker_died(site, tmp_path):
     assert again.returncode == 0, again.stderr
     assert "4 cells, 2 already done, 2 run (0 failed)" in again.stdout, again.stdout
     assert all(r["error"] is None for r in cells(out).values())
+
+
+@pytest.mark.slow
+def test_images_and_metrics_that_cannot_be_measured_fail_their_cells(site, tmp_path):
+    """Issue 36 item 2: -1e300 (an infinite RMSE once stored as null, read back as NaN, never
+    above fail_above: "0 failed") and an object array (write_cell raised in the parent) fail
+    their cells; a metric that answers inf fails the cell too. The report counts them."""
+    done, _, out = sweep(site, tmp_path, ["huge", "objects", "point"], workers=1)
+    assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr
+    assert "(2 failed)" in done.stdout, done.stdout
+    found = cells(out)
+    assert found[("point", 0)]["error"] is None
+    assert "huge" in found[("huge", 0)]["error"] and "objects" in found[("objects", 0)]["error"]
+    (tmp_path / "m").mkdir()
+    again, _, out2 = sweep(site, tmp_path / "m", ["point"], metrics=("rmse", "infinite"), workers=1)
+    assert again.returncode == 0, again.stderr
+    record = cells(out2)[("point", 0)]
+    assert "infinite=inf" in record["error"] and "(1 failed)" in again.stdout
 
 
 def test_the_serial_executor_stops_a_cell_past_its_limit():

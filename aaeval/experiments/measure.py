@@ -211,6 +211,26 @@ def frame_metrics(names: Sequence[str], reference: np.ndarray, image: np.ndarray
     return values, errors
 
 
+def not_finite_metrics(values: dict, errors: dict) -> str:
+    """The metrics of ``values`` that are not finite numbers with no error to say why
+    (``rmse=inf``), as text; empty when there are none. A metric that could not judge the
+    image is NaN with its reason in ``errors``: not counted here. Infinity on a metric's good
+    side is a perfect score, not a failure (PSNR of identical images is +inf)."""
+    bad = []
+    for name, value in values.items():
+        if name in errors:
+            continue
+        try:
+            number = float(value)
+        except (TypeError, ValueError, OverflowError):
+            number = math.nan
+        metric = METRICS.get(name)
+        perfect = math.inf if metric is not None and metric.higher_is_better else -math.inf
+        if not math.isfinite(number) and number != perfect:
+            bad.append(f"{name}={value!r}"[:80])
+    return ", ".join(bad)
+
+
 def series_metrics(names: Sequence[str], references: Sequence[np.ndarray], images: Sequence[np.ndarray],
                    mask_of) -> tuple[dict[str, float], dict[str, str]]:
     """Every temporal metric in ``names`` over all frames, in frame order.
@@ -267,6 +287,10 @@ def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | N
         out.intensity_sum = intensity_sum(image)
         out.metrics, out.metric_errors = frame_metrics(
             metrics, reference, image, lambda name: cache.mask(digest, scene, frame, name))
+        not_finite = not_finite_metrics(out.metrics, out.metric_errors)
+        if not_finite:  # stored as null and read back as NaN, never above fail_above: "0 failed"
+            raise FloatingPointError(f"metric(s) not finite: {not_finite}; the image is too far from its "
+                                     "reference to be measured")
     except Exception as exc:  # noqa: BLE001 - a failing cell is a result, not the end of the run
         out.error = f"{type(exc).__name__}: {exc}"
         out.traceback = traceback.format_exc(limit=6)
