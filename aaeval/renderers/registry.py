@@ -285,10 +285,36 @@ def available_memory() -> int:
             avail = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
         except (ValueError, OSError, AttributeError):
             avail = 1 << 62  # unknown: only AAEVAL_MAX_MEMORY limits
+    headroom = _address_space_headroom()
+    if headroom is not None:  # ulimit -v: past it an allocation fails however much RAM is free
+        avail = min(avail, headroom)
     limit = os.environ.get("AAEVAL_MAX_MEMORY")
     if limit:
         avail = min(avail, _bytes(limit, "AAEVAL_MAX_MEMORY"))
     return avail
+
+
+def _address_space_headroom() -> int | None:
+    """Bytes of address space left under ``RLIMIT_AS`` (its soft limit less this process's
+    ``VmSize``), or None when there is no such limit."""
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+    except (ImportError, AttributeError, OSError, ValueError):
+        return None
+    if soft == resource.RLIM_INFINITY or soft < 0:
+        return None
+    used = 0
+    try:
+        with open("/proc/self/status") as status:
+            for line in status:
+                if line.startswith("VmSize:"):
+                    used = int(line.split()[1]) * 1024
+                    break
+    except (OSError, ValueError):
+        pass
+    return max(0, soft - used)
 
 
 def _bytes(text: str, where: str) -> int:
