@@ -258,7 +258,7 @@ def _references(experiment, todo, store, cache, executor, progress, summary) -> 
     meta: dict[str, dict] = {}
     missing = []
     for key, p in wanted.items():
-        hit = cache.get(key)
+        hit = cache.get(key, (p.cell.scene_source.parsed.height, p.cell.scene_source.parsed.width, 3))
         if hit is not None:
             image, info = hit
             store.write_reference(key, image)
