@@ -174,8 +174,6 @@ def field_problem(data: Mapping[str, Any]) -> str | None:
         return "fields 'frame' (>= 0), 'repeats' and 'workers' (>= 1) are out of range"
     if not (1 <= data["width"] and 1 <= data["height"] and data["width"] * data["height"] <= MAX_RECORD_PIXELS):
         return f"fields 'width' and 'height' ({data['width']}x{data['height']}) are not an image size a sweep writes"
-    if data["reference_kind"] not in ("exact", "stochastic", "deterministic"):
-        return f"field 'reference_kind' must be exact, stochastic or deterministic, got {data['reference_kind'][:40]!r}"
     if not isinstance(data["options"], dict) or not all(
             isinstance(k, str) and (v is None or isinstance(v, (str, bool)) or _is_int(v) or isinstance(v, float))
             for k, v in data["options"].items()):
