@@ -232,6 +232,8 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
     for i, raw in enumerate(raw_groups):
         groups.append(_group(raw, f"{where}: groups[{i}]", base, reference, metrics, repeats, temporal))
     _check_cell_count(groups, where)
+    for i, g in enumerate(groups):  # a cell no run would finish is refused now, not stopped at its limit
+        _check_speed_budget(g.scenes, g.specs, g.repeats, f"{where}: groups[{i}]", max_seconds, what="cell")
     names = [g.name for g in groups]
     dup = sorted(n for n, k in Counter(names).items() if k > 1)
     if dup:
@@ -289,16 +291,20 @@ def _speed(raw: Any, where: str, base: Path, groups: set[str], limit: float | No
     return SpeedPass(scenes, tuple(specs), repeats, threads, accuracy)
 
 
-def _check_speed_budget(scenes, specs, repeats: int, where: str, limit: float | None) -> None:
-    """Each speed-pass render, with its warm-up and ``repeats`` rounds, estimated (the
-    render budget's own estimate) against the time limit of one task: a size no run would
-    finish is refused now, with the estimate, not after the accuracy cells."""
+def _check_speed_budget(scenes, specs, repeats: int, where: str, limit: float | None, what: str = "speed") -> None:
+    """Each render of a cell or the speed pass, with its warm-up and ``repeats`` rounds,
+    estimated (the render budget's own estimate) against the time limit of one task: a size
+    no run would finish is refused now, with the estimate, not when it is stopped."""
     from aaeval.experiments.executors import task_limit
-    from aaeval.renderers.registry import _render_seconds
+    from aaeval.renderers.registry import MethodError, _render_seconds, check_budget
 
     limit_s = task_limit(limit)
     for src in scenes:
         for spec in specs:
+            try:  # the render's own budget (samples, memory, time), as `aaeval render` applies it
+                check_budget(src.parsed, spec.method, spec.options)
+            except MethodError as exc:
+                raise ConfigError(f"{where}: {spec}: {exc}") from None
             try:
                 seconds = _render_seconds(src.parsed, spec.method, spec.options) * (repeats + 1)
             except Exception:  # noqa: BLE001 - a method's own estimate failing: no estimate, the run decides
