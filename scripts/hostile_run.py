@@ -205,7 +205,8 @@ def plugins(run: Run) -> None:
         run.cli("plugins", f"render {name}", ["render", str(fan), "-m", f"hostile-{name}", "-o", str(out)],
                 allowed=(2,), check=lambda c, o, e, out=out: ("exit", "an image was written") if out.exists() else None)
     for name in names:
-        run.cli("plugins", f"compare {name}", ["compare", str(fan), "-m", f"hostile-{name}", "point"], allowed=(1,))
+        run.cli("plugins", f"compare {name}", ["compare", str(fan), "--method", f"hostile-{name}", "--method", "point",
+                                                 "--reference", "catmull"], allowed=(1,))
     config = (ROOT / "tests" / "sweep_util.py")  # noqa: F841  (the format follows sweep_util)
     for name in names:
         cfg = folder / f"sweep_{name}.toml"
@@ -338,7 +339,7 @@ def fonts(run: Run) -> None:
         n = min(length, rng.choice([4, 16, 64, 512]))
         start = off + rng.randrange(max(1, length - n + 1))
         b[start:start + n] = bytes(rng.randrange(256) for _ in range(n))
-        mutated[f"noise-{tag.strip()}-{k}.ttf"] = bytes(b)
+        mutated[f"noise-{tag.strip().replace('/', '_')}-{k}.ttf"] = bytes(b)
     for k in range(16):  # a directory entry's offset or length set wild
         tag = rng.choice(sorted(tables))
         pos, off, length = tables[tag]
@@ -347,7 +348,7 @@ def fonts(run: Run) -> None:
             struct.pack_into(">I", b, pos + 8, rng.choice([0, len(data) - 1, len(data) + 7, 0xFFFFFFF0]))
         else:
             struct.pack_into(">I", b, pos + 12, rng.choice([0, 1, len(data), 0xFFFFFFF0]))
-        mutated[f"dir-{tag.strip()}-{k}.ttf"] = bytes(b)
+        mutated[f"dir-{tag.strip().replace('/', '_')}-{k}.ttf"] = bytes(b)
     for k, cut in enumerate((12, 100, 1000, len(data) // 2, len(data) - 1)):
         mutated[f"cut-{k}.ttf"] = data[:cut]
     mutated["empty.ttf"] = b""

@@ -567,7 +567,7 @@ def render_timed(scene: Scene, spec: str | MethodSpec, *, frame: int | None = No
         if method.warmup is not None:
             try:
                 method.warmup()
-            except (Exception, RecursionError) as exc:  # noqa: BLE001
+            except (Exception, RecursionError, SystemExit, GeneratorExit) as exc:  # noqa: BLE001
                 raise MethodFailure(f"method {method.name!r} failed in its warm-up: {_first_line(exc)}") from None
         _warmed.add(method.name)
     start = time.perf_counter()
@@ -575,7 +575,10 @@ def render_timed(scene: Scene, spec: str | MethodSpec, *, frame: int | None = No
         image = method.render(scene, **dict(options))
     except ValueError:  # a method's own input error (an option the scene cannot take): one line already
         raise
-    except (Exception, RecursionError) as exc:  # noqa: BLE001 - a method's failure is its result
+    # a method's sys.exit() or a stray GeneratorExit is its failure too, not the command's
+    # exit (sys.exit(3) in a plugin made `aaeval render` exit 3 with nothing said); only an
+    # interrupt (Ctrl-C, SIGTERM, the sweep's time limit) passes through
+    except (Exception, RecursionError, SystemExit, GeneratorExit) as exc:  # noqa: BLE001
         raise MethodFailure(f"method {method.name!r} failed: {_first_line(exc)}") from None
     seconds = time.perf_counter() - start
     return check_image(method.name, image, scene.shape), seconds
