@@ -319,7 +319,7 @@ def _dejavu() -> bytes:
 
 
 def fonts(run: Run) -> None:
-    from test_fonts_damaged import damaged_fonts
+    from test_fonts_damaged import _table_dir, damaged_fonts
 
     folder = run.work / "fonts"
     folder.mkdir()
@@ -377,15 +377,6 @@ def fonts(run: Run) -> None:
         scene.write_text(text.replace('font = "matplotlib:DejaVuSans.ttf"', f'font = "{name}"'))
         run.sub("fonts", f"freetype {name}", ["render", str(scene), "-m", "freetype", "-o", str(folder / f"{name}.png")],
                 allowed=(0, 2) if name not in named else (2,), timeout=60)
-
-
-def _table_dir(data: bytes) -> dict:
-    count = struct.unpack(">H", data[4:6])[0]
-    out = {}
-    for i in range(count):
-        tag, _, offset, length = struct.unpack(">4sIII", data[12 + 16 * i: 28 + 16 * i])
-        out[tag.decode()] = (12 + 16 * i, offset, length)
-    return out
 
 
 # ---------------------------------------------------------------------------------- configs

@@ -41,31 +41,27 @@ def refused(capsys, config: Path, *words: str, within: float = 30) -> str:
     return err
 
 
-@pytest.mark.slow
-def test_a_million_frame_list_is_refused_within_30_s(tmp_path, capsys):
-    frames = ", ".join(map(str, range(1_000_000)))
-    config = tmp_path / "frames.toml"
+def _frame_list(config: Path, frames) -> Path:
+    """A config of one 100,000-frame scene (the most a scene may have) and this frame list."""
     config.write_text(HEAD + f"""
 [[groups]]
 name = "g"
 scenes = [{{generator = "edges", difficulty = [0.1], frames = 100000, size = 8}}]
 methods = ["point"]
-frames = [{frames}]
+frames = [{", ".join(map(str, frames))}]
 """)
+    return config
+
+
+@pytest.mark.slow
+def test_a_million_frame_list_is_refused_within_30_s(tmp_path, capsys):
+    config = _frame_list(tmp_path / "frames.toml", range(1_000_000))
     refused(capsys, config, "1000000 frame numbers", "100000")
 
 
 def test_repeated_and_outside_frames_are_found_by_counting_once(tmp_path, capsys):
     """60k frames took 50 s with list.count per item; the refusal shows a few, not all."""
-    frames = ", ".join(map(str, list(range(50_000)) * 2))
-    config = tmp_path / "twice.toml"
-    config.write_text(HEAD + f"""
-[[groups]]
-name = "g"
-scenes = [{{generator = "edges", difficulty = [0.1], frames = 100000, size = 8}}]
-methods = ["point"]
-frames = [{frames}]
-""")
+    config = _frame_list(tmp_path / "twice.toml", list(range(50_000)) * 2)
     refused(capsys, config, "given more than once", "50000 in all", within=20)
 
 
