@@ -29,6 +29,8 @@ TAMPER = {
     "list kind": ("reference_kind", ["exact"]),
     "huge size": ("width", 1 << 30),
     "negative frame": ("frame", -1),
+    "another frame": ("frame", 7),  # reads well, but is not this key's cell: it blocked the folder
+    "another group": ("group", "stability"),
 }
 
 
@@ -71,7 +73,7 @@ def test_a_cell_of_the_wrong_types_is_quarantined_with_its_reason_and_run_again(
     capsys.readouterr()
     again = _sweep(tmp_path)
     err = capsys.readouterr().err
-    assert str(path) in err and repr(field) in err, err
+    assert str(path) in err and (repr(field) in err or field in err), err
     assert again.ran == 1 and not again.lost
     assert len(SweepStore(out).finished()) == 9
     assert len(pd.read_parquet(out / "results.parquet")) == 9

@@ -224,6 +224,12 @@ def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_
     for p in planned:
         unique.setdefault(p.key, p)
     sound = store.check(heal=True)
+    for key, record in list(sound.items()):  # a record edited to another cell's identity runs again
+        p = unique.get(key)
+        if p is not None and _disagrees(record, p):
+            store.set_aside(key, f"its group, scene, spec or frame differs from the config's "
+                                 f"({p.cell.group!r}, {p.cell.scene_source.name!r}, {p.cell.spec}, {p.cell.frame})")
+            del sound[key]
     # a cell whose worker died or was stopped at the time limit is retried by a plain rerun;
     # one whose method answered with an error only under --retry-failed
     finished = {k for k, r in sound.items()
@@ -248,6 +254,12 @@ def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_
         executor.close()
     write_results(store)
     return summary
+
+
+def _disagrees(record: dict, p: PlannedCell) -> bool:
+    c = p.cell
+    return (record.get("group") != c.group or record.get("scene") != c.scene_source.name
+            or record.get("spec") != str(c.spec) or record.get("frame") != c.frame)
 
 
 def _references(experiment, todo, store, cache, executor, progress, summary) -> dict[str, dict]:

@@ -361,6 +361,13 @@ class SweepStore:
             return {}, f"not a readable cell record ({str(exc).removeprefix('record: ')})"
         return record, None
 
+    def set_aside(self, key: str, problem: str, heal: bool = True) -> None:
+        """Quarantine the cell ``key`` (record and image) with ``problem``, as :meth:`check`
+        does with a damaged one: for a record that reads well but disagrees with its plan."""
+        path = self.cell_path(key)
+        if os.path.lexists(path):
+            self._set_aside(path, problem, heal, [self.image_path(key)])
+
     def _array_problem(self, path: Path, what: str, shape: tuple[int, ...] | None = None) -> str | None:
         problem = _regular_problem(path)
         if problem is not None:
