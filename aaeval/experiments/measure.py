@@ -212,10 +212,12 @@ def frame_metrics(names: Sequence[str], reference: np.ndarray, image: np.ndarray
 
 
 def not_finite_metrics(values: dict, errors: dict) -> str:
-    """The metrics of ``values`` that are not finite numbers with no error to say why
-    (``rmse=inf``), as text; empty when there are none. A metric that could not judge the
-    image is NaN with its reason in ``errors``: not counted here. Infinity on a metric's good
-    side is a perfect score, not a failure (PSNR of identical images is +inf)."""
+    """The metrics of ``values`` that are infinite on their bad side (``rmse=inf``) or not
+    numbers at all, as text; empty when there are none. Stored as null, an infinite error
+    read back as NaN and was never above ``fail_above`` ("0 failed"). NaN stays what it was:
+    a metric that could not judge this image (a masked metric on a scene without its pixels),
+    listed apart; infinity on a metric's good side is a perfect score (PSNR of identical
+    images)."""
     bad = []
     for name, value in values.items():
         if name in errors:
@@ -223,10 +225,11 @@ def not_finite_metrics(values: dict, errors: dict) -> str:
         try:
             number = float(value)
         except (TypeError, ValueError, OverflowError):
-            number = math.nan
+            bad.append(f"{name}={value!r}"[:80])
+            continue
         metric = METRICS.get(name)
-        perfect = math.inf if metric is not None and metric.higher_is_better else -math.inf
-        if not math.isfinite(number) and number != perfect:
+        worst = -math.inf if metric is not None and metric.higher_is_better else math.inf
+        if number == worst:
             bad.append(f"{name}={value!r}"[:80])
     return ", ".join(bad)
 
@@ -289,7 +292,7 @@ def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | N
             metrics, reference, image, lambda name: cache.mask(digest, scene, frame, name))
         not_finite = not_finite_metrics(out.metrics, out.metric_errors)
         if not_finite:  # stored as null and read back as NaN, never above fail_above: "0 failed"
-            raise FloatingPointError(f"metric(s) not finite: {not_finite}; the image is too far from its "
+            raise FloatingPointError(f"metric(s) infinite: {not_finite}; the image is too far from its "
                                      "reference to be measured")
     except Exception as exc:  # noqa: BLE001 - a failing cell is a result, not the end of the run
         out.error = f"{type(exc).__name__}: {exc}"
