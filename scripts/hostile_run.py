@@ -623,9 +623,6 @@ def _store_case(run: Run, dest: Path, name: str) -> None:
 
 # ---------------------------------------------------------------------------------- report
 
-MARKUP = "<script>alert('x')</script>"
-
-
 def report(run: Run, base: Path) -> None:
     dest = _copy(base, run.work / "report1")
     out = dest / "out"
@@ -641,18 +638,9 @@ def report(run: Run, base: Path) -> None:
         run.record("report", f"link {p.relative_to(out)}", problems)
     dest = _copy(base, run.work / "report2")
     out = dest / "out"
-    fields = ["group", "scene", "scene_source", "difficulty_label", "method", "spec", "reference",
-              "reference_kind", "host", "executor", "code_version", "error"]
-    for cell in (out / "cells").glob("*.json"):
-        record = json.loads(cell.read_text())
-        record.update({f: MARKUP + f for f in fields})
-        cell.write_text(json.dumps(record))
-    manifest = json.loads((out / "manifest.json").read_text())
-    manifest.update(experiment=MARKUP + "experiment", description=MARKUP + "description",
-                    code_version=MARKUP + "code_version")
-    for cell in manifest["cells"]:
-        cell.update({f: MARKUP + f for f in ("group", "scene", "spec", "difficulty_label", "reference")})
-    (out / "manifest.json").write_text(json.dumps(manifest))
+    from test_hostile_report import MARKUP, plant_markup
+
+    plant_markup(out)
     run.cli("report", "markup in every field", ["report", str(out), "--quiet"], allowed=(0,), timeout=180)
     page = (out / "index.html").read_text() if (out / "index.html").is_file() else ""
     stray = "alert(" in page.replace("alert(&#x27;x&#x27;)", "")
