@@ -68,10 +68,10 @@ def test_every_cell_of_every_shipped_config_is_one_row_with_its_own_label(config
     assert len(keys) == len(set(keys)), "two cells share a key"
     store = SweepStore(tmp_path)
     store.write_manifest(experiment.text, manifest(experiment, planned))
-    tiny = np.zeros((1, 1, 3))  # the store checks that every finished cell has its image and reference
-    for p in planned:
-        store.write_reference(p.reference_key, tiny)
-        store.write_cell(_fake_record(p), tiny)
+    for p in planned:  # the store checks that every finished cell has its image and reference, of its size
+        blank = np.zeros((p.cell.scene_source.parsed.height, p.cell.scene_source.parsed.width, 3))
+        store.write_reference(p.reference_key, blank)
+        store.write_cell(_fake_record(p), blank)
     table = results_frame(store)
     assert len(table) == len(planned) == len(store.read_manifest()["cells"])
     assert not table["key"].duplicated().any()
@@ -141,9 +141,14 @@ def test_a_config_that_repeats_itself_is_refused_naming_the_key(group, message):
 # --- one record ------------------------------------------------------------------------
 
 def test_a_record_with_a_missing_or_unknown_field_or_another_schema_is_refused():
-    fields = {f: None for f in CellRecord.__dataclass_fields__}
+    from aaeval.experiments.record import _INT, _STR
+
+    fields = {f: None for f in CellRecord.__dataclass_fields__}  # every optional field null
+    fields.update({f: "x" for f in _STR}, **{f: 1 for f in _INT})  # the others of their types (issue 36)
     fields.update(metrics={}, metric_errors={}, options={}, schema_version=SCHEMA_VERSION)
     CellRecord.from_json(fields)
+    with pytest.raises(RecordError, match="field 'frame' must be a whole number"):
+        CellRecord.from_json({**fields, "frame": "0"})
     with pytest.raises(RecordError, match=r"missing \['render_s'\]"):
         CellRecord.from_json({k: v for k, v in fields.items() if k != "render_s"})
     with pytest.raises(RecordError, match=r"unknown \['rmse_typo'\]"):

@@ -13,6 +13,23 @@ from test_sweep_links import TINY, snapshot, sweep, world  # noqa: F401  (world:
 MARKUP = "<script>alert('x')</script>"
 
 
+def plant_markup(out) -> None:
+    """Markup in every text field of every cell record and of the manifest of the sweep
+    folder ``out`` (also used by scripts/hostile_run.py)."""
+    fields = ["group", "scene", "scene_source", "difficulty_label", "method", "spec", "reference",
+              "reference_kind", "host", "executor", "code_version", "error"]
+    for cell in (out / "cells").glob("*.json"):
+        record = json.loads(cell.read_text())
+        record.update({f: MARKUP + f for f in fields})
+        cell.write_text(json.dumps(record))
+    manifest = json.loads((out / "manifest.json").read_text())
+    manifest.update(experiment=MARKUP + "experiment", description=MARKUP + "description",
+                    code_version=MARKUP + "code_version")
+    for cell in manifest["cells"]:  # the manifest's copy must agree with the record's
+        cell.update({f: MARKUP + f for f in ("group", "scene", "spec", "difficulty_label", "reference")})
+    (out / "manifest.json").write_text(json.dumps(manifest))
+
+
 def test_a_report_output_replaced_by_a_link_is_replaced_not_written_through(world, capsys):
     tmp_path, outside, config = world
     out = tmp_path / "out"
@@ -34,18 +51,7 @@ def test_markup_in_every_record_field_reaches_the_page_escaped(world, capsys):
     tmp_path, outside, config = world
     out = tmp_path / "out"
     assert sweep(tmp_path, config) == 0
-    fields = ["group", "scene", "scene_source", "difficulty_label", "method", "spec", "reference",
-              "reference_kind", "host", "executor", "code_version", "error"]
-    for cell in (out / "cells").glob("*.json"):
-        record = json.loads(cell.read_text())
-        record.update({f: MARKUP + f for f in fields})
-        cell.write_text(json.dumps(record))
-    manifest = json.loads((out / "manifest.json").read_text())
-    manifest.update(experiment=MARKUP + "experiment", description=MARKUP + "description",
-                    code_version=MARKUP + "code_version")
-    for cell in manifest["cells"]:  # the manifest's copy must agree with the record's
-        cell.update({f: MARKUP + f for f in ("group", "scene", "spec", "difficulty_label", "reference")})
-    (out / "manifest.json").write_text(json.dumps(manifest))
+    plant_markup(out)
     assert main(["report", str(out), "--quiet"]) == 0, capsys.readouterr().err
     page = (out / "index.html").read_text()
     assert "alert(" not in page.replace("alert(&#x27;x&#x27;)", "")

@@ -38,6 +38,8 @@ BEHAVIOURS = {
     "nan": lambda scene: np.full(_shape(scene), np.nan),
     "inf": lambda scene: np.full(_shape(scene), -np.inf),
     "huge": lambda scene: np.full(_shape(scene), -1e300),
+    "exits": lambda scene: __import__("sys").exit(3),
+    "generatorexit": lambda scene: (_ for _ in ()).throw(GeneratorExit()),
 }
 
 def _recurse(scene):
@@ -60,6 +62,8 @@ RULES = {
     "nan": "NaN or infinite",
     "inf": "NaN or infinite",
     "huge": "magnitude 1e+300",
+    "exits": "failed: SystemExit: 3",  # sys.exit(3) in a plugin made render exit 3, saying nothing
+    "generatorexit": "failed: GeneratorExit",
 }
 
 

@@ -113,3 +113,89 @@ def test_the_executor_column_follows_a_dead_worker(tmp_path):
             assert now["workers"] == 1 and "1 workers; 1 lost" in now["executor"]
         finally:
             executor.close()
+
+
+def _nap(seconds):
+    time.sleep(seconds)
+    return seconds
+
+
+def test_a_dask_task_past_the_time_limit_is_answered_as_timed_out(monkeypatch):
+    """Issue 36: a per-task time limit on Dask too (measured from when the scheduler shows the
+    task processing); the other tasks still answer."""
+    from aaeval.experiments.executors import DaskExecutor, TaskTimedOut
+
+    with local_cluster(2) as cluster:
+        executor = DaskExecutor(cluster.scheduler_address, max_seconds=2)
+        try:
+            start = time.monotonic()
+            out = {i: (result, exc) for i, result, exc in executor.run(_nap, [(6,), (0.1,)])}
+            took = time.monotonic() - start
+        finally:
+            executor.close()
+    assert isinstance(out[0][1], TaskTimedOut) and "2 s" in str(out[0][1])
+    assert out[1] == (0.1, None)
+    assert took < 6
+
+
+def test_a_dask_sweep_whose_last_worker_died_stops_naming_it(monkeypatch):
+    """Issue 36: the only worker dies mid-run; after AAEVAL_DASK_WORKER_TIMEOUT seconds with
+    none, every task not returned comes back as WorkersLost naming the cluster (no hang)."""
+    from aaeval.experiments.executors import DaskExecutor, WorkersLost
+
+    monkeypatch.setenv("AAEVAL_DASK_WORKER_TIMEOUT", "2")
+    with local_cluster(1) as cluster:
+        executor = DaskExecutor(cluster.scheduler_address)
+        try:
+            name = next(iter(cluster.workers))
+            killer = threading.Timer(1.0, lambda: cluster.sync(cluster.workers[name].close))
+            killer.start()
+            start = time.monotonic()
+            out = list(executor.run(_nap, [(0.3,)] * 20))
+            took = time.monotonic() - start
+            killer.join()
+        finally:
+            executor.close()
+    lost = [exc for _, _, exc in out if exc is not None]
+    assert lost and all(isinstance(exc, WorkersLost) for exc in lost)
+    assert "the last worker of the Dask cluster at" in str(lost[0]) and "2 s" in str(lost[0])
+    assert len(out) == 20 and took < 60
+
+
+def test_a_peer_that_never_answers_is_refused_after_the_stated_wait(tmp_path, capsys, monkeypatch):
+    """Issue 36: a peer that accepts the connection and never answers held Client() forever."""
+    import socket
+
+    monkeypatch.setenv("AAEVAL_DASK_TIMEOUT", "2")
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(8)
+    held = []
+    stop = threading.Event()
+
+    def accept():
+        server.settimeout(0.2)
+        while not stop.is_set():
+            try:
+                held.append(server.accept()[0])
+            except OSError:
+                pass
+
+    thread = threading.Thread(target=accept, daemon=True)
+    thread.start()
+    try:
+        config = write_config(tmp_path, MANY)
+        start = time.monotonic()
+        code = main(["sweep", str(config), "--out", str(tmp_path / "out"), "--scheduler",
+                     f"tcp://127.0.0.1:{server.getsockname()[1]}", "-q"])
+        waited = time.monotonic() - start
+    finally:
+        stop.set()
+        thread.join()
+        for c in held:
+            c.close()
+        server.close()
+    err = capsys.readouterr().err
+    assert code == 2 and "did not answer within 2 s" in err and err.count("\n") == 1, err
+    assert waited < 30
+    assert not (tmp_path / "out").exists()

@@ -80,8 +80,17 @@ def _signals_interrupt():
             signal.signal(s, handler)
 
 
+#: The longest error line printed: a message that echoes a value back (a million-element
+#: list in a config) would otherwise be megabytes on one line.
+MAX_ERROR_CHARS = 1000
+
+
 def _one_line(message) -> str:
-    return " ".join(str(message).split("\n")).strip()
+    text = " ".join(str(message).split("\n")).strip()
+    if len(text) > MAX_ERROR_CHARS:
+        cut = len(text) - MAX_ERROR_CHARS
+        text = f"{text[:MAX_ERROR_CHARS - 200]} ...[{cut} characters cut]... {text[-200:]}"
+    return text
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -55,7 +55,11 @@ def run(args) -> int:
             from aaeval.experiments.executors import close_quietly
 
             close_quietly(scheduler)
-    if any("SchedulerLost" in line for line in summary.lost):
+    workers_lost = next((line for line in summary.lost if "WorkersLost: " in line), None)
+    if workers_lost:
+        print(f"aaeval sweep: {workers_lost.split('WorkersLost: ', 1)[1]} ({len(summary.lost)} cell(s) not run)",
+              file=sys.stderr)
+    elif any("SchedulerLost" in line for line in summary.lost):
         print(f"aaeval sweep: the Dask scheduler at {args.scheduler} was lost: {len(summary.lost)} cell(s) not run; "
               "finished cells are kept, rerun when it is back", file=sys.stderr)
     print(f"{experiment.name}: {summary.total} cells, {summary.skipped} already done, {summary.ran} run "

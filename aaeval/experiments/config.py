@@ -22,6 +22,10 @@ A config file looks like::
     metrics = ["rmse", "highlight_rmse"]   # a group may override metrics, temporal, reference
     repeats = 5                            # timed renders per cell, after one untimed warm-up (default 1)
 
+``[experiment].max_seconds`` (default: ``AAEVAL_MAX_SECONDS``, else 600) is the time limit of
+one cell or reference, all its repeats: past it the cell is stopped and recorded as failed
+("timed out"), and a rerun tries it again.
+
 A method with a ``cache`` option (Mitsuba) gets ``cache=false`` unless the spec sets it, so
 its render time is a render, not a cache hit. References keep their cache.
 
@@ -38,6 +42,7 @@ import math
 import hashlib
 import itertools
 import json
+from collections import Counter
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -169,13 +174,14 @@ class Experiment:
     noise_estimate: bool = True
     fail_above: float | None = None  # a cell whose primary error exceeds this counts as failed
     speed: tuple[SpeedPass, ...] = ()  # the speed pass: the only times the report charts
+    max_seconds: float | None = None  # a cell's time limit (None: AAEVAL_MAX_SECONDS or 600)
 
     def cells(self) -> list[Cell]:
         return [cell for group in self.groups for cell in group.cells()]
 
 
 _EXPERIMENT_KEYS = {"name", "description", "reference", "metrics", "temporal", "primary", "noise_estimate",
-                    "fail_above", "repeats"}
+                    "fail_above", "repeats", "max_seconds"}
 _GROUP_KEYS = {"name", "scenes", "methods", "frames", "options", "reference", "metrics", "temporal", "animate",
                "repeats"}
 _SPEED_KEYS = {"scenes", "methods", "options", "repeats", "threads", "accuracy"}
@@ -218,6 +224,12 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
                                    or not math.isfinite(fail_above) or fail_above <= 0):  # nan never compares above
         raise ConfigError(f"{where}: [experiment].fail_above must be a finite positive number, got {fail_above!r}")
 
+    max_seconds = head.get("max_seconds")
+    if max_seconds is not None and (isinstance(max_seconds, bool) or not isinstance(max_seconds, (int, float))
+                                    or not 0 < max_seconds <= MAX_CELL_SECONDS):
+        raise ConfigError(f"{where}: [experiment].max_seconds must be a number of seconds above 0 and at most "
+                          f"{MAX_CELL_SECONDS:g} (a day), got {max_seconds!r}")
+
     raw_groups = document.get("groups")
     if not isinstance(raw_groups, list) or not raw_groups:
         raise ConfigError(f"{where}: needs at least one [[groups]] table")
@@ -225,8 +237,11 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
     for i, raw in enumerate(raw_groups):
         groups.append(_group(raw, f"{where}: groups[{i}]", base, reference, metrics, repeats, temporal))
     temporal = tuple(dict.fromkeys(m for g in groups for m in g.temporal))
+    _check_cell_count(groups, where)
+    for i, g in enumerate(groups):  # a cell no run would finish is refused now, not stopped at its limit
+        _check_speed_budget(g.scenes, g.specs, g.repeats, f"{where}: groups[{i}]", max_seconds, what="cell")
     names = [g.name for g in groups]
-    dup = sorted({n for n in names if names.count(n) > 1})
+    dup = sorted(n for n, k in Counter(names).items() if k > 1)
     if dup:
         raise ConfigError(f"{where}: groups.name must be unique, repeated: {dup}")
     if not any(primary in g.metrics for g in groups):
@@ -234,12 +249,26 @@ def parse_experiment(document: Mapping[str, Any], *, path: str | Path = "<config
     raw_speed = document.get("speed", [])
     if not isinstance(raw_speed, list):
         raise ConfigError(f"{where}: speed must be an array of [[speed]] tables")
-    speed = tuple(_speed(raw, f"{where}: speed[{i}]", base, set(names)) for i, raw in enumerate(raw_speed))
+    speed = tuple(_speed(raw, f"{where}: speed[{i}]", base, set(names), max_seconds)
+                  for i, raw in enumerate(raw_speed))
     return Experiment(name, str(head.get("description", "")), where, text, tuple(groups), temporal, primary, noise,
-                      None if fail_above is None else float(fail_above), speed)
+                      None if fail_above is None else float(fail_above), speed,
+                      None if max_seconds is None else float(max_seconds))
 
 
-def _speed(raw: Any, where: str, base: Path, groups: set[str]) -> SpeedPass:
+def _check_cell_count(groups: list, where: str) -> None:
+    """Refuse a config of more than :data:`MAX_CELLS` cells, counted before any is built."""
+    total = 0
+    for g in groups:
+        per_spec = sum(src.frames if g.frames == "all" else len(g.frames) for src in g.scenes)
+        total += per_spec * len(g.specs)
+    if total > MAX_CELLS:
+        raise ConfigError(f"{where}: {total} cells (groups x scenes x method specs x frames), over the limit of "
+                          f"{MAX_CELLS}; at even 0.1 s a cell that is {total * 0.1 / 3600:.3g} hours (split the "
+                          "config or give fewer frames)")
+
+
+def _speed(raw: Any, where: str, base: Path, groups: set[str], limit: float | None = None) -> SpeedPass:
     """One ``[[speed]]`` table: ``scenes``, ``methods``, ``options`` as in a group; ``repeats``
     (interleaved rounds, default 5), ``threads`` (default 1: given to every method that has a
     ``threads`` option) and ``accuracy`` (a group name)."""
@@ -261,10 +290,36 @@ def _speed(raw: Any, where: str, base: Path, groups: set[str]) -> SpeedPass:
         if "threads" in spec.method.options and "threads" not in given:
             spec = spec.with_options(threads=threads)
         specs.append(spec)
+    _check_speed_budget(scenes, specs, repeats, where, limit)
     accuracy = raw.get("accuracy")
     if accuracy is not None and accuracy not in groups:
         raise ConfigError(f"{where}.accuracy: {accuracy!r} is not a group of this experiment ({sorted(groups)})")
     return SpeedPass(scenes, tuple(specs), repeats, threads, accuracy)
+
+
+def _check_speed_budget(scenes, specs, repeats: int, where: str, limit: float | None, what: str = "speed") -> None:
+    """Each render of a cell or the speed pass, with its warm-up and ``repeats`` rounds,
+    estimated (the render budget's own estimate) against the time limit of one task: a size
+    no run would finish is refused now, with the estimate, not when it is stopped."""
+    from aaeval.experiments.executors import task_limit
+    from aaeval.renderers.registry import MethodError, _render_seconds, check_budget
+
+    limit_s = task_limit(limit)
+    for src in scenes:
+        for spec in specs:
+            try:  # the render's own budget (samples, memory, time), as `aaeval render` applies it
+                check_budget(src.parsed, spec.method, spec.options)
+            except MethodError as exc:
+                raise ConfigError(f"{where}: {spec}: {exc}") from None
+            try:
+                seconds = _render_seconds(src.parsed, spec.method, spec.options) * (repeats + 1)
+            except Exception:  # noqa: BLE001 - a method's own estimate failing: no estimate, the run decides
+                continue
+            if seconds > limit_s:
+                raise ConfigError(f"{where}: {spec} on {src.name} ({src.parsed.width}x{src.parsed.height}) x "
+                                  f"{repeats + 1} renders would take about {seconds:.3g} s, over the limit of "
+                                  f"{limit_s:g} s (max_seconds or AAEVAL_MAX_SECONDS; a smaller scene or fewer "
+                                  "repeats)")
 
 
 def _methods_and_options(raw: Mapping, where: str) -> tuple[list, Mapping]:
@@ -304,6 +359,19 @@ def _group(raw: Any, where: str, base: Path, reference: MethodSpec, metrics: tup
         repeats = _repeats(raw["repeats"], f"{where}.repeats")
     return Group(name, scenes, tuple(specs), frames, reference, metrics, repeats, temporal)
 
+
+#: The longest list of frame numbers a group may give: the most frames a scene may have
+#: (``aaeval.scenes.generate``'s frame limit).
+MAX_FRAME_LIST = 100_000
+#: The most steps of one generator's difficulty ladder; LEVEL_SECONDS is about what one
+#: step costs at parse time (generate and check its scene), for the estimate in the refusal.
+MAX_LADDER = 1000
+LEVEL_SECONDS = 0.01
+#: The most cells one config may plan: every cell is a record, a row and a render.
+MAX_CELLS = 200_000
+
+#: The largest per-cell time limit a config may set (a day): above it, no limit at all.
+MAX_CELL_SECONDS = 86400.0
 
 #: More timed renders per cell than any timing needs: a typo such as 1e9 would run for days.
 MAX_REPEATS = 1000
@@ -433,13 +501,21 @@ def _generated(item: Mapping[str, Any], where: str) -> list[SceneSource]:
     if name not in GENERATORS:
         raise ConfigError(f"{where}.generator: unknown generator {name!r}; available: {', '.join(sorted(GENERATORS))}")
     levels = item.get("difficulty")
+    if isinstance(levels, list) and len(levels) > MAX_LADDER:  # each level is a scene generated and parsed now
+        raise ConfigError(f"{where}.difficulty: a ladder of {len(levels)} steps, over the limit of {MAX_LADDER}: "
+                          f"each step is a scene generated and checked before the sweep starts (about "
+                          f"{len(levels) * LEVEL_SECONDS:.0f} s for these alone) and a row of every chart")
     if not isinstance(levels, list) or not levels:
-        raise ConfigError(f"{where}.difficulty: expected a non-empty list of difficulty values, got {levels!r}")
+        raise ConfigError(f"{where}.difficulty: expected a non-empty list of difficulty values, got {_brief(levels)}")
     params = {k: v for k, v in item.items() if k not in ("generator", "difficulty")}
     out = []
-    repeated = sorted({d for d in levels if levels.count(d) > 1}, key=str)
+    try:
+        counts = Counter(levels)
+    except TypeError:  # an unhashable value (a table): refused as not a number below
+        counts = Counter()
+    repeated = sorted((d for d, n in counts.items() if n > 1), key=str)
     if repeated:
-        raise ConfigError(f"{where}.difficulty: value(s) {repeated} given more than once")
+        raise ConfigError(f"{where}.difficulty: value(s) {_brief(repeated)} given more than once")
     for d in levels:
         if isinstance(d, bool) or not isinstance(d, (int, float)):
             raise ConfigError(f"{where}.difficulty: expected numbers, got {d!r}")
@@ -493,17 +569,30 @@ def _frames(raw: Any, where: str, scenes: tuple[SceneSource, ...]) -> Any:
             except SceneError as exc:
                 raise ConfigError(str(exc)) from None
         return "all"
+    if isinstance(raw, list) and len(raw) > MAX_FRAME_LIST:  # before any pass over it, and never echoed
+        raise ConfigError(f"{where}: a list of {len(raw)} frame numbers, over the limit of {MAX_FRAME_LIST} "
+                          "(the most frames a scene may have; use \"all\")")
     if not isinstance(raw, list) or not raw or not all(isinstance(k, int) and not isinstance(k, bool) for k in raw):
-        raise ConfigError(f"{where}: expected \"all\" or a non-empty list of frame numbers, got {raw!r}")
-    repeated = sorted({k for k in raw if raw.count(k) > 1})
+        raise ConfigError(f"{where}: expected \"all\" or a non-empty list of frame numbers, got {_brief(raw)}")
+    # repeats by counting once (list.count per item was quadratic: 50 s for 60k frames)
+    repeated = sorted(k for k, n in Counter(raw).items() if n > 1)
     if repeated:
-        raise ConfigError(f"{where}: frame(s) {repeated} given more than once")
+        raise ConfigError(f"{where}: frame(s) {_brief(repeated)} given more than once")
     for src in scenes:
         n = src.frames
         bad = [k for k in raw if not 0 <= k < n]
         if bad:
-            raise ConfigError(f"{where}: frame(s) {bad} outside 0..{n - 1} of scene {src.source}")
+            raise ConfigError(f"{where}: frame(s) {_brief(bad)} outside 0..{n - 1} of scene {src.source}")
     return tuple(raw)
+
+
+def _brief(values: Any, limit: int = 10) -> str:
+    """A list shown by its first ``limit`` items and its length: an error line must stay
+    readable when a config holds a million values."""
+    if isinstance(values, (list, tuple)) and len(values) > limit:
+        return f"[{', '.join(repr(v)[:40] for v in values[:limit])}, ... ({len(values)} in all)]"
+    text = repr(values)
+    return text if len(text) <= 200 else text[:200] + "..."
 
 
 def _spec(spec: str, where: str) -> MethodSpec:

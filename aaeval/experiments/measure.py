@@ -303,6 +303,29 @@ def frame_metrics(names: Sequence[str], reference: np.ndarray, image: np.ndarray
     return values, errors
 
 
+def not_finite_metrics(values: dict, errors: dict) -> str:
+    """The metrics of ``values`` that are infinite on their bad side (``rmse=inf``) or not
+    numbers at all, as text; empty when there are none. Stored as null, an infinite error
+    read back as NaN and was never above ``fail_above`` ("0 failed"). NaN stays what it was:
+    a metric that could not judge this image (a masked metric on a scene without its pixels),
+    listed apart; infinity on a metric's good side is a perfect score (PSNR of identical
+    images)."""
+    bad = []
+    for name, value in values.items():
+        if name in errors:
+            continue
+        try:
+            number = float(value)
+        except (TypeError, ValueError, OverflowError):
+            bad.append(f"{name}={value!r}"[:80])
+            continue
+        metric = METRICS.get(name)
+        worst = -math.inf if metric is not None and metric.higher_is_better else math.inf
+        if number == worst:
+            bad.append(f"{name}={value!r}"[:80])
+    return ", ".join(bad)
+
+
 def series_metrics(names: Sequence[str], references: Sequence[np.ndarray], images: Sequence[np.ndarray],
                    mask_of, exact_of=None) -> tuple[dict[str, float], dict[str, str]]:
     """Every temporal metric in ``names`` over all frames, in frame order.
@@ -367,6 +390,10 @@ def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | N
         out.intensity_sum = intensity_sum(image)
         out.metrics, out.metric_errors = frame_metrics(
             metrics, reference, image, lambda name: cache.mask(digest, scene, frame, name))
+        not_finite = not_finite_metrics(out.metrics, out.metric_errors)
+        if not_finite:  # stored as null and read back as NaN, never above fail_above: "0 failed"
+            raise FloatingPointError(f"metric(s) infinite: {not_finite}; the image is too far from its "
+                                     "reference to be measured")
         if noise_by_metric:
             out.agreement = agreement(metrics, reference, image, noise_by_metric,
                                       lambda name: cache.mask(digest, scene, frame, name),

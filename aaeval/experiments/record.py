@@ -106,6 +106,9 @@ class CellRecord:
         unknown = sorted(set(data) - set(RECORD_FIELDS))
         if missing or unknown:
             raise RecordError(f"{where}: record field(s) missing {missing}, unknown {unknown}")
+        problem = field_problem(data)
+        if problem:
+            raise RecordError(f"{where}: {problem}")
         values = dict(data)
         for name in _FLOAT_FIELDS:
             values[name] = _float(values[name])
@@ -143,6 +146,70 @@ RECORD_FIELDS = tuple(f.name for f in dataclasses.fields(CellRecord))
 #: RMS metrics two more: :func:`noise_column` and :func:`agreement_column`).
 TABLE_FIELDS = tuple(n for n in RECORD_FIELDS if n not in ("metrics", "reference_noise", "agreement"))
 _FLOAT_FIELDS = tuple(f.name for f in dataclasses.fields(CellRecord) if f.type == "float")
+
+
+# The type of every field as stored (strict JSON: a float that is not finite is null).
+# Checked on every read, so that a tampered or damaged record is quarantined with its reason
+# instead of reaching the table or the report as a string frame, an integer group or a list
+# spec (each of which stopped a report or blocked the folder for good).
+_STR = ("key", "group", "scene", "scene_source", "scene_digest", "method", "spec", "reference", "reference_key",
+        "reference_kind", "host", "executor", "code_version", "finished_at")
+_OPTIONAL_STR = ("difficulty_label", "error", "traceback")
+_INT = ("frame", "width", "height", "repeats", "pid", "workers")
+_OPTIONAL_INT = ("spp", "seed", "reference_spp", "reference_seed")
+_NUMBER = ("difficulty", "reference_noise_rmse", "reference_intensity_sum", "render_s", "render_s_min",
+           "render_s_max", "megapixels", "ms_per_mpix", "intensity_sum")
+#: The largest image a record may name (pixels): a stored array is checked against the
+#: record's size before it is read, so this bounds what a read may allocate.
+MAX_RECORD_PIXELS = 1 << 28
+_MAX_TEXT = 1 << 20  # one field's text: a traceback is a few kB
+
+
+def _is_int(value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _is_number(value) -> bool:
+    return (_is_int(value) or isinstance(value, float)) and math.isfinite(value)
+
+
+def field_problem(data: Mapping[str, Any]) -> str | None:
+    """Why the fields of a stored cell record do not have their schema's types, or None."""
+    for name in _STR:
+        if not isinstance(data[name], str) or len(data[name]) > _MAX_TEXT:
+            return f"field {name!r} must be text, got {_kind(data[name])}"
+    for name in _OPTIONAL_STR:
+        if data[name] is not None and (not isinstance(data[name], str) or len(data[name]) > _MAX_TEXT):
+            return f"field {name!r} must be text or null, got {_kind(data[name])}"
+    for name in _INT:
+        if not _is_int(data[name]):
+            return f"field {name!r} must be a whole number, got {_kind(data[name])}"
+    for name in _OPTIONAL_INT:
+        if data[name] is not None and not _is_int(data[name]):
+            return f"field {name!r} must be a whole number or null, got {_kind(data[name])}"
+    for name in _NUMBER:
+        if data[name] is not None and not _is_number(data[name]):
+            return f"field {name!r} must be a finite number or null, got {_kind(data[name])}"
+    if data["frame"] < 0 or data["repeats"] < 1 or data["workers"] < 1:
+        return "fields 'frame' (>= 0), 'repeats' and 'workers' (>= 1) are out of range"
+    if not (1 <= data["width"] and 1 <= data["height"] and data["width"] * data["height"] <= MAX_RECORD_PIXELS):
+        return f"fields 'width' and 'height' ({data['width']}x{data['height']}) are not an image size a sweep writes"
+    if not isinstance(data["options"], dict) or not all(
+            isinstance(k, str) and (v is None or isinstance(v, (str, bool)) or _is_int(v) or isinstance(v, float))
+            for k, v in data["options"].items()):
+        return f"field 'options' must be a table of option = value, got {_kind(data['options'])}"
+    if not isinstance(data["metrics"], dict) or not all(
+            isinstance(k, str) and (v is None or _is_number(v)) for k, v in data["metrics"].items()):
+        return "field 'metrics' must be a table of metric = number or null"
+    if not isinstance(data["metric_errors"], dict) or not all(
+            isinstance(k, str) and isinstance(v, str) for k, v in data["metric_errors"].items()):
+        return "field 'metric_errors' must be a table of metric = text"
+    return None
+
+
+def _kind(value) -> str:
+    text = repr(value)
+    return f"{type(value).__name__} {text[:40]}{'...' if len(text) > 40 else ''}"
 
 
 def _float(value) -> float:

@@ -16,12 +16,12 @@ from typing import TYPE_CHECKING, Any, Iterator
 import numpy as np
 
 from aaeval.experiments.config import Cell, ConfigError, Experiment
-from aaeval.experiments.executors import make_executor
+from aaeval.experiments.executors import TaskTimedOut, WorkerDied, make_executor, retried_error
 from aaeval.experiments.measure import reference_kind
 from aaeval.experiments.provenance import write_provenance
 from aaeval.experiments.record import SCHEMA_VERSION, json_safe
 from aaeval.experiments.store import ReferenceCache, SweepStore, cell_key, code_version, reference_key
-from aaeval.experiments.tasks import run_cell, run_reference
+from aaeval.experiments.tasks import failed_record, run_cell, run_reference
 from aaeval.plugins import cell_plugins
 
 if TYPE_CHECKING:
@@ -226,9 +226,17 @@ def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_
     unique: dict[str, PlannedCell] = {}
     for p in planned:
         unique.setdefault(p.key, p)
-    finished = store.finished()
-    if retry_failed:
-        finished = {k for k in finished if not store.read_cell(k).get("error")}
+    sound = store.check(heal=True)
+    for key, record in list(sound.items()):  # a record edited to another cell's identity runs again
+        p = unique.get(key)
+        if p is not None and _disagrees(record, p):
+            store.set_aside(key, f"its group, scene, spec or frame differs from the config's "
+                                 f"({p.cell.group!r}, {p.cell.scene_source.name!r}, {p.cell.spec}, {p.cell.frame})")
+            del sound[key]
+    # a cell whose worker died or was stopped at the time limit is retried by a plain rerun;
+    # one whose method answered with an error only under --retry-failed
+    finished = {k for k, r in sound.items()
+                if not retried_error(r.get("error")) and not (retry_failed and r.get("error"))}
     todo = [p for k, p in unique.items() if k not in finished]
     summary = SweepSummary(total=len(unique), skipped=len(unique) - len(todo))
     if not todo:
@@ -236,7 +244,7 @@ def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_
         write_results(store)
         return summary
 
-    executor = make_executor(workers, scheduler)
+    executor = make_executor(workers, scheduler, experiment.max_seconds)
     write_manifest()
     summary.executor = executor.description
     write_provenance(store.root, executor.description, executor.workers)
@@ -251,6 +259,12 @@ def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_
     return summary
 
 
+def _disagrees(record: dict, p: PlannedCell) -> bool:
+    c = p.cell
+    return (record.get("group") != c.group or record.get("scene") != c.scene_source.name
+            or record.get("spec") != str(c.spec) or record.get("frame") != c.frame)
+
+
 def _references(experiment, todo, store, cache, executor, progress, summary) -> dict[str, dict]:
     """Reference image metadata per reference key; images land in the sweep folder."""
     wanted: dict[str, PlannedCell] = {}
@@ -259,7 +273,7 @@ def _references(experiment, todo, store, cache, executor, progress, summary) -> 
     meta: dict[str, dict] = {}
     missing = []
     for key, p in wanted.items():
-        hit = cache.get(key)
+        hit = cache.get(key, (p.cell.scene_source.parsed.height, p.cell.scene_source.parsed.width, 3))
         if (hit is not None and experiment.noise_estimate and "noise_by_metric" not in hit[1]
                 and reference_kind(p.cell.reference) != "deterministic"):  # a deterministic one has no noise
             hit = None  # cached before the noise was measured per metric: render it again
@@ -316,7 +330,11 @@ def _cells(todo, refs, store, executor, progress, summary) -> None:
         progress.advance(task, len(lost))
     work = list(payloads())
     for i, result, exc in executor.run(run_cell, work):
-        if exc is not None:
+        if isinstance(exc, (WorkerDied, TaskTimedOut)):  # the cell's own doing: recorded as failed
+            store.write_cell(failed_record(work[i][0], str(exc)), None)
+            summary.ran += 1
+            summary.failed += 1
+        elif exc is not None:
             summary.lost.append(f"{todo[i].key}: {type(exc).__name__}: {exc}")
         else:
             record, image = result

@@ -108,10 +108,18 @@ class FolderInUse(StoreError):
     """Another process (a sweep, or a report rebuilding the tables) holds the folder's lock."""
 
 
-def npy_problem(path: str | Path) -> str | None:
+#: The most bytes a stored image may claim: a float64 RGB image of the largest size a record
+#: may name (:data:`aaeval.experiments.record.MAX_RECORD_PIXELS`).
+MAX_IMAGE_BYTES = (1 << 28) * 3 * 8
+
+
+def npy_problem(path: str | Path, shape: tuple[int, ...] | None = None) -> str | None:
     """Why ``path`` is not a complete ``.npy`` array (header and size agree), or None.
 
-    Reads the header only: cheap enough to check every stored image on every read.
+    Reads the header only: cheap enough to check every stored image on every read. With
+    ``shape`` (the image its record promises), another shape or a dtype that is not floating
+    point is a problem too: a sparse file whose header matches its size would otherwise be
+    read whole (21 GB), and a complex or wrong-shaped image stopped the report.
     """
     readers = {(1, 0): np.lib.format.read_array_header_1_0, (2, 0): np.lib.format.read_array_header_2_0}
     try:
@@ -120,10 +128,16 @@ def npy_problem(path: str | Path) -> str | None:
             version = np.lib.format.read_magic(f)
             if version not in readers:
                 return f"unsupported .npy version {version}"
-            shape, _, dtype = readers[version](f)
+            stored, _, dtype = readers[version](f)
             if dtype.hasobject:
                 return "holds Python objects, not numbers"
-            expected = f.tell() + math.prod(shape) * dtype.itemsize
+            if shape is not None and (tuple(stored) != tuple(shape)):
+                return f"its header says shape {tuple(stored)}, the record {tuple(shape)}"
+            if shape is not None and dtype.kind != "f":
+                return f"dtype {dtype}, not floating point"
+            if math.prod(stored) * dtype.itemsize > MAX_IMAGE_BYTES:
+                return f"its header claims {math.prod(stored) * dtype.itemsize} bytes, more than any image a sweep writes"
+            expected = f.tell() + math.prod(stored) * dtype.itemsize
     except (OSError, ValueError, EOFError) as exc:
         return f"not a .npy array ({exc or type(exc).__name__})"
     if size != expected:
@@ -193,6 +207,18 @@ def _save_npy(path: Path, array: np.ndarray, dtype) -> None:
     atomic_write(path, lambda tmp: np.save(tmp, np.asarray(array, dtype=dtype)))
 
 
+def _reference_meta_ok(info) -> bool:
+    """A cached reference's metadata has the fields a cell record copies, of their types
+    (``noise_rmse`` Infinity would reach every cell that uses it)."""
+    def number(v, optional=True):
+        return (v is None and optional) or (isinstance(v, (int, float)) and not isinstance(v, bool)
+                                            and math.isfinite(v))
+
+    return (isinstance(info, dict) and number(info.get("render_s"), optional=False)
+            and number(info.get("noise_rmse")) and number(info.get("intensity_sum"))
+            and isinstance(info.get("host", ""), str))
+
+
 class ReferenceCache:
     """Reference images on disk, shared by every cell and every sweep of this machine."""
 
@@ -202,18 +228,54 @@ class ReferenceCache:
     def path(self, key: str) -> Path:
         return self.root / f"{key}.npy"
 
-    def get(self, key: str) -> tuple[np.ndarray, dict] | None:
+    def get(self, key: str, shape: tuple[int, ...] | None = None) -> tuple[np.ndarray, dict] | None:
+        """The cached image (of ``shape``, when given) and its metadata, or None: missing,
+        damaged or of another shape, it is rendered again (and replaces the cached one)."""
         p, meta = self.path(key), self.root / f"{key}.json"
-        if not (p.is_file() and meta.is_file()) or npy_problem(p):
+        if not (p.is_file() and meta.is_file()) or npy_problem(p, shape):
             return None  # missing or damaged: render it again
         try:
-            return np.load(p), json.loads(meta.read_text())
+            info = json.loads(meta.read_text())
+            image = np.load(p, allow_pickle=False)
         except (OSError, ValueError):
             return None  # unreadable: render it again
+        return (image, info) if _reference_meta_ok(info) else None
 
     def put(self, key: str, image: np.ndarray, meta: dict) -> None:
         _save_npy(self.path(key), image, np.float64)
         atomic_write(self.root / f"{key}.json", lambda tmp: Path(tmp).write_text(json.dumps(meta)))
+
+
+def manifest_problem(manifest: dict) -> str | None:
+    """Why ``manifest`` (read from ``manifest.json``) does not have the fields the table and
+    the report read, of their types, or None."""
+    def strings(v):
+        return isinstance(v, list) and all(isinstance(x, str) for x in v)
+
+    if not isinstance(manifest.get("experiment"), str):
+        return "'experiment' must be text"
+    for name in ("description", "primary"):
+        if not isinstance(manifest.get(name, ""), str):
+            return f"{name!r} must be text"
+    for name in ("metrics", "temporal"):
+        if not strings(manifest.get(name, [])):
+            return f"{name!r} must be a list of metric names"
+    fail = manifest.get("fail_above")
+    if fail is not None and (isinstance(fail, bool) or not isinstance(fail, (int, float)) or not math.isfinite(fail)
+                             or fail <= 0):
+        return "'fail_above' must be a finite positive number or null"
+    group_temporal = manifest.get("group_temporal", {})
+    if not isinstance(group_temporal, dict) or not all(strings(v) for v in group_temporal.values()):
+        return "'group_temporal' must be a table of group = [metric names]"
+    if not isinstance(manifest.get("scenes", {}), dict) or not all(
+            isinstance(v, dict) and isinstance(v.get("document"), dict) for v in manifest.get("scenes", {}).values()):
+        return "'scenes' must be a table of digest = {source, document}"
+    for i, cell in enumerate(manifest["cells"]):
+        if not (isinstance(cell, dict) and isinstance(cell.get("key"), str) and isinstance(cell.get("group"), str)
+                and isinstance(cell.get("spec"), str) and isinstance(cell.get("frame"), int)
+                and not isinstance(cell.get("frame"), bool) and isinstance(cell.get("scene_digest", ""), str)):
+            return f"cells[{i}] must be a table with text key, group, spec and a whole-number frame"
+    return None
 
 
 class SweepStore:
@@ -268,11 +330,12 @@ class SweepStore:
                 continue
             record, problem = self._parse_cell(path)
             if problem is None and not record.get("error"):
-                problem = self._array_problem(self.image_path(path.stem), "its image")
+                shape = (record["height"], record["width"], 3)
+                problem = self._array_problem(self.image_path(path.stem), "its image", shape)
                 ref = record.get("reference_key")
                 if problem is None and isinstance(ref, str):
                     if ref not in bad_refs:
-                        bad_refs[ref] = self._array_problem(self.reference_path(ref), "its reference")
+                        bad_refs[ref] = self._array_problem(self.reference_path(ref), "its reference", shape)
                     problem = bad_refs[ref]
             if problem is None:
                 sound[path.stem] = record
@@ -298,13 +361,20 @@ class SweepStore:
             return {}, f"not a readable cell record ({str(exc).removeprefix('record: ')})"
         return record, None
 
-    def _array_problem(self, path: Path, what: str) -> str | None:
+    def set_aside(self, key: str, problem: str, heal: bool = True) -> None:
+        """Quarantine the cell ``key`` (record and image) with ``problem``, as :meth:`check`
+        does with a damaged one: for a record that reads well but disagrees with its plan."""
+        path = self.cell_path(key)
+        if os.path.lexists(path):
+            self._set_aside(path, problem, heal, [self.image_path(key)])
+
+    def _array_problem(self, path: Path, what: str, shape: tuple[int, ...] | None = None) -> str | None:
         problem = _regular_problem(path)
         if problem is not None:
             return f"{what} {path} {problem}"
         if not path.is_file():
             return f"{what} {path} is missing"
-        problem = npy_problem(path)
+        problem = npy_problem(path, shape)
         return None if problem is None else f"{what} {path} is damaged: {problem}"
 
     def _set_aside(self, cell: Path, problem: str, heal: bool, companions: list[Path]) -> None:
@@ -396,6 +466,9 @@ class SweepStore:
             raise StoreError(f"{p}: damaged manifest ({exc}); run the sweep again to rewrite it") from None
         if not isinstance(manifest, dict) or not isinstance(manifest.get("cells"), list):
             raise StoreError(f"{p}: not a sweep manifest (no list of cells); run the sweep again to rewrite it")
+        problem = manifest_problem(manifest)
+        if problem:
+            raise StoreError(f"{p}: not a sweep manifest ({problem}); run the sweep again to rewrite it")
         return manifest
 
     def records(self, keys: Iterable[str]) -> dict[str, dict]:

@@ -54,10 +54,12 @@ def results_frame(store: SweepStore, *, heal: bool = True) -> pd.DataFrame:
         if row["key"] not in done:
             continue
         record = read_record(store, row["key"])
-        for name in ("group", "scene", "spec", "frame"):
-            if getattr(record, name) != row[name]:
-                raise RecordError(f"{store.cell_path(row['key'])}: {name} {getattr(record, name)!r} differs from "
-                                  f"the manifest's {row[name]!r}")
+        wrong = next((name for name in ("group", "scene", "spec", "frame") if getattr(record, name) != row[name]),
+                     None)
+        if wrong:  # a record edited after it was written: set aside (healing) or left out, never blocking
+            store.set_aside(row["key"], f"{wrong} {getattr(record, wrong)!r} differs from the manifest's "
+                                        f"{row[wrong]!r}", heal)
+            continue
         flat = record.table_row()
         for name in metrics:
             flat.setdefault(name, math.nan)  # a metric another group measured

@@ -16,13 +16,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from aaeval.experiments.measure import SCENES, measure_frame, render_reference
+from aaeval.experiments.measure import SCENES, FrameMeasurement, Timing, measure_frame, render_reference
 from aaeval.experiments.record import CellRecord
 
 if TYPE_CHECKING:
     from aaeval.renderers.registry import MethodSpec
 
-__all__ = ["run_reference", "run_cell"]
+__all__ = ["run_reference", "run_cell", "failed_record"]
 
 
 def run_reference(document: dict, source: str, frame: int, spec: MethodSpec, estimate_noise: bool,
@@ -67,3 +67,17 @@ def run_cell(payload: dict[str, Any]) -> tuple[dict, np.ndarray | None]:
         host=socket.gethostname(), pid=os.getpid(),
         finished_at=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()))
     return record.to_json(), measured.image
+
+
+def failed_record(payload: dict[str, Any], error: str) -> dict:
+    """The record of a cell that never answered (its worker died or was stopped at the time
+    limit), built in the sweep's process from the payload it sent: failed with ``error``,
+    every metric NaN, no image."""
+    identity = payload["identity"]
+    measured = FrameMeasurement(None, Timing.missing(payload["repeats"]),
+                                metrics={m: float("nan") for m in payload["metrics"]}, error=error)
+    record = CellRecord(
+        **identity, **measured.fields(identity["width"], identity["height"]), **payload["run"],
+        host=socket.gethostname(), pid=os.getpid(),
+        finished_at=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()))
+    return record.to_json()

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 import struct
+from contextlib import contextmanager
 from functools import lru_cache
 from pathlib import Path
 from typing import NamedTuple
@@ -50,22 +51,87 @@ class PlacedGlyph(NamedTuple):
     scale: float  # pixels per font unit
 
 
+# unitsPerEm as the OpenType spec bounds it (head table): 0 would divide by zero, and a
+# value far outside makes every glyph a point or a continent
+UNITS_PER_EM = (16, 16384)
+
+
+def font_container_error(path: str, data: bytes) -> str | None:
+    """Why the bytes of ``path`` cannot be read as a font container, or None.
+
+    WOFF2 is refused by name: its tables are Brotli-compressed and neither fontTools (without
+    the optional ``brotli`` module) nor the FreeType the ``freetype`` method loads is sure to
+    read it, so a WOFF2 file would be a traceback in one place and a blank image in the other.
+    WOFF (zlib) is read by both.
+    """
+    if data[:4] == b"wOF2":
+        return (f"{path}: a WOFF2 font, which is not supported (Brotli-compressed tables); "
+                "convert it to .ttf/.otf (or WOFF) first")
+    return None
+
+
 @lru_cache(maxsize=8)
 def _font(path: str):
     import io
 
-    from fontTools.ttLib import TTFont, TTLibError
+    from fontTools.ttLib import TTFont
 
     from aaeval.readlimits import read_bytes
 
     data = read_bytes(path, what="font")  # a regular file of bounded size, read once
+    refused = font_container_error(path, data)
+    if refused:
+        raise TextError(refused)
+    # fontTools parses a damaged file with whatever its parser meets first (KeyError, TTLibError,
+    # struct.error, ImportError for an optional codec, ...): every table layout and drawing use
+    # is read here, once, so that any of those is one line naming the file, not a traceback
+    # halfway through a layout
     try:
-        font = TTFont(io.BytesIO(data), lazy=True)
-        font.getGlyphOrder()
-        font["head"], font["hmtx"], font["hhea"]  # noqa: B018  (the tables layout needs)
-    except (OSError, TTLibError, KeyError, ValueError, struct.error, AssertionError) as exc:
-        raise TextError(f"{path}: not a readable TrueType/OpenType font ({exc})") from None
+        with _fonttools_quiet():
+            font = TTFont(io.BytesIO(data), lazy=True)
+            order = font.getGlyphOrder()
+            for tag in ("head", "hhea", "hmtx", "maxp", "cmap", "loca", "glyf", "CFF ", "kern"):
+                if tag in font:
+                    font[tag]  # noqa: B018  (loads the table's data: a length or offset past the file fails here)
+            cmap = font.getBestCmap() or {}
+            units = font["head"].unitsPerEm
+    except RecursionError:
+        raise TextError(f"{path}: not a readable TrueType/OpenType font (its tables nest without end)") from None
+    except Exception as exc:  # noqa: BLE001 - a third-party parser of an untrusted file: see above
+        raise TextError(f"{path}: not a readable TrueType/OpenType font ({type(exc).__name__}: "
+                        f"{_short(exc)})") from None
+    if not (UNITS_PER_EM[0] <= units <= UNITS_PER_EM[1]):
+        raise TextError(f"{path}: the font's unitsPerEm is {units}; it must be {UNITS_PER_EM[0]} to "
+                        f"{UNITS_PER_EM[1]} (head table)")
+    known = set(order)
+    hmtx = font["hmtx"]
+    for code, name in cmap.items():
+        # a maxp that counts fewer glyphs than the cmap uses: fontTools names the rest glyph00043
+        if name not in known or name not in hmtx.metrics:
+            raise TextError(f"{path}: the cmap maps U+{code:04X} to glyph {name!r}, beyond the "
+                            f"{len(order)} glyphs maxp counts (a damaged or truncated font)")
     return font
+
+
+@contextmanager
+def _fonttools_quiet():
+    """fontTools logs what it repairs in a damaged font ("too much 'hmtx' table data") as
+    warnings on stderr: the one error line is the whole answer, so they are held back."""
+    import logging
+
+    log = logging.getLogger("fontTools")
+    level = log.level
+    log.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        log.setLevel(level)
+
+
+def _short(exc: BaseException, limit: int = 200) -> str:
+    """An exception's text cut to ``limit`` characters (a parser may echo kilobytes)."""
+    text = " ".join(str(exc).split())
+    return text if len(text) <= limit else text[:limit] + "..."
 
 
 def _kerning(font) -> dict:
@@ -155,7 +221,8 @@ def glyph_subpaths(font_file: str | Path, glyph: PlacedGlyph, tol: float) -> lis
     s = glyph.scale
     # font units (y up) to image pixels (y down) at the glyph's pen position
     try:
-        glyph_set[glyph.glyph].draw(TransformPen(pen, (s, 0, 0, -s, glyph.x, glyph.y)))
+        with _fonttools_quiet():
+            glyph_set[glyph.glyph].draw(TransformPen(pen, (s, 0, 0, -s, glyph.x, glyph.y)))
     except RecursionError:
         raise TextError(f"{font_file}: glyph {glyph.glyph!r} has components nested without end") from None
     except (TextError, ImportLimitError):

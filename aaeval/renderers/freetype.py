@@ -37,7 +37,12 @@ def _face(path: str):
 
     from aaeval.readlimits import read_bytes
 
+    from aaeval.importers.text import font_container_error
+
     data = read_bytes(path, what="font ([text].font)")
+    refused = font_container_error(path, data)  # WOFF2 by name, as the importer refuses it
+    if refused:
+        raise MethodError(refused)
     try:
         return freetype.Face(io.BytesIO(data))
     except freetype.FT_Exception as exc:

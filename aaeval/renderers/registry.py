@@ -285,10 +285,36 @@ def available_memory() -> int:
             avail = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
         except (ValueError, OSError, AttributeError):
             avail = 1 << 62  # unknown: only AAEVAL_MAX_MEMORY limits
+    headroom = _address_space_headroom()
+    if headroom is not None:  # ulimit -v: past it an allocation fails however much RAM is free
+        avail = min(avail, headroom)
     limit = os.environ.get("AAEVAL_MAX_MEMORY")
     if limit:
         avail = min(avail, _bytes(limit, "AAEVAL_MAX_MEMORY"))
     return avail
+
+
+def _address_space_headroom() -> int | None:
+    """Bytes of address space left under ``RLIMIT_AS`` (its soft limit less this process's
+    ``VmSize``), or None when there is no such limit."""
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+    except (ImportError, AttributeError, OSError, ValueError):
+        return None
+    if soft == resource.RLIM_INFINITY or soft < 0:
+        return None
+    used = 0
+    try:
+        with open("/proc/self/status") as status:
+            for line in status:
+                if line.startswith("VmSize:"):
+                    used = int(line.split()[1]) * 1024
+                    break
+    except (OSError, ValueError):
+        pass
+    return max(0, soft - used)
 
 
 def _bytes(text: str, where: str) -> int:
@@ -541,7 +567,7 @@ def render_timed(scene: Scene, spec: str | MethodSpec, *, frame: int | None = No
         if method.warmup is not None:
             try:
                 method.warmup()
-            except (Exception, RecursionError) as exc:  # noqa: BLE001
+            except (Exception, RecursionError, SystemExit, GeneratorExit) as exc:  # noqa: BLE001
                 raise MethodFailure(f"method {method.name!r} failed in its warm-up: {_first_line(exc)}") from None
         _warmed.add(method.name)
     start = time.perf_counter()
@@ -549,7 +575,10 @@ def render_timed(scene: Scene, spec: str | MethodSpec, *, frame: int | None = No
         image = method.render(scene, **dict(options))
     except ValueError:  # a method's own input error (an option the scene cannot take): one line already
         raise
-    except (Exception, RecursionError) as exc:  # noqa: BLE001 - a method's failure is its result
+    # a method's sys.exit() or a stray GeneratorExit is its failure too, not the command's
+    # exit (sys.exit(3) in a plugin made `aaeval render` exit 3 with nothing said); only an
+    # interrupt (Ctrl-C, SIGTERM, the sweep's time limit) passes through
+    except (Exception, RecursionError, SystemExit, GeneratorExit) as exc:  # noqa: BLE001
         raise MethodFailure(f"method {method.name!r} failed: {_first_line(exc)}") from None
     seconds = time.perf_counter() - start
     return check_image(method.name, image, scene.shape), seconds
