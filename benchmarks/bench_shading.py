@@ -6,6 +6,7 @@ energy error of the per-piece highlight against the exact one.
 Run: PYTHONPATH=. python benchmarks/bench_shading.py [repeats]
 """
 
+import os
 import statistics
 import sys
 import time
@@ -28,7 +29,16 @@ def timed(fn, repeats):
     return statistics.median(times), min(times), max(times)
 
 
+def one_core() -> int:
+    """Pin this process to one core: the per-piece path has no thread option (its visibility
+    runs on every core it may use), so only the affinity makes the comparison one core each."""
+    core = min(os.sched_getaffinity(0))
+    os.sched_setaffinity(0, {core})
+    return core
+
+
 def main(repeats: int = 3) -> None:
+    print(f"pinned to core {one_core()}")
     scene = load_scene(SCENE)
     piece = timed(lambda: render_shaded(scene), repeats)
     exact = timed(lambda: exact_shading(scene, threads=1), repeats)

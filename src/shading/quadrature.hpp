@@ -133,6 +133,42 @@ struct Tri {
     double area() const { return 0.5 * ((bx - ax) * (cy - ay) - (by - ay) * (cx - ax)); }  // signed
 };
 
+// One row of the rule (RULE nodes at once) for a directional light: the same operations
+// as shade_at node by node, written as loops over the row so the compiler vectorises them
+// (the normal's square root and division, the lobe's squarings); each node's value is the
+// one IEEE result shade_at gives (no contraction, no reassociation), only computed side by side.
+inline void shade_row_directional(const Shade& s, const double* xs, const double* ys, double* dif, double* spec) {
+    const double* G = s.G;
+    const double L0 = s.light[0], L1 = s.light[1], L2 = s.light[2];
+    double b[RULE];
+    for (int j = 0; j < RULE; ++j) {
+        const double v0 = G[0] * xs[j] + G[1] * ys[j] + G[2];
+        const double v1 = G[3] * xs[j] + G[4] * ys[j] + G[5];
+        const double v2 = G[6] * xs[j] + G[7] * ys[j] + G[8];
+        const double inv = 1.0 / std::sqrt(v0 * v0 + v1 * v1 + v2 * v2);
+        const double n0 = v0 * inv, n1 = v1 * inv, n2 = v2 * inv;
+        const double ndl = n0 * L0 + n1 * L1 + n2 * L2;
+        const double r = -(2.0 * ndl * n2 - L2);
+        dif[j] = ndl > 0.0 ? ndl : 0.0;  // max(., 0), branch-free (a NaN gives 0 as fmax does)
+        b[j] = r > 0.0 ? r : 0.0;
+    }
+    const double n = s.n;
+    if (n == 0.0) {
+        for (int j = 0; j < RULE; ++j) spec[j] = s.ks * 1.0;
+    } else if (n == std::floor(n) && n < 65536.0) {  // lobe()'s repeated squaring, the row side by side
+        double acc[RULE];
+        for (int j = 0; j < RULE; ++j) acc[j] = 1.0;
+        for (unsigned k = unsigned(n); k; k >>= 1) {
+            if (k & 1u)
+                for (int j = 0; j < RULE; ++j) acc[j] *= b[j];
+            for (int j = 0; j < RULE; ++j) b[j] *= b[j];
+        }
+        for (int j = 0; j < RULE; ++j) spec[j] = s.ks * acc[j];
+    } else {
+        for (int j = 0; j < RULE; ++j) spec[j] = s.ks * std::pow(b[j], n);
+    }
+}
+
 // The collapsed rule: (u, v) in [0, 1]^2 -> A + u (B - A) + u v (C - B), Jacobian 2 |T| u.
 inline Value rule_on(const Shade& s, const Tri& T, int64_t& evals) {
     const Rule& R = rule();
@@ -142,11 +178,24 @@ inline Value rule_on(const Shade& s, const Tri& T, int64_t& evals) {
         const double u = R.t[i];
         const double px = T.ax + u * (T.bx - T.ax), py = T.ay + u * (T.by - T.ay);
         const double qx = u * (T.cx - T.bx), qy = u * (T.cy - T.by);
+        double xs[RULE], ys[RULE], dif[RULE], spec[RULE];
+        for (int j = 0; j < RULE; ++j) {
+            xs[j] = px + R.t[j] * qx;
+            ys[j] = py + R.t[j] * qy;
+        }
+        if (s.point_light) {
+            for (int j = 0; j < RULE; ++j) {
+                const Value f = shade_at(s, xs[j], ys[j]);
+                dif[j] = f.diffuse;
+                spec[j] = f.spec;
+            }
+        } else {
+            shade_row_directional(s, xs, ys, dif, spec);
+        }
         double d = 0.0, sp = 0.0;
         for (int j = 0; j < RULE; ++j) {
-            const Value f = shade_at(s, px + R.t[j] * qx, py + R.t[j] * qy);
-            d += R.w[j] * f.diffuse;
-            sp += R.w[j] * f.spec;
+            d += R.w[j] * dif[j];
+            sp += R.w[j] * spec[j];
         }
         sum.diffuse += R.w[i] * u * d;
         sum.spec += R.w[i] * u * sp;
