@@ -18,7 +18,7 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
-from aaeval._toml import read_toml, refuse_unknown_keys
+from aaeval._toml import collector_paused, read_toml, refuse_unknown_keys
 from aaeval.options import Registry
 from aaeval.scenes.simplicity import ring_contact
 
@@ -226,8 +226,12 @@ def load_scene(path: str | Path) -> Scene:
     SceneError
         The file is missing, is not TOML, or breaks a rule of the format.
     """
-    document, _ = read_toml(path, SceneError, "scene file")
-    return parse_scene(document, source=str(path))
+    with collector_paused():  # a large scene's document holds no cycle (aaeval._toml)
+        document, _ = read_toml(path, SceneError, "scene file")
+        try:
+            return parse_scene(document, source=str(path))
+        finally:
+            del document  # freed now, before the collector is back: it never walks the document
 
 
 def parse_scene(document: Mapping[str, Any], *, source: str = "<scene>") -> Scene:
