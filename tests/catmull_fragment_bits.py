@@ -6,6 +6,8 @@ the fragments sink is held to the numba kernel's bits as well. Recorded by the n
 kernel before it was deleted (``tests/data/same_bits_catmull_fragments.json``) with::
 
     python3 -m tests.catmull_fragment_bits record
+
+and a newly shipped scene's entries alone (the rest kept) with ``... add``.
 """
 
 from __future__ import annotations
@@ -32,8 +34,10 @@ def fragments_digest(fragments) -> str:
     return h.hexdigest()
 
 
-def fragment_digests() -> Iterator[tuple[str, str]]:
+def fragment_digests(skip: set[str] = frozenset()) -> Iterator[tuple[str, str]]:
     for scene_id, make in scenes():
+        if scene_id in skip:
+            continue
         scene = make()
         for centroids in (True, False):
             key = f"{scene_id}|centroids={centroids}"
@@ -41,7 +45,13 @@ def fragment_digests() -> Iterator[tuple[str, str]]:
 
 
 if __name__ == "__main__":
-    if sys.argv[1:] != ["record"]:
-        raise SystemExit("usage: python3 -m tests.catmull_fragment_bits record")
-    FILE.write_text(json.dumps(dict(fragment_digests()), indent=1, sort_keys=True) + "\n")
+    # record: every scene again; add: only the scenes the file does not hold yet (a newly
+    # shipped scene), every recorded entry left as it is
+    if sys.argv[1:] not in (["record"], ["add"]):
+        raise SystemExit("usage: python3 -m tests.catmull_fragment_bits {record,add}")
+    digests = {}
+    if sys.argv[1] == "add":
+        digests = json.loads(FILE.read_text())
+    digests.update(fragment_digests(skip={key.split("|", 1)[0] for key in digests}))
+    FILE.write_text(json.dumps(digests, indent=1, sort_keys=True) + "\n")
     print(FILE)

@@ -30,7 +30,8 @@ Record a family with::
 A shaded scene's digest is kept once per numpy route (a list): its shading calls numpy's
 float64 ``**``, exp, log and arccos, which numpy computes with AVX-512 code where the CPU
 has it and with libm elsewhere, a few units in the last place apart
-(``tests/catmull_fragment_bits.py`` holds its fragments' bits). Record both routes of the
+(``tests/catmull_fragment_bits.py`` holds its fragments' bits). Record only the scenes a file does not hold yet (a newly shipped scene), every recorded
+entry left as it is, with ``python3 -m tests.same_bits add <family>``. Record both routes of the
 shaded entries with::
 
     python3 -m tests.same_bits reshade <family>
@@ -180,6 +181,20 @@ def record(family: str) -> Path:
     return out
 
 
+def add_new(family: str) -> Path:
+    """Record the digests of the scenes the file does not hold yet (a scene newly shipped or
+    generated), leaving every recorded entry as it is: a new scene has no earlier bits to
+    keep, and nothing already recorded is taken again from the kernels under test. A new
+    shaded scene then needs ``reshade`` for its second numpy route."""
+    out = DATA / f"same_bits_{family}.json"
+    digests = json.loads(out.read_text())
+    recorded = {key.split("|", 1)[0] for key in digests}
+    new = {scene_id for scene_id, _ in scenes() if scene_id not in recorded}
+    digests.update(digests_of(family, only=new))
+    out.write_text(json.dumps(digests, indent=1, sort_keys=True) + "\n")
+    return out
+
+
 def shaded_digests(family: str) -> dict[str, str]:
     """The digests of ``family`` on the shaded scenes, by this process's numpy route."""
     shaded = {scene_id for scene_id, make in scenes() if has_shaded(made(scene_id, make))}
@@ -209,7 +224,7 @@ def reshade(family: str) -> Path:
 
 
 if __name__ == "__main__":
-    commands = {"record": record, "reshade": reshade, "shaded": lambda f: json.dumps(shaded_digests(f))}
+    commands = {"record": record, "reshade": reshade, "add": add_new, "shaded": lambda f: json.dumps(shaded_digests(f))}
     if len(sys.argv) != 3 or sys.argv[1] not in commands or sys.argv[2] not in FAMILY_METHODS:
-        raise SystemExit(f"usage: python3 -m tests.same_bits {{record,reshade}} {{{','.join(FAMILY_METHODS)}}}")
+        raise SystemExit(f"usage: python3 -m tests.same_bits {{record,reshade,add}} {{{','.join(FAMILY_METHODS)}}}")
     print(commands[sys.argv[1]](sys.argv[2]))

@@ -1,4 +1,4 @@
-"""The kernels give the recorded bits on the regression's 115 scenes.
+"""The kernels give the recorded bits on the regression's scenes.
 
 How the expected digests were recorded and checked: ``tests/same_bits.py``; a mismatch
 names the scene and method.
