@@ -117,3 +117,27 @@ def test_the_colour_weight_keeps_an_exact_method_agreeing_at_a_high_contrast_cha
     with_weight = z_test_pass_fraction(truth, mean, edge, edge, scale, other, weight=weight)
     without = z_test_pass_fraction(truth, mean, edge, edge, pooled, other)
     assert agrees(with_weight) and not agrees(without)
+
+
+def test_a_seeded_method_is_tested_within_its_own_noise_against_an_exact_truth():
+    # an exact reference has no noise (no stratum above 0); a Monte Carlo render (unbiased)
+    # then differs by its sampling noise on every edge pixel, and the question the z-test
+    # answers is whether it agrees within that noise (its own, from the next seed); a
+    # deterministic method that is off (point sampling) has no noise of its own and differs
+    from aaeval.experiments.measure import measure_frame, render_reference
+    from aaeval.renderers import MethodSpec
+    from aaeval.scenes import parse_scene
+    from aaeval.scenes.generate import generate_scene
+
+    scene = parse_scene(generate_scene("edges", 0.2, size=24))
+    truth = render_reference(scene, MethodSpec.parse("catmull"), 0, estimate_noise=True)
+    assert not any(v > 0 for strata in truth["noise_by_metric"].values() for v in strata)
+
+    def passing(spec):
+        m = measure_frame(scene, MethodSpec.parse(spec), 0, truth["image"], ["rmse"], digest="own-noise",
+                          noise_by_metric=truth["noise_by_metric"])
+        assert m.error is None, m.error
+        return m.agreement["rmse"]
+
+    assert passing("mitsuba:sampler=stratified,spp=256,seed=2") >= PASS_FRACTION
+    assert passing("point") < 0.9

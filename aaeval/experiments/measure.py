@@ -366,6 +366,22 @@ class FrameMeasurement:
                 "agreement": self.agreement}
 
 
+def _test_noise(scene, spec: MethodSpec, frame: int, image: np.ndarray,
+                noise_by_metric: Mapping[str, Sequence[float]]) -> Mapping[str, Sequence[float]]:
+    """The noise strata the z-test of a cell uses: the reference's, except against a
+    noise-free reference (no stratum above 0: an exact truth), where a seeded method is
+    judged within its own noise, measured as a reference's is (a second render with the next
+    seed). Against an exact truth a Monte Carlo render (Mitsuba's cross-check row, jitter)
+    always differs by its sampling noise; whether it agrees within that noise is the question."""
+    twin_spec = noise_spec(spec)
+    if twin_spec is None or any(v > 0 for strata in noise_by_metric.values() for v in strata):  # NaN: nothing pooled
+        return noise_by_metric
+    from aaeval.renderers import render_timed
+
+    twin, _ = render_timed(scene, twin_spec, frame=frame)
+    return _noise_strata(scene.at_frame(frame), image, twin)
+
+
 def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | None, metrics: Sequence[str], *,
                   digest: str, repeats: int = 1, cache: SceneCache | None = None,
                   reference_error: str | None = None,
@@ -395,7 +411,7 @@ def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | N
             raise FloatingPointError(f"metric(s) infinite: {not_finite}; the image is too far from its "
                                      "reference to be measured")
         if noise_by_metric:
-            out.agreement = agreement(metrics, reference, image, noise_by_metric,
+            out.agreement = agreement(metrics, reference, image, _test_noise(scene, spec, frame, image, noise_by_metric),
                                       lambda name: cache.mask(digest, scene, frame, name),
                                       cache.noise_weight(digest, scene, frame))
     except Exception as exc:  # noqa: BLE001 - a failing cell is a result, not the end of the run

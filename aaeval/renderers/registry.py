@@ -190,12 +190,19 @@ class MethodSpec(str):
         method = METHODS.get(name)
         if method is None:
             raise MethodError(f"unknown method {name!r}; available: {', '.join(sorted(METHODS))}")
-        raw = {**raw, **overrides}
+        defaults = {key: opt.default for key, opt in method.options.items()}
+        return cls._checked(method, defaults, {**raw, **overrides})
+
+    @classmethod
+    def _checked(cls, method: Method, base: Mapping[str, Any], raw: Mapping[str, Any]) -> "MethodSpec":
+        """``base`` (checked options) with ``raw`` converted and set: one :class:`MethodError`
+        line for an unknown option or a value the option does not take."""
+        name = method.name
         unknown = sorted(set(raw) - set(method.options))
         if unknown:
             allowed = ", ".join(sorted(method.options)) or "none"
             raise MethodError(f"method {name!r}: unknown option(s) {unknown}; options: {allowed}")
-        options = {key: opt.default for key, opt in method.options.items()}
+        options = dict(base)
         for key, value in raw.items():
             options[key] = method.options[key].convert(value, f"method {name!r} option {key!r}", MethodError)
         return cls._made(method, options)
@@ -213,7 +220,8 @@ class MethodSpec(str):
 
     def with_options(self, **changes: Any) -> "MethodSpec":
         """This spec with ``changes`` set (checked as :meth:`parse` checks them)."""
-        return MethodSpec.parse(self, **{**self.options, **changes}) if changes else self
+        # the spec is parsed already: only the changes are checked (its text is not read again)
+        return MethodSpec._checked(self.method, self.options, changes) if changes else self
 
     def label(self, keep: Iterable[str] = ()) -> str:
         """What a reader is shown: the method and the options that differ from their

@@ -279,8 +279,10 @@ def findings_section(results: pd.DataFrame, temporal: pd.DataFrame, speed: pd.Da
              "Whether a method agrees with the truth, and so whether two methods tie, is a per-pixel z-test where "
              f"the table shows one ({_z_test_words()}; on a pixel an edge crosses, the noise is one scale pooled over "
              "the metric's edge pixels times the range of the colours meeting there, per channel; elsewhere the "
-             "noise of the other pixels); where no test applies, differences smaller than the noise are not "
-             "resolved.</p>"]
+             "noise of the other pixels). Against a noise-free truth (an exact reference: its noise is 0, or the "
+             "quadrature's bound) a seeded method, Mitsuba's cross-check row among them, is tested within its own "
+             "noise, measured as the truth's would be (a second render with the next seed). Where no test applies, "
+             "differences smaller than the noise are not resolved.</p>"]
     for q in QUESTIONS:
         group = _pick_group(q, tables)
         parts.append(f"<h3 id='finding-{q.key}'>{html.escape(q.title)}</h3>")
