@@ -16,8 +16,6 @@ from aaeval.specular.exact import exact_shading
 
 SCENES = Path(__file__).resolve().parents[1] / "configs/scenes/shaded"
 
-pytest.importorskip("mitsuba")
-
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name,frame", [("thin", 3), ("wide", 5)])

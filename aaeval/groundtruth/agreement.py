@@ -14,10 +14,9 @@ from typing import NamedTuple
 import numpy as np
 from scipy import stats
 
-__all__ = ["Agreement", "agreement", "ALPHA", "PASS_FRACTION"]
+from aaeval.metrics.agreement import PASS_FRACTION, SIGNIFICANCE, sidak_level
 
-ALPHA = 0.01
-PASS_FRACTION = 0.9975
+__all__ = ["Agreement", "agreement"]
 
 
 class Agreement(NamedTuple):
@@ -28,12 +27,12 @@ class Agreement(NamedTuple):
     renders: int
 
 
-def agreement(renders, exact, *, alpha: float = ALPHA, pass_fraction: float = PASS_FRACTION,
+def agreement(renders, exact, *, alpha: float = SIGNIFICANCE, pass_fraction: float = PASS_FRACTION,
               floor: float = 1e-6) -> Agreement:
     """Test ``renders`` (K, H, W[, C]) of independent seeds against ``exact`` (H, W[, C]).
 
     A pixel channel passes when the two-sided p-value of ``t = (mean - exact) / (s / sqrt K)``
-    is above the Sidak-corrected ``1 - (1 - alpha)^(1/N)``; where the renders do not vary
+    is above the Sidak-corrected level (:func:`aaeval.metrics.agreement.sidak_level`); where the renders do not vary
     (``s`` = 0: every sample saw the same value) it passes when the mean is within ``floor``
     (relative, at least 1e-6 absolute) of the exact value: Mitsuba's film is float32, whose
     rounding is about 6e-8 relative per sample.
@@ -46,7 +45,7 @@ def agreement(renders, exact, *, alpha: float = ALPHA, pass_fraction: float = PA
     mean = r.mean(axis=0)
     s = r.std(axis=0, ddof=1)
     n = e.size
-    alpha_each = 1.0 - (1.0 - alpha) ** (1.0 / n)
+    alpha_each = sidak_level(n, alpha)
     with np.errstate(divide="ignore", invalid="ignore"):
         t = np.abs(mean - e) / (s / np.sqrt(k))
     flat = s == 0

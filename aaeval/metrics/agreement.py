@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-__all__ = ["SIGNIFICANCE", "PASS_FRACTION", "ROUNDING", "noise_weight", "sidak_threshold", "noise_strata", "z_test_pass_fraction", "agrees"]
+__all__ = ["SIGNIFICANCE", "PASS_FRACTION", "ROUNDING", "noise_weight", "sidak_level", "sidak_threshold", "noise_strata", "z_test_pass_fraction", "agrees"]
 
 #: Family-wise significance of the per-pixel z-test (Mitsuba's render tests use 0.01).
 SIGNIFICANCE = 0.01
@@ -40,15 +40,19 @@ PASS_FRACTION = 0.9975
 ROUNDING = 1e-5
 
 
-def sidak_threshold(n: int, alpha: float = SIGNIFICANCE) -> float:
-    """The |z| above which a pixel fails: a two-sided z-test at the Sidak-corrected level
-    ``1 - (1 - alpha) ** (1 / n)`` for ``n`` tests, so the family fails with probability alpha."""
-    from scipy.stats import norm
-
+def sidak_level(n: int, alpha: float = SIGNIFICANCE) -> float:
+    """The per-test significance ``1 - (1 - alpha) ** (1 / n)`` of ``n`` tests whose family
+    fails with probability ``alpha`` (Sidak)."""
     if n < 1:
         raise ValueError(f"need at least one test, got {n}")
-    per_test = -math.expm1(math.log1p(-alpha) / n)  # 1 - (1 - alpha)**(1/n), accurate for large n
-    return float(norm.isf(per_test / 2.0))
+    return -math.expm1(math.log1p(-alpha) / n)  # accurate for large n
+
+
+def sidak_threshold(n: int, alpha: float = SIGNIFICANCE) -> float:
+    """The |z| above which a pixel fails: a two-sided z-test at :func:`sidak_level`."""
+    from scipy.stats import norm
+
+    return float(norm.isf(sidak_level(n, alpha) / 2.0))
 
 
 def noise_weight(scene) -> np.ndarray:
