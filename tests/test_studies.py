@@ -1,5 +1,5 @@
 """The studies in experiments/ and the tool that writes their README's measured part
-(``aaeval study``, :mod:`aaeval.report.study`)."""
+(``aaeval study``, :mod:`aaeval.studies.study`)."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import pytest
 
 from aaeval.cli import main
 from aaeval.experiments import SweepStore, load_experiment, plan
-from aaeval.report.study import BEGIN, END, StudyError, load_study, replace_section, run_study
+from aaeval.studies.study import BEGIN, END, StudyError, load_study, replace_section, run_study
 
 ROOT = Path(__file__).resolve().parent.parent
 STUDIES = sorted(p.parent for p in (ROOT / "experiments").glob("*/study.toml"))

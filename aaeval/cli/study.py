@@ -27,7 +27,7 @@ def add_parser(sub) -> None:
 def run(args) -> int:
     import sys
 
-    from aaeval.report.study import IncompleteSweep, load_study, run_study
+    from aaeval.studies.study import IncompleteSweep, load_study, run_study
     from aaeval.imageio import check_outputs
 
     if args.workers is not None and args.workers < 1:

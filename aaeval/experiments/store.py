@@ -57,7 +57,7 @@ __all__ = ["code_version", "cell_key", "reference_key", "SweepStore", "Reference
            "StoreError", "FolderInUse", "npy_problem"]
 
 # Packages whose source cannot change a cell's result: editing them keeps old results.
-_PRESENTATION = ("cli", "report")
+_PRESENTATION = ("cli", "report", "studies")
 
 
 def _package_digest() -> str:

@@ -30,8 +30,8 @@ Every number written between the markers is read from the results folder (``resu
 summary writes into the study folder; none is typed into the study. The hand-written text
 around the markers is kept byte for byte.
 
-It lives with the report because it presents results and computes none of a cell's: the
-sweep's code version leaves ``aaeval/report`` out, so editing a summary never reruns a cell.
+It computes none of a cell's results: the sweep's code version leaves ``aaeval/studies`` out
+(as it does the report), so editing a summary never reruns a cell.
 """
 
 from __future__ import annotations
