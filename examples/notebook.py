@@ -4,7 +4,7 @@
 # A notebook in percent cells (Jupyter, VS Code and jupytext open it as a notebook; `python
 # examples/notebook.py` runs it as a script). It loads a scene, renders it with four
 # methods, compares them against the exact `catmull` box filter, plots error against
-# render time and shows the images. The test suite runs it (tests/test_notebook.py) with
+# render time and shows the images. The test suite runs it (tests/cli/test_notebook.py) with
 # `AAEVAL_NOTEBOOK_OUT` naming where its figures go (default: the current folder).
 
 # %%

@@ -2,7 +2,7 @@
 
 Usage: ``PYTHONPATH=. python3 scripts/fuzz_cli.py [--cases 10000] [--bound 30] [--max-vertices 2000]``
 
-The generators and the rule are those of the CI test (tests/fuzzing.py): each case must end
+The generators and the rule are those of the CI test (tests/helpers/fuzzing.py): each case must end
 in an image or a one-line refusal with exit 2, never a traceback, another exit code or a
 run over ``--bound`` seconds, and change no file outside its folder (the targets of the
 links it plants: ``outside-changed``). The watchdog also samples this process's resident
@@ -33,7 +33,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from hypothesis import HealthCheck, Phase, given, settings  # noqa: E402
 
-from fuzzing import cli_case, fuzz_environment, run_case, warm_up  # noqa: E402
+from tests.helpers.fuzzing import cli_case, fuzz_environment, run_case, warm_up  # noqa: E402
 
 
 def main() -> int:

@@ -498,7 +498,7 @@ def configs(run: Run) -> None:
 # ---------------------------------------------------------------------------------- store
 
 def _finished(work: Path) -> Path:
-    from sweep_util import SMALL
+    from tests.helpers.sweep_util import SMALL
 
     base = work / "finished"
     base.mkdir()
@@ -653,7 +653,7 @@ def report(run: Run, base: Path) -> None:
 # ---------------------------------------------------------------------------------- dask
 
 def dask(run: Run) -> None:
-    from sweep_util import SMALL
+    from tests.helpers.sweep_util import SMALL
 
     folder = run.work / "dask"
     folder.mkdir()

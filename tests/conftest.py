@@ -12,7 +12,7 @@ def _no_fsync(request, monkeypatch):
     An fsync costs about 11 ms on ext4, two per cell the store writes: most of the time of
     the tests that run every shipped config through the engine, which test what is
     written, not that it survives a power cut. The durability tests
-    (tests/test_store_durability.py, the atomic-write test) keep the real one and spy on it.
+    (tests/experiments/test_store_durability.py, the atomic-write test) keep the real one and spy on it.
     """
     if request.node.get_closest_marker("durability") is None:
         monkeypatch.setattr(os, "fsync", _skip_fsync)
@@ -32,3 +32,11 @@ def _private_cache(tmp_path_factory):
         os.environ.pop("AAEVAL_CACHE_DIR", None)
     else:
         os.environ["AAEVAL_CACHE_DIR"] = old
+
+
+@pytest.fixture
+def world(tmp_path):
+    """A tiny sweep's config with files outside its folder (tests that plant links)."""
+    from tests.helpers.links_util import world_of
+
+    return world_of(tmp_path)

@@ -18,7 +18,7 @@ For polynomials the edge integrand has degree ``2 degree + 1 <= 7`` and 4-point
 Gauss-Legendre is exact. For the Gaussian (``Phi`` is an erf) the edges are integrated
 with :data:`GAUSS_NODES`-point Gauss-Legendre; an edge inside one unit cell is at most
 sqrt(2) long, and the rule's error there is below 1e-14 (measured in
-``tests/test_filters.py::test_gaussian_edge_quadrature_converged``).
+``tests/filters/test_filters.py::test_gaussian_edge_quadrature_converged``).
 
 Stages, each tested on tiny hand-made polygons:
 :func:`piece_integrals` (one polygon inside a cell), :func:`accumulate_rings` (rings of

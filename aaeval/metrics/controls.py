@@ -15,7 +15,7 @@ frame, box-filtered exactly. Each control is built from it:
 
 :func:`control_scores` computes every registered temporal metric on every control (so a new
 measure is scored without further work); :data:`EXPECTED` states the answers known by
-construction. ``tests/test_metric_controls.py`` holds every measure to them, and the
+construction. ``tests/metrics/test_metric_controls.py`` holds every measure to them, and the
 report's "how to read" prints the scores beside them.
 """
 

@@ -370,7 +370,7 @@ def _policy_section(page: _Page, results: pd.DataFrame) -> str:
                    "samples agrees with it on the highlight pixels within that row's own noise by the per-pixel z-test "
                    "(see Findings): there the exact truth is the Mitsuba ground truth without its noise. Over the whole "
                    "image a few silhouette values fall outside the two-render noise model; the 16-seed t-test of "
-                   "tests/test_exact_vs_mitsuba.py passes every pixel channel.</p>")
+                   "tests/specular/test_exact_vs_mitsuba.py passes every pixel channel.</p>")
     if bad:
         out.append(f"<p class='warn'>Groups {html.escape(', '.join(dict.fromkeys(bad)))} compare against a reference "
                    "that is not the Mitsuba ground truth, and no Mitsuba row of theirs agrees with it by the z-test "

@@ -16,7 +16,7 @@ where no edge of one ring may meet any edge of another.
 
 The sweep runs in C++ (``src/samplers/simplicity.cpp``, module ``aaeval.native.samplers``).
 Orientation signs are computed in float64 the way the pairwise test computes them, so the
-two agree wherever the signs are exact (integer coordinates, tests/test_simplicity.py);
+two agree wherever the signs are exact (integer coordinates, tests/scenes/test_simplicity.py);
 a meeting or a miss within rounding error of a tie may be judged either way by either.
 """
 

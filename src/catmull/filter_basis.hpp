@@ -51,7 +51,7 @@ inline double gauss_primitive(double t, double alpha, double bias) {
 // erf and exp). On a cell, u and v in [-1/2, 1/2], Phi_a(u) = gauss_primitive(u + c_a) and
 // psi_b(v) = exp(alpha (v + c_b)^2) - bias (c = -3/2, -1/2, 1/2, 3/2) are smooth functions on
 // an interval of length 1: their Chebyshev interpolants of degree GAUSS_DEGREE are within a
-// few units in the last place of erf and exp at every node (tests/test_filters.py holds
+// few units in the last place of erf and exp at every node (tests/filters/test_filters.py holds
 // the images within 1e-9 of the quadrature oracle). The c's come in pairs +-c, and gauss_primitive is odd and the
 // Gaussian even, so each pair is one polynomial p(x) = E(x^2) + x O(x^2) read at x and -x:
 // Phi_{-c}(u) = -Phi_c(-u), psi_{-c}(v) = psi_c(-v). Horner's rule on E and O costs a fraction

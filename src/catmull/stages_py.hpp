@@ -1,4 +1,4 @@
-// The kernel's stages one by one, bound for the tests (tests/test_catmull_stages.py): each
+// The kernel's stages one by one, bound for the tests (tests/catmull/test_catmull_stages.py): each
 // stage run on the smallest input it reads, compared with an answer worked out by hand.
 // Included by module.cpp only (it uses that file's argument checks).
 #pragma once

@@ -11,7 +11,7 @@
 //
 // Every floating-point operation runs in a fixed order, with no contraction into FMAs
 // (build with -ffp-contract=off), so the images' bits are the same on every machine and
-// the recorded digests (tests/same_bits.py) hold.
+// the recorded digests (tests/helpers/same_bits.py) hold.
 #pragma once
 
 #include <cmath>

@@ -1,0 +1,376 @@
+"""The path from a scene to a number in the results table: one engine, one record, one row
+per cell, and aggregations checked against independent recomputations."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from aaeval.cli import main
+from aaeval.experiments import SweepStore, load_experiment, plan, run_sweep
+from aaeval.experiments.config import ConfigError, parse_experiment
+from aaeval.experiments.record import SCHEMA_VERSION, TIMING_FIELDS, CellRecord, RecordError
+from aaeval.experiments.runner import manifest, record_identity
+from aaeval.experiments.table import read_table, results_frame
+from aaeval.metrics import METRICS, register_metric
+from tests.helpers.sweep_util import write_config
+
+ROOT = Path(__file__).resolve().parents[2]
+SHIPPED = sorted((ROOT / "configs" / "experiments").glob("*.toml"))
+
+MOVING = """
+[image]
+width = 14
+height = 10
+
+[animation]
+frames = 4
+translate = [0.3, 0.17]
+
+[[polygons]]
+color = [0.9, 0.2, 0.1]
+vertices = [[2.3, 1.7, 1.0], [11.6, 3.1, 1.0], [6.2, 8.4, 1.0]]
+
+[[polygons]]
+color = [0.1, 0.3, 0.8]
+vertices = [[7.1, 0.5, 2.0], [12.7, 6.3, 2.0], [8.3, 9.2, 0.5]]
+"""
+
+
+def _strict_json(text: str):
+    def refuse(constant):
+        raise ValueError(f"not JSON: {constant}")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+# --- one row per cell ------------------------------------------------------------------
+
+def _fake_record(p, ref_meta=None) -> dict:
+    """A record for a planned cell without rendering (what the table does with it is tested)."""
+    measured = {"repeats": 1, "render_s": 1e-3, "render_s_min": 1e-3, "render_s_max": 1e-3, "megapixels": 1.0,
+                "ms_per_mpix": 1.0, "intensity_sum": 1.0, "metrics": {m: 0.5 for m in p.cell.metrics},
+                "metric_errors": {}, "error": None, "traceback": None}
+    run = {"host": "h", "pid": 1, "executor": "this process", "workers": 1, "finished_at": "now"}
+    return CellRecord(**record_identity(p, ref_meta or {}), **measured, **run).to_json()
+
+
+@pytest.mark.parametrize("config", SHIPPED, ids=[p.stem for p in SHIPPED])
+def test_every_cell_of_every_shipped_config_is_one_row_with_its_own_label(config, tmp_path):
+    experiment = load_experiment(config)
+    planned = plan(experiment)
+    keys = [p.key for p in planned]
+    assert len(keys) == len(set(keys)), "two cells share a key"
+    store = SweepStore(tmp_path)
+    store.write_manifest(experiment.text, manifest(experiment, planned))
+    for p in planned:  # the store checks that every finished cell has its image and reference, of its size
+        blank = np.zeros((p.cell.scene_source.parsed.height, p.cell.scene_source.parsed.width, 3))
+        store.write_reference(p.reference_key, blank)
+        store.write_cell(_fake_record(p), blank)
+    table = results_frame(store)
+    assert len(table) == len(planned) == len(store.read_manifest()["cells"])
+    assert not table["key"].duplicated().any()
+    # every (group, scene, difficulty, spec, frame) of the config is there exactly once
+    wanted = sorted((c.group, c.scene_source.name, c.scene_source.difficulty, c.spec, c.frame) for c in experiment.cells())
+    got = sorted(zip(table["group"], table["scene"], [None if math.isnan(d) else d for d in table["difficulty"]],
+                     table["spec"], table["frame"]))
+    assert got == wanted
+    # every difficulty listed in the config appears with its own label
+    raw = experiment.text and __import__("tomllib").loads(experiment.text)
+    for g in raw["groups"]:
+        for entry in g["scenes"]:
+            if isinstance(entry, dict) and "generator" in entry:
+                rows = table[table["group"] == g["name"]]
+                for d in entry["difficulty"]:
+                    mine = rows[rows["difficulty"] == float(d)]
+                    assert len(mine) > 0, (g["name"], d)
+                    assert set(mine["scene"]) == {f"{entry['generator']}@{d:g}"}
+
+
+def test_two_difficulties_that_build_one_scene_stay_two_rows(tmp_path):
+    # the curvature generator clamps the radius to 0.4 * size: at size 24, 1/0.05 and 1/0.1 both give 9.6
+    text = """
+[experiment]
+name = "clamped"
+reference = "catmull"
+metrics = ["rmse"]
+
+[[groups]]
+name = "curv"
+scenes = [{generator = "curvature", difficulty = [0.05, 0.1], size = 24}]
+methods = ["catmull-jagged"]
+"""
+    exp = load_experiment(write_config(tmp_path, text))
+    a, b = exp.groups[0].scenes
+    assert a.digest == b.digest  # the same scene twice: what made the old table lose a row
+    summary = run_sweep(exp, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache")
+    assert summary.total == 2 and summary.ran == 2
+    table = pd.read_parquet(tmp_path / "out" / "results.parquet")
+    assert sorted(table["difficulty"]) == [0.05, 0.1]
+    assert sorted(table["scene"]) == ["curvature@0.05", "curvature@0.1"]
+    assert table["key"].is_unique
+    assert table["rmse"].iloc[0] == table["rmse"].iloc[1]
+
+
+@pytest.mark.parametrize("group, message", [
+    ('scenes = [{generator = "fan", difficulty = [3, 3]}]\nmethods = ["catmull"]', "given more than once"),
+    ('scenes = ["../../configs/scenes/abutting.toml", "../../configs/scenes/abutting.toml"]\nmethods = ["catmull"]',
+     "listed twice"),
+    ('scenes = [{generator = "fan", difficulty = [3]}]\nmethods = ["catmull", "catmull"]', "already in this group"),
+    ('scenes = [{generator = "fan", difficulty = [3]}]\nmethods = ["supersample", "supersample:k=4"]\n'
+     'options.supersample = { k = [2, 4] }', "already in this group"),
+    ('scenes = [{generator = "edges", difficulty = [0.1]}]\nmethods = ["catmull"]\nframes = [1, 1]',
+     "given more than once"),
+    ('scenes = [{generator = "fan", difficulty = [3]}]\nmethods = ["catmull"]\nrepeats = 0', "repeats"),
+])
+def test_a_config_that_repeats_itself_is_refused_naming_the_key(group, message):
+    import tomllib
+
+    text = f'[experiment]\nreference = "catmull"\n\n[[groups]]\nname = "g"\n{group}\n'
+    path = ROOT / "tests" / "data" / "x.toml"  # scene paths resolve from here
+    with pytest.raises(ConfigError, match=message) as info:
+        parse_experiment(tomllib.loads(text), path=path, text=text)
+    assert "groups[0]" in str(info.value)
+
+
+# --- one record ------------------------------------------------------------------------
+
+def test_a_record_with_a_missing_or_unknown_field_or_another_schema_is_refused():
+    from aaeval.experiments.record import _INT, _STR
+
+    fields = {f: None for f in CellRecord.__dataclass_fields__}  # every optional field null
+    fields.update({f: "x" for f in _STR}, **{f: 1 for f in _INT})  # the others of their types (issue 36)
+    fields.update(metrics={}, metric_errors={}, options={}, schema_version=SCHEMA_VERSION)
+    CellRecord.from_json(fields)
+    with pytest.raises(RecordError, match="field 'frame' must be a whole number"):
+        CellRecord.from_json({**fields, "frame": "0"})
+    with pytest.raises(RecordError, match=r"missing \['render_s'\]"):
+        CellRecord.from_json({k: v for k, v in fields.items() if k != "render_s"})
+    with pytest.raises(RecordError, match=r"unknown \['rmse_typo'\]"):
+        CellRecord.from_json({**fields, "rmse_typo": 1.0})
+    with pytest.raises(RecordError, match="schema version 1"):
+        CellRecord.from_json({**fields, "schema_version": 1})
+
+
+def _moving_config(tmp_path, metrics='["rmse", "ssim", "edge_rmse"]', temporal='["sum_variation", "flicker"]',
+                   repeats=1) -> Path:
+    (tmp_path / "moving.toml").write_text(MOVING)
+    return write_config(tmp_path, f"""
+[experiment]
+name = "moving"
+reference = "catmull"
+metrics = {metrics}
+temporal = {temporal}
+
+[[groups]]
+name = "moving"
+scenes = ["moving.toml"]
+methods = ["catmull-jagged", "supersample:k=3"]
+repeats = {repeats}
+""")
+
+
+@pytest.fixture(scope="module")
+def moving_sweep(tmp_path_factory):
+    tmp_path = tmp_path_factory.mktemp("moving")
+    exp = load_experiment(_moving_config(tmp_path, repeats=3))
+    run_sweep(exp, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache")
+    return tmp_path
+
+
+def test_cell_files_are_strict_json_records_with_timings_and_the_table_carries_the_schema(moving_sweep):
+    out = moving_sweep / "out"
+    for path in (out / "cells").glob("*.json"):
+        record = CellRecord.from_json(_strict_json(path.read_text()))
+        assert record.repeats == 3 and record.render_s_min <= record.render_s <= record.render_s_max
+        assert record.megapixels == 14 * 10 / 1e6
+        assert record.ms_per_mpix == pytest.approx(record.render_s * 1e3 / record.megapixels)
+    table = read_table(out / "results.parquet")
+    assert set(TIMING_FIELDS) <= set(table.columns)
+    provenance = _strict_json((out / "provenance.json").read_text())
+    assert provenance["cores"] >= 1 and provenance["workers"] == 1 and provenance["versions"]["numpy"]
+    assert provenance["cpu_model"] and provenance["machine"]
+
+
+def test_every_temporal_metric_equals_a_recomputation_over_all_stored_frames(moving_sweep):
+    out = moving_sweep / "out"
+    store = SweepStore(out)
+    results = pd.read_parquet(out / "results.parquet")
+    temporal = pd.read_parquet(out / "temporal.parquet")
+    assert len(temporal) == 2
+    for _, row in temporal.iterrows():
+        cells = results[results["spec"] == row["spec"]].sort_values("frame")
+        assert list(cells["frame"]) == [0, 1, 2, 3] and row["frames"] == 4
+        tests = np.stack([np.load(store.image_path(k)) for k in cells["key"]])
+        refs = np.stack([np.load(store.reference_path(k)) for k in cells["reference_key"]])
+        # written out here, not through aaeval.metrics
+        error = tests - refs
+        flicker = math.sqrt(float(np.mean(np.var(error, axis=0))))
+        sums = tests.reshape(4, -1).sum(axis=1)
+        ref_sums = refs.reshape(4, -1).sum(axis=1)
+        assert row["flicker"] == pytest.approx(flicker, rel=1e-9)
+        assert row["sum_variation"] == pytest.approx((sums.max() - sums.min()) / sums.mean(), rel=1e-9)
+        assert row["reference_sum_variation"] == pytest.approx(
+            (ref_sums.max() - ref_sums.min()) / ref_sums.mean(), rel=1e-6, abs=1e-15)
+        # the last frame matters: without it the numbers differ
+        assert row["flicker"] != pytest.approx(math.sqrt(float(np.mean(np.var(error[:-1], axis=0)))), rel=1e-6)
+
+
+def test_compare_and_a_sweep_give_identical_numbers(moving_sweep, capsys):
+    out = moving_sweep / "out"
+    results = pd.read_parquet(out / "results.parquet")
+    temporal = pd.read_parquet(out / "temporal.parquet").set_index("spec")
+    assert main(["compare", str(moving_sweep / "moving.toml"), "-m", "catmull-jagged", "-m", "supersample:k=3",
+                 "-r", "catmull", "--frames", "all", "--metric", "rmse", "--metric", "ssim", "--metric",
+                 "edge_rmse", "--temporal", "sum_variation", "--temporal", "flicker", "--format", "json"]) == 0
+    doc = _strict_json(capsys.readouterr().out)
+    for row in doc["rows"]:
+        cell = results[(results["spec"] == row["method"]) & (results["frame"] == row["frame"])]
+        assert len(cell) == 1
+        for name in ("rmse", "ssim", "edge_rmse", "intensity_sum"):
+            assert row[name] == cell[name].iloc[0], (row["method"], row["frame"], name)
+    for entry in doc["summary"]:
+        for name in ("sum_variation", "flicker"):
+            assert entry["temporal"][name] == temporal.loc[entry["method"], name]
+
+
+# --- one registration ------------------------------------------------------------------
+
+def _toy(image_true, image_test) -> float:
+    """Mean absolute difference (a toy metric for the registry test)."""
+    return float(np.mean(np.abs(np.asarray(image_test) - np.asarray(image_true))))
+
+
+@pytest.fixture
+def toy_metric():
+    register_metric("toy_mad", _toy, kind="image", title="TOY MAD", fmt=".5f")
+    yield
+    METRICS.unregister("toy_mad")
+
+
+def test_a_metric_registered_once_shows_in_compare_sweep_and_report(toy_metric, tmp_path, capsys):
+    from aaeval.report import write_report
+
+    (tmp_path / "moving.toml").write_text(MOVING)
+    assert main(["compare", str(tmp_path / "moving.toml"), "-m", "catmull-jagged", "-r", "catmull"]) == 0
+    printed = capsys.readouterr().out
+    assert "TOY MAD" in printed
+    assert main(["compare", str(tmp_path / "moving.toml"), "-m", "catmull-jagged", "-r", "catmull",
+                 "--format", "json"]) == 0
+    doc = _strict_json(capsys.readouterr().out)
+    assert doc["rows"][0]["toy_mad"] > 0
+    exp = load_experiment(_moving_config(tmp_path, metrics='["rmse", "toy_mad"]', temporal="[]"))
+    run_sweep(exp, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache")
+    table = pd.read_parquet(tmp_path / "out" / "results.parquet")
+    assert (table["toy_mad"] > 0).all()
+    html = write_report(tmp_path / "out").read_text()
+    assert "toy_mad" in html or "TOY MAD" in html
+    assert main(["metrics"]) == 0
+    assert "toy_mad" in capsys.readouterr().out
+
+
+def test_registry_refuses_a_bad_registration():
+    from aaeval.metrics import MetricError
+
+    with pytest.raises(MetricError, match="registered twice"):
+        register_metric("rmse", _toy, kind="image", title="x", fmt=".3f")
+    with pytest.raises(MetricError, match="unknown mask"):
+        register_metric("toy_masked", _toy, kind="image", title="x", fmt=".3f", mask="nowhere")
+    with pytest.raises(MetricError, match="takes no 'mask'"):
+        register_metric("toy_masked", _toy, kind="image", title="x", fmt=".3f", mask="edge")
+    with pytest.raises(MetricError, match="bad number format"):
+        register_metric("toy_fmt", _toy, kind="image", title="x", fmt="%d")
+    assert "toy_masked" not in METRICS and "toy_fmt" not in METRICS
+
+
+# --- highlight metrics are sweep metrics ------------------------------------------------
+
+SHINY = """
+[experiment]
+name = "shiny"
+reference = "catmull:specular=crow,k=8,region=all"
+metrics = ["rmse", "highlight_rmse", "highlight_energy_bias"]
+temporal = ["highlight_flicker", "highlight_energy_flicker"]
+
+[[groups]]
+name = "shiny"
+scenes = [{generator = "shininess", difficulty = [200], size = 16, frames = 3}]
+methods = ["catmull:specular=none", "catmull:specular=amanatides"]
+"""
+
+
+def test_highlight_metrics_run_in_a_sweep_over_the_ground_truth_highlight(tmp_path):
+    from aaeval.metrics.masks import HIGHLIGHT_SPP, HIGHLIGHT_THRESHOLD
+    from aaeval.groundtruth import groundtruth_phong
+
+    exp = load_experiment(write_config(tmp_path, SHINY))
+    run_sweep(exp, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache")
+    store = SweepStore(tmp_path / "out")
+    results = pd.read_parquet(tmp_path / "out" / "results.parquet")
+    temporal = pd.read_parquet(tmp_path / "out" / "temporal.parquet")
+    assert results["error"].isna().all() and len(results) == 6 and len(temporal) == 2
+    scene = exp.groups[0].scenes[0].parsed
+    masks, tests, refs = [], [], []
+    for _, cell in results[results["spec"] == "catmull"].sort_values("frame").iterrows():
+        _, specular, _ = groundtruth_phong(scene.at_frame(int(cell["frame"])), spp=HIGHLIGHT_SPP)
+        mask = specular > HIGHLIGHT_THRESHOLD
+        assert mask.any()
+        test, ref = np.load(store.image_path(cell["key"])), np.load(store.reference_path(cell["reference_key"]))
+        expected = math.sqrt(float(np.mean((test[mask] - ref[mask]) ** 2)))
+        assert cell["highlight_rmse"] == pytest.approx(expected, rel=1e-12)
+        masks.append(mask), tests.append(test), refs.append(ref)
+    still = np.any(masks, axis=0)
+    change = np.diff(np.stack(tests) - np.stack(refs), axis=0)[:, still]
+    row = temporal.set_index("spec").loc["catmull"]
+    assert row["highlight_flicker"] == pytest.approx(math.sqrt(float(np.mean(change**2))), rel=1e-12)
+
+
+@pytest.mark.slow
+def test_warm_up_renders_every_option_combination_before_its_clock(monkeypatch):
+    """Issue 23 item 8: catmull's own warm-up compiles the box path only; a timed
+    catmull:filter=tent (or any other option) must have rendered that very spec untimed first."""
+    import aaeval.renderers as renderers
+    from aaeval.experiments import measure
+    from aaeval.scenes import parse_scene
+
+    scene = parse_scene({"image": {"width": 5, "height": 4},
+                         "polygons": [{"color": [1, 0, 0], "vertices": [[0.5, 0.5, 1], [4.5, 1, 1], [2, 3.5, 1]]}]})
+    calls = []
+    real_render, real_timed = renderers.render, renderers.render_timed
+    monkeypatch.setattr(renderers, "render", lambda sc, spec, **kw: calls.append(("warm", spec)) or real_render(sc, spec, **kw))
+    monkeypatch.setattr(renderers, "render_timed",
+                        lambda sc, spec, **kw: calls.append(("timed", spec)) or real_timed(sc, spec, **kw))
+    monkeypatch.setattr(measure, "_WARMED", set())
+    specs = ["catmull:filter=tent", "catmull:filter=gaussian", "supersample:k=2,filter=mitchell", "catmull"]
+    for spec in specs:
+        measure.render_measured(scene, spec, 0, repeats=2)
+    for spec in specs:
+        timed = [i for i, c in enumerate(calls) if c == ("timed", spec)]
+        assert len(timed) == 2
+        assert calls.index(("warm", spec)) < timed[0], spec  # this very spec, untimed, before its clock
+    calls.clear()
+    measure.render_measured(scene, "catmull:filter=tent", 0)
+    assert calls == [("timed", "catmull:filter=tent")]  # once per process and size
+    bigger = parse_scene({"image": {"width": 6, "height": 4}, "polygons": []})
+    measure.render_measured(bigger, "catmull:filter=tent", 0)
+    assert calls[1:] == [("warm", "catmull:filter=tent"), ("timed", "catmull:filter=tent")]
+
+
+def test_render_stats_warms_up_the_spec_it_times(tmp_path, monkeypatch):
+    import aaeval.renderers as renderers
+    from aaeval.cli import main
+    from aaeval.experiments import measure
+
+    calls = []
+    real_render = renderers.render
+    monkeypatch.setattr(renderers, "render", lambda sc, spec, **kw: calls.append(spec) or real_render(sc, spec, **kw))
+    monkeypatch.setattr(measure, "_WARMED", set())
+    scene = Path(__file__).resolve().parents[2] / "configs" / "scenes" / "fan.toml"
+    assert main(["render", str(scene), "-m", "catmull:filter=bspline", "-o", str(tmp_path / "f.npy"),
+                 "--stats", str(tmp_path / "s.json")]) == 0
+    assert calls[0] == "catmull:filter=bspline"

@@ -1,0 +1,107 @@
+"""The Python API (issue 35 item 1): ``aaeval.load_scene``, ``render``, ``compare``,
+``sweep``, ``open_sweep``, and Scene display in notebooks.
+
+``compare`` is checked against an independent route: the ``aaeval compare`` command in a
+subprocess (its JSON), and ``rmse`` recomputed here with numpy from two renders.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import aaeval
+from tests.helpers.sweep_util import write_config
+
+ROOT = Path(__file__).resolve().parents[2]
+FAN = ROOT / "configs" / "scenes" / "fan.toml"
+SQUARE = {"image": {"width": 8, "height": 6, "background": [0.0, 0.0, 0.0]},
+          "polygons": [{"color": [1.0, 0.5, 0.25], "vertices": [[1.5, 1.0, 0], [6.25, 1.0, 0], [6.25, 4.5, 0]]}]}
+
+
+def test_import_aaeval_loads_no_renderer():
+    code = "import sys, aaeval; print(any(m.startswith('aaeval.renderers') for m in sys.modules))"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert done.stdout.strip() == "False", done.stderr
+    assert callable(aaeval.compare) and "compare" in dir(aaeval)
+    with pytest.raises(AttributeError):
+        aaeval.no_such_function  # noqa: B018
+
+
+def test_load_scene_from_a_path_and_from_a_document():
+    from_file = aaeval.load_scene(FAN)
+    assert (from_file.width, from_file.height, len(from_file.polygons)) == (32, 32, 24)
+    assert aaeval.load_scene(from_file) is from_file
+    doc = aaeval.load_scene(SQUARE)
+    assert doc.shape == (6, 8, 3)
+
+
+def test_render_is_the_registry_render_and_conserves_area():
+    from aaeval.renderers import render
+
+    scene = aaeval.load_scene(SQUARE)
+    image = aaeval.render(scene, "catmull")
+    assert image.shape == (6, 8, 3)
+    np.testing.assert_array_equal(image, render(scene, "catmull", frame=0))
+    # exact box filter: the red channel sums to the triangle's area (4.75 * 3.5 / 2)
+    assert image[..., 0].sum() == pytest.approx(4.75 * 3.5 / 2, rel=1e-12)
+
+
+def test_compare_gives_the_numbers_of_the_command_line(tmp_path):
+    methods = ["point", "supersample:k=4"]
+    table = aaeval.compare(FAN, methods, reference="catmull", metrics=["rmse", "edge_rmse"], temporal=[])
+    assert list(table["method"]) == ["point", "supersample"] and list(table["frame"]) == [0, 0]
+    assert table["error"].isna().all() and np.isfinite(table["edge_rmse"]).all()  # the mask was built
+    assert "<table" in table._repr_html_()
+    out = tmp_path / "fan.json"
+    args = [a for m in methods for a in ("-m", m)]
+    done = subprocess.run([sys.executable, "-m", "aaeval", "compare", str(FAN), *args, "-r", "catmull", "--metric",
+                           "rmse", "--metric", "edge_rmse", "--temporal", "sum_variation", "-q", "--json", str(out)],
+                          capture_output=True, text=True, env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert done.returncode == 0, done.stderr
+    cli = {row["method"]: row for row in json.loads(out.read_text())["rows"]}
+    for row in table.itertuples():
+        assert row.rmse == cli[row.method]["rmse"] and row.edge_rmse == cli[row.method]["edge_rmse"]
+    # and against numpy, from two renders
+    scene = aaeval.load_scene(FAN)
+    diff = aaeval.render(scene, "point") - aaeval.render(scene, "catmull")
+    assert table["rmse"][0] == pytest.approx(np.sqrt(np.mean(diff ** 2)), rel=1e-12)
+
+
+def test_compare_frames_give_a_row_per_method_and_frame():
+    table = aaeval.compare({**SQUARE, "animation": {"frames": 3, "translate": [0.25, 0.0]}}, "point",
+                           frames="all", metrics=["rmse"])
+    assert list(table["frame"]) == [0, 1, 2] and (table["rmse"] > 0).all()
+    assert table.attrs["document"]["summary"][0]["method"] == "point"
+
+
+def test_scene_displays_and_has_a_short_repr():
+    from PIL import Image
+
+    scene = aaeval.load_scene(FAN)
+    assert len(repr(scene)) < 300 and "24 polygons" in repr(scene)
+    long = aaeval.load_scene({**SQUARE, "polygons": SQUARE["polygons"] * 200})
+    assert len(repr(long)) < 300
+    picture = Image.open(io.BytesIO(scene._repr_png_()))
+    assert picture.size == (32, 32) and picture.mode == "RGB"
+
+
+def test_sweep_then_open_sweep(tmp_path):
+    config = write_config(tmp_path)
+    folder = aaeval.sweep(config, tmp_path / "out", workers=1)
+    assert (folder / "results.parquet").is_file()
+    opened = aaeval.open_sweep(folder)
+    assert len(opened.results) == 3 + 3 + 3 and opened.results["error"].isna().all()
+    assert len(opened.temporal) >= 2 and len(repr(opened)) < 300
+    again = aaeval.sweep(config, tmp_path / "out", workers=1)  # nothing left to run: the same table
+    assert aaeval.open_sweep(again).results.equals(opened.results)
+    with pytest.raises(FileNotFoundError):
+        aaeval.open_sweep(tmp_path)

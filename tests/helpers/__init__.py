@@ -1,0 +1,1 @@
+"""Code the tests share: oracles, scene makers, recorded digests, small sweeps."""

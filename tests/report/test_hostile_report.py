@@ -1,0 +1,85 @@
+"""Hostile sweep folders for ``aaeval report`` (issue 36 item 1): a report output replaced
+by a link to a file elsewhere is replaced, never written through; markup planted in the
+records reaches the page escaped."""
+
+from __future__ import annotations
+
+import json
+import os
+
+from aaeval.cli import main
+from tests.helpers.links_util import TINY, snapshot, sweep
+
+MARKUP = "<script>alert('x')</script>"
+
+
+def plant_markup(out) -> None:
+    """Markup in every text field of every cell record and of the manifest of the sweep
+    folder ``out`` (also used by scripts/hostile_run.py)."""
+    fields = ["group", "scene", "scene_source", "difficulty_label", "method", "spec", "reference",
+              "reference_kind", "host", "executor", "code_version", "error"]
+    for cell in (out / "cells").glob("*.json"):
+        record = json.loads(cell.read_text())
+        record.update({f: MARKUP + f for f in fields})
+        cell.write_text(json.dumps(record))
+    manifest = json.loads((out / "manifest.json").read_text())
+    manifest.update(experiment=MARKUP + "experiment", description=MARKUP + "description",
+                    code_version=MARKUP + "code_version")
+    for cell in manifest["cells"]:  # the manifest's copy must agree with the record's
+        cell.update({f: MARKUP + f for f in ("group", "scene", "spec", "difficulty_label", "reference")})
+    (out / "manifest.json").write_text(json.dumps(manifest))
+
+
+def test_a_report_output_replaced_by_a_link_is_replaced_not_written_through(world, capsys):
+    tmp_path, outside, config = world
+    out = tmp_path / "out"
+    assert sweep(tmp_path, config) == 0
+    assert main(["report", str(out), "--quiet"]) == 0
+    outputs = [p for d in ("figures", "tables", "viewer") for p in (out / d).iterdir()] + [out / "index.html"]
+    assert any(p.suffix == ".svg" for p in outputs)
+    for p in outputs:
+        p.unlink()
+        os.symlink(outside / "victim.txt", p)
+    before = snapshot(outside)
+    assert main(["report", str(out), "--quiet"]) == 0, capsys.readouterr().err
+    assert snapshot(outside) == before
+    for p in outputs:
+        assert p.is_file() and not p.is_symlink(), p
+
+
+def test_markup_in_every_record_field_reaches_the_page_escaped(world, capsys):
+    tmp_path, outside, config = world
+    out = tmp_path / "out"
+    assert sweep(tmp_path, config) == 0
+    plant_markup(out)
+    assert main(["report", str(out), "--quiet"]) == 0, capsys.readouterr().err
+    page = (out / "index.html").read_text()
+    assert "alert(" not in page.replace("alert(&#x27;x&#x27;)", "")
+    for f in ("reference_kind", "error", "host", "experiment", "group"):
+        assert f"&lt;script&gt;alert(&#x27;x&#x27;)&lt;/script&gt;{f}" in page, f
+
+
+def test_a_fail_above_that_is_not_finite_is_refused(tmp_path, capsys):
+    from tests.helpers.cli_util import refused
+    from tests.helpers.sweep_util import write_config
+
+    for value in ("nan", "inf"):
+        config = write_config(tmp_path, TINY.replace('metrics = ["rmse"]', f'metrics = ["rmse"]\nfail_above = {value}'))
+        refused(["sweep", str(config), "--out", str(tmp_path / "o"), "--dry-run", "--quiet"], capsys, "fail_above")
+
+
+def test_a_toml_array_nested_2000_deep_is_refused(tmp_path, capsys):
+    from tests.helpers.cli_util import refused
+
+    config = tmp_path / "deep.toml"
+    config.write_text("a = " + "[" * 2000 + "]" * 2000 + "\n")
+    refused(["sweep", str(config), "--out", str(tmp_path / "o"), "--dry-run", "--quiet"], capsys, "too deeply")
+
+
+def test_a_billion_repeats_is_refused(tmp_path, capsys):
+    from tests.helpers.cli_util import refused
+    from tests.helpers.sweep_util import write_config
+
+    for value in ("1e9", "1000000000"):
+        config = write_config(tmp_path, TINY.replace('metrics = ["rmse"]', f'metrics = ["rmse"]\nrepeats = {value}'))
+        refused(["sweep", str(config), "--out", str(tmp_path / "o"), "--dry-run", "--quiet"], capsys, "repeats")
