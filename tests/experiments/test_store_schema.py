@@ -80,6 +80,15 @@ def test_a_cell_of_the_wrong_types_is_quarantined_with_its_reason_and_run_again(
     assert again.ran == 1 and not again.lost
     assert len(SweepStore(out).finished()) == 9
     assert len(pd.read_parquet(out / "results.parquet")) == 9
+
+
+def test_the_report_runs_on_a_folder_whose_damaged_cell_was_run_again(finished, tmp_path, capsys):
+    # once, not per damage: what the report reads is the table the rerun wrote, the same for all
+    out = _copy(finished, tmp_path)
+    path, record = _a_cell(out)
+    record["frame"] = "0"
+    path.write_text(json.dumps(record))
+    assert _sweep(tmp_path).ran == 1
     assert main(["report", str(out)]) == 0
 
 
