@@ -221,6 +221,33 @@ void point_ids(const std::vector<double>& px, const std::vector<double>& py, std
     }
 }
 
+// Each crossing within eps of a vertex of either shape moved onto that vertex (the
+// first such in (x, y) order); true when one moved, and the point ids are then stale.
+// A crossing lands on a vertex where a hole's vertex lies on its own outline's edge and
+// the other shape's edge passes through that point too: computed, the crossing is an ulp
+// or so off the vertex, both points are inserted into both crossing edges, and between
+// them the two edges share a tiny edge whose direction on each says nothing about which
+// side is inside (classify then takes a whole region to the wrong side).
+bool snap_crossings(i64 nv, std::vector<double>& px, std::vector<double>& py, const std::vector<double>& ux,
+                    const std::vector<double>& uy, const std::vector<i64>& ids, double eps,
+                    std::vector<char>& is_vertex) {
+    is_vertex.assign(ux.size(), 0);
+    for (i64 i = 0; i < nv; ++i) is_vertex[ids[i]] = 1;
+    bool moved = false;
+    for (i64 i = nv; i < (i64)px.size(); ++i) {
+        if (is_vertex[ids[i]]) continue;
+        i64 hi = upper_bound(ux, px[i] + eps);
+        for (i64 j = lower_bound(ux, px[i] - eps); j < hi; ++j) {
+            if (!is_vertex[j] || std::fabs(uy[j] - py[i]) > eps) continue;
+            px[i] = ux[j];
+            py[i] = uy[j];
+            moved = true;
+            break;
+        }
+    }
+    return moved;
+}
+
 // -- steps 1 (cont.) and 3: the contours split at every point on them
 
 // The contours (as point ids) with every point lying strictly inside an edge inserted
@@ -579,6 +606,8 @@ void clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Sh
     ShapeView cs{w.cx.data(), w.cy.data(), c.lab, c.st, c.n, c.nst};
     points(s, cs, eps, w.px, w.py, w.near);
     point_ids(w.px, w.py, w.ux, w.uy, w.ids, w.keyed);
+    if (snap_crossings(s.n + c.n, w.px, w.py, w.ux, w.uy, w.ids, eps, w.mark))
+        point_ids(w.px, w.py, w.ux, w.uy, w.ids, w.keyed);
     i64 s_ins = split(w.ids.data(), s.lab, s.st, s.nst, w.ux, w.uy, eps, w.s2, w.ts, w.qs);
     i64 c_ins = split(w.ids.data() + s.n, c.lab, c.st, c.nst, w.ux, w.uy, eps, w.c2, w.ts, w.qs, &sb);
     if (s_ins == 0 && c_ins == 0 && !shares_a_point(w.ids, s.n, c.n, (i64)w.ux.size(), w.mark))
