@@ -49,7 +49,7 @@ struct Keyed {
 // their time.
 struct ClipScratch::Arrays {
     std::vector<double> cx, cy, px, py, ux, uy, ts;
-    std::vector<i64> ids, near, qs, s_keys, c_keys, head, out_edges, fill;
+    std::vector<i64> ids, near, crossing_edges, qs, s_keys, c_keys, head, out_edges, fill;
     std::vector<i64> band_head[2], band_edges[2];
     std::vector<Keyed> keyed;
     std::vector<char> used, mark;
@@ -158,8 +158,10 @@ void snap(const ShapeView& s, const ShapeView& c, double eps, std::vector<double
 
 // Every vertex of both shapes and every proper crossing of a subject edge with a clip
 // edge (computed once, shared by both).
+// edges: for each crossing the indices (into px) of its subject edge's ends, then its
+// clip edge's.
 void points(const ShapeView& s, const ShapeView& c, double eps, std::vector<double>& px, std::vector<double>& py,
-            std::vector<i64>& near) {
+            std::vector<i64>& near, std::vector<i64>& edges) {
     px.assign(s.x, s.x + s.n);
     py.assign(s.y, s.y + s.n);
     px.insert(px.end(), c.x, c.x + c.n);
@@ -168,6 +170,7 @@ void points(const ShapeView& s, const ShapeView& c, double eps, std::vector<doub
     // same crossings, in the same order, without testing every pair of edges
     Box sb = shape_bbox(s.x, s.y, s.n);
     near.clear();
+    edges.clear();
     for (i64 rc = 0; rc + 1 < c.nst; ++rc) {
         i64 ca = c.st[rc], cb = c.st[rc + 1];
         for (i64 u = ca; u < cb; ++u) {
@@ -193,6 +196,7 @@ void points(const ShapeView& s, const ShapeView& c, double eps, std::vector<doub
                 if (k.hit) {
                     px.push_back(k.x);
                     py.push_back(k.y);
+                    edges.insert(edges.end(), {v, w, s.n + u, s.n + z});
                 }
             }
         }
@@ -221,29 +225,40 @@ void point_ids(const std::vector<double>& px, const std::vector<double>& py, std
     }
 }
 
-// Each crossing within eps of a vertex of either shape moved onto that vertex (the
-// first such in (x, y) order); true when one moved, and the point ids are then stale.
-// A crossing lands on a vertex where a hole's vertex lies on its own outline's edge and
-// the other shape's edge passes through that point too: computed, the crossing is an ulp
-// or so off the vertex, both points are inserted into both crossing edges, and between
-// them the two edges share a tiny edge whose direction on each says nothing about which
-// side is inside (classify then takes a whole region to the wrong side).
-bool snap_crossings(i64 nv, std::vector<double>& px, std::vector<double>& py, const std::vector<double>& ux,
-                    const std::vector<double>& uy, const std::vector<i64>& ids, double eps,
-                    std::vector<char>& is_vertex) {
+// Each crossing whose two edges both pass within eps of one vertex (of either shape)
+// moved onto that vertex (the one nearest the crossing); true when one moved, and the
+// point ids are then stale. This happens where a hole's vertex lies on its own outline's
+// edge and the other shape's edge passes through that point too. split inserts the vertex
+// into both edges; the computed crossing, an ulp or so off it, would be inserted too, and
+// between the two points the edges would share a tiny edge whose direction on each says
+// nothing about which side is inside (classify then took a whole region to the wrong side).
+bool snap_crossings(i64 nv, const std::vector<i64>& edges, std::vector<double>& px, std::vector<double>& py,
+                    const std::vector<double>& ux, const std::vector<double>& uy, const std::vector<i64>& ids,
+                    double eps, std::vector<char>& is_vertex) {
     is_vertex.assign(ux.size(), 0);
     for (i64 i = 0; i < nv; ++i) is_vertex[ids[i]] = 1;
     bool moved = false;
     for (i64 i = nv; i < (i64)px.size(); ++i) {
-        if (is_vertex[ids[i]]) continue;
-        i64 hi = upper_bound(ux, px[i] + eps);
-        for (i64 j = lower_bound(ux, px[i] - eps); j < hi; ++j) {
-            if (!is_vertex[j] || std::fabs(uy[j] - py[i]) > eps) continue;
-            px[i] = ux[j];
-            py[i] = uy[j];
-            moved = true;
-            break;
+        if (is_vertex[ids[i]]) continue;  // already that vertex
+        const i64* e = &edges[4 * (i - nv)];
+        // a point on both edges is in both of their boxes (grown by eps)
+        double x0 = pmax(pmin(px[e[0]], px[e[1]]), pmin(px[e[2]], px[e[3]])) - eps;
+        double x1 = pmin(pmax(px[e[0]], px[e[1]]), pmax(px[e[2]], px[e[3]])) + eps;
+        double y0 = pmax(pmin(py[e[0]], py[e[1]]), pmin(py[e[2]], py[e[3]])) - eps;
+        double y1 = pmin(pmax(py[e[0]], py[e[1]]), pmax(py[e[2]], py[e[3]])) + eps;
+        i64 best = -1;
+        double best_d2 = 0.0;
+        for (i64 j = lower_bound(ux, x0), hi = upper_bound(ux, x1); j < hi; ++j) {
+            if (!is_vertex[j] || uy[j] < y0 || uy[j] > y1) continue;
+            if (on_segment(ux[j], uy[j], px[e[0]], py[e[0]], px[e[1]], py[e[1]], eps) < 0.0) continue;
+            if (on_segment(ux[j], uy[j], px[e[2]], py[e[2]], px[e[3]], py[e[3]], eps) < 0.0) continue;
+            double dx = ux[j] - px[i], dy = uy[j] - py[i], d2 = dx * dx + dy * dy;
+            if (best < 0 || d2 < best_d2) best = j, best_d2 = d2;
         }
+        if (best < 0) continue;
+        px[i] = ux[best];
+        py[i] = uy[best];
+        moved = true;
     }
     return moved;
 }
@@ -604,9 +619,9 @@ void clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Sh
     Scratch& w = *scratch.arrays;
     snap(s, c, eps, w.cx, w.cy);
     ShapeView cs{w.cx.data(), w.cy.data(), c.lab, c.st, c.n, c.nst};
-    points(s, cs, eps, w.px, w.py, w.near);
+    points(s, cs, eps, w.px, w.py, w.near, w.crossing_edges);
     point_ids(w.px, w.py, w.ux, w.uy, w.ids, w.keyed);
-    if (snap_crossings(s.n + c.n, w.px, w.py, w.ux, w.uy, w.ids, eps, w.mark))
+    if (snap_crossings(s.n + c.n, w.crossing_edges, w.px, w.py, w.ux, w.uy, w.ids, eps, w.mark))
         point_ids(w.px, w.py, w.ux, w.uy, w.ids, w.keyed);
     i64 s_ins = split(w.ids.data(), s.lab, s.st, s.nst, w.ux, w.uy, eps, w.s2, w.ts, w.qs);
     i64 c_ins = split(w.ids.data() + s.n, c.lab, c.st, c.nst, w.ux, w.uy, eps, w.c2, w.ts, w.qs, &sb);
