@@ -14,9 +14,55 @@ namespace wa {
 namespace {
 
 constexpr double TWO_PI = 2.0 * 3.141592653589793;
-constexpr i64 SMALL_SORT = 24;
 
 struct Crossing { bool hit; double x, y; };
+
+struct IdShape {
+    std::vector<i64> ids, lab, st;
+};
+
+struct Edges {
+    std::vector<i64> from, to, lab;
+    void clear() {
+        from.clear();
+        to.clear();
+        lab.clear();
+    }
+    void add(i64 a, i64 b, i64 l) {
+        from.push_back(a);
+        to.push_back(b);
+        lab.push_back(l);
+    }
+};
+
+// A point with its input index (lex_order's sort key).
+struct Keyed {
+    double x, y;
+    i64 i;
+};
+
+}  // namespace
+
+// Every working array of one clip, kept between calls so that a clip allocates nothing
+// once the arrays have grown to its size: the hidden-surface loop makes tens of
+// thousands of small clips, and allocating a few dozen arrays each took a third of
+// their time.
+struct ClipScratch::Arrays {
+    std::vector<double> cx, cy, px, py, ux, uy, ts;
+    std::vector<i64> ids, near, crossing_edges, qs, s_keys, c_keys, head, out_edges, fill;
+    std::vector<i64> band_head[2], band_edges[2];
+    std::vector<Keyed> keyed;
+    std::vector<char> used, mark;
+    IdShape s2, c2;
+    Edges ins, outs;
+};
+
+ClipScratch::ClipScratch() : arrays(new Arrays) {}
+ClipScratch::~ClipScratch() = default;
+
+namespace {
+
+using Scratch = ClipScratch::Arrays;
 
 // Where two segments cross strictly inside both (each end farther than eps from the
 // other line); hit false otherwise.
@@ -112,7 +158,10 @@ void snap(const ShapeView& s, const ShapeView& c, double eps, std::vector<double
 
 // Every vertex of both shapes and every proper crossing of a subject edge with a clip
 // edge (computed once, shared by both).
-void points(const ShapeView& s, const ShapeView& c, double eps, std::vector<double>& px, std::vector<double>& py) {
+// edges: for each crossing the indices (into px) of its subject edge's ends, then its
+// clip edge's.
+void points(const ShapeView& s, const ShapeView& c, double eps, std::vector<double>& px, std::vector<double>& py,
+            std::vector<i64>& near, std::vector<i64>& edges) {
     px.assign(s.x, s.x + s.n);
     py.assign(s.y, s.y + s.n);
     px.insert(px.end(), c.x, c.x + c.n);
@@ -120,7 +169,8 @@ void points(const ShapeView& s, const ShapeView& c, double eps, std::vector<doub
     // only clip edges whose boxes meet the subject's (grown by eps) can cross it: the
     // same crossings, in the same order, without testing every pair of edges
     Box sb = shape_bbox(s.x, s.y, s.n);
-    std::vector<i64> near;
+    near.clear();
+    edges.clear();
     for (i64 rc = 0; rc + 1 < c.nst; ++rc) {
         i64 ca = c.st[rc], cb = c.st[rc + 1];
         for (i64 u = ca; u < cb; ++u) {
@@ -146,68 +196,84 @@ void points(const ShapeView& s, const ShapeView& c, double eps, std::vector<doub
                 if (k.hit) {
                     px.push_back(k.x);
                     py.push_back(k.y);
+                    edges.insert(edges.end(), {v, w, s.n + u, s.n + z});
                 }
             }
         }
     }
 }
 
-// Permutation sorting the points by x, then y, equal points in input order (a stable
-// sort: the order is the same whatever sort gives it).
-std::vector<i64> lex_order(const std::vector<double>& px, const std::vector<double>& py) {
-    i64 n = (i64)px.size();
-    std::vector<i64> o(n);
-    for (i64 i = 0; i < n; ++i) o[i] = i;
-    auto less = [&](i64 a, i64 b) { return px[a] < px[b] || (px[a] == px[b] && py[a] < py[b]); };
-    if (n <= SMALL_SORT) {
-        for (i64 i = 1; i < n; ++i) {
-            i64 k = o[i], j = i - 1;
-            while (j >= 0 && less(k, o[j])) {
-                o[j + 1] = o[j];
-                --j;
-            }
-            o[j + 1] = k;
-        }
-    } else {
-        std::stable_sort(o.begin(), o.end(), less);
-    }
-    return o;
-}
-
-// Distinct points sorted by (x, y) and the id of each input point.
+// Distinct points sorted by (x, y) and the id of each input point. Points are taken in
+// order of (x, y, input index): the order a stable sort by (x, y) gives.
 void point_ids(const std::vector<double>& px, const std::vector<double>& py, std::vector<double>& ux,
-               std::vector<double>& uy, std::vector<i64>& ids) {
+               std::vector<double>& uy, std::vector<i64>& ids, std::vector<Keyed>& keyed) {
     i64 n = (i64)px.size();
-    std::vector<i64> o = lex_order(px, py);
+    keyed.resize(n);
+    for (i64 i = 0; i < n; ++i) keyed[i] = Keyed{px[i], py[i], i};
+    std::sort(keyed.begin(), keyed.end(), [](const Keyed& a, const Keyed& b) {
+        return a.x < b.x || (a.x == b.x && (a.y < b.y || (a.y == b.y && a.i < b.i)));
+    });
     ux.clear();
     uy.clear();
-    ids.assign(n, 0);
-    for (i64 i = 0; i < n; ++i) {
-        i64 k = o[i];
-        if (ux.empty() || px[k] != ux.back() || py[k] != uy.back()) {
-            ux.push_back(px[k]);
-            uy.push_back(py[k]);
+    ids.resize(n);
+    for (const Keyed& k : keyed) {
+        if (ux.empty() || k.x != ux.back() || k.y != uy.back()) {
+            ux.push_back(k.x);
+            uy.push_back(k.y);
         }
-        ids[k] = (i64)ux.size() - 1;
+        ids[k.i] = (i64)ux.size() - 1;
     }
+}
+
+// Each crossing whose two edges both pass within eps of one vertex (of either shape)
+// moved onto that vertex (the one nearest the crossing); true when one moved, and the
+// point ids are then stale. This happens where a hole's vertex lies on its own outline's
+// edge and the other shape's edge passes through that point too. split inserts the vertex
+// into both edges; the computed crossing, an ulp or so off it, would be inserted too, and
+// between the two points the edges would share a tiny edge whose direction on each says
+// nothing about which side is inside (classify then took a whole region to the wrong side).
+bool snap_crossings(i64 nv, const std::vector<i64>& edges, std::vector<double>& px, std::vector<double>& py,
+                    const std::vector<double>& ux, const std::vector<double>& uy, const std::vector<i64>& ids,
+                    double eps, std::vector<char>& is_vertex) {
+    is_vertex.assign(ux.size(), 0);
+    for (i64 i = 0; i < nv; ++i) is_vertex[ids[i]] = 1;
+    bool moved = false;
+    for (i64 i = nv; i < (i64)px.size(); ++i) {
+        if (is_vertex[ids[i]]) continue;  // already that vertex
+        const i64* e = &edges[4 * (i - nv)];
+        // a point on both edges is in both of their boxes (grown by eps)
+        double x0 = pmax(pmin(px[e[0]], px[e[1]]), pmin(px[e[2]], px[e[3]])) - eps;
+        double x1 = pmin(pmax(px[e[0]], px[e[1]]), pmax(px[e[2]], px[e[3]])) + eps;
+        double y0 = pmax(pmin(py[e[0]], py[e[1]]), pmin(py[e[2]], py[e[3]])) - eps;
+        double y1 = pmin(pmax(py[e[0]], py[e[1]]), pmax(py[e[2]], py[e[3]])) + eps;
+        i64 best = -1;
+        double best_d2 = 0.0;
+        for (i64 j = lower_bound(ux, x0), hi = upper_bound(ux, x1); j < hi; ++j) {
+            if (!is_vertex[j] || uy[j] < y0 || uy[j] > y1) continue;
+            if (on_segment(ux[j], uy[j], px[e[0]], py[e[0]], px[e[1]], py[e[1]], eps) < 0.0) continue;
+            if (on_segment(ux[j], uy[j], px[e[2]], py[e[2]], px[e[3]], py[e[3]], eps) < 0.0) continue;
+            double dx = ux[j] - px[i], dy = uy[j] - py[i], d2 = dx * dx + dy * dy;
+            if (best < 0 || d2 < best_d2) best = j, best_d2 = d2;
+        }
+        if (best < 0) continue;
+        px[i] = ux[best];
+        py[i] = uy[best];
+        moved = true;
+    }
+    return moved;
 }
 
 // -- steps 1 (cont.) and 3: the contours split at every point on them
 
-struct IdShape {
-    std::vector<i64> ids, lab, st;
-};
-
 // The contours (as point ids) with every point lying strictly inside an edge inserted
 // into it, ordered along the edge; returns the number of points inserted.
 i64 split(const i64* vid, const i64* labels, const i64* starts, i64 nst, const std::vector<double>& ux,
-          const std::vector<double>& uy, double eps, IdShape& out, const Box* other = nullptr) {
+          const std::vector<double>& uy, double eps, IdShape& out, std::vector<double>& ts, std::vector<i64>& qs,
+          const Box* other = nullptr) {
     i64 nu = (i64)ux.size();
     out.ids.clear();
     out.lab.clear();
     out.st.assign(nst, 0);
-    std::vector<double> ts;
-    std::vector<i64> qs;
     i64 inserted = 0;
     for (i64 r = 0; r + 1 < nst; ++r) {
         i64 a = starts[r], b = starts[r + 1];
@@ -266,15 +332,6 @@ i64 split(const i64* vid, const i64* labels, const i64* starts, i64 nst, const s
 
 // -- steps 3-4: tracing the inside and outside contours
 
-struct Edges {
-    std::vector<i64> from, to, lab;
-    void add(i64 a, i64 b, i64 l) {
-        from.push_back(a);
-        to.push_back(b);
-        lab.push_back(l);
-    }
-};
-
 double turn(double back, i64 f, const std::vector<i64>& eb, const std::vector<double>& ux,
             const std::vector<double>& uy, i64 v) {
     double t = pmod(back - std::atan2(uy[eb[f]] - uy[v], ux[eb[f]] - ux[v]), TWO_PI);
@@ -284,18 +341,20 @@ double turn(double back, i64 f, const std::vector<i64>& eb, const std::vector<do
 // Link directed edges into closed contours, turning at shared vertices onto the first
 // edge clockwise from the way the walk came (keeps contours free of crossings); drop the
 // zero-area leftovers of degenerate contact.
-Shape trace(const Edges& edges, const std::vector<double>& ux, const std::vector<double>& uy, double eps) {
+void trace(const Edges& edges, const std::vector<double>& ux, const std::vector<double>& uy, double eps, Scratch& w,
+           Shape& out) {
     const std::vector<i64>& ea = edges.from;
     const std::vector<i64>& eb = edges.to;
     i64 m = (i64)ea.size(), nu = (i64)ux.size();
-    std::vector<i64> head, out_edges;
+    std::vector<i64>& head = w.head;
+    std::vector<i64>& out_edges = w.out_edges;
     grouped(ea.data(), m, nu, head, out_edges);
-    std::vector<char> used(m, 0);
-    Shape out;
+    std::vector<char>& used = w.used;
+    used.assign(m, 0);
     out.x.resize(m);
     out.y.resize(m);
     out.lab.resize(m);
-    out.st.reserve(m + 1);
+    out.st.clear();
     i64 n = 0;
     for (i64 e0 = 0; e0 < m; ++e0) {
         if (used[e0]) continue;
@@ -338,7 +397,6 @@ Shape trace(const Edges& edges, const std::vector<double>& ux, const std::vector
     out.x.resize(n);
     out.y.resize(n);
     out.lab.resize(n);
-    return out;
 }
 
 // -- step 2: no boundaries meet
@@ -368,8 +426,8 @@ inline double first_mid(const double* v, i64 a, i64 b) { return 0.5 * (v[a] + v[
 
 // The paper's step 2 when no boundaries meet: whole contours to the holding lists; clip
 // contours inside the subject go to both, reversed for the outside (a hole).
-std::pair<Shape, Shape> holding_lists(const ShapeView& s, const double* cx, const double* cy, const ShapeView& c) {
-    Shape in, out;
+void holding_lists(const ShapeView& s, const double* cx, const double* cy, const ShapeView& c, Shape& in,
+                   Shape& out) {
     std::vector<char> s_in(s.nst - 1), c_in(c.nst - 1);
     for (i64 r = 0; r + 1 < s.nst; ++r) {
         i64 a = s.st[r], b = s.st[r + 1];
@@ -393,15 +451,13 @@ std::pair<Shape, Shape> holding_lists(const ShapeView& s, const double* cx, cons
     }
     in.st.push_back((i64)in.x.size());
     out.st.push_back((i64)out.x.size());
-    return {std::move(in), std::move(out)};
 }
 
 // -- the edges classified
 
 // Sorted keys from * nu + to of the contours' edges of positive length.
-std::vector<i64> edge_keys(const IdShape& s, i64 nu) {
-    std::vector<i64> keys;
-    keys.reserve(s.ids.size());
+void edge_keys(const IdShape& s, i64 nu, std::vector<i64>& keys) {
+    keys.clear();
     for (size_t r = 0; r + 1 < s.st.size(); ++r) {
         i64 a = s.st[r], b = s.st[r + 1];
         for (i64 v = a; v < b; ++v) {
@@ -410,7 +466,6 @@ std::vector<i64> edge_keys(const IdShape& s, i64 nu) {
         }
     }
     std::sort(keys.begin(), keys.end());
-    return keys;
 }
 
 // winding() about contours given as point ids.
@@ -436,10 +491,12 @@ struct WindingIndex {
     const std::vector<double>& uy;
     i64 nb = 0;
     double lo = 0.0, scale = 0.0;
-    std::vector<i64> head, edges;  // edges (vertex index i: the edge from its predecessor) of band b
+    std::vector<i64>& head;  // band b holds edges[head[b]:head[b + 1]]
+    std::vector<i64>& edges;  // (vertex index i: the edge from its predecessor)
 
-    WindingIndex(const IdShape& s_, const std::vector<double>& ux_, const std::vector<double>& uy_)
-        : s(s_), ux(ux_), uy(uy_) {
+    WindingIndex(const IdShape& s_, const std::vector<double>& ux_, const std::vector<double>& uy_,
+                 std::vector<i64>& head_, std::vector<i64>& edges_)
+        : s(s_), ux(ux_), uy(uy_), head(head_), edges(edges_) {
         i64 n = (i64)s.ids.size();
         if (n < 64) return;  // few edges: every point tests them all
         double hi = uy[s.ids[0]];
@@ -451,7 +508,6 @@ struct WindingIndex {
         if (!(hi > lo)) return;
         nb = std::min<i64>(1024, (i64)std::sqrt((double)n) * 2);
         scale = (double)nb / (hi - lo);
-        std::vector<i64> count(nb + 1, 0);
         auto each_edge = [&](auto&& f) {
             for (size_t r = 0; r + 1 < s.st.size(); ++r) {
                 i64 a = s.st[r], b = s.st[r + 1];
@@ -462,11 +518,12 @@ struct WindingIndex {
                 }
             }
         };
-        each_edge([&](i64 k, i64) { ++count[k + 1]; });
-        for (i64 k = 0; k < nb; ++k) count[k + 1] += count[k];
-        head = count;
-        edges.resize(count[nb]);
-        each_edge([&](i64 k, i64 i) { edges[count[k]++] = i; });
+        // counted at k + 2 and filled through k + 1, which then holds band k + 1's start
+        head.assign(nb + 2, 0);
+        each_edge([&](i64 k, i64) { ++head[k + 2]; });
+        for (i64 k = 0; k < nb; ++k) head[k + 2] += head[k + 1];
+        edges.resize(head[nb + 1]);
+        each_edge([&](i64 k, i64 i) { edges[head[k + 1]++] = i; });
     }
     i64 band(double y) const {
         double f = std::floor((y - lo) * scale);
@@ -493,10 +550,14 @@ struct WindingIndex {
 // (shared edges by the side the clip shape's interior is on), clip edges inside the
 // subject to both, walked backwards for the outside.
 void classify(const IdShape& s, const IdShape& c, const std::vector<double>& ux, const std::vector<double>& uy,
-              const Box& sb, Edges& ins, Edges& outs) {
+              const Box& sb, Scratch& w, Edges& ins, Edges& outs) {
     i64 nu = (i64)ux.size();
-    std::vector<i64> s_keys = edge_keys(s, nu), c_keys = edge_keys(c, nu);
-    const WindingIndex s_index(s, ux, uy), c_index(c, ux, uy);
+    std::vector<i64>& s_keys = w.s_keys;
+    std::vector<i64>& c_keys = w.c_keys;
+    edge_keys(s, nu, s_keys);
+    edge_keys(c, nu, c_keys);
+    const WindingIndex s_index(s, ux, uy, w.band_head[0], w.band_edges[0]);
+    const WindingIndex c_index(c, ux, uy, w.band_head[1], w.band_edges[1]);
     for (size_t r = 0; r + 1 < s.st.size(); ++r) {
         i64 ra = s.st[r], rb = s.st[r + 1];
         for (i64 v = ra; v < rb; ++v) {
@@ -524,8 +585,8 @@ void classify(const IdShape& s, const IdShape& c, const std::vector<double>& ux,
     }
 }
 
-bool shares_a_point(const std::vector<i64>& ids, i64 ns, i64 nc, i64 nu) {
-    std::vector<char> mark(nu, 0);
+bool shares_a_point(const std::vector<i64>& ids, i64 ns, i64 nc, i64 nu, std::vector<char>& mark) {
+    mark.assign(nu, 0);
     for (i64 i = 0; i < ns; ++i) mark[ids[i]] = 1;
     for (i64 i = ns; i < ns + nc; ++i)
         if (mark[ids[i]]) return true;
@@ -535,34 +596,49 @@ bool shares_a_point(const std::vector<i64>& ids, i64 ns, i64 nc, i64 nu) {
 }  // namespace
 
 void grouped(const i64* keys, i64 m, i64 n, std::vector<i64>& starts, std::vector<i64>& order) {
-    starts.assign(n + 1, 0);
-    for (i64 e = 0; e < m; ++e) starts[keys[e] + 1] += 1;
-    for (i64 i = 0; i < n; ++i) starts[i + 1] += starts[i];
-    std::vector<i64> fill(starts.begin(), starts.begin() + n);
-    order.assign(m, 0);
-    for (i64 e = 0; e < m; ++e) order[fill[keys[e]]++] = e;
+    // counted at key + 2 and filled through key + 1, which then holds the next group's start
+    starts.assign(n + 2, 0);
+    for (i64 e = 0; e < m; ++e) starts[keys[e] + 2] += 1;
+    for (i64 i = 0; i < n; ++i) starts[i + 2] += starts[i + 1];
+    order.resize(m);
+    for (i64 e = 0; e < m; ++e) order[starts[keys[e] + 1]++] = e;
+    starts.pop_back();
+}
+
+void clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Shape& out, ClipScratch& scratch) {
+    in.clear();
+    out.clear();
+    if (s.nst < 2 || s.n == 0) return in.st.push_back(0), out.st.push_back(0);
+    Box sb = s.n > 0 ? shape_bbox(s.x, s.y, s.n) : Box{}, cb = c.n > 0 ? shape_bbox(c.x, c.y, c.n) : Box{};
+    if (c.nst < 2 || c.n == 0 || cb.x0 >= sb.x1 - eps || cb.x1 <= sb.x0 + eps || cb.y0 >= sb.y1 - eps ||
+        cb.y1 <= sb.y0 + eps) {
+        in.st.push_back(0);
+        out.assign(s);
+        return;
+    }
+    Scratch& w = *scratch.arrays;
+    snap(s, c, eps, w.cx, w.cy);
+    ShapeView cs{w.cx.data(), w.cy.data(), c.lab, c.st, c.n, c.nst};
+    points(s, cs, eps, w.px, w.py, w.near, w.crossing_edges);
+    point_ids(w.px, w.py, w.ux, w.uy, w.ids, w.keyed);
+    if (snap_crossings(s.n + c.n, w.crossing_edges, w.px, w.py, w.ux, w.uy, w.ids, eps, w.mark))
+        point_ids(w.px, w.py, w.ux, w.uy, w.ids, w.keyed);
+    i64 s_ins = split(w.ids.data(), s.lab, s.st, s.nst, w.ux, w.uy, eps, w.s2, w.ts, w.qs);
+    i64 c_ins = split(w.ids.data() + s.n, c.lab, c.st, c.nst, w.ux, w.uy, eps, w.c2, w.ts, w.qs, &sb);
+    if (s_ins == 0 && c_ins == 0 && !shares_a_point(w.ids, s.n, c.n, (i64)w.ux.size(), w.mark))
+        return holding_lists(s, w.cx.data(), w.cy.data(), c, in, out);
+    w.ins.clear();
+    w.outs.clear();
+    classify(w.s2, w.c2, w.ux, w.uy, sb, w, w.ins, w.outs);
+    trace(w.ins, w.ux, w.uy, eps, w, in);
+    trace(w.outs, w.ux, w.uy, eps, w, out);
 }
 
 std::pair<Shape, Shape> clip_arrays(const ShapeView& s, const ShapeView& c, double eps) {
-    if (s.nst < 2 || s.n == 0) return {Shape::empty(), Shape::empty()};
-    if (c.nst < 2 || c.n == 0) return {Shape::empty(), Shape::of(s)};
-    Box sb = shape_bbox(s.x, s.y, s.n), cb = shape_bbox(c.x, c.y, c.n);
-    if (cb.x0 >= sb.x1 - eps || cb.x1 <= sb.x0 + eps || cb.y0 >= sb.y1 - eps || cb.y1 <= sb.y0 + eps)
-        return {Shape::empty(), Shape::of(s)};
-    std::vector<double> cx, cy, px, py, ux, uy;
-    std::vector<i64> ids;
-    snap(s, c, eps, cx, cy);
-    ShapeView cs{cx.data(), cy.data(), c.lab, c.st, c.n, c.nst};
-    points(s, cs, eps, px, py);
-    point_ids(px, py, ux, uy, ids);
-    IdShape s2, c2;
-    i64 s_ins = split(ids.data(), s.lab, s.st, s.nst, ux, uy, eps, s2);
-    i64 c_ins = split(ids.data() + s.n, c.lab, c.st, c.nst, ux, uy, eps, c2, &sb);
-    if (s_ins == 0 && c_ins == 0 && !shares_a_point(ids, s.n, c.n, (i64)ux.size()))
-        return holding_lists(s, cx.data(), cy.data(), c);
-    Edges ins, outs;
-    classify(s2, c2, ux, uy, sb, ins, outs);
-    return {trace(ins, ux, uy, eps), trace(outs, ux, uy, eps)};
+    static thread_local ClipScratch scratch;
+    std::pair<Shape, Shape> r;
+    clip_into(s, c, eps, r.first, r.second, scratch);
+    return r;
 }
 
 std::pair<i64, i64> first_crossing(const double* xs, const double* ys, i64 n, const i64* starts, i64 nst,

@@ -3,6 +3,7 @@
 // check their inputs once (module.cpp).
 #pragma once
 
+#include <memory>
 #include <utility>
 
 #include "shape.hpp"
@@ -11,6 +12,18 @@ namespace wa {
 
 // Clip the subject shape by the clip shape: (inside shape, outside shape).
 std::pair<Shape, Shape> clip_arrays(const ShapeView& s, const ShapeView& c, double eps);
+
+// The clipper's working arrays, reused from clip to clip (one a thread).
+struct ClipScratch {
+    struct Arrays;
+    std::unique_ptr<Arrays> arrays;
+    ClipScratch();
+    ~ClipScratch();
+};
+
+// clip_arrays into the given shapes, with the given working arrays (no allocation once
+// the arrays have grown).
+void clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Shape& out, ClipScratch& scratch);
 
 // The first pair of edges (global vertex indices of their starts) of one shape that
 // cross properly, each strictly inside the other; (-1, -1) when none do.

@@ -42,11 +42,20 @@ struct Shape {
     }
     static Shape of(const ShapeView& v) {
         Shape s;
-        s.x.assign(v.x, v.x + v.n);
-        s.y.assign(v.y, v.y + v.n);
-        s.lab.assign(v.lab, v.lab + v.n);
-        s.st.assign(v.st, v.st + v.nst);
+        s.assign(v);
         return s;
+    }
+    void assign(const ShapeView& v) {
+        x.assign(v.x, v.x + v.n);
+        y.assign(v.y, v.y + v.n);
+        lab.assign(v.lab, v.lab + v.n);
+        st.assign(v.st, v.st + v.nst);
+    }
+    void clear() {
+        x.clear();
+        y.clear();
+        lab.clear();
+        st.clear();
     }
 };
 

@@ -95,12 +95,138 @@ constexpr i64 WORK_VERTICES = 64;  // a convex piece and outline with more verti
 constexpr i64 INDEXED_WORK_VERTICES = i64(1) << 40;
 constexpr i64 SPLIT_VERTICES = 64;  // the indexed loop halves pieces with more vertices (Solver::halve)
 
+struct Outline {
+    std::vector<double> x, y, len;  // len: each edge's length (separation's margins, once an outline)
+    std::vector<i64> lab, st;
+    ShapeView view() const {
+        return ShapeView{x.data(), y.data(), lab.data(), st.data(), (i64)x.size(), (i64)st.size()};
+    }
+};
+
+// -- the outline as a piece's box sees it (the indexed loop)
+
+// How far beyond a piece's box (in units of eps) an outline edge counts as away from it:
+// far beyond every tolerance of the clipper, yet a negligible share of a pixel.
+constexpr double RIM = 1e6;
+
+// The side of box b by which the ray from its centre to a point outside it leaves (0
+// right, 1 top, 2 left, 3 bottom: counter-clockwise in x-y), from the point's offset
+// from the centre and the box's half sides.
+int rim_side(double dx, double dy, double hw, double hh) {
+    if (std::fabs(dy) * hw <= std::fabs(dx) * hh) return dx > 0 ? 0 : 2;
+    return dy > 0 ? 1 : 3;
+}
+
+// Box b's corner between rim sides k and k + 1 (mod 4).
+void rim_corner(const Box& b, int k, double& x, double& y) {
+    x = (k == 0 || k == 3) ? b.x1 : b.x0;
+    y = (k == 0 || k == 1) ? b.y1 : b.y0;
+}
+
+// Outline o as box b sees it, into `local`: its edges that come near b (their boxes meet
+// it) as they are, each run of edges away from b replaced by a walk around b's rim (its
+// corners) that turns about b as often and the same way as the run does. Run and walk
+// join the same two vertices and neither enters b, so every point of b has the same
+// winding number about both outlines, while the edges near b, the only ones whose
+// crossings and shared points the clipper computes for a shape inside b, are the
+// outline's own: the clip of a shape inside b (away from b's rim by far more than the
+// clipper's tolerance) by `local` is its clip by o, with a fraction of o's vertices.
+// The turns are counted by the rim side each vertex faces: a straight edge that misses
+// b sweeps less than half a turn about b's centre, so it passes to a neighbouring side
+// the short way and to the opposite side the way its cross product says.
+// Returns false when no edge comes near b (local untouched).
+bool local_outline(const Outline& o, const Box& b, Outline& local) {
+    i64 m = (i64)o.x.size();
+    auto near = [&](i64 i) {
+        i64 j = i + 1 < m ? i + 1 : 0;
+        return !(pmin(o.x[i], o.x[j]) > b.x1 || pmax(o.x[i], o.x[j]) < b.x0 || pmin(o.y[i], o.y[j]) > b.y1 ||
+                 pmax(o.y[i], o.y[j]) < b.y0);
+    };
+    i64 first = 0;
+    while (first < m && !near(first)) ++first;
+    if (first == m) return false;
+    local.x.clear();
+    local.y.clear();
+    double qx = 0.5 * (b.x0 + b.x1), qy = 0.5 * (b.y0 + b.y1), hw = 0.5 * (b.x1 - b.x0), hh = 0.5 * (b.y1 - b.y0);
+    auto side = [&](i64 v) { return rim_side(o.x[v] - qx, o.y[v] - qy, hw, hh); };
+    for (i64 k = 0; k < m;) {
+        i64 i = first + k < m ? first + k : first + k - m;
+        local.x.push_back(o.x[i]);
+        local.y.push_back(o.y[i]);
+        ++k;
+        if (near(i)) continue;
+        // a run of edges away from b, from vertex i to the next vertex whose edge is near
+        int s0 = side(i), s = s0, turns = 0;
+        i64 v = i;
+        while (true) {
+            i64 u = v + 1 < m ? v + 1 : 0;
+            int su = side(u), d = (su - s + 4) % 4;
+            if (d == 2)
+                d = (o.x[v] - qx) * (o.y[u] - qy) - (o.y[v] - qy) * (o.x[u] - qx) > 0 ? 2 : -2;
+            else if (d == 3)
+                d = -1;
+            turns += d;
+            s = su;
+            v = u;
+            if (k == m || near(v)) break;
+            ++k;
+        }
+        for (int t = 0; t < std::abs(turns); ++t) {
+            double x, y;
+            rim_corner(b, ((turns > 0 ? s0 + t : s0 - 1 - t) % 4 + 4) % 4, x, y);
+            local.x.push_back(x);
+            local.y.push_back(y);
+        }
+    }
+    i64 n = (i64)local.x.size();
+    local.lab.assign(n, EDGE_CUT);
+    local.st.assign({0, n});
+    return true;
+}
+
+// Whether contour r of shape s lies inside outline o, by the winding number of the middle
+// of its first edge (for a contour whose boundary and o's are apart).
+bool contour_inside(const ShapeView& s, i64 r, const Outline& o) {
+    i64 a = s.st[r], b = s.st[r + 1], c = a + 1 < b ? a + 1 : a;
+    return winding(0.5 * (s.x[a] + s.x[c]), 0.5 * (s.y[a] + s.y[c]), o.x.data(), o.y.data(), o.st.data(),
+                   (i64)o.st.size()) > 0;
+}
+
+// Whether no edge of outline o comes within eps of an edge of shape s (their boxes grown
+// by eps do not meet) and o's first vertex near s lies outside s: then o's boundary and
+// s's are apart and o does not reach into s, so s lies wholly inside or wholly outside o.
+bool boundaries_apart(const ShapeView& s, const Outline& o, double eps) {
+    i64 m = (i64)o.x.size();
+    Box sb = shape_bbox(s.x, s.y, s.n);
+    i64 probe = -1;
+    for (i64 i = 0; i < m; ++i) {
+        i64 j = i + 1 < m ? i + 1 : 0;
+        double ox0 = pmin(o.x[i], o.x[j]) - eps, ox1 = pmax(o.x[i], o.x[j]) + eps;
+        double oy0 = pmin(o.y[i], o.y[j]) - eps, oy1 = pmax(o.y[i], o.y[j]) + eps;
+        if (ox0 > sb.x1 || ox1 < sb.x0 || oy0 > sb.y1 || oy1 < sb.y0) continue;
+        if (probe < 0) probe = i;
+        for (i64 r = 0; r + 1 < s.nst; ++r) {
+            i64 a = s.st[r], b = s.st[r + 1];
+            for (i64 v = a; v < b; ++v) {
+                i64 u = next_in_ring(v, a, b);
+                if (!(pmin(s.x[v], s.x[u]) > ox1 || pmax(s.x[v], s.x[u]) < ox0 || pmin(s.y[v], s.y[u]) > oy1 ||
+                      pmax(s.y[v], s.y[u]) < oy0))
+                    return false;
+            }
+        }
+    }
+    return probe < 0 || winding(o.x[probe], o.y[probe], s.x, s.y, s.st, s.nst) == 0;
+}
+
 // Scratch rows for cutting one convex piece: current x, y; left part x, y; right part x,
 // y; line values; labels current, left, right. Rows grow (never shrink) to what a split
 // can write, so no input can write past them.
 struct Work {
     std::vector<double> f[7];
     std::vector<i64> l[3];
+    Outline local;  // the outline a piece's box sees (local_outline)
+    Shape in, out;  // a clip's two parts
+    ClipScratch clip;  // the clipper's working arrays
     void ensure(i64 n) {
         size_t need = (size_t)(2 * n + 2);
         if (f[0].size() >= need) return;
@@ -133,14 +259,6 @@ struct Work {
 bool takes_convex_road(const ShapeView& s, i64 extra, i64 limit = WORK_VERTICES) {
     return s.nst == 2 && s.n + extra + 2 <= limit && is_convex(s.x, s.y, s.n);
 }
-
-struct Outline {
-    std::vector<double> x, y, len;  // len: each edge's length (separation's margins, once an outline)
-    std::vector<i64> lab, st;
-    ShapeView view() const {
-        return ShapeView{x.data(), y.data(), lab.data(), st.data(), (i64)x.size(), (i64)st.size()};
-    }
-};
 
 // Piece pid (one convex contour) clipped by a convex outline, edge line by edge line:
 // the part beyond each line goes to the outside list, what is left at the end to the
@@ -189,8 +307,11 @@ i64 cut_by_plane_line(Arena& arena, i64 pid, i64 source, double a, double b, dou
 
 // Piece pid (its box meeting the outline's box) split by an outline, its parts appended
 // to the inside and outside lists.
+// keep_inside false: the part inside is not stored (a piece wholly behind the outline's
+// polygon, whose inside part step c would drop), only the outside part.
 void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps, bool convex_road, Work& w,
-                std::vector<i64>& inside, std::vector<i64>& outside, i64 limit = WORK_VERTICES) {
+                std::vector<i64>& inside, std::vector<i64>& outside, i64 limit = WORK_VERTICES,
+                bool keep_inside = true) {
     i64 source = arena.source(pid);
     ShapeView s = arena.piece(pid);
     if (convex) {
@@ -208,28 +329,35 @@ void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps
             return;
         }
     }
+    const Outline* clip = &o;
     if (limit > WORK_VERTICES) {  // the indexed loop
         // No clip edge near the piece's box: the outline's boundary does not pass through
         // the box, so the piece lies wholly inside or wholly outside it, as the winding
         // number of any one of its points says. The clipper would find the same (its
         // step 2) after sorting every vertex of both.
         const Box& sb = arena.box[pid];
-        bool near = false;
-        i64 m = (i64)o.x.size();
-        for (i64 i = 0; i < m && !near; ++i) {
-            i64 j = i + 1 < m ? i + 1 : 0;
-            near = !(pmin(o.x[i], o.x[j]) > sb.x1 + eps || pmax(o.x[i], o.x[j]) < sb.x0 - eps ||
-                     pmin(o.y[i], o.y[j]) > sb.y1 + eps || pmax(o.y[i], o.y[j]) < sb.y0 - eps);
-        }
-        if (!near) {
-            double px = 0.5 * (s.x[0] + s.x[s.n > 1 ? 1 : 0]), py = 0.5 * (s.y[0] + s.y[s.n > 1 ? 1 : 0]);
-            (winding(px, py, o.x.data(), o.y.data(), o.st.data(), (i64)o.st.size()) > 0 ? inside : outside).push_back(pid);
+        Box grown{sb.x0 - RIM * eps, sb.y0 - RIM * eps, sb.x1 + RIM * eps, sb.y1 + RIM * eps};
+        if (!local_outline(o, grown, w.local)) {
+            (contour_inside(s, 0, o) ? inside : outside).push_back(pid);
             return;
         }
+        // Likewise when the outline's edges come nowhere near the piece's edges, the
+        // outline does not reach into the piece and all the piece's contours lie on one
+        // side: the clipper would find no crossing, shared point or point on an edge, and
+        // hold each contour whole.
+        if (boundaries_apart(s, w.local, eps)) {
+            bool in = contour_inside(s, 0, w.local), same = true;
+            for (i64 r = 1; r + 1 < s.nst && same; ++r) same = contour_inside(s, r, w.local) == in;
+            if (same) {
+                (in ? inside : outside).push_back(pid);
+                return;
+            }
+        }
+        clip = &w.local;
     }
-    auto [in, out] = clip_arrays(s, o.view(), eps);
-    if (in.st.size() > 1) inside.push_back(arena.add(in, source));
-    if (out.st.size() > 1) outside.push_back(arena.add(out, source));
+    clip_into(s, clip->view(), eps, w.in, w.out, w.clip);
+    if (w.in.st.size() > 1 && keep_inside) inside.push_back(arena.add(w.in, source));
+    if (w.out.st.size() > 1) outside.push_back(arena.add(w.out, source));
 }
 
 Outline outline_of(const double* ox, const double* oy, const i64* ost, i64 src) {
@@ -250,6 +378,18 @@ Outline outline_of(const double* ox, const double* oy, const i64* ost, i64 src) 
 Box box_of(const double* obb, i64 s) { return Box{obb[4 * s], obb[4 * s + 1], obb[4 * s + 2], obb[4 * s + 3]}; }
 
 // -- step c: depth comparison
+
+// Whether every vertex of the piece lies behind polygon src's plane by more than twice
+// the tie band: then so does every point of it, and of every part clipped from it (their
+// vertices lie in it, and depth differences are affine), which step c drops.
+bool wholly_behind(const ShapeView& s, i64 source, i64 src, const double* planes, double eps_z) {
+    double da = planes[3 * source] - planes[3 * src];
+    double db = planes[3 * source + 1] - planes[3 * src + 1];
+    double dc = planes[3 * source + 2] - planes[3 * src + 2];
+    for (i64 i = 0; i < s.n; ++i)
+        if (!(da * s.x[i] + db * s.y[i] + dc > 2.0 * eps_z)) return false;
+    return true;
+}
 
 // FRONT, BEHIND or 0 (planes cross inside the piece) relative to polygon src.
 int relation(const ShapeView& s, i64 source, i64 src, const double* planes, double eps_z) {
@@ -494,7 +634,7 @@ struct Solver {
                 for (i64 i = i0; i <= i1; ++i) cells[j * gx + i].push_back(pid);
         };
         for (i64 pid : first) enter(pid, position[arena.source(pid)]);
-        std::vector<i64> inside, parts, met, halves;
+        std::vector<i64> inside, parts, met, halves, dropped;
         const std::vector<i64> empty;
         for (i64 p = 0; p < n; ++p) {
             i64 src = order[p];
@@ -531,7 +671,10 @@ struct Solver {
             for (; k < met.size(); ++k) {
                 i64 pid = met[k], q = pos[pid];
                 parts.clear();
-                clip_piece(arena, pid, convex, o, eps, convex_road, work, inside, parts, INDEXED_WORK_VERTICES);
+                bool behind = wholly_behind(arena.piece(pid), arena.source(pid), src, planes, eps_z);
+                dropped.clear();
+                clip_piece(arena, pid, convex, o, eps, convex_road, work, behind ? dropped : inside, parts,
+                           INDEXED_WORK_VERTICES, !behind);
                 if (parts.size() == 1 && parts[0] == pid) continue;  // wholly outside: it stays
                 pos[pid] = -1;
                 for (i64 part : parts) {
