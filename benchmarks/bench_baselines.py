@@ -16,9 +16,12 @@ import statistics
 
 import numpy as np
 
+from aaeval import registries
 from aaeval.renderers import render, render_timed
 from aaeval.scenes.generate import coplanar_stack, random_triangles
 from smoke import SMOKE, smallest
+
+registries.load()  # a program fills the registries once, before it renders
 
 DEFAULT_METHODS = [
     "catmull",

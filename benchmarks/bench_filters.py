@@ -19,10 +19,13 @@ import statistics
 import time
 from pathlib import Path
 
+from aaeval import registries
 from aaeval.filters import FILTERS
 from aaeval.renderers import render_timed
 from aaeval.scenes import load_scene
 from aaeval.scenes.generate import random_triangles
+
+registries.load()  # a program fills the registries once, before it renders
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = {

@@ -35,10 +35,13 @@ from pathlib import Path
 
 import numpy as np
 
+from aaeval import registries
 from aaeval.renderers import render_timed
 from aaeval.catmull import available_cores
 from aaeval.scenes.generate import random_triangles
 from smoke import SMOKE, smallest
+
+registries.load()  # a program fills the registries once, before it renders
 
 METHODS = [
     "catmull:threads=1",

@@ -20,9 +20,12 @@ from pathlib import Path
 
 import numpy as np
 
+from aaeval import registries
 from aaeval.metrics.temporal import flicker, intensity_sum, relative_variation
 from aaeval.renderers import render, render_timed
 from aaeval.scenes import load_scene
+
+registries.load()  # a program fills the registries once, before it renders
 
 CONTENT = Path(__file__).resolve().parents[1] / "configs" / "scenes" / "content"
 SCENES = ["pangram", "icons", "map", "illustration"]

@@ -186,10 +186,9 @@ class MethodSpec(str):
         if isinstance(spec, MethodSpec) and not overrides:
             return spec
         name, raw = parse_spec(str(spec))
-        _load_builtin_methods()
         method = METHODS.get(name)
         if method is None:
-            raise MethodError(f"unknown method {name!r}; available: {', '.join(sorted(METHODS))}")
+            raise MethodError(_unknown_method(name))
         defaults = {key: opt.default for key, opt in method.options.items()}
         return cls._checked(method, defaults, {**raw, **overrides})
 
@@ -241,6 +240,13 @@ class MethodSpec(str):
     def __reduce__(self):
         # another process parses the string again (methods are functions, not data)
         return (_spec_from_text, (str(self),))
+
+
+def _unknown_method(name: str) -> str:
+    if not METHODS:  # nothing registered: the program never loaded the registries
+        return (f"unknown method {name!r}: no method is registered in this process "
+                "(call aaeval.registries.load() first)")
+    return f"unknown method {name!r}; available: {', '.join(sorted(METHODS))}"
 
 
 def _spec_from_text(text: str) -> MethodSpec | str:
@@ -591,7 +597,3 @@ def render_timed(scene: Scene, spec: str | MethodSpec, *, frame: int | None = No
     seconds = time.perf_counter() - start
     return check_image(method.name, image, scene.shape), seconds
 
-
-def _load_builtin_methods() -> None:
-    # Importing the package registers every built-in method exactly once.
-    import aaeval.renderers  # noqa: F401
