@@ -106,8 +106,8 @@ def compare(scene, specs: Sequence[str] | str, reference: str = "catmull", frame
     from aaeval.experiments.compare import plan_comparison, run_comparison
 
     registries.load()
-    specs = [specs] if isinstance(specs, str) else [str(s) for s in specs]
-    plan = plan_comparison(load_scene(scene), specs, str(reference), frames, metrics=metrics, temporal=temporal,
+    specs = [specs] if isinstance(specs, str) else list(specs)  # texts are parsed once, by the plan
+    plan = plan_comparison(load_scene(scene), specs, reference, frames, metrics=metrics, temporal=temporal,
                            repeats=repeats)
     document = run_comparison(plan)
     rows = [{**row, "method": str(row["method"])} for row in document["rows"]]

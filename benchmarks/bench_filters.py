@@ -58,7 +58,7 @@ def main() -> None:
         for _ in range(args.repeats):
             for key, spec in specs.items():
                 start = time.process_time()
-                times[key].append(render_timed(scene, spec)[1])
+                times[key].append(render_timed(scene, spec)[1][0])
                 cpu[key].append(time.process_time() - start)
         median = {key: statistics.median(t) for key, t in times.items()}
         cpu_median = {key: statistics.median(t) for key, t in cpu.items()}

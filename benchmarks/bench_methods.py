@@ -119,7 +119,7 @@ def time_scene(scene, methods, repeats, slow):
             if spec in once:
                 continue
             cpu = time.process_time()
-            _, wall = render_timed(scene, spec)
+            _, (wall,) = render_timed(scene, spec)
             timings[spec].append((wall, time.process_time() - cpu))
             if r == 0 and wall > slow:
                 once.add(spec)

@@ -84,7 +84,7 @@ def main() -> None:
         for _ in range(args.repeats):
             for m in args.methods:
                 c0 = time.process_time()
-                times[m].append((render_timed(scene, m)[1], time.process_time() - c0))
+                times[m].append((render_timed(scene, m)[1][0], time.process_time() - c0))
         base = statistics.median(w for w, _ in times[args.methods[0]])
         print(f"\n{name}: {scene.width}x{scene.height}, {len(scene.polygons)} polygons ({len(scene.holed)} with holes), "
               f"{vertices} vertices")

@@ -51,7 +51,7 @@ def main() -> None:
             render_timed(scene, spec)  # warm-up
         for r in range(args.repeats):
             for spec in specs:
-                times[spec].append(render_timed(scene, spec, frame=r % scene.frames)[1])
+                times[spec].append(render_timed(scene, spec, frame=r % scene.frames)[1][0])
         exact = np.stack([render(scene, "catmull", frame=k) for k in range(scene.frames)])
         base = statistics.median(times["catmull"])
         for spec in specs:

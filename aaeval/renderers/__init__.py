@@ -1,7 +1,7 @@
 """Rendering methods, one module per method, all in one registry.
 
 This package gives the registry (:mod:`aaeval.renderers.registry`): :data:`METHODS`,
-:func:`register_method`, :class:`MethodSpec` and :func:`render` / :func:`render_timed`.
+:func:`register_method`, :class:`MethodSpec` and :func:`render` / :func:`render_timed` / :func:`warm_up`.
 The method modules register when :func:`aaeval.registries.load` imports them (the
 command line, sweep workers and the Python API call it), not when this package is
 imported.
@@ -19,6 +19,7 @@ from aaeval.renderers.registry import (
     render,
     render_timed,
     resolve,
+    warm_up,
 )
 
 __all__ = [
@@ -33,4 +34,5 @@ __all__ = [
     "render",
     "render_timed",
     "resolve",
+    "warm_up",
 ]
