@@ -191,7 +191,7 @@ PREVIEW_METHOD = "catmull"
 
 
 def png_bytes(image: np.ndarray) -> bytes:
-    """An (H, W, 3) linear RGB image as sRGB PNG bytes (what ``_repr_png_`` returns)."""
+    """An (H, W, 3) linear RGB image as sRGB PNG bytes (what a notebook shows)."""
     import io
 
     from PIL import Image

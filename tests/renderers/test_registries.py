@@ -161,7 +161,7 @@ def test_load_fills_every_registry_once_with_the_builtins_before_the_plugins(tmp
         "from aaeval.renderers import register_method\n"
         "register_method('point', lambda scene: None, summary='a plugin taking a built-in name')\n")
     (tmp_path / "toy_count_plugin.py").write_text("CALLS = 0\ndef register():\n    global CALLS\n    CALLS += 1\n")
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[2]
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), str(root), os.environ.get("PYTHONPATH", "")])}
     done = subprocess.run([sys.executable, "-c", _FRESH_PROCESS], env=env, capture_output=True, text=True,
                           timeout=300)
