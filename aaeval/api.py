@@ -3,16 +3,21 @@
 These are the functions ``import aaeval`` exposes (lazily: importing :mod:`aaeval` loads
 none of the renderers). They are thin: each one hands its work to the piece the command
 line uses, so a number from :func:`compare` is the number ``aaeval compare`` prints for
-the same scene, methods and frames. See ``docs/python.md``.
+the same scene, methods and frames. Each one that renders, measures or reads results
+loads the registries first (:func:`aaeval.registries.load`, once per process). See
+``docs/python.md``.
 """
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import numpy as np
+
+from aaeval import registries
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -63,6 +68,7 @@ def render(scene, spec: str = "catmull", frame: int = 0) -> np.ndarray:
     """
     from aaeval.renderers import render as render_spec
 
+    registries.load()
     return render_spec(load_scene(scene), spec, frame=frame)
 
 
@@ -99,8 +105,9 @@ def compare(scene, specs: Sequence[str] | str, reference: str = "catmull", frame
 
     from aaeval.experiments.compare import plan_comparison, run_comparison
 
-    specs = [specs] if isinstance(specs, str) else [str(s) for s in specs]
-    plan = plan_comparison(load_scene(scene), specs, str(reference), frames, metrics=metrics, temporal=temporal,
+    registries.load()
+    specs = [specs] if isinstance(specs, str) else list(specs)  # texts are parsed once, by the plan
+    plan = plan_comparison(load_scene(scene), specs, reference, frames, metrics=metrics, temporal=temporal,
                            repeats=repeats)
     document = run_comparison(plan)
     rows = [{**row, "method": str(row["method"])} for row in document["rows"]]
@@ -130,6 +137,7 @@ def sweep(config, out: str | Path, **options: Any) -> Path:
     """
     from aaeval.experiments import Experiment, load_experiment, parse_experiment, run_sweep
 
+    registries.load()
     if isinstance(config, Mapping):
         config = parse_experiment(config)
     elif not isinstance(config, Experiment):
@@ -165,6 +173,7 @@ def open_sweep(folder: str | Path) -> Sweep:
     """
     from aaeval.experiments.table import read_table
 
+    registries.load()
     folder = Path(folder)
     if not (folder / "results.parquet").is_file():
         raise FileNotFoundError(f"{folder}: no results.parquet; run a sweep into it first")
@@ -182,7 +191,7 @@ PREVIEW_METHOD = "catmull"
 
 
 def png_bytes(image: np.ndarray) -> bytes:
-    """An (H, W, 3) linear RGB image as sRGB PNG bytes (what ``_repr_png_`` returns)."""
+    """An (H, W, 3) linear RGB image as sRGB PNG bytes (what a notebook shows)."""
     import io
 
     from PIL import Image
@@ -194,15 +203,24 @@ def png_bytes(image: np.ndarray) -> bytes:
     return buffer.getvalue()
 
 
-def scene_repr(scene) -> str:
-    """A one-line summary of a scene: source, size, polygon count, frames."""
-    source = scene.source if len(scene.source) <= 100 else "..." + scene.source[-97:]
-    sections = ", ".join(sorted(scene.extensions))
-    extras = f", sections: {sections if len(sections) <= 60 else sections[:57] + '...'}" if sections else ""
-    frames = f", frame {scene.frame} of {scene.frames}" if scene.frames > 1 else ""
-    return f"Scene({source!r}, {scene.width}x{scene.height}, {len(scene.polygons)} polygons{frames}{extras})"
-
-
 def scene_png(scene) -> bytes:
     """The scene at its frame rendered with :data:`PREVIEW_METHOD`, as PNG bytes."""
     return png_bytes(render(scene, PREVIEW_METHOD, frame=scene.frame))
+
+
+def show_scenes_in(shell) -> None:
+    """Make the IPython ``shell`` draw a :class:`~aaeval.scenes.Scene` as its preview
+    (:func:`scene_png`). A Scene is data and renders nothing itself; this module, above
+    the renderers, lends it the picture."""
+    formatter = shell.display_formatter.formatters["image/png"]
+    formatter.for_type_by_name("aaeval.scenes.format", "Scene", scene_png)
+
+
+def _show_scenes_in_a_running_notebook() -> None:
+    ipython = sys.modules.get("IPython")  # a notebook has it imported; a script need not
+    shell = ipython.get_ipython() if ipython is not None else None
+    if shell is not None:
+        show_scenes_in(shell)
+
+
+_show_scenes_in_a_running_notebook()

@@ -172,7 +172,7 @@ def save_image(path: str | Path, image: np.ndarray) -> Path:
 def _mitsuba():
     # Mitsuba's variant is process-global and Dr.Jit reads its libLLVM path once: import
     # it the one way aaeval does, keeping any variant already set (Bitmap works in all).
-    from aaeval.groundtruth.variant import import_mitsuba
+    from aaeval.mitsuba_variant import import_mitsuba
 
     return import_mitsuba(variant=None)
 

@@ -11,9 +11,8 @@ A package declares, in its ``pyproject.toml``::
 
 and, once installed, what it registers (``register_method``, ``register_metric``,
 ``register_specular``) is known to ``aaeval methods``, specs, sweeps and the report like a
-built-in. :func:`load_plugins` loads one group, once per process; it is called where the
-built-in registries are filled (the end of :mod:`aaeval.renderers`, of
-:mod:`aaeval.specular.methods`, and the start of the command line for metrics). A plugin
+built-in. :func:`load_plugins` loads one group, once per process; :func:`aaeval.registries.load`
+calls it for every group (:func:`load_all`) after the built-ins are registered. A plugin
 that fails to load (an import error, an exception while registering, a name registered
 twice) is named in one line on stderr and skipped; the others load. See ``docs/plugins.md``.
 
@@ -59,14 +58,16 @@ def _entry_points(group: str):
 
 
 def load_plugins(group: str) -> list[str]:
-    """Load every entry point of ``group`` (once per process); returns the names loaded."""
+    """Load every entry point of ``group`` (once per process); returns the names loaded.
+
+    The built-ins are expected registered first (:func:`aaeval.registries.load` does
+    both, in that order), so that a plugin reusing a built-in name is the one refused.
+    """
     with _lock:
         if group in _done:
             return list(_loaded.get(group, []))
         _done.add(group)  # first: a plugin importing aaeval does not load the group again
         points = sorted(_entry_points(group), key=lambda e: e.name)
-        if points:
-            _builtins_first(group)
         names: list[str] = []
         for ep in points:
             try:
@@ -83,17 +84,6 @@ def load_plugins(group: str) -> list[str]:
             _note_distribution(ep)
         _loaded[group] = names
         return list(names)
-
-
-def _builtins_first(group: str) -> None:
-    # the built-ins register before any plugin, so a plugin reusing a built-in name is the
-    # one refused (a module already being imported is returned as it is)
-    if group == "aaeval.methods":
-        import aaeval.renderers  # noqa: F401
-    elif group == "aaeval.specular":
-        import aaeval.specular.methods  # noqa: F401
-    elif group == "aaeval.metrics":
-        import aaeval.metrics.registry  # noqa: F401
 
 
 def load_all() -> None:

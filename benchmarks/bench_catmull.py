@@ -14,10 +14,13 @@ import time
 
 import numpy as np
 
+from aaeval import registries
 from aaeval.renderers import render
 from aaeval.catmull import visible_fragments
 from aaeval.scenes.generate import random_triangles
 from smoke import smallest
+
+registries.load()  # a program fills the registries once, before it renders
 
 
 def measure(scene, spec, repeats):

@@ -16,9 +16,12 @@ import time
 
 import numpy as np
 
+from aaeval import registries
 from aaeval.renderers import render
 from aaeval.scenes import parse_scene
 from aaeval.scenes.generate import random_triangles
+
+registries.load()  # a program fills the registries once, before it renders
 
 
 def star_scene(n: int = 100_000, seed: int = 1):

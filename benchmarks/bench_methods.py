@@ -35,10 +35,13 @@ from pathlib import Path
 
 import numpy as np
 
+from aaeval import registries
 from aaeval.renderers import render_timed
 from aaeval.catmull import available_cores
 from aaeval.scenes.generate import random_triangles
 from smoke import SMOKE, smallest
+
+registries.load()  # a program fills the registries once, before it renders
 
 METHODS = [
     "catmull:threads=1",
@@ -116,7 +119,7 @@ def time_scene(scene, methods, repeats, slow):
             if spec in once:
                 continue
             cpu = time.process_time()
-            _, wall = render_timed(scene, spec)
+            _, (wall,) = render_timed(scene, spec)
             timings[spec].append((wall, time.process_time() - cpu))
             if r == 0 and wall > slow:
                 once.add(spec)

@@ -24,11 +24,15 @@ from pathlib import Path
 
 import numpy as np
 
+from aaeval import registries
 from aaeval._toml import read_toml
 from aaeval.renderers import render_timed
-from aaeval.scenes.format import SceneError, parse_scene
+from aaeval.scenes.document import parse_scene
+from aaeval.scenes.format import SceneError
 from aaeval.scenes.generate import illustration_like, random_triangles
 from smoke import SMOKE, smallest
+
+registries.load()  # a program fills the registries once, before it renders
 
 CONTENT = Path(__file__).resolve().parents[1] / "configs" / "scenes" / "content"
 METHODS = ["catmull:threads=1", "weiler-atherton", "weiler-atherton:indexed=false", "skia", "blend2d"]
@@ -80,7 +84,7 @@ def main() -> None:
         for _ in range(args.repeats):
             for m in args.methods:
                 c0 = time.process_time()
-                times[m].append((render_timed(scene, m)[1], time.process_time() - c0))
+                times[m].append((render_timed(scene, m)[1][0], time.process_time() - c0))
         base = statistics.median(w for w, _ in times[args.methods[0]])
         print(f"\n{name}: {scene.width}x{scene.height}, {len(scene.polygons)} polygons ({len(scene.holed)} with holes), "
               f"{vertices} vertices")

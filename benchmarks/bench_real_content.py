@@ -20,9 +20,12 @@ from pathlib import Path
 
 import numpy as np
 
+from aaeval import registries
 from aaeval.metrics.temporal import flicker, intensity_sum, relative_variation
 from aaeval.renderers import render, render_timed
 from aaeval.scenes import load_scene
+
+registries.load()  # a program fills the registries once, before it renders
 
 CONTENT = Path(__file__).resolve().parents[1] / "configs" / "scenes" / "content"
 SCENES = ["pangram", "icons", "map", "illustration"]
@@ -48,7 +51,7 @@ def main() -> None:
             render_timed(scene, spec)  # warm-up
         for r in range(args.repeats):
             for spec in specs:
-                times[spec].append(render_timed(scene, spec, frame=r % scene.frames)[1])
+                times[spec].append(render_timed(scene, spec, frame=r % scene.frames)[1][0])
         exact = np.stack([render(scene, "catmull", frame=k) for k in range(scene.frames)])
         base = statistics.median(times["catmull"])
         for spec in specs:

@@ -20,7 +20,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from aaeval.scenes.format import SceneError, parse_scene
+from aaeval.scenes.document import parse_scene
+from aaeval.scenes.format import SceneError
 from aaeval.scenes.generate import random_triangles
 from aaeval.scenes.write import write_scene
 from smoke import smallest

@@ -24,10 +24,13 @@ import time
 
 import numpy as np
 
+from aaeval import registries
 from aaeval.renderers import render
 from aaeval.scenes.generate import random_triangles
 from aaeval.weiler_atherton import visible_arrays
 from smoke import smallest
+
+registries.load()  # a program fills the registries once, before it renders
 
 
 def interleaved(scene, specs, rounds):

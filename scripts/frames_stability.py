@@ -16,11 +16,14 @@ from pathlib import Path
 
 import numpy as np
 
+from aaeval import registries
 from aaeval.catmull import render_flat
 from aaeval.metrics import flicker, relative_variation
 from aaeval.renderers import MethodSpec, render
 from aaeval.scenes import parse_scene
 from aaeval.scenes.generate import generate_scene
+
+registries.load()  # a program fills the registries once, before it renders
 
 ROOT = Path(__file__).resolve().parents[1]
 COUNTS = (8, 16, 32, 64)

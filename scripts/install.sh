@@ -7,7 +7,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=${PYTHON:-python3}
 
-have_llvm() {  # a libLLVM >= 16 where aaeval.groundtruth.variant looks first
+have_llvm() {  # a libLLVM >= 16 where aaeval.mitsuba_variant looks first
   local f
   for f in /usr/lib/*-linux-gnu/libLLVM.so.1[6-9]* /usr/lib/*-linux-gnu/libLLVM-1[6-9]*.so* \
            /usr/lib/*-linux-gnu/libLLVM.so.[2-9][0-9]* /usr/lib/llvm-1[6-9]/lib/libLLVM*.so*; do

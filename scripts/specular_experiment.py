@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from aaeval import registries
 from aaeval.experiments.record import dumps
 from aaeval.imageio import atomic_write
 from aaeval.metrics import rmse
@@ -37,6 +38,8 @@ from aaeval.renderers import resolve
 from aaeval.scenes import load_scene
 from aaeval.groundtruth import groundtruth_phong
 from aaeval.specular.render import render_shaded, specular_aliasing_map
+
+registries.load()  # a program fills the registries once, before it renders
 
 SCENE = "configs/scenes/shaded/cylinders.toml"
 # the methods whose cross-sections are compared (the sweep config has the full list)

@@ -4,6 +4,12 @@ import os
 
 import pytest
 
+from aaeval import registries
+
+# the tests are a program: they load the registries once, first, as the command line does
+# (test modules parametrise over them when they are collected)
+registries.load()
+
 
 @pytest.fixture(autouse=True)
 def _no_fsync(request, monkeypatch):

@@ -94,9 +94,9 @@ def _one_line(message) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from aaeval.plugins import load_plugins
+    from aaeval.registries import load
 
-    load_plugins("aaeval.metrics")  # metrics of other packages (methods load with aaeval.renderers)
+    load()  # every built-in method, filter and metric, then the plugins
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

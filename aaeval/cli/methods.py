@@ -10,7 +10,8 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    from aaeval.renderers import METHODS  # importing the package registers every method
+    from aaeval.renderers import METHODS  # filled by main's aaeval.registries.load()
+
     for name in sorted(METHODS):
         m = METHODS[name]
         print(f"{name}{'  [exact]' if m.exact else ''}: {m.summary}")

@@ -46,13 +46,8 @@ def run(args) -> int:
     spec = MethodSpec.parse(args.method)  # the spec enters here: a bad one fails before any work
     scene = load_scene(args.scene)
     _check_enlargement(scene, args.scale)
-    if args.stats:  # render_s is the render alone: the spec itself is warmed up first (its kernels compiled)
-        from aaeval.experiments.measure import render_measured
-
-        image, timing = render_measured(scene, spec, args.frame)
-        seconds = timing.render_s
-    else:
-        image, seconds = render_timed(scene, spec, frame=args.frame)
+    # with --stats, render_s is the render alone: the spec itself is warmed up first (its kernels compiled)
+    image, (seconds,) = render_timed(scene, spec, frame=args.frame, rehearse=bool(args.stats))
     save_image(out, _enlarged(image, args.scale))
     if args.stats:
         stats = {

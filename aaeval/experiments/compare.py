@@ -109,7 +109,7 @@ def plan_comparison(
     reference = MethodSpec.parse(reference)  # the specs enter here, parsed once
     seen: dict[MethodSpec, str] = {}
     for text in methods:
-        spec = MethodSpec.parse(text.strip())
+        spec = MethodSpec.parse(text)  # a MethodSpec already parsed is taken as it is
         if spec in seen:
             raise ValueError(f"method {text.strip()!r} is the same as {seen[spec]!r}; give each method once")
         seen[spec] = text.strip()

@@ -395,36 +395,22 @@ def _expand_specs(methods: list[str], options: Mapping[str, Any], where: str,
     """
     shared = {k: v for k, v in options.items() if not isinstance(v, Mapping)}
     scoped = {k: v for k, v in options.items() if isinstance(v, Mapping)}
+    bases = [_base_spec(text, f"{where}.methods[{j}]") for j, text in enumerate(methods)]
+    by_name = {base.name: base.method for base, _ in bases}
+    for name, table in scoped.items():
+        if name not in by_name:
+            raise ConfigError(f"{where}.options.{name}: {name!r} is not one of this group's methods {sorted(by_name)}")
+        bad = sorted(set(table) - set(by_name[name].options))
+        if bad:
+            raise ConfigError(f"{where}.options.{name}: method {name!r} has no option(s) {bad}; "
+                              f"options: {', '.join(sorted(by_name[name].options)) or 'none'}")
     used: set[str] = set()
     specs: list[MethodSpec] = []
     given_of: dict[str, set] = {}
-    resolved = []
-    for j, spec in enumerate(methods):
-        try:
-            resolved.append((spec, MethodSpec.parse(spec).method))
-        except MethodError as exc:
-            raise ConfigError(f"{where}.methods[{j}]: {exc}") from None
-    names = {m.name for _, m in resolved}
-    for name, table in scoped.items():
-        if name not in names:
-            raise ConfigError(f"{where}.options.{name}: {name!r} is not one of this group's methods {sorted(names)}")
-        method = next(m for _, m in resolved if m.name == name)
-        bad = sorted(set(table) - set(method.options))
-        if bad:
-            raise ConfigError(f"{where}.options.{name}: method {name!r} has no option(s) {bad}; "
-                              f"options: {', '.join(sorted(method.options)) or 'none'}")
-    j_of = {spec: j for j, (spec, _) in enumerate(resolved)}
-    for spec, method in resolved:
-        j = j_of[spec]
-        given = set(parse_spec(spec)[1])
-        if "cache" in method.options and "cache" not in given:
-            # a cache hit would be timed as the render: measured cells render for real
-            spec = f"{spec}{',' if ':' in spec else ':'}cache=false"
-            j_of[spec] = j
-            given.add("cache")
-        mine = {k: v for k, v in shared.items() if k in method.options}
+    for j, (base, given) in enumerate(bases):
+        mine = {k: v for k, v in shared.items() if k in base.method.options}
         used.update(mine)
-        mine.update(scoped.get(method.name, {}))
+        mine.update(scoped.get(base.name, {}))
         axes = [k for k in sorted(mine) if k not in given]
         values = []
         for key in axes:
@@ -434,18 +420,33 @@ def _expand_specs(methods: list[str], options: Mapping[str, Any], where: str,
             values.append(vals)
         for combo in itertools.product(*values):
             try:
-                canonical = MethodSpec.parse(spec, **dict(zip(axes, combo)))
+                spec = base.with_options(**dict(zip(axes, combo)))
             except MethodError as exc:
                 raise ConfigError(f"{where}.options: {exc}") from None
-            if canonical in specs:
-                raise ConfigError(f"{where}.methods[{j_of[spec]}]: method {canonical!r} is already in this group "
+            if spec in specs:
+                raise ConfigError(f"{where}.methods[{j}]: method {spec!r} is already in this group "
                                   "(given twice, or made twice by options); give each method once")
-            specs.append(canonical)
-            given_of[canonical] = given | set(axes)
+            specs.append(spec)
+            given_of[spec] = given | set(axes)
     unused = sorted(set(shared) - used)
     if unused:
         raise ConfigError(f"{where}.options: option(s) {unused} are declared by none of the methods {methods}")
     return [(spec, given_of[spec]) for spec in specs] if with_given else specs
+
+
+def _base_spec(text: str, where: str) -> tuple[MethodSpec, set[str]]:
+    """The spec a config's text names, read once, and the option names the text set; a
+    method with a ``cache`` option renders for real unless the text says otherwise (a cache
+    hit would be timed as the render)."""
+    try:
+        name, raw = parse_spec(text)
+        spec = MethodSpec.of(name, raw)
+    except MethodError as exc:
+        raise ConfigError(f"{where}: {exc}") from None
+    given = set(raw)
+    if "cache" in spec.method.options and "cache" not in given:
+        spec, given = spec.with_options(cache=False), given | {"cache"}
+    return spec, given
 
 
 def _scenes(raw: Any, where: str, base: Path) -> tuple[SceneSource, ...]:

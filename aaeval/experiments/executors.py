@@ -11,6 +11,11 @@ Every task has a time limit: ``max_seconds`` (an experiment's ``max_seconds``), 
 environment's ``AAEVAL_MAX_SECONDS``, else :data:`MAX_SECONDS`. A local worker that dies
 or runs past it is replaced and the other tasks go on.
 
+Every worker loads the registries (:func:`aaeval.registries.load`) before its first task:
+a local worker when it starts, a Dask worker when it joins the cluster (a setup callback),
+so the method specs its tasks carry are parsed against the same methods and plugins as in
+the sweep's process.
+
 An interrupt (Ctrl-C, or SIGTERM/SIGHUP, which the command line turns into one) ends the
 workers before it goes on: none outlives the sweep. Local workers also watch their parent
 and exit when it is gone, so even a ``kill -9`` of the sweep leaves no orphan computing.
@@ -28,6 +33,8 @@ from collections import deque
 from contextlib import contextmanager as contextlib_contextmanager
 from multiprocessing.connection import wait as wait_ready
 from typing import Any, Callable, Iterator, Sequence
+
+from aaeval import registries
 
 __all__ = ["SerialExecutor", "ProcessExecutor", "DaskExecutor", "SchedulerLost", "WorkerDied", "TaskTimedOut",
            "connect", "make_executor", "close_quietly", "task_limit", "MAX_SECONDS", "retried_error"]
@@ -148,6 +155,7 @@ def _worker_main(conn, parent: int) -> None:
     # Ctrl-C reaches the whole process group: the sweep decides, and ends its workers itself
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     _exit_with_parent(parent)
+    registries.load()  # before the first message: its specs are parsed as it is received
     while True:
         try:
             message = conn.recv()
@@ -389,6 +397,8 @@ class DaskExecutor:
         self.max_seconds = task_limit(max_seconds)
         self._own = not isinstance(address, Client)
         self.client = connect(address)
+        # every worker, and any that joins later, loads the registries before its first task
+        self.client.register_worker_callbacks(setup=registries.load)
         self.address = self.client.scheduler.address
         self.started_with = self._live_workers()
         self.workers = max(1, self.started_with)

@@ -5,11 +5,10 @@ temporal table (:mod:`aaeval.experiments.table`) and the specular study all meas
 through these functions, so the same scene, method and frame give the same numbers
 wherever they are measured:
 
-- :func:`warm_up`: one untimed render of exactly the spec to be timed (every option: the
-  filter, the specular method, k, spp: each may compile its own kernels) at this image
-  size, once per process;
-- :func:`render_measured`: :func:`warm_up`, then ``repeats`` timed renders (sweep cells,
-  ``aaeval render --stats``, the speed pass);
+- :func:`render_measured`: one untimed render of exactly the spec to be timed (every
+  option: the filter, the specular method, k, spp: each may compile its own kernels) at
+  this image size, once per process (:func:`aaeval.renderers.registry.warm_up`), then
+  ``repeats`` timed renders (sweep cells);
 - :func:`render_reference`: the reference image and, for a seeded reference, its noise;
 - :func:`frame_metrics`: every per-frame metric asked, each with the mask it declares;
 - :func:`series_metrics`: every temporal metric asked over all frames of an animation;
@@ -42,7 +41,7 @@ from aaeval.metrics import (
 if TYPE_CHECKING:
     from aaeval.renderers.registry import MethodSpec
 
-__all__ = ["Timing", "FrameMeasurement", "SceneCache", "warm_up", "render_measured", "render_reference",
+__all__ = ["Timing", "FrameMeasurement", "SceneCache", "render_measured", "render_reference",
            "reference_kind", "noise_spec", "frame_metrics", "series_metrics", "measure_frame",
            "check_image_metrics", "check_temporal_metrics"]
 
@@ -126,43 +125,14 @@ class SceneCache:
 #: This process's scene cache (each worker process has its own).
 SCENES = SceneCache()
 
-_WARMED: set[tuple] = set()
-
-
-def warm_up(scene, spec: MethodSpec, frame: int = 0) -> bool:
-    """One untimed render of ``spec`` on ``scene`` the first time this process meets (spec,
-    width, height, shaded or flat); True if it rendered.
-
-    The spec is rendered as it will be timed, every option included: a method's own
-    warm-up (:attr:`Method.warmup`) compiles its default path only (catmull's box filter),
-    while ``catmull:filter=tent`` or ``catmull:specular=crow`` compile kernels of their
-    own, and Dr.Jit compiles per sample count and image size.
-    """
-    from aaeval.renderers import render
-    from aaeval.scenes.shaded import has_shaded
-
-    key = (spec, scene.width, scene.height, has_shaded(scene))
-    if key in _WARMED:
-        return False
-    render(scene, spec, frame=frame)
-    _WARMED.add(key)
-    return True
-
-
 def render_measured(scene, spec: MethodSpec, frame: int, repeats: int = 1) -> tuple[np.ndarray, Timing]:
-    """Render ``scene`` at ``frame`` with ``spec``: :func:`warm_up`, then ``repeats`` timed renders.
-
-    The image returned is the last timed render's.
+    """Render ``scene`` at ``frame`` with ``spec``: the spec itself untimed once per process
+    and image size (:func:`aaeval.renderers.registry.warm_up`), then ``repeats`` timed
+    renders, one budget check for all. The image returned is the last timed render's.
     """
     from aaeval.renderers import render_timed
 
-    if not (isinstance(repeats, int) and repeats >= 1):
-        raise ValueError(f"repeats must be a whole number >= 1, got {repeats!r}")
-    warm_up(scene, spec, frame)
-    seconds = []
-    for _ in range(repeats):
-        image, s = render_timed(scene, spec, frame=frame)
-        seconds.append(s)
+    image, seconds = render_timed(scene, spec, frame=frame, repeats=repeats, rehearse=True)
     return image, Timing.of(seconds)
 
 
@@ -214,7 +184,7 @@ def render_reference(scene, spec: MethodSpec | str, frame: int, *, estimate_nois
     from aaeval.renderers import MethodSpec, render_timed
 
     spec = MethodSpec.parse(spec)
-    image, seconds = render_timed(scene, spec, frame=frame)
+    image, (seconds,) = render_timed(scene, spec, frame=frame)
     exact = reference_kind(spec) == "exact"
     noise = 0.0 if exact else math.nan
     bound = exact_shading_bound(scene, spec, frame)

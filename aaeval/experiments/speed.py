@@ -3,7 +3,7 @@
 Accuracy cells may run on several workers at once, so their times say how busy the machine
 was. The speed pass runs after them, in the sweep's own process (one worker), with a stated
 number of threads: for every ``[[speed]]`` table of the config and every scene of it, each
-method spec is warmed up (:func:`aaeval.experiments.measure.warm_up`: the spec itself,
+method spec is warmed up (:func:`aaeval.renderers.registry.warm_up`: the spec itself,
 untimed), then timed ``repeats`` times in interleaved rounds (the methods take turns inside
 each round, the order rotating), as ``benchmarks/bench_methods.py`` does, so a machine
 shared with other work disturbs them alike.
@@ -58,8 +58,7 @@ def accuracy_spec(spec: MethodSpec) -> MethodSpec:
 
 
 def _time_table(index: int, speed: SpeedPass, log) -> list[dict]:
-    from aaeval.experiments.measure import warm_up
-    from aaeval.renderers import render_timed
+    from aaeval.renderers import render_timed, warm_up
 
     rows = []
 
@@ -77,7 +76,7 @@ def _time_table(index: int, speed: SpeedPass, log) -> list[dict]:
         specs, failed = [], {}
         for spec in speed.specs:
             try:
-                warm_up(scene, spec, 0)
+                warm_up(scene, spec, frame=0)
                 specs.append(spec)
             except Exception as exc:  # noqa: BLE001 - a method that cannot render this scene is left out
                 failed[spec] = f"{type(exc).__name__}: {exc}"
@@ -86,7 +85,7 @@ def _time_table(index: int, speed: SpeedPass, log) -> list[dict]:
         for r in range(speed.repeats):
             order = specs[r % len(specs):] + specs[:r % len(specs)] if specs else []
             for spec in order:
-                _, seconds = render_timed(scene, spec, frame=0)
+                _, (seconds,) = render_timed(scene, spec, frame=0)
                 rows.append(row(src, scene, spec, r, seconds))
         for spec, error in failed.items():
             rows.append(row(src, scene, spec, -1, math.nan, error))

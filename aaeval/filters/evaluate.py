@@ -4,7 +4,8 @@ The one evaluation of ``k(t)`` is native (``src/samplers``, bound as
 ``aaeval.native.samplers.profile_array``, the samplers' own splat weight): box ``|t| <= 1/2``
 (Mitsuba's box is closed), the Gaussian, or the polynomial piece of ``t`` by Horner in the
 piece's local variable. :meth:`PixelFilter.profile` and the sampling baselines both call
-it; a filter reaches it as the tuple :func:`profile_args` returns.
+it; a filter reaches it as the tuple
+:func:`aaeval.filters.registry.profile_args` returns.
 """
 
 from __future__ import annotations
@@ -12,16 +13,8 @@ from __future__ import annotations
 import numpy as np
 
 from aaeval.native.samplers import profile_array as _profile_array
-from aaeval.filters.registry import KIND_GAUSSIAN
 
-__all__ = ["profile_at", "profile_array", "profile_args"]
-
-
-def profile_args(filt) -> tuple:
-    """``(kind, radius, pieces, alpha, bias)`` of a :class:`~aaeval.filters.PixelFilter` for :func:`profile_at`."""
-    alpha, bias = filt.gaussian_alpha_bias if filt.kind == KIND_GAUSSIAN else (0.0, 0.0)
-    pieces = np.ascontiguousarray(filt.pieces if filt.pieces.size else np.zeros((1, 1)), dtype=np.float64)
-    return filt.kind, float(filt.radius), pieces, alpha, bias
+__all__ = ["profile_at", "profile_array"]
 
 
 def profile_array(kind, radius, pieces, alpha, bias, t) -> np.ndarray:

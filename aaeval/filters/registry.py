@@ -25,6 +25,7 @@ from typing import Mapping
 import numpy as np
 from numpy.polynomial import Polynomial
 
+from aaeval.filters.evaluate import profile_array
 from aaeval.options import Registry
 
 __all__ = [
@@ -38,6 +39,7 @@ __all__ = [
     "filter_names",
     "get_filter",
     "axis_weights",
+    "profile_args",
 ]
 
 KIND_BOX = 0
@@ -92,8 +94,6 @@ class PixelFilter:
 
     def profile(self, t) -> np.ndarray:
         """The 1D profile ``k(t)`` (vectorised; :func:`aaeval.filters.evaluate.profile_at`)."""
-        from aaeval.filters.evaluate import profile_args, profile_array
-
         t = np.asarray(t, dtype=np.float64)
         return profile_array(*profile_args(self), np.ascontiguousarray(t.ravel())).reshape(t.shape)
 
@@ -121,6 +121,14 @@ class PixelFilter:
         before = np.concatenate([[0.0], np.cumsum(whole)])
         total = before[p + r] + _piece_integral(self.pieces[p + r], -0.5, tc - (p + 0.5))
         return total
+
+
+def profile_args(filt: PixelFilter) -> tuple:
+    """``(kind, radius, pieces, alpha, bias)`` of ``filt``: what the native profile
+    (:func:`aaeval.filters.evaluate.profile_at`) and the samplers' splat take."""
+    alpha, bias = filt.gaussian_alpha_bias if filt.kind == KIND_GAUSSIAN else (0.0, 0.0)
+    pieces = np.ascontiguousarray(filt.pieces if filt.pieces.size else np.zeros((1, 1)), dtype=np.float64)
+    return filt.kind, float(filt.radius), pieces, alpha, bias
 
 
 def _erf(x):

@@ -1,6 +1,6 @@
 """Ground truth no one here wrote: Mitsuba 3 at high samples per pixel, box filter.
 
-- :mod:`aaeval.groundtruth.variant`: which Mitsuba variant runs here (CUDA, LLVM with a
+- :mod:`aaeval.mitsuba_variant`: which Mitsuba variant runs here (CUDA, LLVM with a
   libLLVM >= 16 found automatically, else scalar), :func:`import_mitsuba`;
 - :mod:`aaeval.groundtruth.flat`: the scene as Mitsuba triangles, camera and film, and
   the flat-colour ground truth :func:`render_mitsuba`;
@@ -26,7 +26,7 @@ from aaeval.groundtruth.cache import (
 )
 from aaeval.groundtruth.flat import DEFAULT_SAMPLER, DEFAULT_SPP, SAMPLERS, render_mitsuba
 from aaeval.groundtruth.phong import render_mitsuba_phong
-from aaeval.groundtruth.variant import import_mitsuba, select_variant
+from aaeval.mitsuba_variant import import_mitsuba, select_variant
 
 __all__ = [
     "DEFAULT_SAMPLER",

@@ -30,7 +30,7 @@ from typing import NamedTuple
 import numpy as np
 
 from aaeval.native import catmull as _catmull
-from aaeval.groundtruth.variant import import_mitsuba
+from aaeval.mitsuba_variant import import_mitsuba
 from aaeval.scenes import Scene
 from aaeval.scenes.depth import depth_tolerance
 from aaeval.scenes.holes import ring_area
@@ -231,7 +231,7 @@ def scene_mesh(scene: Scene, triangles: Triangles | None = None, *, bsdf: dict |
     Each face carries the attribute ``face_color`` (its polygon's colour, the background
     colour for the quad), read by the default BSDF ``diffuse`` with a ``mesh_attribute``
     reflectance; pass ``bsdf`` (a ``load_dict`` dictionary) to shade differently. Needs
-    a variant already set (:func:`~aaeval.groundtruth.variant.import_mitsuba`).
+    a variant already set (:func:`~aaeval.mitsuba_variant.import_mitsuba`).
     """
     import mitsuba as mi
 

@@ -32,7 +32,7 @@ from aaeval.groundtruth.flat import (
     render_in_bands,
     triangulate_scene,
 )
-from aaeval.groundtruth.variant import import_mitsuba
+from aaeval.mitsuba_variant import import_mitsuba
 from aaeval.scenes import Scene
 from aaeval.scenes.shaded import expand_shaded
 

@@ -1,8 +1,10 @@
 """Rendering methods, one module per method, all in one registry.
 
-Importing this package registers every built-in method. Use :func:`render` with a spec
-(a :class:`MethodSpec`, or a string: ``"catmull"``, ``"supersample:k=4"``) or look methods up in
-:data:`METHODS`.
+This package gives the registry (:mod:`aaeval.renderers.registry`): :data:`METHODS`,
+:func:`register_method`, :class:`MethodSpec` and :func:`render` / :func:`render_timed` / :func:`warm_up`.
+The method modules register when :func:`aaeval.registries.load` imports them (the
+command line, sweep workers and the Python API call it), not when this package is
+imported.
 """
 
 from aaeval.renderers.registry import (
@@ -17,23 +19,8 @@ from aaeval.renderers.registry import (
     render,
     render_timed,
     resolve,
+    warm_up,
 )
-
-# one import per method module; each registers its methods
-from aaeval.renderers import catmull  # noqa: E402,F401
-from aaeval.renderers import point  # noqa: E402,F401
-from aaeval.renderers import supersample  # noqa: E402,F401
-from aaeval.renderers import jitter  # noqa: E402,F401
-from aaeval.renderers import abuffer  # noqa: E402,F401
-from aaeval.renderers import skia_painter  # noqa: E402,F401
-from aaeval.renderers import blend2d_painter  # noqa: E402,F401
-from aaeval.renderers import mitsuba  # noqa: E402,F401
-from aaeval.renderers import weiler_atherton  # noqa: E402,F401
-from aaeval.renderers import freetype  # noqa: E402,F401
-from aaeval.renderers import resvg  # noqa: E402,F401
-from aaeval.renderers import msaa  # noqa: E402,F401
-from aaeval.renderers import fxaa  # noqa: E402,F401
-from aaeval.renderers import taa  # noqa: E402,F401
 
 __all__ = [
     "METHODS",
@@ -47,11 +34,5 @@ __all__ = [
     "render",
     "render_timed",
     "resolve",
+    "warm_up",
 ]
-
-# methods from other packages (entry points "aaeval.methods"), after the built-ins; metric
-# plugins too, so that every process that renders (sweep workers included) knows them
-from aaeval.plugins import load_plugins  # noqa: E402
-
-load_plugins("aaeval.methods")
-load_plugins("aaeval.metrics")

@@ -22,7 +22,7 @@ import numpy as np
 
 from aaeval.native.samplers import sample_image
 from aaeval.filters import get_filter
-from aaeval.filters.evaluate import profile_args
+from aaeval.filters.registry import profile_args
 from aaeval.catmull import kernel_inputs
 from aaeval.scenes import Scene
 

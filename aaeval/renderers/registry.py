@@ -30,6 +30,7 @@ import numpy as np
 
 from aaeval.options import Option, OptionError, Registry
 from aaeval.scenes import Scene
+from aaeval.scenes.shaded import has_shaded
 
 __all__ = [
     "METHODS",
@@ -46,6 +47,7 @@ __all__ = [
     "resolve",
     "render",
     "render_timed",
+    "warm_up",
     "required_table",
     "check_budget",
     "available_memory",
@@ -186,12 +188,17 @@ class MethodSpec(str):
         if isinstance(spec, MethodSpec) and not overrides:
             return spec
         name, raw = parse_spec(str(spec))
-        _load_builtin_methods()
+        return cls.of(name, {**raw, **overrides})
+
+    @classmethod
+    def of(cls, name: str, options: Mapping[str, Any]) -> "MethodSpec":
+        """The spec of method ``name`` with ``options`` set (raw strings from a spec's text,
+        as :func:`parse_spec` splits it, or values), checked as :meth:`parse` checks them."""
         method = METHODS.get(name)
         if method is None:
-            raise MethodError(f"unknown method {name!r}; available: {', '.join(sorted(METHODS))}")
+            raise MethodError(_unknown_method(name))
         defaults = {key: opt.default for key, opt in method.options.items()}
-        return cls._checked(method, defaults, {**raw, **overrides})
+        return cls._checked(method, defaults, options)
 
     @classmethod
     def _checked(cls, method: Method, base: Mapping[str, Any], raw: Mapping[str, Any]) -> "MethodSpec":
@@ -243,6 +250,13 @@ class MethodSpec(str):
         return (_spec_from_text, (str(self),))
 
 
+def _unknown_method(name: str) -> str:
+    if not METHODS:  # nothing registered: the program never loaded the registries
+        return (f"unknown method {name!r}: no method is registered in this process "
+                "(call aaeval.registries.load() first)")
+    return f"unknown method {name!r}; available: {', '.join(sorted(METHODS))}"
+
+
 def _spec_from_text(text: str) -> MethodSpec | str:
     """A spec unpickled in another process: parsed there, or left a string when that
     process does not know the method (a worker without a plugin), so that the task that
@@ -275,7 +289,7 @@ def resolve(spec: str, **overrides: Any) -> tuple[Method, dict[str, Any]]:
 
 def format_spec(name: str, options: Mapping[str, Any]) -> str:
     """Canonical spec string of method ``name`` with ``options``: the :class:`MethodSpec`'s."""
-    return MethodSpec.parse(name, **options)
+    return MethodSpec.of(name, options)
 
 
 def available_memory() -> int:
@@ -517,12 +531,6 @@ def check_budget(scene: Scene, method: Method, options: Mapping[str, Any]) -> No
                           f"over the limit of {limit_s:.3g} s (AAEVAL_MAX_SECONDS raises it)")
 
 
-def render(scene: Scene, spec: str | MethodSpec, *, frame: int | None = None) -> np.ndarray:
-    """Render ``scene`` (at ``frame`` if given) with the method ``spec`` names (a
-    :class:`MethodSpec`, or a string parsed here); the image of :func:`render_timed`."""
-    return render_timed(scene, spec, frame=frame)[0]
-
-
 class MethodFailure(MethodError):
     """A method that raised, or returned something that is not an image of its scene: one
     line naming the method and the rule (an input error of the plugin, exit 2 from the CLI;
@@ -560,27 +568,90 @@ def check_image(name: str, image, shape: tuple[int, int, int]) -> np.ndarray:
     return image
 
 
-_warmed: set[str] = set()
+# The one warm-up cache of this process: a method's name once its own warm-up
+# (``Method.warmup``) ran, and (spec, width, height, shaded) once that spec was rendered
+# untimed at that size (:func:`warm_up`).
+_warmed: set = set()
 
 
-def render_timed(scene: Scene, spec: str | MethodSpec, *, frame: int | None = None) -> tuple[np.ndarray, float]:
-    """Render and return ``(image, seconds)``; JIT compilation and the budget check are
-    done before the clock starts, the result's checks (:func:`check_image`) after it stops."""
+def render(scene: Scene, spec: str | MethodSpec, *, frame: int | None = None) -> np.ndarray:
+    """Render ``scene`` (at ``frame`` if given) with the method ``spec`` names (a
+    :class:`MethodSpec`, or a string parsed here): the image of :func:`render_timed`."""
+    return render_timed(scene, spec, frame=frame)[0]
+
+
+def render_timed(scene: Scene, spec: str | MethodSpec, *, frame: int | None = None, repeats: int = 1,
+                 rehearse: bool = False) -> tuple[np.ndarray, list[float]]:
+    """Render ``repeats`` times, each timed; return the last image and every render's seconds.
+
+    The budget is checked once, before anything runs (:func:`check_budget`: a refusal
+    costs nothing). Then the warm-up, untimed and once per process: the method's own
+    (:attr:`Method.warmup`), or with ``rehearse`` the spec itself at this image size
+    (:func:`warm_up`; a method's warm-up compiles its default path only, while
+    ``catmull:filter=tent`` compiles kernels of its own). Each image is checked
+    (:func:`check_image`) after its clock stops.
+    """
+    if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
+        raise ValueError(f"repeats must be a whole number >= 1, got {repeats!r}")
     spec = MethodSpec.parse(spec)
-    method, options = spec.method, spec.options
     if frame is not None:
         scene = scene.at_frame(frame)
-    check_budget(scene, method, options)  # before the warm-up: a refusal costs nothing
-    if method.name not in _warmed:
-        if method.warmup is not None:
-            try:
-                method.warmup()
-            except (Exception, RecursionError, SystemExit, GeneratorExit) as exc:  # noqa: BLE001
-                raise MethodFailure(f"method {method.name!r} failed in its warm-up: {_first_line(exc)}") from None
-        _warmed.add(method.name)
+    check_budget(scene, spec.method, spec.options)
+    if rehearse:
+        _rehearse(scene, spec)
+    else:
+        _warm_method(spec.method)
+    seconds = []
+    for _ in range(repeats):
+        image, elapsed = _timed(scene, spec)
+        seconds.append(elapsed)
+    return image, seconds
+
+
+def warm_up(scene: Scene, spec: str | MethodSpec, *, frame: int | None = None) -> bool:
+    """One untimed render of ``spec`` on ``scene`` the first time this process meets (spec,
+    width, height, shaded or flat), after the budget check; True if it rendered.
+
+    The spec is rendered as it will be timed, every option included: Dr.Jit compiles per
+    sample count and image size, and options such as ``filter=tent`` or
+    ``specular=crow`` compile kernels of their own.
+    """
+    spec = MethodSpec.parse(spec)
+    if frame is not None:
+        scene = scene.at_frame(frame)
+    check_budget(scene, spec.method, spec.options)
+    return _rehearse(scene, spec)
+
+
+def _rehearse(scene: Scene, spec: MethodSpec) -> bool:
+    """:func:`warm_up` past its budget check."""
+    key = (str(spec), scene.width, scene.height, has_shaded(scene))
+    if key in _warmed:
+        return False
+    _warm_method(spec.method)
+    _timed(scene, spec)
+    _warmed.add(key)
+    return True
+
+
+def _warm_method(method: Method) -> None:
+    """The method's own warm-up, once per process."""
+    if method.name in _warmed:
+        return
+    if method.warmup is not None:
+        try:
+            method.warmup()
+        except (Exception, RecursionError, SystemExit, GeneratorExit) as exc:  # noqa: BLE001
+            raise MethodFailure(f"method {method.name!r} failed in its warm-up: {_first_line(exc)}") from None
+    _warmed.add(method.name)
+
+
+def _timed(scene: Scene, spec: MethodSpec) -> tuple[np.ndarray, float]:
+    """One render and its seconds (the method's call alone); the image checked after."""
+    method = spec.method
     start = time.perf_counter()
     try:
-        image = method.render(scene, **dict(options))
+        image = method.render(scene, **dict(spec.options))
     except ValueError:  # a method's own input error (an option the scene cannot take): one line already
         raise
     # a method's sys.exit() or a stray GeneratorExit is its failure too, not the command's
@@ -590,8 +661,3 @@ def render_timed(scene: Scene, spec: str | MethodSpec, *, frame: int | None = No
         raise MethodFailure(f"method {method.name!r} failed: {_first_line(exc)}") from None
     seconds = time.perf_counter() - start
     return check_image(method.name, image, scene.shape), seconds
-
-
-def _load_builtin_methods() -> None:
-    # Importing the package registers every built-in method exactly once.
-    import aaeval.renderers  # noqa: F401

@@ -35,7 +35,7 @@ from __future__ import annotations
 import numpy as np
 
 from aaeval.filters import DEFAULT_FILTER, get_filter
-from aaeval.filters.evaluate import profile_args
+from aaeval.filters.registry import profile_args
 from aaeval.native.samplers import sample_image
 from aaeval.catmull import kernel_inputs
 from aaeval.scenes import Scene, parse_scene

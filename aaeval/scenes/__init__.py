@@ -5,11 +5,10 @@ from aaeval.scenes.format import (
     PolygonArrays,
     Scene,
     SceneError,
-    load_scene,
     newell_normal,
-    parse_scene,
     register_section,
 )
+from aaeval.scenes.document import load_scene, parse_scene
 
 from aaeval.scenes.holes import HoledPolygon  # noqa: E402
 

@@ -1,10 +1,12 @@
-"""The polygon scene format (``docs/scene_format.md``): parsing and validation.
+"""The polygon scene format (``docs/scene_format.md``): the scene, its polygons and their rules.
 
 A scene file is TOML. Its core keys are ``[image]``, ``[animation]`` and
 ``[[polygons]]``; other top-level tables are extensions, each parsed by a function
-registered with :func:`register_section`. Every rule is checked before anything is
-rendered, and a broken file raises :class:`SceneError` naming the file, the polygon
-and the rule.
+registered with :func:`register_section`. This module holds the :class:`Scene`, the
+polygon and its checks; :mod:`aaeval.scenes.document` reads a whole document with them
+(and with :mod:`aaeval.scenes.holes`, which builds on them). Every rule is checked before
+anything is rendered, and a broken file raises :class:`SceneError` naming the file, the
+polygon and the rule.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
-from aaeval._toml import collector_paused, read_toml, refuse_unknown_keys
+from aaeval._toml import refuse_unknown_keys
 from aaeval.options import Registry
 from aaeval.scenes.simplicity import ring_contact
 
@@ -27,8 +29,6 @@ __all__ = [
     "PolygonArrays",
     "Scene",
     "SceneError",
-    "load_scene",
-    "parse_scene",
     "register_section",
     "SECTIONS",
     "Section",
@@ -160,16 +160,14 @@ class Scene:
     def shape(self) -> tuple[int, int, int]:
         return (self.height, self.width, 3)
 
-    def __repr__(self) -> str:  # short: the dataclass repr would print every vertex
-        from aaeval.api import scene_repr
-
-        return scene_repr(self)
-
-    def _repr_png_(self) -> bytes:
-        """The scene rendered (exact box filter) for Jupyter."""
-        from aaeval.api import scene_png
-
-        return scene_png(self)
+    def __repr__(self) -> str:
+        """One short line (the dataclass repr would print every vertex): source, size,
+        polygon count, frames, sections."""
+        source = self.source if len(self.source) <= 100 else "..." + self.source[-97:]
+        sections = ", ".join(sorted(self.extensions))
+        extras = f", sections: {sections if len(sections) <= 60 else sections[:57] + '...'}" if sections else ""
+        frames = f", frame {self.frame} of {self.frames}" if self.frames > 1 else ""
+        return f"Scene({source!r}, {self.width}x{self.height}, {len(self.polygons)} polygons{frames}{extras})"
 
 
 def _translated(arrays: PolygonArrays, shift: np.ndarray) -> PolygonArrays:
@@ -191,7 +189,7 @@ class Section:
 
 #: The extension tables of the scene format, by top-level key (:func:`register_section`).
 SECTIONS: Registry = Registry("scene section")
-_CORE_KEYS = {"image", "animation", "polygons"}
+CORE_KEYS = {"image", "animation", "polygons"}
 
 
 def register_section(
@@ -208,7 +206,7 @@ def register_section(
     from ``scene.extensions[name]``; ``translate(parsed, shift)`` moves it by a frame's
     translation.
     """
-    if name in _CORE_KEYS:
+    if name in CORE_KEYS:
         raise ValueError(f"{name!r} is a core key of the scene format")
 
     def decorate(func):
@@ -218,101 +216,12 @@ def register_section(
     return decorate if parse is None else decorate(parse)
 
 
-def load_scene(path: str | Path) -> Scene:
-    """Read and validate a scene file.
-
-    Raises
-    ------
-    SceneError
-        The file is missing, is not TOML, or breaks a rule of the format.
-    """
-    with collector_paused():  # a large scene's document holds no cycle (aaeval._toml)
-        document, _ = read_toml(path, SceneError, "scene file")
-        try:
-            return parse_scene(document, source=str(path))
-        finally:
-            del document  # freed now, before the collector is back: it never walks the document
-
-
-def parse_scene(document: Mapping[str, Any], *, source: str = "<scene>") -> Scene:
-    """Validate a scene given as a dictionary (the parsed TOML)."""
-    if not isinstance(document, Mapping):
-        raise SceneError(f"{source}: a scene is a table of keys, got {type(document).__name__}")
-    unknown = sorted(set(document) - _CORE_KEYS - set(SECTIONS))
-    if unknown:
-        known = ", ".join(sorted(_CORE_KEYS | set(SECTIONS)))
-        raise SceneError(f"{source}: unknown top-level key(s) {unknown}; known keys: {known}")
-
-    image = _table(document, "image", source, required=True)
-    _no_unknown(image, {"width", "height", "background"}, f"{source}: [image]")
-    width = _positive_int(image, "width", f"{source}: [image]")
-    height = _positive_int(image, "height", f"{source}: [image]")
-    if width * height > MAX_PIXELS:
-        raise SceneError(f"{source}: [image] {width}x{height} is over the limit of {MAX_PIXELS} pixels")
-    background = rgb(image.get("background", [0.0, 0.0, 0.0]), f"{source}: [image].background")
-
-    animation = _table(document, "animation", source, required=False)
-    _no_unknown(animation, {"frames", "translate", "phases", "seed"}, f"{source}: [animation]")
-    frames = _positive_int(animation, "frames", f"{source}: [animation]") if "frames" in animation else 1
-    translate = vector(animation.get("translate", [0.0, 0.0]), 2, f"{source}: [animation].translate")
-    phases, phase_seed = _phases(animation, f"{source}: [animation]")
-
-    raw_polygons = document.get("polygons", [])
-    if not isinstance(raw_polygons, list):
-        raise SceneError(f"{source}: 'polygons' must be an array of tables ([[polygons]])")
-    from aaeval.scenes.holes import polygons_with_holes  # builds on this module's checks
-
-    polygons, holed = polygons_with_holes(raw_polygons, source)
-    # phase offsets stay below 1 px: one more pixel of reach covers them
-    _check_animation_range(polygons, frames, translate, f"{source}: [animation]", extra=phases != "none")
-
-    extensions = {
-        name: SECTIONS[name].parse(document[name], f"{source}: [{name}]", dict(document))
-        for name in document
-        if name in SECTIONS
-    }
-    return Scene(
-        width=width,
-        height=height,
-        background=background,
-        polygons=polygons,
-        frames=frames,
-        translate=translate,
-        source=source,
-        phases=phases,
-        phase_seed=phase_seed,
-        extensions=extensions,
-        holed=holed,
-    )
-
-
 # --- checks -----------------------------------------------------------------------
 
 
-def _table(document: Mapping, key: str, source: str, *, required: bool) -> Mapping:
-    if key not in document:
-        if required:
-            raise SceneError(f"{source}: missing required table [{key}]")
-        return {}
-    value = document[key]
-    if not isinstance(value, Mapping):
-        raise SceneError(f"{source}: [{key}] must be a table, got {type(value).__name__}")
-    return value
-
-
-def _no_unknown(table: Mapping, allowed: set[str], where: str) -> None:
+def no_unknown(table: Mapping, allowed: set[str], where: str) -> None:
+    """Refuse, naming ``where``, any key of ``table`` not in ``allowed``."""
     refuse_unknown_keys(table, allowed, where, SceneError)
-
-
-def _positive_int(table: Mapping, key: str, where: str) -> int:
-    if key not in table:
-        raise SceneError(f"{where}: missing required key '{key}'")
-    value = table[key]
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise SceneError(f"{where}: '{key}' must be an integer, got {value!r}")
-    if value < 1:
-        raise SceneError(f"{where}: '{key}' must be >= 1, got {value}")
-    return value
 
 
 def number(value: Any, where: str) -> float:
@@ -339,42 +248,12 @@ def rgb(value: Any, where: str) -> np.ndarray:
     return colour
 
 
-def _phases(animation: Mapping, where: str) -> tuple[str, int]:
-    """``phases`` (one of :data:`aaeval.scenes.phases.PHASES`, default "none") and its ``seed``."""
-    from aaeval.scenes.phases import PHASES
-
-    phases = animation.get("phases", "none")
-    if not isinstance(phases, str) or phases not in PHASES:
-        raise SceneError(f"{where}.phases: expected one of {', '.join(repr(p) for p in PHASES)}, got {phases!r}")
-    if "seed" not in animation:
-        return phases, 0
-    seed = animation["seed"]
-    if phases != "random":
-        raise SceneError(f"{where}.seed: only phases = \"random\" takes a seed (phases is {phases!r})")
-    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**63:
-        raise SceneError(f"{where}.seed: expected a whole number in [0, 2**63), got {seed!r}")
-    return phases, seed
-
-
-def _check_animation_range(polygons, frames: int, translate: np.ndarray, where: str, extra: bool = False) -> None:
-    """Refuse an animation that moves a vertex beyond the coordinate limit (or to infinity)."""
-    if frames < 2 or not (translate.any() or extra) or not polygons:
-        return
-    reach = max(float(np.abs(p.vertices[:, :2]).max()) for p in polygons) + (1.0 if extra else 0.0)
-    last = frames - 1
-    with np.errstate(over="ignore"):
-        moved = reach + last * float(np.abs(translate).max())
-    if not moved <= MAX_COORDINATE:  # also catches inf
-        raise SceneError(f"{where}: frame {last} moves vertices to {moved:.3g}, beyond +-{MAX_COORDINATE:g} "
-                         "(translate x frames too large)")
-
-
 def parse_polygon(raw: Any, i: int, source: str) -> Polygon:
     """Polygon ``i`` of ``source`` from its raw table, every rule of its outer ring checked."""
     where = f"{source}: polygons[{i}]"
     if not isinstance(raw, Mapping):
         raise SceneError(f"{where}: must be a table with 'color' and 'vertices'")
-    _no_unknown(raw, {"color", "vertices", "holes"}, where)
+    no_unknown(raw, {"color", "vertices", "holes"}, where)
     for key in ("color", "vertices"):
         if key not in raw:
             raise SceneError(f"{where}: missing required key '{key}'")

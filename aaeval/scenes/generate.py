@@ -2,7 +2,7 @@
 
 - Builders (:func:`fan`, :func:`slivers`, :func:`picket_fence`, :func:`random_triangles`,
   :func:`random_polygons`) build a scene as the dictionary a TOML file would parse to and
-  hand it to :func:`~aaeval.scenes.format.parse_scene`, so what they return has passed
+  hand it to :func:`~aaeval.scenes.document.parse_scene`, so what they return has passed
   the same validation as a file.
 - Generators (:data:`GENERATORS`, :func:`register_generator`, :func:`generate_scene`):
   scenes built from one *difficulty* value, which sweeps (``generator = "fan"`` in an
@@ -26,7 +26,8 @@ from typing import Any, Callable, Mapping
 import numpy as np
 
 from aaeval.options import Option, Registry
-from aaeval.scenes.format import Scene, SceneError, parse_scene
+from aaeval.scenes.document import parse_scene
+from aaeval.scenes.format import Scene, SceneError
 from aaeval.scenes.write import scene_to_dict, write_scene
 
 __all__ = [

@@ -19,7 +19,8 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from aaeval.imageio import atomic_write
-from aaeval.scenes.format import Scene, SceneError, parse_scene
+from aaeval.scenes.document import parse_scene
+from aaeval.scenes.format import Scene, SceneError
 
 __all__ = ["scene_to_dict", "write_scene", "write_scene_document", "comment_header", "toml_value"]
 

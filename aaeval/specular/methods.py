@@ -20,7 +20,8 @@ the pixel's four corners (order 00, 10, 01, 11) and the Phong exponent to a new 
 keeps n and ks; ``supersample=True`` (Crow) also shades Amanatides' flagged pieces (or all
 of them) on a K x K grid.
 
-This module imports nothing from :mod:`aaeval.renderers` (which imports it).
+This module imports nothing from :mod:`aaeval.renderers` (which imports it); the specular
+methods of other packages register through :func:`aaeval.registries.load`.
 """
 
 from __future__ import annotations
@@ -127,7 +128,3 @@ register_specular("vlachos", summary="Vlachos 2015: roughness from the normal's 
 register_specular("tokuyoshi", summary="Tokuyoshi & Kaplanyan 2021: roughness variance from derivatives",
                   clamp=clamp_tokuyoshi)
 
-# specular methods from other packages (entry points "aaeval.specular"), after the built-ins
-from aaeval.plugins import load_plugins  # noqa: E402
-
-load_plugins("aaeval.specular")

@@ -90,8 +90,22 @@ def test_scene_displays_and_has_a_short_repr():
     assert len(repr(scene)) < 300 and "24 polygons" in repr(scene)
     long = aaeval.load_scene({**SQUARE, "polygons": SQUARE["polygons"] * 200})
     assert len(repr(long)) < 300
-    picture = Image.open(io.BytesIO(scene._repr_png_()))
+    picture = Image.open(io.BytesIO(_notebook_png(scene)))
     assert picture.size == (32, 32) and picture.mode == "RGB"
+
+
+def _notebook_png(scene) -> bytes:
+    """What a notebook's PNG formatter draws for ``scene`` once the API lent it the preview."""
+    from types import SimpleNamespace
+
+    from IPython.core.formatters import PNGFormatter
+
+    from aaeval.api import show_scenes_in
+
+    formatter = PNGFormatter()
+    assert formatter(scene) is None  # a Scene draws nothing by itself
+    show_scenes_in(SimpleNamespace(display_formatter=SimpleNamespace(formatters={"image/png": formatter})))
+    return formatter(scene)
 
 
 def test_sweep_then_open_sweep(tmp_path):

@@ -23,7 +23,8 @@ import pytest
 from aaeval.filters import FILTERS, axis_weights, get_filter
 from aaeval.filters.exact import filtered_image, rings_from_pieces
 from aaeval.catmull.filtered import filter_sums, filtered_pixels, knot_grid_sums
-from aaeval.filters.evaluate import profile_args, profile_array, profile_at
+from aaeval.filters.evaluate import profile_array, profile_at
+from aaeval.filters.registry import profile_args
 from aaeval.filters.integrate import (accumulate_rings, column_part_integrals, combine_cells, combine_cells_numpy,
                                      filter_kernel_args,
                                      piece_integrals)

@@ -10,7 +10,7 @@ import pytest
 
 from aaeval.native import samplers as _samplers
 from aaeval.filters import get_filter
-from aaeval.filters.evaluate import profile_args
+from aaeval.filters.registry import profile_args
 from aaeval.renderers.registry import render
 from aaeval.renderers.sampling import kernel_scene, warmup_scene
 from aaeval.scenes import parse_scene

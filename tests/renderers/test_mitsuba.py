@@ -18,7 +18,7 @@ from aaeval.renderers.registry import MethodFailure
 
 from aaeval.groundtruth import cache as gt_cache
 from aaeval.groundtruth import flat as gt
-from aaeval.groundtruth import variant as gv
+from aaeval import mitsuba_variant as gv
 from aaeval.renderers import render, resolve
 from aaeval.scenes import parse_scene
 from tests.helpers.mitsuba_util import FLOAT32_FLOOR, exact, mixed_scene, noise_statistics, poly, seeds
@@ -312,7 +312,7 @@ def test_falls_back_to_scalar_with_one_warning_when_nothing_faster_runs(tmp_path
 
     code = (
         "import warnings; warnings.simplefilter('error')\n"
-        "from aaeval.groundtruth.variant import select_variant\n"
+        "from aaeval.mitsuba_variant import select_variant\n"
         "try:\n    select_variant()\nexcept RuntimeWarning as w:\n    print('WARNING', w)\n"
     )
     env = {

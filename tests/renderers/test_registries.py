@@ -114,3 +114,62 @@ def test_an_open_minimum_and_non_finite_floats_are_refused():
 def test_a_generator_refuses_with_its_own_error_type():
     with pytest.raises(GeneratorError, match=r"parameter frames: must be an integer in \[1, 100000\], got 0"):
         generate_scene("fan", 12, frames=0)
+
+
+# --- aaeval.registries.load: one explicit call fills every registry -------------------
+
+_FRESH_PROCESS = r"""
+import sys
+from importlib import metadata
+
+from aaeval import plugins, registries
+from aaeval.renderers import METHODS, MethodError, MethodSpec
+
+assert not METHODS, list(METHODS)  # importing the package registers no method
+try:
+    MethodSpec.parse("catmull")
+except MethodError as exc:
+    print("before:", exc)
+
+# a plugin reusing a built-in method's name, and a metric plugin counting its calls
+points = {"aaeval.methods": [metadata.EntryPoint("dup", "toy_dup_plugin", "aaeval.methods")],
+          "aaeval.metrics": [metadata.EntryPoint("count", "toy_count_plugin:register", "aaeval.metrics")]}
+plugins._entry_points = lambda group: points.get(group, [])
+registries.load()
+import aaeval.metrics, aaeval.renderers, aaeval.specular.methods  # noqa: E401 - importing again loads nothing
+registries.load()
+import toy_count_plugin
+
+from aaeval.filters import FILTERS
+from aaeval.metrics import METRICS
+from aaeval.specular.methods import SPECULAR_METHODS
+
+print("metric plugin calls:", toy_count_plugin.CALLS)
+print("point is the built-in:", METHODS["point"].render.__module__)
+print("registered:", "catmull" in METHODS, "rmse" in METRICS, "tent" in FILTERS, "crow" in SPECULAR_METHODS)
+print("failed:", plugins.failed("aaeval.methods"))
+"""
+
+
+def test_load_fills_every_registry_once_with_the_builtins_before_the_plugins(tmp_path):
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    (tmp_path / "toy_dup_plugin.py").write_text(
+        "from aaeval.renderers import register_method\n"
+        "register_method('point', lambda scene: None, summary='a plugin taking a built-in name')\n")
+    (tmp_path / "toy_count_plugin.py").write_text("CALLS = 0\ndef register():\n    global CALLS\n    CALLS += 1\n")
+    root = Path(__file__).resolve().parents[2]
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), str(root), os.environ.get("PYTHONPATH", "")])}
+    done = subprocess.run([sys.executable, "-c", _FRESH_PROCESS], env=env, capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 0, done.stderr
+    out = done.stdout.splitlines()
+    assert out[0] == ("before: unknown method 'catmull': no method is registered in this process "
+                      "(call aaeval.registries.load() first)")
+    assert out[1:] == ["metric plugin calls: 1", "point is the built-in: aaeval.renderers.point",
+                       "registered: True True True True", "failed: ['dup']"]
+    refused = [line for line in done.stderr.splitlines() if line.startswith("aaeval: plugin 'dup'")]
+    assert len(refused) == 1 and "registered twice" in refused[0], done.stderr

@@ -237,9 +237,8 @@ def identical_triangles(tmp_path_factory):
 
 
 def polygon_methods():
-    from aaeval.renderers.registry import METHODS, _load_builtin_methods
+    from aaeval.renderers.registry import METHODS
 
-    _load_builtin_methods()
     return sorted(name for name, m in METHODS.items() if m.requires is None and name != "mitsuba")
 
 

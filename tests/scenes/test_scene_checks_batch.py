@@ -8,7 +8,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from aaeval.scenes.format import SceneError, parse_polygon, parse_scene
+from aaeval.scenes.document import parse_scene
+from aaeval.scenes.format import SceneError, parse_polygon
 from aaeval.scenes.holes import PLAIN_BATCH_MIN
 
 

@@ -20,7 +20,7 @@ from tests.helpers.shaded_scenes import small_scene
 
 @pytest.fixture(scope="module")
 def mi():
-    from aaeval.groundtruth.variant import import_mitsuba
+    from aaeval.mitsuba_variant import import_mitsuba
 
     return import_mitsuba("auto")
 
