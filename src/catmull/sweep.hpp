@@ -44,6 +44,7 @@ inline int64_t update_zlist(int64_t* zl, double* zdepth, int64_t n_zl, const Str
     for (int64_t t = 0; t < n_zl; ++t)
         if (S.span[zl[t]][1] >= col) zl[w++] = zl[t];
     n_zl = w;
+    if (n_zl < 2) return n_zl;  // nothing to order
     const double xc = double(col) + 0.5;
     const double yc = double(row) + 0.5;
     for (int64_t t = 0; t < n_zl; ++t) zdepth[t] = depth(planes, S.pieces[zl[t]][2], xc, yc);
