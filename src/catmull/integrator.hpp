@@ -53,6 +53,22 @@ inline bool in_front_on_square(const double* planes, int64_t p, int64_t q, doubl
     return hides;
 }
 
+struct Range {
+    double lo, hi;
+};
+
+// The smallest and largest value of a x + b y + c over a polygon's vertices.
+AAEVAL_INLINE Range linear_range(const double* xs, const double* ys, int64_t start, int64_t n, double a, double b,
+                                 double c) {
+    Range r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    for (int64_t v = start; v < start + n; ++v) {
+        const double d = a * xs[v] + b * ys[v] + c;
+        r.lo = pymin(r.lo, d);
+        r.hi = pymax(r.hi, d);
+    }
+    return r;
+}
+
 // Where polygon q (the outline at start) lies in depth against polygon f's plane. 0: behind
 // f everywhere on q; 1: in front everywhere on q; 2: the planes cross inside q. Tested on
 // the signed distance of q's vertices to the line where the planes meet, with the clipper's
@@ -63,13 +79,7 @@ inline int depth_relation(const double* planes, int64_t q, int64_t f, const doub
     const double db = planes[3 * q + 1] - planes[3 * f + 1];
     const double dc = planes[3 * q + 2] - planes[3 * f + 2];
     const double g = geometry::sqrt_ieee(da * da + db * db);
-    double lo = std::numeric_limits<double>::infinity();
-    double hi = -std::numeric_limits<double>::infinity();
-    for (int64_t v = start; v < start + n; ++v) {
-        const double d = da * xs[v] + db * ys[v] + dc;
-        lo = pymin(lo, d);
-        hi = pymax(hi, d);
-    }
+    auto [lo, hi] = linear_range(xs, ys, start, n, da, db, dc);
     if (g <= eps_z && hi <= eps_z && lo >= -eps_z) return q > f ? 1 : 0;  // one shared plane: later in front
     if (g <= eps_z) return hi < 0.0 ? 1 : 0;  // parallel planes: a constant difference decides
     lo /= g;
@@ -206,13 +216,7 @@ inline Line first_clip_edge(const double* wx, const double* wy, const uint8_t* w
 // vertices and so the same area, bit for bit.
 inline int whole_side(const double* wx, const double* wy, uint8_t* wf, int64_t start, int64_t n, double a, double b,
                       double c) {
-    double lo = std::numeric_limits<double>::infinity();
-    double hi = -std::numeric_limits<double>::infinity();
-    for (int64_t v = start; v < start + n; ++v) {
-        const double d = a * wx[v] + b * wy[v] + c;
-        lo = pymin(lo, d);
-        hi = pymax(hi, d);
-    }
+    const auto [lo, hi] = linear_range(wx, wy, start, n, a, b, c);
     if (hi < -EPS_LINE) return -1;
     if (lo > EPS_LINE) return 1;
     const int keep = hi <= EPS_LINE ? -1 : (lo >= -EPS_LINE ? 1 : 0);
