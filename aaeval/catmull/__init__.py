@@ -64,23 +64,22 @@ def kernel_inputs(scene: Scene):
     length = arr.length[source]
     start = np.zeros(len(source), dtype=np.int64)
     start[1:] = np.cumsum(length)[:-1]
-    xy = _outlines_wound_positive(arr.vertices, arr.start[source], length, start)
+    x, y = _outlines_wound_positive(arr.vertices, arr.start[source], length, start)
     # depth differences below this count as one shared plane (the scene format's tie rule)
     eps_z = depth_tolerance(arr.vertices[:, 2])
     # stacks of nearly coplanar polygons are resolved by the rule before the pairwise sort
     start, length, x, y, planes, source = resolve_flat_arrays(
-        start, length, np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]),
-        np.ascontiguousarray(arr.planes[source]), source, eps_z)
+        start, length, x, y, np.ascontiguousarray(arr.planes[source]), source, eps_z)
     return start, length, x, y, planes, source, eps_z
 
 
 def _outlines_wound_positive(vertices, first, length, start):
-    """The x, y ``(sum(length), 2)`` of each polygon's outline (polygon k: ``length[k]``
-    vertices from ``first[k]``, written from ``start[k]``), reversed where its shoelace
-    area is negative. Polygons of one size up to 8 (all triangles, say) take a 2D path
-    that adds the area's terms as ``np.add.reduceat`` does on the general path (the first
-    plus the sum of the rest, left to right), so a polygon of nearly zero area turns the
-    same way on either path."""
+    """The x and y ``(sum(length),)`` (contiguous) of each polygon's outline (polygon k:
+    ``length[k]`` vertices from ``first[k]``, written from ``start[k]``), reversed where
+    its shoelace area is negative. Polygons of one size up to 8 (all triangles, say) take
+    a 2D path, a column of corners at a time, that adds the area's terms as
+    ``np.add.reduceat`` does on the general path (the first plus the sum of the rest, left
+    to right), so a polygon of nearly zero area turns the same way on either path."""
     n = len(length)
     if n and length.min() == length.max() and 3 <= length[0] <= 8:
         size = int(length[0])
@@ -88,14 +87,17 @@ def _outlines_wound_positive(vertices, first, length, start):
             corners = vertices[:n * size].reshape(n, size, -1)  # stored in order: no gather
         else:
             corners = vertices[first[:, None] + np.arange(size)]
-        x, y = corners[..., 0], corners[..., 1]
-        following = np.roll(np.arange(size), -1)
-        terms = x * y[:, following] - x[:, following] * y
-        rest = terms[:, 1]
+        x, y = np.ascontiguousarray(corners[..., 0]), np.ascontiguousarray(corners[..., 1])
+
+        def term(j):
+            k = (j + 1) % size
+            return x[:, j] * y[:, k] - x[:, k] * y[:, j]
+
+        rest = term(1)
         for j in range(2, size):
-            rest = rest + terms[:, j]
-        flip = (terms[:, 0] + rest < 0)[:, None, None]
-        return np.where(flip, corners[:, ::-1, :2], corners[..., :2]).reshape(-1, 2)
+            rest = rest + term(j)
+        flip = (term(0) + rest < 0)[:, None]
+        return np.where(flip, x[:, ::-1], x).ravel(), np.where(flip, y[:, ::-1], y).ravel()
     owner = np.repeat(np.arange(n), length)
     local = np.arange(length.sum()) - start[owner]
     index = first[owner] + local
@@ -105,7 +107,7 @@ def _outlines_wound_positive(vertices, first, length, start):
                                 - vertices[following, 0] * vertices[index, 1], start)
         flip = area2[owner] < 0
         index = np.where(flip, first[owner] + length[owner] - 1 - local, index)
-    return vertices[index, :2]
+    return vertices[index, 0], vertices[index, 1]
 
 
 def native_arrays(start, length, x, y, planes):

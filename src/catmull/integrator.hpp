@@ -53,6 +53,22 @@ inline bool in_front_on_square(const double* planes, int64_t p, int64_t q, doubl
     return hides;
 }
 
+struct Range {
+    double lo, hi;
+};
+
+// The smallest and largest value of a x + b y + c over a polygon's vertices.
+AAEVAL_INLINE Range linear_range(const double* xs, const double* ys, int64_t start, int64_t n, double a, double b,
+                                 double c) {
+    Range r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    for (int64_t v = start; v < start + n; ++v) {
+        const double d = a * xs[v] + b * ys[v] + c;
+        r.lo = pymin(r.lo, d);
+        r.hi = pymax(r.hi, d);
+    }
+    return r;
+}
+
 // Where polygon q (the outline at start) lies in depth against polygon f's plane. 0: behind
 // f everywhere on q; 1: in front everywhere on q; 2: the planes cross inside q. Tested on
 // the signed distance of q's vertices to the line where the planes meet, with the clipper's
@@ -63,13 +79,7 @@ inline int depth_relation(const double* planes, int64_t q, int64_t f, const doub
     const double db = planes[3 * q + 1] - planes[3 * f + 1];
     const double dc = planes[3 * q + 2] - planes[3 * f + 2];
     const double g = geometry::sqrt_ieee(da * da + db * db);
-    double lo = std::numeric_limits<double>::infinity();
-    double hi = -std::numeric_limits<double>::infinity();
-    for (int64_t v = start; v < start + n; ++v) {
-        const double d = da * xs[v] + db * ys[v] + dc;
-        lo = pymin(lo, d);
-        hi = pymax(hi, d);
-    }
+    auto [lo, hi] = linear_range(xs, ys, start, n, da, db, dc);
     if (g <= eps_z && hi <= eps_z && lo >= -eps_z) return q > f ? 1 : 0;  // one shared plane: later in front
     if (g <= eps_z) return hi < 0.0 ? 1 : 0;  // parallel planes: a constant difference decides
     lo /= g;
@@ -197,15 +207,29 @@ inline Line first_clip_edge(const double* wx, const double* wy, const uint8_t* w
     return l;
 }
 
-// -1 (+1) if every vertex of the polygon lies strictly on side A (B) of the line, beyond
-// EPS_LINE (geometry::side), else 0.
-AAEVAL_INLINE int strict_side(const double* wx, const double* wy, int64_t start, int64_t n, double a, double b,
-                              double c) {
-    const int first = geometry::side(a * wx[start] + b * wy[start] + c);
-    if (first == 0) return 0;
-    for (int64_t v = start + 1; v < start + n; ++v)
-        if (geometry::side(a * wx[v] + b * wy[v] + c) != first) return 0;
-    return first;
+// Which side of the line a polygon lies on as a whole: -1 (+1) if clip_split would leave it
+// all on side A (B), its vertices copied in order, the flags of edges lying on the line
+// raised (settle_flags) and nothing on the other side; 0 if clip_split must cut it. That is
+// every vertex on that side or within EPS_LINE of the line (geometry::side), and fewer than
+// three on the line (three would make the other side a part of their own). The flags are
+// raised here, in place: the polygon's record then stands for the copy, with the same
+// vertices and so the same area, bit for bit.
+inline int whole_side(const double* wx, const double* wy, uint8_t* wf, int64_t start, int64_t n, double a, double b,
+                      double c) {
+    const auto [lo, hi] = linear_range(wx, wy, start, n, a, b, c);
+    if (hi < -EPS_LINE) return -1;
+    if (lo > EPS_LINE) return 1;
+    const int keep = hi <= EPS_LINE ? -1 : (lo >= -EPS_LINE ? 1 : 0);
+    if (keep == 0) return 0;
+    // on the line: geometry::side 0
+    auto on = [&](int64_t v) { return std::fabs(a * wx[v] + b * wy[v] + c) <= EPS_LINE; };
+    int64_t on_line = 0;
+    for (int64_t v = start; v < start + n; ++v) on_line += on(v);
+    if (on_line >= 3) return 0;
+    if (on_line == 2)
+        for (int64_t v = start; v < start + n; ++v)
+            if (on(v) && on(v + 1 < start + n ? v + 1 : start)) wf[v] = 1;  // an edge on the line
+    return keep;
 }
 
 // Resolve the polygon list recs[0 .. n_init) (front to back, background last). Vertices from
@@ -316,9 +340,9 @@ inline int64_t integrate_pixel(PixelWork& W, int64_t n_init, int64_t n_vert, con
         for (int64_t i = 0; i < cnt; ++i) {
             const int64_t p = litems[s0 + i];
             const int64_t n = recs[p][1];
-            // a polygon strictly on one side goes to that list as it is: clip_split would copy
-            // it vertex for vertex with its flags and the same area (so the same bits)
-            const int one_side = strict_side(wx, wy, recs[p][0], n, a, b, c);
+            // a polygon on one side goes to that list as it is (whole_side raises the flags
+            // clip_split would give its copy)
+            const int one_side = whole_side(wx, wy, wf, recs[p][0], n, a, b, c);
             if (one_side != 0) {
                 if (W.areas[size_t(p)] > AREA_EMPTY) {
                     if (one_side < 0)

@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "common/geometry.hpp"
+#include "catmull/buffers.hpp"
 
 namespace aaeval::catmull {
 
@@ -117,8 +118,10 @@ struct ColorSink {
     std::vector<double> area;
     int64_t n = 0;
 
+    // src, area: the current pixel's sources, grown as a pixel needs (not one per colour:
+    // every band would clear that many)
     ColorSink(double* image_, const double* colors_, int64_t n_colors_)
-        : image(image_), colors(colors_), n_colors(n_colors_), src(size_t(n_colors_)), area(size_t(n_colors_)) {}
+        : image(image_), colors(colors_), n_colors(n_colors_), src(16), area(16) {}
 
     const double* color(int64_t s) const { return colors + 3 * (s < 0 ? n_colors + s : s); }
 
@@ -141,6 +144,10 @@ struct ColorSink {
         if (g < n) {
             area[size_t(g)] = area[size_t(g)] + a;
         } else {
+            if (n == int64_t(src.size())) {
+                grow(src, n + 1);
+                grow(area, n + 1);
+            }
             src[size_t(n)] = s;
             area[size_t(n)] = a;
             ++n;

@@ -14,7 +14,7 @@ struct StageScan {
     Scan sc;
     int64_t n_zl = 0;
 
-    StageScan(Polygons p, int64_t width_) : width(width_), sc(p.n, width_) {
+    StageScan(Polygons p, int64_t width_) : width(width_), sc(width_) {
         start.assign(p.start, p.start + p.n);
         length.assign(p.length, p.length + p.n);
         int64_t nv = 0;
@@ -81,7 +81,10 @@ void bind_stages(nb::module_& m) {
         .def_prop_ro("ymin", [](StageScan& s) { return copy_of(s.P.ymin, size_t(s.P.n)); }, nb::rv_policy::automatic)
         .def_prop_ro("ymax", [](StageScan& s) { return copy_of(s.P.ymax, size_t(s.P.n)); }, nb::rv_policy::automatic)
         .def("enter_polygons", [](StageScan& s, int64_t row) { enter_polygons(s.P, s.sc.active, row, s.sc.flags); })
-        .def("clip_to_strip", [](StageScan& s, int64_t row) { clip_to_strip(s.sc.active, s.sc.strip, row, s.width); })
+        .def("clip_to_strip", [](StageScan& s, int64_t row) {
+            clip_to_strip(s.sc.active, s.sc.strip, row, s.width);
+            s.sc.zlist.fit(s.sc.strip.n);
+        })
         .def("bucket_by_x", [](StageScan& s) {
             bucket_by_x(s.sc.strip, s.width, s.sc.fill);
             s.n_zl = 0;

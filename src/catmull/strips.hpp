@@ -60,9 +60,8 @@ inline void sort_polygons(Polygons& P) {
 // to. next_in counts the polygons of Polygons::order that have entered.
 struct ActiveList {
     Verts v{1024}, spare{1024};
-    Rows<int64_t, 3> recs;
+    Rows<int64_t, 3> recs{256};
     int64_t n = 0, used = 0, next_in = 0;
-    explicit ActiveList(int64_t n_polys) : recs(n_polys) {}
 };
 
 // This scanline's strip pieces: pieces[:n] are records into `v`; span[k] = (first column,
@@ -71,12 +70,11 @@ struct ActiveList {
 // leftmost column c.
 struct Strip {
     Verts v{1024};
-    Rows<int64_t, 3> pieces, span;
+    Rows<int64_t, 3> pieces{256}, span{256};
     std::vector<double> cov = std::vector<double>(1024);
     int64_t n = 0, used = 0, cov_used = 0;
-    std::vector<int64_t> bucket_head, bucket_items;
-    Strip(int64_t n_polys, int64_t width)
-        : pieces(n_polys), span(n_polys), bucket_head(size_t(width + 1), 0), bucket_items(size_t(n_polys)) {}
+    std::vector<int64_t> bucket_head, bucket_items = std::vector<int64_t>(256);
+    explicit Strip(int64_t width) : bucket_head(size_t(width + 1), 0) {}
 };
 
 inline int64_t record(Rows<int64_t, 3>& recs, int64_t k, int64_t start, int64_t length, int64_t src) {
@@ -120,6 +118,7 @@ inline void enter_polygons(const Polygons& P, ActiveList& A, int64_t row, std::v
         if (P.ymax[size_t(p)] <= y_top) continue;
         const int64_t n = P.length[p];
         A.v.grow_to(A.used + 2 * n + 4);
+        A.recs.grow_rows(A.n + 1);
         const int64_t m = below(P.x, P.y, P.start[p], n, y_top, A.v, A.used, flags);
         if (m > 0) {
             A.n = record(A.recs, A.n, A.used, m, p);
@@ -178,6 +177,10 @@ inline void strip_coverage(const double* xs, const double* ys, int64_t start, in
 // covers a column.
 inline void clip_to_strip(ActiveList& A, Strip& S, int64_t row, int64_t width) {
     const double y_bot = double(row) + 1.0;
+    // a piece per active polygon at most
+    S.pieces.grow_rows(A.n);
+    S.span.grow_rows(A.n);
+    grow(S.bucket_items, A.n);
     int64_t used = 0, n_pieces = 0, cov_used = 0, new_used = 0, keep = 0;
     for (int64_t k = 0; k < A.n; ++k) {
         const int64_t s = A.recs[k][0];

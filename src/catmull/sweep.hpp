@@ -19,12 +19,17 @@ namespace aaeval::catmull {
 inline constexpr double CONVEX_SLACK = 1e-12;
 
 // The z-list (strip pieces over the current pixel, front to back, depth at the pixel
-// centre) and `pixel`, the current pixel's polygon list.
+// centre) and `pixel`, the current pixel's polygon list. Each holds a strip piece at most
+// once: room for the scanline's pieces (fit) is enough.
 struct ZList {
-    std::vector<int64_t> items;
-    std::vector<double> depth;
-    std::vector<int64_t> pixel;
-    explicit ZList(int64_t n_polys) : items(size_t(n_polys)), depth(size_t(n_polys)), pixel(size_t(n_polys + 1)) {}
+    std::vector<int64_t> items = std::vector<int64_t>(256);
+    std::vector<double> depth = std::vector<double>(256);
+    std::vector<int64_t> pixel = std::vector<int64_t>(256);
+    void fit(int64_t n_pieces) {
+        grow(items, n_pieces);
+        grow(depth, n_pieces);
+        grow(pixel, n_pieces + 1);
+    }
 };
 
 // Move the z-list to column col; returns its new length. Pieces of the x-bucket at this
@@ -39,6 +44,7 @@ inline int64_t update_zlist(int64_t* zl, double* zdepth, int64_t n_zl, const Str
     for (int64_t t = 0; t < n_zl; ++t)
         if (S.span[zl[t]][1] >= col) zl[w++] = zl[t];
     n_zl = w;
+    if (n_zl < 2) return n_zl;  // nothing to order
     const double xc = double(col) + 0.5;
     const double yc = double(row) + 0.5;
     for (int64_t t = 0; t < n_zl; ++t) zdepth[t] = depth(planes, S.pieces[zl[t]][2], xc, yc);
@@ -264,7 +270,7 @@ struct Scan {
     PixelWork work;
     std::vector<uint8_t> flags;
     std::vector<int64_t> fill;
-    Scan(int64_t n_polys, int64_t width) : active(n_polys), strip(n_polys, width), zlist(n_polys) {}
+    explicit Scan(int64_t width) : strip(width) {}
 };
 
 // Sweep the pixels of row left to right, emitting each pixel's visible pieces by the
@@ -369,7 +375,7 @@ inline void sweep_row(Scan& sc, Sink& out, const double* planes, int64_t row, in
 template <class Sink>
 inline void scan_rows(const Polygons& P, int64_t width, int64_t row0, int64_t row1, double eps_z, bool jagged,
                       bool centroids, Sink& out) {
-    Scan sc(P.n, width);
+    Scan sc(width);
     for (int64_t row = row0; row < row1; ++row) {
         enter_polygons(P, sc.active, row, sc.flags);
         if (sc.active.n == 0 && sc.active.next_in >= P.n) {
@@ -377,6 +383,7 @@ inline void scan_rows(const Polygons& P, int64_t width, int64_t row0, int64_t ro
             continue;
         }
         clip_to_strip(sc.active, sc.strip, row, width);
+        sc.zlist.fit(sc.strip.n);
         bucket_by_x(sc.strip, width, sc.fill);
         sweep_row(sc, out, P.planes, row, width, eps_z, jagged, centroids);
     }

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from aaeval.native import catmull as _catmull
-from aaeval.catmull import kernel_inputs, native_arrays
+from aaeval.catmull import kernel_inputs, native_arrays, render_flat, resolve_flat, visible_fragments
 from aaeval.catmull.filtered import knot_grid_sums
 from aaeval.filters.registry import FILTERS
 from tests.helpers.randomscenes import random_scene
@@ -82,6 +82,20 @@ def test_an_empty_scene_is_background():
     args = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0), np.zeros(0), np.zeros((0, 3)))
     image = flat(args, colors=np.array([[0.25, 0.5, 0.75]]), width=4, height=2)
     np.testing.assert_array_equal(image, np.broadcast_to([0.25, 0.5, 0.75], (2, 4, 3)))
+
+
+@pytest.mark.parametrize("jagged", [False, True])
+def test_the_flat_image_is_written_whole_over_memory_left_dirty(jagged):
+    # render_flat never clears its image (the sweep writes every pixel once): a block of
+    # NaN freed just before is what the allocator hands back for the next image of that
+    # size, so a pixel the sweep missed stays NaN (or another scene's colour)
+    scene = random_scene(3, width=300, height=70, n_tri=40, n_star=6)
+    expected = resolve_flat(scene, visible_fragments(scene, jagged=jagged, centroids=False, threads=1))
+    for threads in (1, 2, 3):
+        dirty = np.full((scene.height, scene.width, 3), np.nan)
+        del dirty
+        image = render_flat(scene, jagged=jagged, threads=threads)
+        np.testing.assert_array_equal(image, expected)
 
 
 def test_fragments_and_filter_moments_have_the_same_bits_for_every_thread_count():
