@@ -32,3 +32,15 @@ def _private_cache(tmp_path_factory):
         os.environ.pop("AAEVAL_CACHE_DIR", None)
     else:
         os.environ["AAEVAL_CACHE_DIR"] = old
+
+
+@pytest.fixture(autouse=True)
+def _report_metrics():
+    """Report functions called on hand-made tables describe metrics as a sweep folder would
+    (``metrics.json``); ``write_report`` replaces this with the folder's own."""
+    from aaeval.metrics import METRICS
+    from aaeval.report.sweep_data import METRICS as SHOWN
+
+    SHOWN.clear()
+    SHOWN.update({name: metric.info() for name, metric in METRICS.items()})
+    yield

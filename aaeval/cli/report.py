@@ -19,7 +19,7 @@ def add_parser(sub) -> None:
 def run(args) -> int:
     from pathlib import Path
 
-    from aaeval.imageio import check_outputs
+    from aaeval.fileio import check_outputs
     from aaeval.report import write_report
 
     if Path(args.dir).is_dir():  # a folder the report cannot write into is refused before any work

@@ -51,10 +51,31 @@ from typing import Any, Callable, Iterable, Iterator
 import numpy as np
 
 import aaeval
-from aaeval.imageio import atomic_write
+from aaeval.fileio import atomic_write
 
-__all__ = ["code_version", "cell_key", "reference_key", "SweepStore", "ReferenceCache", "default_cache_dir",
+__all__ = ["code_version", "read_table", "SCHEMA_KEY", "cell_key", "reference_key", "SweepStore", "ReferenceCache", "default_cache_dir",
            "StoreError", "FolderInUse", "npy_problem"]
+
+#: The key of ``results.parquet``'s and ``temporal.parquet``'s metadata naming their schema version.
+SCHEMA_KEY = b"aaeval_schema_version"
+
+
+def read_table(path: str | Path):
+    """Read ``results.parquet`` or ``temporal.parquet`` (a pandas DataFrame), refusing
+    another schema version (:class:`~aaeval.experiments.record.RecordError`)."""
+    import pandas as pd
+    import pyarrow.parquet as pq
+
+    from aaeval.experiments.record import SCHEMA_VERSION, RecordError
+
+    path = Path(path)
+    meta = pq.read_schema(path).metadata or {}
+    version = meta.get(SCHEMA_KEY, b"").decode() or None
+    if version != str(SCHEMA_VERSION):
+        raise RecordError(f"{path}: results schema version {version}, this aaeval reads {SCHEMA_VERSION}; "
+                          "run the sweep again to rebuild it ('aaeval sweep' resumes: finished cells are kept)")
+    return pd.read_parquet(path)
+
 
 # Packages whose source cannot change a cell's result: editing them keeps old results.
 _PRESENTATION = ("cli", "report", "studies")

@@ -27,7 +27,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from aaeval.imageio import atomic_write, linear_to_srgb8  # noqa: E402
+from aaeval.fileio import atomic_write, linear_to_srgb8  # noqa: E402
 from aaeval.report.style import Styles, ground_truth_style  # noqa: E402
 
 __all__ = ["EXACT_BELOW", "UNIT", "FORMATS", "metric_label", "temporal_bars", "save_figure", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
@@ -53,7 +53,7 @@ def _suptitle(fig, text: str, fontsize: float = 10) -> None:
 
 def metric_label(name: str) -> str:
     """A metric's axis label from the registry: its title and which way is better."""
-    from aaeval.metrics import METRICS
+    from aaeval.report.sweep_data import METRICS
 
     m = METRICS.get(name)
     return name if m is None else f"{m.title} ({m.direction})"
@@ -405,7 +405,7 @@ def temporal_bars(temporal: pd.DataFrame, path: Path, *, group: str, metrics: li
     """One panel per temporal metric (registered, from temporal.parquet): a bar per spec, mean over
     the group's animations (:func:`aaeval.report.findings.per_spec`, the findings' aggregation),
     linear axes, the ground truth's noise RMS dashed where the metric is an RMS of errors."""
-    from aaeval.metrics import METRICS
+    from aaeval.report.sweep_data import METRICS
     from aaeval.report.findings import per_spec
 
     tables = {m: per_spec(temporal, group, m) for m in metrics}

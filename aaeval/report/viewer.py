@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from aaeval.imageio import atomic_write
+from aaeval.fileio import atomic_write
 from aaeval.report.style import Styles
 
 __all__ = ["viewer_payload", "write_viewer_data", "viewer_div", "viewer_script", "flip_map", "GROUP_BUDGET",
