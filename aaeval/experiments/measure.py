@@ -38,6 +38,7 @@ from aaeval.metrics import (
     intensity_sum,
     rmse,
 )
+from aaeval.metrics.perceptual import flip_map
 
 if TYPE_CHECKING:
     from aaeval.renderers.registry import MethodSpec
@@ -384,7 +385,7 @@ def series_metrics(names: Sequence[str], references: Sequence[np.ndarray], image
 
 @dataclass
 class FrameMeasurement:
-    """What :func:`measure_frame` returns: the record's measured fields and the image."""
+    """What :func:`measure_frame` returns: the record's measured fields, the image and its FLIP map."""
 
     image: np.ndarray | None
     timing: Timing
@@ -394,6 +395,8 @@ class FrameMeasurement:
     error: str | None = None
     traceback: str | None = None
     agreement: dict[str, float] = field(default_factory=dict)
+    #: the per-pixel FLIP error (H, W) against the reference, stored beside the image for the viewer
+    flip: np.ndarray | None = None
 
     def fields(self, width: int, height: int) -> dict[str, Any]:
         return {**self.timing.fields(width, height), "intensity_sum": self.intensity_sum, "metrics": self.metrics,
@@ -449,6 +452,7 @@ def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | N
             out.agreement = agreement(metrics, reference, image, _test_noise(scene, spec, frame, image, noise_by_metric),
                                       lambda name: cache.mask(digest, scene, frame, name),
                                       cache.noise_weight(digest, scene, frame))
+        out.flip = flip_map(reference, image)
     except Exception as exc:  # noqa: BLE001 - a failing cell is a result, not the end of the run
         out.error = f"{type(exc).__name__}: {exc}"
         out.traceback = traceback.format_exc(limit=6)

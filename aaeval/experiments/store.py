@@ -321,6 +321,10 @@ class SweepStore:
     def image_path(self, key: str) -> Path:
         return self.images_dir / f"{key}.npy"
 
+    def flip_path(self, key: str) -> Path:
+        """The cell's per-pixel FLIP map against its reference (float32, H x W), for the viewer."""
+        return self.images_dir / f"{key}.flip.npy"
+
     def reference_path(self, key: str) -> Path:
         return self.refs_dir / f"{key}.npy"
 
@@ -361,7 +365,7 @@ class SweepStore:
             if problem is None:
                 sound[path.stem] = record
             else:
-                self._set_aside(path, problem, heal, [self.image_path(path.stem)])
+                self._set_aside(path, problem, heal, [self.image_path(path.stem), self.flip_path(path.stem)])
         for ref, problem in bad_refs.items():
             if problem is not None and os.path.lexists(self.reference_path(ref)):
                 self._move(self.reference_path(ref), heal)
@@ -387,7 +391,7 @@ class SweepStore:
         does with a damaged one: for a record that reads well but disagrees with its plan."""
         path = self.cell_path(key)
         if os.path.lexists(path):
-            self._set_aside(path, problem, heal, [self.image_path(key)])
+            self._set_aside(path, problem, heal, [self.image_path(key), self.flip_path(key)])
 
     def _array_problem(self, path: Path, what: str, shape: tuple[int, ...] | None = None) -> str | None:
         problem = _regular_problem(path)
@@ -474,6 +478,10 @@ class SweepStore:
     def load_image(self, key: str) -> np.ndarray | None:
         return self._load_array(self.image_path(key))
 
+    def load_flip(self, key: str) -> np.ndarray | None:
+        """The cell's stored FLIP map, or None (a cell of a sweep that stored none)."""
+        return self._load_array(self.flip_path(key))
+
     def load_reference(self, key: str) -> np.ndarray | None:
         return self._load_array(self.reference_path(key))
 
@@ -498,15 +506,21 @@ class SweepStore:
 
     # --- writing ---------------------------------------------------------------------
 
-    def write_cell(self, record: dict, image: np.ndarray | None) -> None:
+    def write_cell(self, record: dict, image: np.ndarray | None, flip: np.ndarray | None = None) -> None:
         # image first: a record that exists always has its image
         if image is not None:
             # float64: a float32 copy would show rounding as error against an exact reference
             self._folder(self.images_dir)
             _save_npy(self.image_path(record["key"]), image, np.float64)
+        if flip is not None:
+            self.write_flip(record["key"], flip)
         text = json.dumps(record, indent=1, default=_jsonable) + "\n"
         self._folder(self.cells_dir)
         atomic_write(self.cell_path(record["key"]), lambda tmp: Path(tmp).write_text(text))
+
+    def write_flip(self, key: str, flip: np.ndarray) -> None:
+        self._folder(self.images_dir)
+        _save_npy(self.flip_path(key), flip, np.float32)  # the viewer shows it in 1/255 steps
 
     def write_reference(self, key: str, image: np.ndarray) -> None:
         path = self.reference_path(key)

@@ -23,7 +23,8 @@ Beside them, what the report shows that is not a cell (:data:`STUDY_FILES`):
 ``specs.json`` (each spec's method and options, and each method's declared choices, for
 the figures' styles), ``controls.json`` (every temporal metric on the controls whose
 answer is known, :mod:`aaeval.metrics.controls`) and ``specular_detection.npz``
-(Amanatides' detector on the sweep's first scene with shaded objects).
+(Amanatides' detector on the sweep's first scene with shaded objects). Each finished
+cell's FLIP map lies beside its image (``images/<key>.flip.npy``).
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
 from aaeval.experiments.measure import SCENES, SceneCache, series_metrics
@@ -290,6 +292,26 @@ def write_studies(store: SweepStore, results: pd.DataFrame) -> None:
     _write_json(store.writable("specs.json"), _specs(results))
     _write_json(store.writable("controls.json"), _controls())
     _write_detection(store, results)
+    _write_missing_flips(store, results)
+
+
+def _write_missing_flips(store: SweepStore, results: pd.DataFrame) -> None:
+    """The FLIP map of every finished cell that has none: the worker stores it with the
+    image; cells a sweep finished before it did get theirs here, once."""
+    from aaeval.metrics.perceptual import flip_map
+
+    if results.empty:
+        return
+    ok = results[results["error"].isna()].drop_duplicates("key")
+    references: dict[str, np.ndarray] = {}
+    for key, ref_key in zip(ok["key"], ok["reference_key"]):
+        if store.flip_path(key).is_file():
+            continue
+        image = store.load_image(key)
+        if ref_key not in references:
+            references = {ref_key: store.load_reference(ref_key)}  # cells of one reference are neighbours
+        if image is not None and references[ref_key] is not None:
+            store.write_flip(key, flip_map(references[ref_key], image))
 
 
 def _write_parquet(frame: pd.DataFrame, path: Path) -> None:

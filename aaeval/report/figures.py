@@ -13,8 +13,12 @@ an exact reference) is drawn on a marked "exact" strip under the axis' data rang
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
+import sys
 import textwrap
+import traceback
 from pathlib import Path
 
 import matplotlib
@@ -30,7 +34,7 @@ import pandas as pd  # noqa: E402
 from aaeval.fileio import atomic_write, linear_to_srgb8  # noqa: E402
 from aaeval.report.style import Styles, ground_truth_style  # noqa: E402
 
-__all__ = ["EXACT_BELOW", "UNIT", "FORMATS", "metric_label", "temporal_bars", "save_figure", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
+__all__ = ["EXACT_BELOW", "UNIT", "drawing_in_parallel", "metric_label", "temporal_bars", "save_figure", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
            "intensity_sums", "phase_figure", "space_time", "stability", "image_grid", "validation"]
 
 # An error this small is float64 rounding of an exact render against an exact reference.
@@ -38,9 +42,8 @@ EXACT_BELOW = 1e-10
 #: The one unit of every error on the page, stated in every caption.
 UNIT = ("unit: linear RGB per channel (error maps: the mean of the R, G, B errors; RMSE and flicker: root mean square "
         "over pixels and channels)")
-FORMATS = ("png", "svg", "pdf")
 _DPI = 100
-plt.rcParams.update({"svg.fonttype": "none", "pdf.fonttype": 42, "font.size": 9, "legend.fontsize": 7.5,
+plt.rcParams.update({"font.size": 9, "legend.fontsize": 7.5,
                      "axes.titlesize": 9.5})
 
 
@@ -60,34 +63,93 @@ def metric_label(name: str) -> str:
 
 
 def save_figure(fig, path: Path) -> Path:
-    """Write ``path`` (PNG) and its SVG and PDF twins; return the PNG path."""
+    """Write the figure as ``path`` with suffix ``.png`` (the one format the page shows) and
+    close it; return the PNG path. Inside :func:`drawing_in_parallel` a child process writes it."""
     path = Path(path).with_suffix(".png")
     _plain_log_axes(fig)
-    box = _tight_box(fig)
-    for fmt in FORMATS:
-        # a temporary file moved into place: a link planted at the name is replaced, never written through
-        atomic_write(path.with_suffix(f".{fmt}"),
-                     lambda tmp, fmt=fmt: fig.savefig(tmp, format=fmt, dpi=_DPI, bbox_inches=box,
-                                                      metadata=_metadata(fmt)))
+    if _children.slots:
+        _children.start(lambda: _write_png(fig, path), path)
+    else:
+        _write_png(fig, path)
     plt.close(fig)
     return path
 
 
+def _write_png(fig, path: Path) -> None:
+    box = _tight_box(fig)
+    # a temporary file moved into place: a link planted at the name is replaced, never written through;
+    # no "Software" entry: the same data gives the same file
+    atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=_DPI, bbox_inches=box,
+                                               metadata={"Software": None}))
+
+
+class _Children:
+    """Forked processes each drawing one figure while the parent builds the next: drawing is
+    most of the report's time. Each file is written by one process, so the output is the
+    same as drawing them in turn."""
+
+    def __init__(self):
+        self.slots = 0
+        self.running: dict[int, Path] = {}
+        self.failed: list[Path] = []
+
+    def start(self, work, path: Path) -> None:
+        while len(self.running) >= self.slots:
+            self._reap_oldest()
+        sys.stdout.flush()
+        sys.stderr.flush()
+        pid = os.fork()
+        if pid == 0:  # the child: draw, and leave without running the parent's cleanup
+            code = 1
+            try:
+                work()
+                code = 0
+            except BaseException:  # noqa: BLE001 - reported to the parent through the exit status
+                traceback.print_exc()
+            finally:
+                os._exit(code)
+        self.running[pid] = path
+
+    def _reap_oldest(self) -> None:
+        pid = next(iter(self.running))  # by pid, never another child of this process
+        _, status = os.waitpid(pid, 0)
+        path = self.running.pop(pid)
+        if os.waitstatus_to_exitcode(status) != 0:
+            self.failed.append(path)
+
+    def finish(self, check: bool = True) -> None:
+        while self.running:
+            self._reap_oldest()
+        failed, self.failed = self.failed, []
+        if failed and check:
+            raise RuntimeError(f"drawing {', '.join(p.name for p in failed)} failed (its error is printed above)")
+
+
+_children = _Children()
+
+
+@contextlib.contextmanager
+def drawing_in_parallel():
+    """Within this block :func:`save_figure` draws in forked processes, as many as the cores
+    this process may use (none where ``os.fork`` is missing); leaving it waits for them all
+    and raises if one failed."""
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    _children.slots = cores if hasattr(os, "fork") and cores > 1 else 0
+    try:
+        yield
+    except BaseException:
+        _children.slots = 0
+        _children.finish(check=False)  # the body's error is the one to see
+        raise
+    _children.slots = 0
+    _children.finish()
+
+
 def _tight_box(fig):
-    """The figure's tight bounding box (inches, with savefig's pad), found once.
-
-    ``bbox_inches="tight"`` lays the figure out again in every format before drawing it;
-    the box is the one the PNG would get (the same Agg renderer at the same dpi), and the
-    pad is wider than any difference in text extents between the formats' renderers.
-    """
+    """The figure's tight bounding box (inches, with savefig's pad), measured from the artists'
+    extents without drawing the figure (``bbox_inches="tight"`` draws it once more just to find it)."""
     fig.set_dpi(_DPI)
-    fig.draw_without_rendering()
     return fig.get_tightbbox(fig.canvas.get_renderer()).padded(plt.rcParams["savefig.pad_inches"])
-
-
-def _metadata(fmt: str) -> dict:
-    # no creation dates: the same data gives the same files
-    return {"png": {"Software": None}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}[fmt]
 
 
 def _legend(ax, *, outside: bool = True, **kw) -> None:
@@ -558,7 +620,9 @@ def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path
         srgb = linear_to_srgb8(img)
         ax[0].imshow(srgb, interpolation="nearest")
         ax[0].add_patch(plt.Rectangle((c0 - 0.5, r0 - 0.5), c1 - c0, r1 - r0, fill=False, ec="red", lw=1))
-        ax[0].set_ylabel(name.replace(":", ":\n").replace(",", ",\n"), fontsize=7)
+        # the row's name beside it as text: image panels draw no axes (ticks and spines cost the time)
+        ax[0].text(-0.02, 0.5, name.replace(":", ":\n").replace(",", ",\n"), transform=ax[0].transAxes,
+                   rotation=90, ha="right", va="center", fontsize=7)
         ax[1].imshow(srgb[r0:r1, c0:c1], interpolation="nearest")
         if err is not None:
             scale = max(common if shared else float(np.abs(err).max()), np.finfo(float).tiny)
@@ -566,10 +630,8 @@ def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path
             ax[2].set_title(f"signed error, scale ±{scale:.2g}; mean |err| {np.abs(err).mean():.2g}"
                             if np.abs(err).max() > 0 else "no error: identical to the ground truth", fontsize=7)
         for a in ax:
-            a.set_xticks([])
-            a.set_yticks([])
+            a.axis("off")
     axes[0, 0].set_title("image", fontsize=8)
     axes[0, 1].set_title(f"crop rows {r0}-{r1 - 1}, cols {c0}-{c1 - 1}", fontsize=8)
-    axes[0, 2].axis("off")
     _suptitle(fig, title, fontsize=9)
     return save_figure(fig, path)

@@ -184,12 +184,10 @@ def spec_summary(rows: pd.DataFrame, metrics: list[str], primary: str, failed: p
 
 
 def figure_html(path: Path, root: Path, caption: str) -> str:
-    """A figure of the page: the PNG, its caption, and links to its SVG and PDF twins."""
+    """A figure of the page: the PNG and its caption."""
     rel = path.relative_to(root).as_posix()
-    twins = " · ".join(f"<a href='{html.escape(Path(rel).with_suffix('.' + f).as_posix())}'>{f.upper()}</a>"
-                       for f in figures.FORMATS if f != "png")
     return (f"<figure><img src='{html.escape(rel)}' alt='{html.escape(html.unescape(''.join(p.split('>', 1)[-1] for p in caption.split('<')))[:120])}'>"
-            f"<figcaption>{caption} <span class='dl'>(also as {twins})</span></figcaption></figure>")
+            f"<figcaption>{caption}</figcaption></figure>")
 
 
 class _Page:
@@ -644,6 +642,15 @@ def _timing_note(results: pd.DataFrame) -> str:
 def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
     """Write ``DIR/index.html`` with ``DIR/figures/``, ``DIR/tables/`` and ``DIR/viewer/``."""
     data = read_sweep(directory)
+    with figures.drawing_in_parallel():  # the page is written once every figure is
+        page_text = _page_text(data, quiet)
+    index = data.store.root / "index.html"
+    atomic_write(index, lambda tmp: Path(tmp).write_text(page_text))
+    return index
+
+
+def _page_text(data: SweepData, quiet: bool) -> str:
+    """The page's HTML; its figures, tables and viewer data are written on the way."""
     store, manifest, results, temporal, speed = data.store, data.manifest, data.results, data.temporal, data.speed
     page = _Page(data)
     metrics = _metric_columns(results, manifest)
@@ -693,10 +700,8 @@ def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
                                       styles=page.styles, detection=data.detection))
         parts.append(filters_section(store.root, page.figdir, results, temporal, page.styles))
     scripts = "".join(f"<script src='{html.escape(s)}'></script>" for s in page.viewer_scripts)
-    page_text = ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"
-                 f"<title>{html.escape(manifest['experiment'])} — aaeval report</title><style>{_CSS}</style>"
-                 f"<script>{viewer_script()}</script></head>"
-                 f"<body>{''.join(parts)}{scripts}<script>AAV.init();</script></body></html>\n")
-    index = store.root / "index.html"
-    atomic_write(index, lambda tmp: Path(tmp).write_text(page_text))
-    return index
+    return ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"
+            f"<title>{html.escape(manifest['experiment'])} — aaeval report</title><style>{_CSS}</style>"
+            f"<script>{viewer_script()}</script></head>"
+            f"<body>{''.join(parts)}{scripts}<script>AAV.init();</script></body></html>\n")
+

@@ -259,9 +259,8 @@ def _fig_detection(stem: Path, detection: dict) -> Path:
 
 def _figure(rel: str, png: Path, caption: str) -> str:
     src = f"{rel}/{png.name}" if rel else png.name
-    svg = src[:-4] + ".svg"
     return (f"<figure><img src='{html.escape(src)}' alt='{html.escape(caption[:120])}' style='max-width:100%'>"
-            f"<figcaption>{html.escape(caption)} <a href='{html.escape(svg)}'>SVG</a></figcaption></figure>")
+            f"<figcaption>{html.escape(caption)}</figcaption></figure>")
 
 
 def _relative_to(folder: Path, root: Path) -> str:
