@@ -605,7 +605,9 @@ def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path
     (the mean of the R, G, B errors, the page's one unit; red: too bright, blue: too dark) on
     one symmetric scale for the whole figure (``shared=False``: each row its own), stated per row.
 
-    The crop is the same square for every row (around the largest error of any method).
+    The crop is the same square for every row (around the largest error of any method). The
+    panels are laid into one raster shown by one axes (an axes per panel cost most of the
+    report's drawing time); names and scales are text beside them.
     """
     errors = [(img - reference).mean(axis=2) for _, img in images]
     common = max((float(np.abs(e).max()) for e in errors), default=0.0)
@@ -613,25 +615,39 @@ def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path
     r0, r1, c0, c1 = _crop_box(worst, max(4, min(reference.shape[:2]) // 3))
     rows = [("ground truth", reference, None)] + [(n, img, err) for (n, img), err in zip(images, errors)]
     h, w = reference.shape[:2]
-    row_height = 9 / 3 * min(1.0, h / w) + 0.35
-    fig, axes = plt.subplots(len(rows), 3, figsize=(9, row_height * len(rows)), squeeze=False,
-                             gridspec_kw={"hspace": 0.3, "wspace": 0.05})
-    for (name, img, err), ax in zip(rows, axes):
+    side = max(h, w)  # each panel's square, so that the crop shows as large as the image
+    gap = max(3, side // 4)
+    canvas = np.full((len(rows) * (side + gap) - gap, 3 * side + 2 * gap, 3), 255, np.uint8)
+    fig, ax = plt.subplots(figsize=(9, (9 / 3) * canvas.shape[0] / canvas.shape[1] + 0.6))
+    ax.set_position([0.0, 0.0, 1.0, 1.0])
+    for i, (name, img, err) in enumerate(rows):
+        top = i * (side + gap)
         srgb = linear_to_srgb8(img)
-        ax[0].imshow(srgb, interpolation="nearest")
-        ax[0].add_patch(plt.Rectangle((c0 - 0.5, r0 - 0.5), c1 - c0, r1 - r0, fill=False, ec="red", lw=1))
-        # the row's name beside it as text: image panels draw no axes (ticks and spines cost the time)
-        ax[0].text(-0.02, 0.5, name.replace(":", ":\n").replace(",", ",\n"), transform=ax[0].transAxes,
-                   rotation=90, ha="right", va="center", fontsize=7)
-        ax[1].imshow(srgb[r0:r1, c0:c1], interpolation="nearest")
+        _put(canvas, top, 0, srgb, side)
+        _put(canvas, top, side + gap, srgb[r0:r1, c0:c1], side)
+        ax.add_patch(plt.Rectangle((c0 - 0.5, top + r0 - 0.5), c1 - c0, r1 - r0, fill=False, ec="red", lw=1))
+        ax.text(-gap / 2, top + side / 2, name.replace(":", ":\n").replace(",", ",\n"), rotation=90,
+                ha="right", va="center", fontsize=7)
         if err is not None:
             scale = max(common if shared else float(np.abs(err).max()), np.finfo(float).tiny)
-            ax[2].imshow(err, cmap="RdBu_r", vmin=-scale, vmax=scale, interpolation="nearest")
-            ax[2].set_title(f"signed error, scale ±{scale:.2g}; mean |err| {np.abs(err).mean():.2g}"
-                            if np.abs(err).max() > 0 else "no error: identical to the ground truth", fontsize=7)
-        for a in ax:
-            a.axis("off")
-    axes[0, 0].set_title("image", fontsize=8)
-    axes[0, 1].set_title(f"crop rows {r0}-{r1 - 1}, cols {c0}-{c1 - 1}", fontsize=8)
-    _suptitle(fig, title, fontsize=9)
+            coloured = plt.get_cmap("RdBu_r")((err / scale + 1) / 2)[..., :3]
+            _put(canvas, top, 2 * (side + gap), np.round(coloured * 255).astype(np.uint8), side)
+            ax.text(2 * (side + gap) + side / 2, top - gap / 8,
+                    f"signed error, scale ±{scale:.2g}; mean |err| {np.abs(err).mean():.2g}"
+                    if np.abs(err).max() > 0 else "no error: identical to the ground truth",
+                    ha="center", va="bottom", fontsize=7)
+    ax.imshow(canvas, interpolation="nearest")
+    ax.text(side / 2, -gap / 8, "image", ha="center", va="bottom", fontsize=8)
+    ax.text(side + gap + side / 2, -gap / 8, f"crop rows {r0}-{r1 - 1}, cols {c0}-{c1 - 1}", ha="center",
+            va="bottom", fontsize=8)
+    ax.axis("off")
+    fig.suptitle(title, y=1.0 + 0.5 / fig.get_figheight(), va="bottom", fontsize=9)
     return save_figure(fig, path)
+
+
+def _put(canvas: np.ndarray, top: int, left: int, panel: np.ndarray, side: int) -> None:
+    """``panel`` (uint8 RGB) enlarged by whole pixels (nearest) to fit a ``side`` square at (top, left)."""
+    ph, pw = panel.shape[:2]
+    k = max(1, side // max(ph, pw))
+    big = np.repeat(np.repeat(panel, k, axis=0), k, axis=1)[:side, :side]
+    canvas[top:top + big.shape[0], left:left + big.shape[1]] = big
