@@ -44,7 +44,7 @@ from aaeval.experiments.store import SCHEMA_KEY, SweepStore, read_table
 from aaeval.imageio import atomic_write
 
 __all__ = ["results_frame", "temporal_frame", "write_results", "rebuild_results", "read_table", "short_label",
-           "varying_options", "RESULTS_COLUMNS", "TEMPORAL_COLUMNS", "STUDY_FILES"]
+           "varying_options", "RESULTS_COLUMNS", "TEMPORAL_COLUMNS", "STUDY_FILES", "specs_of"]
 
 #: Typed columns of ``results.parquet`` the sweep adds to the record's fields.
 SPEC_COLUMNS = ("label", "label_plain", "exact", "filter", "label_unfiltered", "ladder", "reference_method", "reference_label",
@@ -239,7 +239,7 @@ def _write_json(path: Path, data) -> None:
     atomic_write(path, lambda tmp: Path(tmp).write_text(text + "\n"))
 
 
-def _specs(results: pd.DataFrame) -> dict:
+def specs_of(results: pd.DataFrame) -> dict:
     """Each spec's method and options (keyed by the ``options`` column's text, which names
     them in every table) and each shown method's declared choices per option."""
     from aaeval.renderers import METHODS
@@ -289,7 +289,7 @@ def write_studies(store: SweepStore, results: pd.DataFrame) -> None:
     from aaeval.metrics import METRICS
 
     _write_json(store.writable("metrics.json"), {name: m.info().to_dict() for name, m in METRICS.items()})
-    _write_json(store.writable("specs.json"), _specs(results))
+    _write_json(store.writable("specs.json"), specs_of(results))
     _write_json(store.writable("controls.json"), _controls())
     _write_detection(store, results)
     _write_missing_flips(store, results)

@@ -34,7 +34,7 @@ import pandas as pd  # noqa: E402
 from aaeval.fileio import atomic_write, linear_to_srgb8  # noqa: E402
 from aaeval.report.style import Styles, ground_truth_style  # noqa: E402
 
-__all__ = ["EXACT_BELOW", "UNIT", "drawing_in_parallel", "metric_label", "temporal_bars", "save_figure", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
+__all__ = ["EXACT_BELOW", "UNIT", "FORMATS", "drawing", "twin_formats", "metric_label", "temporal_bars", "save_figure", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
            "intensity_sums", "phase_figure", "space_time", "stability", "image_grid", "validation"]
 
 # An error this small is float64 rounding of an exact render against an exact reference.
@@ -42,8 +42,10 @@ EXACT_BELOW = 1e-10
 #: The one unit of every error on the page, stated in every caption.
 UNIT = ("unit: linear RGB per channel (error maps: the mean of the R, G, B errors; RMSE and flicker: root mean square "
         "over pixels and channels)")
+#: The formats a figure can be written in: the page shows the PNG; SVG and PDF are for papers.
+FORMATS = ("png", "svg", "pdf")
 _DPI = 100
-plt.rcParams.update({"font.size": 9, "legend.fontsize": 7.5,
+plt.rcParams.update({"svg.fonttype": "none", "pdf.fonttype": 42, "font.size": 9, "legend.fontsize": 7.5,
                      "axes.titlesize": 9.5})
 
 
@@ -63,24 +65,36 @@ def metric_label(name: str) -> str:
 
 
 def save_figure(fig, path: Path) -> Path:
-    """Write the figure as ``path`` with suffix ``.png`` (the one format the page shows) and
-    close it; return the PNG path. Inside :func:`drawing_in_parallel` a child process writes it."""
+    """Write the figure as ``path`` with suffix ``.png`` (what the page shows), and its twins
+    in the other formats of :func:`drawing`; close it; return the PNG path. Inside
+    :func:`drawing` a child process writes the files."""
     path = Path(path).with_suffix(".png")
     _plain_log_axes(fig)
     if _children.slots:
-        _children.start(lambda: _write_png(fig, path), path)
+        _children.start(lambda: _write_files(fig, path), path)
     else:
-        _write_png(fig, path)
+        _write_files(fig, path)
     plt.close(fig)
     return path
 
 
-def _write_png(fig, path: Path) -> None:
+def twin_formats() -> tuple[str, ...]:
+    """The formats besides PNG that :func:`save_figure` writes now (for the page's links)."""
+    return tuple(f for f in _children.formats if f != "png")
+
+
+def _write_files(fig, path: Path) -> None:
     box = _tight_box(fig)
-    # a temporary file moved into place: a link planted at the name is replaced, never written through;
-    # no "Software" entry: the same data gives the same file
-    atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=_DPI, bbox_inches=box,
-                                               metadata={"Software": None}))
+    for fmt in _children.formats:
+        # a temporary file moved into place: a link planted at the name is replaced, never written through
+        atomic_write(path.with_suffix(f".{fmt}"),
+                     lambda tmp, fmt=fmt: fig.savefig(tmp, format=fmt, dpi=_DPI, bbox_inches=box,
+                                                      metadata=_metadata(fmt)))
+
+
+def _metadata(fmt: str) -> dict:
+    # no creation dates: the same data gives the same files
+    return {"png": {"Software": None}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}[fmt]
 
 
 class _Children:
@@ -90,6 +104,7 @@ class _Children:
 
     def __init__(self):
         self.slots = 0
+        self.formats: tuple[str, ...] = ("png",)
         self.running: dict[int, Path] = {}
         self.failed: list[Path] = []
 
@@ -129,19 +144,24 @@ _children = _Children()
 
 
 @contextlib.contextmanager
-def drawing_in_parallel():
-    """Within this block :func:`save_figure` draws in forked processes, as many as the cores
-    this process may use (none where ``os.fork`` is missing); leaving it waits for them all
-    and raises if one failed."""
+def drawing(formats=("png",)):
+    """Within this block :func:`save_figure` writes ``formats`` (PNG always; SVG and PDF
+    for papers cost most of the drawing time: PDF subsets its fonts) in forked processes,
+    as many as the cores this process may use (none where ``os.fork`` is missing); leaving
+    it waits for them all and raises if one failed."""
+    unknown = set(formats) - set(FORMATS)
+    if unknown:
+        raise ValueError(f"unknown figure format(s) {', '.join(sorted(unknown))}; known: {', '.join(FORMATS)}")
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
     _children.slots = cores if hasattr(os, "fork") and cores > 1 else 0
+    _children.formats = tuple(f for f in FORMATS if f in formats or f == "png")
     try:
         yield
     except BaseException:
-        _children.slots = 0
         _children.finish(check=False)  # the body's error is the one to see
         raise
-    _children.slots = 0
+    finally:
+        _children.slots, _children.formats = 0, ("png",)
     _children.finish()
 
 

@@ -184,10 +184,13 @@ def spec_summary(rows: pd.DataFrame, metrics: list[str], primary: str, failed: p
 
 
 def figure_html(path: Path, root: Path, caption: str) -> str:
-    """A figure of the page: the PNG and its caption."""
+    """A figure of the page: the PNG, its caption, and links to its twins in other formats."""
     rel = path.relative_to(root).as_posix()
+    twins = " · ".join(f"<a href='{html.escape(Path(rel).with_suffix('.' + f).as_posix())}'>{f.upper()}</a>"
+                       for f in figures.twin_formats())
+    links = f" <span class='dl'>(also as {twins})</span>" if twins else ""
     return (f"<figure><img src='{html.escape(rel)}' alt='{html.escape(html.unescape(''.join(p.split('>', 1)[-1] for p in caption.split('<')))[:120])}'>"
-            f"<figcaption>{caption}</figcaption></figure>")
+            f"<figcaption>{caption}{links}</figcaption></figure>")
 
 
 class _Page:
@@ -639,10 +642,11 @@ def _timing_note(results: pd.DataFrame) -> str:
     return (f"Rendered on {len(hosts)} host(s): {html.escape(', '.join(map(str, hosts)))}. " if len(hosts) else "")
 
 
-def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
-    """Write ``DIR/index.html`` with ``DIR/figures/``, ``DIR/tables/`` and ``DIR/viewer/``."""
+def write_report(directory: str | Path, *, quiet: bool = True, formats=("png",)) -> Path:
+    """Write ``DIR/index.html`` with ``DIR/figures/``, ``DIR/tables/`` and ``DIR/viewer/``;
+    ``formats``: of the figures (``"svg"`` and ``"pdf"`` beside the PNG, for papers)."""
     data = read_sweep(directory)
-    with figures.drawing_in_parallel():  # the page is written once every figure is
+    with figures.drawing(formats):  # the page is written once every figure is
         page_text = _page_text(data, quiet)
     index = data.store.root / "index.html"
     atomic_write(index, lambda tmp: Path(tmp).write_text(page_text))

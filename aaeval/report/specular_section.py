@@ -31,7 +31,7 @@ import pandas as pd  # noqa: E402
 from scipy.special import gammaln  # noqa: E402
 
 from aaeval.report.sweep_data import METRICS  # noqa: E402
-from aaeval.report.figures import UNIT, save_figure  # noqa: E402
+from aaeval.report.figures import UNIT, save_figure, twin_formats  # noqa: E402
 from aaeval.report.findings import per_spec, ranked  # noqa: E402
 from aaeval.report.style import Styles  # noqa: E402
 from aaeval.specular.tables import cutoff_table, maximum  # noqa: E402
@@ -259,8 +259,9 @@ def _fig_detection(stem: Path, detection: dict) -> Path:
 
 def _figure(rel: str, png: Path, caption: str) -> str:
     src = f"{rel}/{png.name}" if rel else png.name
+    twins = "".join(f" <a href='{html.escape(src[:-4])}.{f}'>{f.upper()}</a>" for f in twin_formats())
     return (f"<figure><img src='{html.escape(src)}' alt='{html.escape(caption[:120])}' style='max-width:100%'>"
-            f"<figcaption>{html.escape(caption)}</figcaption></figure>")
+            f"<figcaption>{html.escape(caption)}{twins}</figcaption></figure>")
 
 
 def _relative_to(folder: Path, root: Path) -> str:

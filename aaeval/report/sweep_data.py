@@ -65,6 +65,7 @@ def read_sweep(directory: str | Path) -> SweepData:
     """The stored files of a sweep folder (:class:`RecordError` naming a missing one)."""
     store = SweepStore(directory)
     root = store.root
+    manifest = store.read_manifest()  # first: a folder that is no sweep is named as such
     if not (root / "results.parquet").is_file():
         _json(root / "results.parquet")  # the one message for a table the sweep has not written
     use_metrics(root)
@@ -73,5 +74,5 @@ def read_sweep(directory: str | Path) -> SweepData:
         with np.load(root / "specular_detection.npz") as found:
             detection = {k: found[k] for k in found.files}
     speed = pd.read_parquet(root / "speed.parquet") if (root / "speed.parquet").is_file() else pd.DataFrame()
-    return SweepData(store, store.read_manifest(), read_table(root / "results.parquet"), _table(root / "temporal.parquet"),
+    return SweepData(store, manifest, read_table(root / "results.parquet"), _table(root / "temporal.parquet"),
                      speed, _json(root / "specs.json"), _json(root / "controls.json"), detection)
