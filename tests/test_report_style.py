@@ -71,6 +71,15 @@ def _synthetic_results() -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def _use_registered_metrics(folder: Path) -> None:
+    """The metric descriptions the figures label with, stored and read as a sweep's are."""
+    from aaeval.metrics import METRICS as REGISTERED
+    from aaeval.report.sweep_data import use_metrics
+
+    (folder / "metrics.json").write_text(json.dumps({n: m.info().to_dict() for n, m in REGISTERED.items()}))
+    use_metrics(folder)
+
+
 def _styles(specs) -> Styles:
     """The styles of (method, options text) pairs, as a report gets them: through the specs
     the sweep stores (``specs.json``)."""
@@ -84,6 +93,7 @@ def _styles(specs) -> Styles:
 def drawn(tmp_path_factory):
     """Every chart kind of the report for every group, as (name, figure) pairs."""
     out = tmp_path_factory.mktemp("style")
+    _use_registered_metrics(out)
     results = _synthetic_results()
     styles = _styles(zip(results["method"], results["options"]))
     made = []
