@@ -6,6 +6,7 @@ Layout of a sweep folder ``DIR``::
     DIR/manifest.json            every cell of the config (key, group, scene, method, frame)
     DIR/cells/<key>.json         one finished cell: its record (metrics, time, host, error)
     DIR/images/<key>.npy         the cell's rendered image (float64 linear RGB)
+    DIR/flip/<key>.npy           the cell's per-pixel FLIP error against its reference (float32)
     DIR/references/<key>.npy     reference images the cells were compared against
     DIR/results.parquet          one tidy table, rebuilt from the cell files
 
@@ -26,7 +27,7 @@ sweep into it is refused while the first runs, and another experiment only with 
 
 A sweep reads, writes, truncates and moves only files inside its folder: every file of the
 folder is opened without following symbolic links (``O_NOFOLLOW``) and must be a regular
-file, and every subfolder it writes into (``cells/``, ``images/``, ``references/``,
+file, and every subfolder it writes into (``cells/``, ``images/``, ``flip/``, ``references/``,
 ``quarantine/``, ``history/``) must be a real folder, not a link. A planted link is refused
 by name (``sweep.lock``, a subfolder) or treated as a damaged file (a cell record or an
 image that is a link: set aside, the link itself moved, its target untouched).
@@ -310,6 +311,7 @@ class SweepStore:
         self.cells_dir = self.root / "cells"
         self.images_dir = self.root / "images"
         self.refs_dir = self.root / "references"
+        self.flips_dir = self.root / "flip"
         self.lock_path = self.root / "sweep.lock"
         self.log = log or _warn
         self._quarantine: Path | None = None
@@ -323,7 +325,7 @@ class SweepStore:
 
     def flip_path(self, key: str) -> Path:
         """The cell's per-pixel FLIP map against its reference (float32, H x W), for the viewer."""
-        return self.images_dir / f"{key}.flip.npy"
+        return self.flips_dir / f"{key}.npy"
 
     def reference_path(self, key: str) -> Path:
         return self.refs_dir / f"{key}.npy"
@@ -342,7 +344,7 @@ class SweepStore:
         named through ``log``; with ``heal`` it and the files of its cell are moved to
         ``quarantine/`` so that the next sweep runs the cell again.
         """
-        for folder in (self.cells_dir, self.images_dir, self.refs_dir):
+        for folder in (self.cells_dir, self.images_dir, self.refs_dir, self.flips_dir):
             if os.path.islink(folder):  # reading through it would read, and healing move, files elsewhere
                 raise StoreError(f"{folder} is a symbolic link; a sweep reads and moves only files inside "
                                  f"{self.root} (remove the link)")
@@ -519,7 +521,7 @@ class SweepStore:
         atomic_write(self.cell_path(record["key"]), lambda tmp: Path(tmp).write_text(text))
 
     def write_flip(self, key: str, flip: np.ndarray) -> None:
-        self._folder(self.images_dir)
+        self._folder(self.flips_dir)
         _save_npy(self.flip_path(key), flip, np.float32)  # the viewer shows it in 1/255 steps
 
     def write_reference(self, key: str, image: np.ndarray) -> None:

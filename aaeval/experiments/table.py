@@ -24,7 +24,7 @@ Beside them, what the report shows that is not a cell (:data:`STUDY_FILES`):
 the figures' styles), ``controls.json`` (every temporal metric on the controls whose
 answer is known, :mod:`aaeval.metrics.controls`) and ``specular_detection.npz``
 (Amanatides' detector on the sweep's first scene with shaded objects). Each finished
-cell's FLIP map lies beside its image (``images/<key>.flip.npy``).
+cell's FLIP map lies beside its image (``flip/<key>.npy``).
 """
 
 from __future__ import annotations

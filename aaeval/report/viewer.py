@@ -3,7 +3,7 @@
 For every group, ``viewer/<slug>.js`` holds each scene's frames for the ground truth and
 every method (linear RGB), each method's signed error (mean over RGB, computed here in
 float64 so that errors far below float16's step near 1 keep their value) and its FLIP
-map (measured by the sweep, ``images/<key>.flip.npy``), as zlib-compressed float16 arrays (the FLIP map as bytes, 1/255 steps) in base64 inside
+map (measured by the sweep, ``flip/<key>.npy``), as zlib-compressed float16 arrays (the FLIP map as bytes, 1/255 steps) in base64 inside
 an ``AAV.add(...)`` call. The page
 loads these files with plain ``<script src>`` tags, which work from ``file://``; the
 viewer itself (``viewer.js`` beside this module, with the colour maps filled in at build
