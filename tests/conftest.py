@@ -46,3 +46,15 @@ def world(tmp_path):
     from tests.helpers.links_util import world_of
 
     return world_of(tmp_path)
+
+
+@pytest.fixture(autouse=True)
+def _report_metrics():
+    """Report functions called on hand-made tables describe metrics as a sweep folder would
+    (``metrics.json``); ``write_report`` replaces this with the folder's own."""
+    from aaeval.metrics import METRICS
+    from aaeval.report.sweep_data import METRICS as SHOWN
+
+    SHOWN.clear()
+    SHOWN.update({name: metric.info() for name, metric in METRICS.items()})
+    yield

@@ -8,18 +8,20 @@ def add_parser(sub) -> None:
         "report",
         help="write DIR/index.html: charts and tables of a sweep's results",
         description="Rebuild DIR/results.parquet from the cell files and write DIR/index.html with its "
-        "figures (PNG files beside it): speed against accuracy, intensity sum per frame, flicker, "
+        "figures (PNG files beside it; --paper adds SVG and PDF twins): speed against accuracy, intensity sum per frame, flicker, "
         "stability as difficulty grows, an image grid with crops and error maps, and the tables.",
     )
     p.add_argument("dir", metavar="DIR", help="sweep folder written by 'aaeval sweep'")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
+    p.add_argument("--paper", action="store_true",
+                   help="also write every figure as SVG and PDF, for papers (drawing takes about three times as long)")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
     from pathlib import Path
 
-    from aaeval.imageio import check_outputs
+    from aaeval.fileio import check_outputs
     from aaeval.report import write_report
 
     if Path(args.dir).is_dir():  # a folder the report cannot write into is refused before any work
@@ -28,6 +30,6 @@ def run(args) -> int:
             if (Path(args.dir) / name).is_symlink():
                 raise ValueError(f"{Path(args.dir) / name} is a symbolic link; the report writes only inside "
                                  f"{args.dir} (remove the link)")
-    index = write_report(args.dir, quiet=args.quiet)
+    index = write_report(args.dir, quiet=args.quiet, formats=("png", "svg", "pdf") if args.paper else ("png",))
     print(f"report: {index}")
     return 0

@@ -4,12 +4,18 @@ folder of crash-proof results, summarised in ``results.parquet``. Both measure t
 engine (:mod:`aaeval.experiments.measure`) into one record
 (:class:`aaeval.experiments.record.CellRecord`)."""
 
-from aaeval.experiments.config import ConfigError, Experiment, load_experiment, parse_experiment
-from aaeval.experiments.provenance import read_provenance
-from aaeval.experiments.record import SCHEMA_VERSION, CellRecord, RecordError
-from aaeval.experiments.runner import SweepSummary, plan, run_sweep
-from aaeval.experiments.store import SweepStore, code_version
-from aaeval.experiments.table import rebuild_results, write_results
+import importlib
+
+# Loaded on first use (PEP 562): a reader of a sweep folder (the report) imports the store
+# and the record without loading the renderers the sweep runs.
+_EXPORTS = {
+    "ConfigError": "config", "Experiment": "config", "load_experiment": "config", "parse_experiment": "config",
+    "read_provenance": "provenance",
+    "SCHEMA_VERSION": "record", "CellRecord": "record", "RecordError": "record",
+    "SweepSummary": "runner", "plan": "runner", "run_sweep": "runner",
+    "SweepStore": "store", "code_version": "store",
+    "rebuild_results": "table", "write_results": "table",
+}
 
 __all__ = [
     "CellRecord",
@@ -28,3 +34,14 @@ __all__ = [
     "run_sweep",
     "write_results",
 ]
+
+
+def __getattr__(name: str):
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'aaeval.experiments' has no attribute {name!r}")
+    return getattr(importlib.import_module(f"aaeval.experiments.{module}"), name)
+
+
+def __dir__():
+    return sorted([*globals(), *_EXPORTS])

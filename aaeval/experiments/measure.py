@@ -37,13 +37,14 @@ from aaeval.metrics import (
     intensity_sum,
     rmse,
 )
+from aaeval.metrics.perceptual import flip_map
 
 if TYPE_CHECKING:
     from aaeval.renderers.registry import MethodSpec
 
 __all__ = ["Timing", "FrameMeasurement", "SceneCache", "render_measured", "render_reference",
            "reference_kind", "noise_spec", "frame_metrics", "series_metrics", "measure_frame",
-           "check_image_metrics", "check_temporal_metrics"]
+           "check_image_metrics", "check_temporal_metrics", "mask_source", "scene_mask"]
 
 
 @dataclass(frozen=True)
@@ -92,7 +93,7 @@ class SceneCache:
     def mask(self, digest: str, scene, frame: int, name: str) -> np.ndarray:
         key = (digest, frame, name)
         if key not in self._masks:
-            self._masks[key] = build_mask(name, scene.at_frame(frame))
+            self._masks[key] = scene_mask(name, scene.at_frame(frame))
         return self._masks[key]
 
     def series_mask(self, digest: str, scene, frames: Sequence[int], name: str) -> np.ndarray:
@@ -100,8 +101,8 @@ class SceneCache:
         return np.stack([self.mask(digest, scene, k, name) for k in frames])
 
     def noise_weight(self, digest: str, scene, frame: int) -> np.ndarray:
-        """:func:`aaeval.metrics.agreement.noise_weight` of the scene at ``frame``, kept."""
-        from aaeval.metrics.agreement import noise_weight
+        """:func:`aaeval.metrics.edges.noise_weight` of the scene at ``frame``, kept."""
+        from aaeval.metrics.edges import noise_weight
 
         key = (digest, frame, "noise_weight")
         if key not in self._masks:
@@ -120,6 +121,40 @@ class SceneCache:
             if (digest, k, "exact") not in self._masks:
                 self._masks[(digest, k, "exact")] = render_flat(scene.at_frame(k))
         return np.stack([self._masks[(digest, k, "exact")] for k in frames])
+
+
+def mask_source(source: str, scene) -> np.ndarray:
+    """The render a mask is read from (:data:`aaeval.metrics.masks.SOURCES`), of ``scene`` at
+    its frame: ``exact``, Catmull's box-filtered image (the flat kernel on a flat scene, the
+    same bits as the ``catmull`` method, without parsing a spec inside the sweep);
+    ``specular``, the specular term of the Mitsuba Phong ground truth at
+    :data:`~aaeval.metrics.masks.HIGHLIGHT_SPP` (cached on disk)."""
+    from aaeval.scenes.shaded import has_shaded
+
+    if source == "exact":
+        if has_shaded(scene):
+            from aaeval.renderers import render
+
+            return render(scene, "catmull")
+        from aaeval.catmull import render_flat
+
+        return render_flat(scene)
+    if source == "specular":
+        from aaeval.groundtruth import groundtruth_phong
+        from aaeval.metrics.masks import HIGHLIGHT_SPP
+
+        return groundtruth_phong(scene, spp=HIGHLIGHT_SPP)[1]
+    raise ValueError(f"unknown mask source {source!r}")
+
+
+def scene_mask(name: str, scene) -> np.ndarray:
+    """The mask ``name`` of ``scene`` at its frame, bool (H, W), given the render it is read
+    from (:func:`mask_source`) where it is read from one."""
+    from aaeval.metrics.masks import MASKS
+
+    mask = MASKS.get_entry(name)
+    source = mask.source and mask.applies_to(scene)
+    return build_mask(name, scene, mask_source(mask.source, scene) if source else None)
 
 
 #: This process's scene cache (each worker process has its own).
@@ -206,13 +241,14 @@ def render_reference(scene, spec: MethodSpec | str, frame: int, *, estimate_nois
 
 def _noise_strata(scene, image: np.ndarray, twin: np.ndarray) -> dict[str, list[float]]:
     """Every applicable RMS metric's noise strata (:func:`aaeval.metrics.agreement.noise_strata`)."""
-    from aaeval.metrics.agreement import noise_strata, noise_weight
+    from aaeval.metrics.agreement import noise_strata
+    from aaeval.metrics.edges import noise_weight
 
-    edge, weight = build_mask("edge", scene), noise_weight(scene)
+    edge, weight = scene_mask("edge", scene), noise_weight(scene)
     out = {}
     for name, metric in METRICS.items():
         if metric.kind == "image" and metric.rms and metric.applies_to(scene):
-            mask = build_mask(metric.mask, scene) if metric.mask else np.ones(edge.shape, bool)
+            mask = scene_mask(metric.mask, scene) if metric.mask else np.ones(edge.shape, bool)
             out[name] = list(noise_strata(image, twin, mask, edge, weight))
     return out
 
@@ -319,7 +355,7 @@ def series_metrics(names: Sequence[str], references: Sequence[np.ndarray], image
 
 @dataclass
 class FrameMeasurement:
-    """What :func:`measure_frame` returns: the record's measured fields and the image."""
+    """What :func:`measure_frame` returns: the record's measured fields, the image and its FLIP map."""
 
     image: np.ndarray | None
     timing: Timing
@@ -329,6 +365,8 @@ class FrameMeasurement:
     error: str | None = None
     traceback: str | None = None
     agreement: dict[str, float] = field(default_factory=dict)
+    #: the per-pixel FLIP error (H, W) against the reference, stored beside the image for the viewer
+    flip: np.ndarray | None = None
 
     def fields(self, width: int, height: int) -> dict[str, Any]:
         return {**self.timing.fields(width, height), "intensity_sum": self.intensity_sum, "metrics": self.metrics,
@@ -384,6 +422,7 @@ def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | N
             out.agreement = agreement(metrics, reference, image, _test_noise(scene, spec, frame, image, noise_by_metric),
                                       lambda name: cache.mask(digest, scene, frame, name),
                                       cache.noise_weight(digest, scene, frame))
+        out.flip = flip_map(reference, image)
     except Exception as exc:  # noqa: BLE001 - a failing cell is a result, not the end of the run
         out.error = f"{type(exc).__name__}: {exc}"
         out.traceback = traceback.format_exc(limit=6)

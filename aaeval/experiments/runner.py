@@ -337,10 +337,10 @@ def _cells(todo, refs, store, executor, progress, summary) -> None:
         elif exc is not None:
             summary.lost.append(f"{todo[i].key}: {type(exc).__name__}: {exc}")
         else:
-            record, image = result
+            record, image, flip = result
             if hasattr(executor, "current"):  # a cluster's workers now (one may have died since the start)
                 record.update(executor.current())
-            store.write_cell(record, image)
+            store.write_cell(record, image, flip)
             summary.ran += 1
             summary.failed += bool(record.get("error"))
         if task is not None:

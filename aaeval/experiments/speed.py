@@ -10,8 +10,8 @@ shared with other work disturbs them alike.
 
 ``DIR/speed.parquet``: one row per (table, scene, spec, round) with ``render_s`` and
 ``ms_per_mpix``, and the pass's identity in its metadata; a rerun with the same config,
-code and machine keeps it. :func:`speed_summary` gives one row per (scene, spec): median,
-fastest and slowest.
+code and machine keeps it. The report sums it up (one row per scene and spec: median,
+fastest and slowest).
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from aaeval.imageio import atomic_write
 if TYPE_CHECKING:
     from aaeval.renderers.registry import MethodSpec
 
-__all__ = ["SPEED_FILE", "run_speed_pass", "read_speed", "speed_summary", "speed_identity", "accuracy_spec"]
+__all__ = ["SPEED_FILE", "run_speed_pass", "read_speed", "speed_identity", "accuracy_spec"]
 
 SPEED_FILE = "speed.parquet"
 _META_KEY = b"aaeval_speed_identity"
@@ -131,16 +131,3 @@ def read_speed(root: str | Path) -> pd.DataFrame:
     return pd.read_parquet(path)
 
 
-def speed_summary(speed: pd.DataFrame) -> pd.DataFrame:
-    """One row per (pass, scene, spec): median, fastest and slowest ms per megapixel and render ms."""
-    if speed.empty:
-        return speed
-    ok = speed[speed["error"].isna()]
-    keys = ["pass", "scene", "spec"]
-    agg = ok.groupby(keys, sort=False).agg(
-        label=("label", "first"), method=("method", "first"), options=("options", "first"),
-        width=("width", "first"), height=("height", "first"), threads=("threads", "first"),
-        rounds=("round", "size"), render_ms=("render_s", lambda s: 1e3 * s.median()),
-        ms_per_mpix=("ms_per_mpix", "median"), ms_per_mpix_min=("ms_per_mpix", "min"),
-        ms_per_mpix_max=("ms_per_mpix", "max"), accuracy_group=("accuracy_group", "first"))
-    return agg.reset_index()

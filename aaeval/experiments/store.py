@@ -6,6 +6,7 @@ Layout of a sweep folder ``DIR``::
     DIR/manifest.json            every cell of the config (key, group, scene, method, frame)
     DIR/cells/<key>.json         one finished cell: its record (metrics, time, host, error)
     DIR/images/<key>.npy         the cell's rendered image (float64 linear RGB)
+    DIR/flip/<key>.npy           the cell's per-pixel FLIP error against its reference (float32)
     DIR/references/<key>.npy     reference images the cells were compared against
     DIR/results.parquet          one tidy table, rebuilt from the cell files
 
@@ -26,7 +27,7 @@ sweep into it is refused while the first runs, and another experiment only with 
 
 A sweep reads, writes, truncates and moves only files inside its folder: every file of the
 folder is opened without following symbolic links (``O_NOFOLLOW``) and must be a regular
-file, and every subfolder it writes into (``cells/``, ``images/``, ``references/``,
+file, and every subfolder it writes into (``cells/``, ``images/``, ``flip/``, ``references/``,
 ``quarantine/``, ``history/``) must be a real folder, not a link. A planted link is refused
 by name (``sweep.lock``, a subfolder) or treated as a damaged file (a cell record or an
 image that is a link: set aside, the link itself moved, its target untouched).
@@ -51,10 +52,31 @@ from typing import Any, Callable, Iterable, Iterator
 import numpy as np
 
 import aaeval
-from aaeval.imageio import atomic_write
+from aaeval.fileio import atomic_write
 
-__all__ = ["code_version", "cell_key", "reference_key", "SweepStore", "ReferenceCache", "default_cache_dir",
+__all__ = ["code_version", "read_table", "SCHEMA_KEY", "cell_key", "reference_key", "SweepStore", "ReferenceCache", "default_cache_dir",
            "StoreError", "FolderInUse", "npy_problem"]
+
+#: The key of ``results.parquet``'s and ``temporal.parquet``'s metadata naming their schema version.
+SCHEMA_KEY = b"aaeval_schema_version"
+
+
+def read_table(path: str | Path):
+    """Read ``results.parquet`` or ``temporal.parquet`` (a pandas DataFrame), refusing
+    another schema version (:class:`~aaeval.experiments.record.RecordError`)."""
+    import pandas as pd
+    import pyarrow.parquet as pq
+
+    from aaeval.experiments.record import SCHEMA_VERSION, RecordError
+
+    path = Path(path)
+    meta = pq.read_schema(path).metadata or {}
+    version = meta.get(SCHEMA_KEY, b"").decode() or None
+    if version != str(SCHEMA_VERSION):
+        raise RecordError(f"{path}: results schema version {version}, this aaeval reads {SCHEMA_VERSION}; "
+                          "run the sweep again to rebuild it ('aaeval sweep' resumes: finished cells are kept)")
+    return pd.read_parquet(path)
+
 
 # Packages whose source cannot change a cell's result: editing them keeps old results.
 _PRESENTATION = ("cli", "report", "studies")
@@ -289,6 +311,7 @@ class SweepStore:
         self.cells_dir = self.root / "cells"
         self.images_dir = self.root / "images"
         self.refs_dir = self.root / "references"
+        self.flips_dir = self.root / "flip"
         self.lock_path = self.root / "sweep.lock"
         self.log = log or _warn
         self._quarantine: Path | None = None
@@ -299,6 +322,10 @@ class SweepStore:
 
     def image_path(self, key: str) -> Path:
         return self.images_dir / f"{key}.npy"
+
+    def flip_path(self, key: str) -> Path:
+        """The cell's per-pixel FLIP map against its reference (float32, H x W), for the viewer."""
+        return self.flips_dir / f"{key}.npy"
 
     def reference_path(self, key: str) -> Path:
         return self.refs_dir / f"{key}.npy"
@@ -317,7 +344,7 @@ class SweepStore:
         named through ``log``; with ``heal`` it and the files of its cell are moved to
         ``quarantine/`` so that the next sweep runs the cell again.
         """
-        for folder in (self.cells_dir, self.images_dir, self.refs_dir):
+        for folder in (self.cells_dir, self.images_dir, self.refs_dir, self.flips_dir):
             if os.path.islink(folder):  # reading through it would read, and healing move, files elsewhere
                 raise StoreError(f"{folder} is a symbolic link; a sweep reads and moves only files inside "
                                  f"{self.root} (remove the link)")
@@ -340,7 +367,7 @@ class SweepStore:
             if problem is None:
                 sound[path.stem] = record
             else:
-                self._set_aside(path, problem, heal, [self.image_path(path.stem)])
+                self._set_aside(path, problem, heal, [self.image_path(path.stem), self.flip_path(path.stem)])
         for ref, problem in bad_refs.items():
             if problem is not None and os.path.lexists(self.reference_path(ref)):
                 self._move(self.reference_path(ref), heal)
@@ -366,7 +393,7 @@ class SweepStore:
         does with a damaged one: for a record that reads well but disagrees with its plan."""
         path = self.cell_path(key)
         if os.path.lexists(path):
-            self._set_aside(path, problem, heal, [self.image_path(key)])
+            self._set_aside(path, problem, heal, [self.image_path(key), self.flip_path(key)])
 
     def _array_problem(self, path: Path, what: str, shape: tuple[int, ...] | None = None) -> str | None:
         problem = _regular_problem(path)
@@ -453,6 +480,10 @@ class SweepStore:
     def load_image(self, key: str) -> np.ndarray | None:
         return self._load_array(self.image_path(key))
 
+    def load_flip(self, key: str) -> np.ndarray | None:
+        """The cell's stored FLIP map, or None (a cell of a sweep that stored none)."""
+        return self._load_array(self.flip_path(key))
+
     def load_reference(self, key: str) -> np.ndarray | None:
         return self._load_array(self.reference_path(key))
 
@@ -477,15 +508,21 @@ class SweepStore:
 
     # --- writing ---------------------------------------------------------------------
 
-    def write_cell(self, record: dict, image: np.ndarray | None) -> None:
+    def write_cell(self, record: dict, image: np.ndarray | None, flip: np.ndarray | None = None) -> None:
         # image first: a record that exists always has its image
         if image is not None:
             # float64: a float32 copy would show rounding as error against an exact reference
             self._folder(self.images_dir)
             _save_npy(self.image_path(record["key"]), image, np.float64)
+        if flip is not None:
+            self.write_flip(record["key"], flip)
         text = json.dumps(record, indent=1, default=_jsonable) + "\n"
         self._folder(self.cells_dir)
         atomic_write(self.cell_path(record["key"]), lambda tmp: Path(tmp).write_text(text))
+
+    def write_flip(self, key: str, flip: np.ndarray) -> None:
+        self._folder(self.flips_dir)
+        _save_npy(self.flip_path(key), flip, np.float32)  # the viewer shows it in 1/255 steps
 
     def write_reference(self, key: str, image: np.ndarray) -> None:
         path = self.reference_path(key)

@@ -40,14 +40,14 @@ def run_reference(document: dict, source: str, frame: int, spec: MethodSpec, est
     return {**result, "host": socket.gethostname()}
 
 
-def run_cell(payload: dict[str, Any]) -> tuple[dict, np.ndarray | None]:
+def run_cell(payload: dict[str, Any]) -> tuple[dict, np.ndarray | None, np.ndarray | None]:
     """Render one cell, compare it with its reference image; never raises for the cell's
     own failures: they come back as the record's ``error``.
 
     ``payload``: ``identity`` (the record's identity and reference fields), ``run``
     (``executor``, ``workers``), ``document``, ``source``, ``metrics``, ``repeats``,
     ``reference_image``, ``reference_error``. Returns the record as strict-JSON-ready dict
-    (:meth:`CellRecord.to_json`) and the image.
+    (:meth:`CellRecord.to_json`), the image and its FLIP map against the reference.
     """
     identity = payload["identity"]
     try:
@@ -66,7 +66,7 @@ def run_cell(payload: dict[str, Any]) -> tuple[dict, np.ndarray | None]:
         **identity, **measured.fields(identity["width"], identity["height"]), **payload["run"],
         host=socket.gethostname(), pid=os.getpid(),
         finished_at=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()))
-    return record.to_json(), measured.image
+    return record.to_json(), measured.image, measured.flip
 
 
 def failed_record(payload: dict[str, Any], error: str) -> dict:

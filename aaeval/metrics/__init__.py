@@ -5,39 +5,28 @@ Every metric checks its inputs first: two finite (H, W, 3) linear RGB images of 
 registry: each metric with its title, format, direction and what it needs
 (:func:`register_metric`); :data:`IMAGE_METRICS` / :data:`TEMPORAL_METRICS` are its
 functions by kind, called with :func:`compute_metric` / :func:`compute_temporal_metric`.
-Masks for the masked metrics are built by :mod:`aaeval.metrics.masks`.
+Masks for the masked metrics are built by :mod:`aaeval.metrics.masks`. The names are
+loaded on first use (PEP 562): :mod:`aaeval.metrics.info` (what a metric is, without its
+function) is importable without loading any metric, mask or renderer.
 """
 
-from aaeval.metrics.colour_difference import ciede2000_map, ciede2000_mean, ciede2000_p95, linear_rgb_to_lab
-from aaeval.metrics.edges import edge_mask, edge_rmse
-from aaeval.metrics.image import psnr, rmse, ssim
-from aaeval.metrics.masks import MASKS, build_mask
-from aaeval.metrics.perceptual import flip
-from aaeval.metrics.registry import (
-    IMAGE_METRICS,
-    METRICS,
-    TEMPORAL_METRICS,
-    Metric,
-    MetricError,
-    check_metric_names,
-    compute_metric,
-    compute_temporal_metric,
-    format_value,
-    get_metric,
-    register_metric,
-)
-from aaeval.metrics.specular import (
-    detection_precision_recall,
-    highlight_bias,
-    highlight_energy_bias,
-    highlight_energy_flicker,
-    highlight_flicker,
-    highlight_mask,
-    highlight_profile_flicker,
-    highlight_rmse,
-)
-from aaeval.metrics.temporal import (flicker, image_flicker, intensity_sum, relative_variation, sum_bias,
-                                     sum_variation, temporal_bias)
+import importlib
+
+_EXPORTS = {
+    "colour_difference": ("ciede2000_map", "ciede2000_mean", "ciede2000_p95", "linear_rgb_to_lab"),
+    "edges": ("edge_mask", "edge_rmse"),
+    "image": ("psnr", "rmse", "ssim"),
+    "masks": ("MASKS", "build_mask"),
+    "perceptual": ("flip",),
+    "info": ("format_value",),
+    "registry": ("IMAGE_METRICS", "METRICS", "TEMPORAL_METRICS", "Metric", "MetricError", "check_metric_names",
+                 "compute_metric", "compute_temporal_metric", "get_metric", "register_metric"),
+    "specular": ("detection_precision_recall", "highlight_bias", "highlight_energy_bias", "highlight_energy_flicker",
+                 "highlight_flicker", "highlight_mask", "highlight_profile_flicker", "highlight_rmse"),
+    "temporal": ("flicker", "image_flicker", "intensity_sum", "relative_variation", "sum_bias", "sum_variation",
+                 "temporal_bias"),
+}
+_MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
 
 __all__ = [
     "METRICS",
@@ -79,3 +68,14 @@ __all__ = [
     "highlight_profile_flicker",
     "detection_precision_recall",
 ]
+
+
+def __getattr__(name: str):
+    module = _MODULE_OF.get(name)
+    if module is None:
+        raise AttributeError(f"module 'aaeval.metrics' has no attribute {name!r}")
+    return getattr(importlib.import_module(f"aaeval.metrics.{module}"), name)
+
+
+def __dir__():
+    return sorted([*globals(), *_MODULE_OF])

@@ -14,7 +14,7 @@ z-test at significance 0.01 with a Sidak correction over the pixels, passing whe
 99.75% of the pixels pass). Two seeds give one sample of the noise per pixel, so each
 value's standard deviation comes from a model pooled over the metric's pixels: on a pixel an
 edge crosses, a sampled box filter's noise is its coverage estimate's times the spread of
-the colours meeting there (:func:`noise_weight`: per channel, the range of the visible
+the colours meeting there (:func:`aaeval.metrics.edges.noise_weight`: per channel, the range of the visible
 fragments' flat colours; 1 where shading varies inside a fragment), with one scale for all
 of them; the other pixels have a noise of their own (0 for flat colours: exact whatever the
 sampler). Pooled without the colour weight, the noise of a bright channel at a
@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-__all__ = ["SIGNIFICANCE", "PASS_FRACTION", "ROUNDING", "noise_weight", "sidak_level", "sidak_threshold", "noise_strata", "z_test_pass_fraction", "agrees"]
+__all__ = ["SIGNIFICANCE", "PASS_FRACTION", "ROUNDING", "sidak_level", "sidak_threshold", "noise_strata", "z_test_pass_fraction", "agrees"]
 
 #: Family-wise significance of the per-pixel z-test (Mitsuba's render tests use 0.01).
 SIGNIFICANCE = 0.01
@@ -55,29 +55,6 @@ def sidak_threshold(n: int, alpha: float = SIGNIFICANCE) -> float:
     return float(norm.isf(sidak_level(n, alpha) / 2.0))
 
 
-def noise_weight(scene) -> np.ndarray:
-    """Relative noise of each pixel and channel on the pixels an edge crosses, (H, W, 3).
-
-    For a scene of flat colours, the range (max - min) of the colours of the fragments
-    visible in the pixel, per channel (the background counts as a fragment): a sampled
-    coverage's error moves the pixel by that range times the coverage's error. Scenes with
-    shaded objects: 1 everywhere (their colour varies inside a fragment).
-    """
-    from aaeval.catmull import visible_fragments
-    from aaeval.scenes.shaded import has_shaded
-
-    if has_shaded(scene):
-        return np.ones((scene.height, scene.width, 3))
-    fragments = visible_fragments(scene, centroids=False)
-    colours = np.vstack([np.array([p.color for p in scene.polygons]).reshape(-1, 3), scene.background[None]])
-    colour = colours[np.where(fragments.polygon < 0, len(scene.polygons), fragments.polygon)]
-    n = scene.width * scene.height
-    high, low = np.full((n, 3), -np.inf), np.full((n, 3), np.inf)
-    np.maximum.at(high, fragments.pixel, colour)
-    np.minimum.at(low, fragments.pixel, colour)
-    return (high - low).reshape(scene.height, scene.width, 3)
-
-
 def _sigma(edge: np.ndarray, weight: np.ndarray | None, scale_edge: float, sigma_other: float) -> np.ndarray:
     """Each value's modelled noise, (H, W, 3): ``scale_edge * weight`` on edge pixels,
     ``sigma_other`` elsewhere."""
@@ -91,7 +68,7 @@ def noise_strata(truth: np.ndarray, twin: np.ndarray, mask: np.ndarray, edge: np
     per-value noise model :func:`z_test_pass_fraction` reads.
 
     One render's noise is ``(truth - twin) / sqrt(2)`` (two independent renders, equal noise).
-    On an edge pixel the model is ``noise = scale * weight`` (:func:`noise_weight`; all 1
+    On an edge pixel the model is ``noise = scale * weight`` (:func:`aaeval.metrics.edges.noise_weight`; all 1
     when ``weight`` is None): ``scale`` is the RMS of ``noise / weight`` over the masked
     edge values whose weight is not 0. Elsewhere the noise is the RMS over the masked
     other pixels.

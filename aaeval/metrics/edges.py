@@ -1,7 +1,8 @@
 """Error along edges: where anti-aliasing methods differ most.
 
 :func:`edge_mask` finds the pixels an edge crosses from the exact coverage of the Catmull
-(1978) scanline algorithm; :func:`edge_rmse` is the RMSE over those pixels only.
+(1978) scanline algorithm; :func:`edge_rmse` is the RMSE over those pixels only;
+:func:`noise_weight` how much a sampled coverage error moves each edge pixel.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from aaeval.catmull import visible_fragments
 from aaeval.metrics._checks import check_image_pair
 from aaeval.metrics.image import masked_rmse
 
-__all__ = ["edge_mask", "edge_rmse"]
+__all__ = ["edge_mask", "edge_rmse", "noise_weight"]
 
 # A pixel one polygon covers whole gets an area a few ulps off 1 from the clipping, and an
 # edge lying on the pixel's border may leave a zero-area fragment beside it.
@@ -64,3 +65,25 @@ def edge_rmse(image_true, image_test, *, mask) -> float:
     if mask.dtype != bool:
         raise ValueError(f"mask must be boolean, got dtype {mask.dtype}")
     return masked_rmse(image_true, image_test, mask)
+
+
+def noise_weight(scene) -> np.ndarray:
+    """Relative noise of each pixel and channel on the pixels an edge crosses, (H, W, 3).
+
+    For a scene of flat colours, the range (max - min) of the colours of the fragments
+    visible in the pixel, per channel (the background counts as a fragment): a sampled
+    coverage's error moves the pixel by that range times the coverage's error. Scenes with
+    shaded objects: 1 everywhere (their colour varies inside a fragment).
+    """
+    from aaeval.scenes.shaded import has_shaded
+
+    if has_shaded(scene):
+        return np.ones((scene.height, scene.width, 3))
+    fragments = visible_fragments(scene, centroids=False)
+    colours = np.vstack([np.array([p.color for p in scene.polygons]).reshape(-1, 3), scene.background[None]])
+    colour = colours[np.where(fragments.polygon < 0, len(scene.polygons), fragments.polygon)]
+    n = scene.width * scene.height
+    high, low = np.full((n, 3), -np.inf), np.full((n, 3), np.inf)
+    np.maximum.at(high, fragments.pixel, colour)
+    np.minimum.at(low, fragments.pixel, colour)
+    return (high - low).reshape(scene.height, scene.width, 3)

@@ -6,7 +6,7 @@ import numpy as np
 
 from aaeval.metrics._checks import check_image_pair, check_positive
 
-__all__ = ["flip"]
+__all__ = ["flip", "flip_map"]
 
 
 def flip(image_true, image_test, *, ppd: float | None = None) -> float:
@@ -35,15 +35,43 @@ def flip(image_true, image_test, *, ppd: float | None = None) -> float:
     image_true, image_test = check_image_pair(image_true, image_test)
     if ppd is not None:
         check_positive("ppd", ppd)
+    _, mean = _evaluate(image_true, image_test, ppd, mean=True)
+    return float(mean)
+
+
+def flip_map(image_true, image_test, *, ppd: float | None = None) -> np.ndarray:
+    """Per-pixel LDR-FLIP error map of a test image against a reference: the map whose mean
+    :func:`flip` is (the same clipping, encoding and viewing distance).
+
+    Parameters
+    ----------
+    image_true, image_test : ndarray, shape (H, W, 3)
+        Reference and test image (linear sRGB).
+    ppd : float, optional
+        Pixels per degree of visual angle (FLIP's own by default).
+
+    Returns
+    -------
+    ndarray, shape (H, W), float32
+        The FLIP error of every pixel, in [0, 1].
+    """
+    image_true, image_test = check_image_pair(image_true, image_test)
+    if ppd is not None:
+        check_positive("ppd", ppd)
+    fmap, _ = _evaluate(image_true, image_test, ppd, mean=False)
+    return np.asarray(fmap, dtype=np.float32).reshape(image_true.shape[:2])
+
+
+def _evaluate(image_true, image_test, ppd, *, mean: bool):
     import flip_evaluator
 
-    _, mean, _ = flip_evaluator.evaluate(
+    fmap, value, _ = flip_evaluator.evaluate(
         np.clip(image_true, 0.0, 1.0),
         np.clip(image_test, 0.0, 1.0),
         "LDR",
         inputsRGB=False,
         applyMagma=False,
-        computeMeanError=True,
+        computeMeanError=mean,
         parameters={} if ppd is None else {"ppd": float(ppd)},
     )
-    return float(mean)
+    return fmap, value

@@ -39,6 +39,7 @@ from aaeval.metrics.specular import (
     highlight_rmse,
 )
 from aaeval.metrics.temporal import flicker, image_flicker, sum_bias, sum_variation, temporal_bias
+from aaeval.metrics.info import MetricInfo, format_value
 from aaeval.options import Registry
 
 __all__ = [
@@ -71,54 +72,15 @@ NEEDS = ("reference", "scene", "frames", "exact")
 
 
 @dataclass(frozen=True)
-class Metric:
-    """One registered metric and what is known about it.
+class Metric(MetricInfo):
+    """One registered metric: its description (:class:`~aaeval.metrics.info.MetricInfo`)
+    and ``func(true, test, **options) -> float``."""
 
-    Attributes
-    ----------
-    name : str
-        Stable name, the key of :data:`METRICS` and the column of the results table.
-    func : callable
-        ``func(true, test, **options) -> float``.
-    kind : {"image", "temporal"}
-    title : str
-        Short column title for tables and axis labels.
-    fmt : str
-        Python format spec for one value (``".3e"``).
-    higher_is_better : bool
-    target : float or None
-        For a signed metric (a bias), the ideal value: closer to it is better, whatever the
-        sign; ``higher_is_better`` is then False and means nothing.
-    rms : bool
-        The metric is the RMS of the per-pixel error over its pixels (its mask, or all):
-        the ground truth's noise is then measured on the same pixels with the same
-        reduction, and a per-pixel z-test says whether a method agrees with the truth
-        (:mod:`aaeval.metrics.agreement`).
-    needs : tuple of str
-        Subset of :data:`NEEDS`; temporal metrics always need ``frames``.
-    mask : str or None
-        Name of the mask (:data:`aaeval.metrics.masks.MASKS`) passed as ``mask=``.
-    summary : str
-        One line for ``aaeval metrics`` and the report.
-    """
+    func: Callable[..., float] | None = None
 
-    name: str
-    func: Callable[..., float]
-    kind: str
-    title: str
-    fmt: str
-    higher_is_better: bool
-    needs: tuple[str, ...]
-    mask: str | None
-    summary: str
-    target: float | None = None
-    rms: bool = False  # an RMS of per-pixel errors: the truth's noise in its terms is measurable
-
-    @property
-    def direction(self) -> str:
-        if self.target is not None:
-            return f"closer to {self.target:g} is better"
-        return "higher is better" if self.higher_is_better else "lower is better"
+    def info(self) -> MetricInfo:
+        """The description alone, without the function (what a sweep stores)."""
+        return MetricInfo(**self.to_dict())
 
     def applies_to(self, scene) -> bool:
         """False where this metric can say nothing about ``scene``: its mask is always empty
@@ -129,10 +91,6 @@ class Metric:
         if self.mask is not None and not MASKS.get_entry(self.mask).applies_to(scene):
             return False
         return not ("exact" in self.needs and has_shaded(scene))
-
-    def format(self, value) -> str:
-        """``value`` in this metric's format; ``n/a`` for NaN or None, ``inf`` spelled out."""
-        return format_value(value, self.fmt)
 
 
 #: The functions of the ``image`` metrics, by name (a view kept in step with :data:`METRICS`).
@@ -201,8 +159,9 @@ def register_metric(name: str, func: Callable[..., float] | None = None, *, kind
     except ValueError:
         raise MetricError(f"metric {name!r}: bad number format {fmt!r}") from None
     doc = (inspect.getdoc(func) or "").split("\n", 1)[0]
-    metric = Metric(name, func, kind, title, fmt, bool(higher_is_better), tuple(needs), mask, summary or doc,
-                    None if target is None else float(target), bool(rms))
+    metric = Metric(name=name, func=func, kind=kind, title=title, fmt=fmt, higher_is_better=bool(higher_is_better),
+                    needs=tuple(needs), mask=mask, summary=summary or doc,
+                    target=None if target is None else float(target), rms=bool(rms))
     return METRICS.add(name, metric)
 
 
@@ -227,18 +186,6 @@ def check_metric_names(names, kind: str) -> tuple[str, ...]:
     if repeated:
         raise MetricError(f"metric(s) {repeated} given more than once")
     return names
-
-
-def format_value(value, fmt: str) -> str:
-    """A number in ``fmt``; ``n/a`` for None or NaN, ``inf``/``-inf`` for infinities."""
-    if value is None:
-        return "n/a"
-    value = float(value)
-    if value != value:
-        return "n/a"
-    if value in (float("inf"), float("-inf")):
-        return "inf" if value > 0 else "-inf"
-    return format(value, fmt)
 
 
 def compute_metric(name: str, image_true, image_test, **context: Any) -> float:

@@ -1,8 +1,8 @@
 """The control scores of every temporal measure, for the report's "how to read".
 
-Computed on the page's build by :func:`aaeval.metrics.controls.control_scores` (never
-written by hand): a measure added to the registry appears here with its scores, and a
-measure that misses a known answer shows it.
+Computed by the sweep with :func:`aaeval.metrics.controls.control_scores` and stored in its
+``controls.json`` (never written by hand): a measure added to the registry appears here
+with its scores, and a measure that misses a known answer shows it.
 """
 
 from __future__ import annotations
@@ -10,8 +10,7 @@ from __future__ import annotations
 import html
 import math
 
-from aaeval.metrics import METRICS
-from aaeval.metrics.controls import CONTROL_NOTES, CONTROLS, control_scores
+from aaeval.report.sweep_data import METRICS
 
 __all__ = ["controls_html"]
 
@@ -19,11 +18,13 @@ __all__ = ["controls_html"]
 TOLERANCE = 1e-9
 
 
-def controls_html() -> str:
+def controls_html(stored: dict) -> str:
     """One table: a row per registered temporal measure, a column per control, each cell
-    the measure's score on that control and, where the construction fixes one, the answer."""
+    the measure's score on that control and, where the construction fixes one, the answer
+    (``stored``: the sweep's ``controls.json``)."""
+    CONTROLS, CONTROL_NOTES = stored["controls"], stored["notes"]  # noqa: N806 - the module's names, as stored
     rows: dict[str, dict[str, dict]] = {}
-    for r in control_scores():
+    for r in stored["scores"]:
         rows.setdefault(r["measure"], {})[r["control"]] = r
     head = "".join(f"<th title='{html.escape(CONTROL_NOTES[c])}'>{html.escape(c.replace('_', ' '))}</th>"
                    for c in CONTROLS)

@@ -13,8 +13,12 @@ an exact reference) is drawn on a marked "exact" strip under the axis' data rang
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
+import sys
 import textwrap
+import traceback
 from pathlib import Path
 
 import matplotlib
@@ -27,10 +31,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from aaeval.imageio import atomic_write, linear_to_srgb8  # noqa: E402
+from aaeval.fileio import atomic_write, linear_to_srgb8  # noqa: E402
 from aaeval.report.style import Styles, ground_truth_style  # noqa: E402
 
-__all__ = ["EXACT_BELOW", "UNIT", "FORMATS", "metric_label", "temporal_bars", "save_figure", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
+__all__ = ["EXACT_BELOW", "UNIT", "FORMATS", "drawing", "twin_formats", "metric_label", "temporal_bars", "save_figure", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
            "intensity_sums", "phase_figure", "space_time", "stability", "image_grid", "validation"]
 
 # An error this small is float64 rounding of an exact render against an exact reference.
@@ -38,6 +42,7 @@ EXACT_BELOW = 1e-10
 #: The one unit of every error on the page, stated in every caption.
 UNIT = ("unit: linear RGB per channel (error maps: the mean of the R, G, B errors; RMSE and flicker: root mean square "
         "over pixels and channels)")
+#: The formats a figure can be written in: the page shows the PNG; SVG and PDF are for papers.
 FORMATS = ("png", "svg", "pdf")
 _DPI = 100
 plt.rcParams.update({"svg.fonttype": "none", "pdf.fonttype": 42, "font.size": 9, "legend.fontsize": 7.5,
@@ -53,41 +58,118 @@ def _suptitle(fig, text: str, fontsize: float = 10) -> None:
 
 def metric_label(name: str) -> str:
     """A metric's axis label from the registry: its title and which way is better."""
-    from aaeval.metrics import METRICS
+    from aaeval.report.sweep_data import METRICS
 
     m = METRICS.get(name)
     return name if m is None else f"{m.title} ({m.direction})"
 
 
 def save_figure(fig, path: Path) -> Path:
-    """Write ``path`` (PNG) and its SVG and PDF twins; return the PNG path."""
+    """Write the figure as ``path`` with suffix ``.png`` (what the page shows), and its twins
+    in the other formats of :func:`drawing`; close it; return the PNG path. Inside
+    :func:`drawing` a child process writes the files."""
     path = Path(path).with_suffix(".png")
     _plain_log_axes(fig)
-    box = _tight_box(fig)
-    for fmt in FORMATS:
-        # a temporary file moved into place: a link planted at the name is replaced, never written through
-        atomic_write(path.with_suffix(f".{fmt}"),
-                     lambda tmp, fmt=fmt: fig.savefig(tmp, format=fmt, dpi=_DPI, bbox_inches=box,
-                                                      metadata=_metadata(fmt)))
+    if _children.slots:
+        _children.start(lambda: _write_files(fig, path), path)
+    else:
+        _write_files(fig, path)
     plt.close(fig)
     return path
 
 
-def _tight_box(fig):
-    """The figure's tight bounding box (inches, with savefig's pad), found once.
+def twin_formats() -> tuple[str, ...]:
+    """The formats besides PNG that :func:`save_figure` writes now (for the page's links)."""
+    return tuple(f for f in _children.formats if f != "png")
 
-    ``bbox_inches="tight"`` lays the figure out again in every format before drawing it;
-    the box is the one the PNG would get (the same Agg renderer at the same dpi), and the
-    pad is wider than any difference in text extents between the formats' renderers.
-    """
-    fig.set_dpi(_DPI)
-    fig.draw_without_rendering()
-    return fig.get_tightbbox(fig.canvas.get_renderer()).padded(plt.rcParams["savefig.pad_inches"])
+
+def _write_files(fig, path: Path) -> None:
+    box = _tight_box(fig)
+    for fmt in _children.formats:
+        # a temporary file moved into place: a link planted at the name is replaced, never written through
+        atomic_write(path.with_suffix(f".{fmt}"),
+                     lambda tmp, fmt=fmt: fig.savefig(tmp, format=fmt, dpi=_DPI, bbox_inches=box,
+                                                      metadata=_metadata(fmt)))
 
 
 def _metadata(fmt: str) -> dict:
     # no creation dates: the same data gives the same files
     return {"png": {"Software": None}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}[fmt]
+
+
+class _Children:
+    """Forked processes each drawing one figure while the parent builds the next: drawing is
+    most of the report's time. Each file is written by one process, so the output is the
+    same as drawing them in turn."""
+
+    def __init__(self):
+        self.slots = 0
+        self.formats: tuple[str, ...] = ("png",)
+        self.running: dict[int, Path] = {}
+        self.failed: list[Path] = []
+
+    def start(self, work, path: Path) -> None:
+        while len(self.running) >= self.slots:
+            self._reap_oldest()
+        sys.stdout.flush()
+        sys.stderr.flush()
+        pid = os.fork()
+        if pid == 0:  # the child: draw, and leave without running the parent's cleanup
+            code = 1
+            try:
+                work()
+                code = 0
+            except BaseException:  # noqa: BLE001 - reported to the parent through the exit status
+                traceback.print_exc()
+            finally:
+                os._exit(code)
+        self.running[pid] = path
+
+    def _reap_oldest(self) -> None:
+        pid = next(iter(self.running))  # by pid, never another child of this process
+        _, status = os.waitpid(pid, 0)
+        path = self.running.pop(pid)
+        if os.waitstatus_to_exitcode(status) != 0:
+            self.failed.append(path)
+
+    def finish(self, check: bool = True) -> None:
+        while self.running:
+            self._reap_oldest()
+        failed, self.failed = self.failed, []
+        if failed and check:
+            raise RuntimeError(f"drawing {', '.join(p.name for p in failed)} failed (its error is printed above)")
+
+
+_children = _Children()
+
+
+@contextlib.contextmanager
+def drawing(formats=("png",)):
+    """Within this block :func:`save_figure` writes ``formats`` (PNG always; SVG and PDF
+    for papers cost most of the drawing time: PDF subsets its fonts) in forked processes,
+    as many as the cores this process may use (none where ``os.fork`` is missing); leaving
+    it waits for them all and raises if one failed."""
+    unknown = set(formats) - set(FORMATS)
+    if unknown:
+        raise ValueError(f"unknown figure format(s) {', '.join(sorted(unknown))}; known: {', '.join(FORMATS)}")
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    _children.slots = cores if hasattr(os, "fork") and cores > 1 else 0
+    _children.formats = tuple(f for f in FORMATS if f in formats or f == "png")
+    try:
+        yield
+    except BaseException:
+        _children.finish(check=False)  # the body's error is the one to see
+        raise
+    finally:
+        _children.slots, _children.formats = 0, ("png",)
+    _children.finish()
+
+
+def _tight_box(fig):
+    """The figure's tight bounding box (inches, with savefig's pad), measured from the artists'
+    extents without drawing the figure (``bbox_inches="tight"`` draws it once more just to find it)."""
+    fig.set_dpi(_DPI)
+    return fig.get_tightbbox(fig.canvas.get_renderer()).padded(plt.rcParams["savefig.pad_inches"])
 
 
 def _legend(ax, *, outside: bool = True, **kw) -> None:
@@ -405,7 +487,7 @@ def temporal_bars(temporal: pd.DataFrame, path: Path, *, group: str, metrics: li
     """One panel per temporal metric (registered, from temporal.parquet): a bar per spec, mean over
     the group's animations (:func:`aaeval.report.findings.per_spec`, the findings' aggregation),
     linear axes, the ground truth's noise RMS dashed where the metric is an RMS of errors."""
-    from aaeval.metrics import METRICS
+    from aaeval.report.sweep_data import METRICS
     from aaeval.report.findings import per_spec
 
     tables = {m: per_spec(temporal, group, m) for m in metrics}
@@ -543,7 +625,9 @@ def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path
     (the mean of the R, G, B errors, the page's one unit; red: too bright, blue: too dark) on
     one symmetric scale for the whole figure (``shared=False``: each row its own), stated per row.
 
-    The crop is the same square for every row (around the largest error of any method).
+    The crop is the same square for every row (around the largest error of any method). The
+    panels are laid into one raster shown by one axes (an axes per panel cost most of the
+    report's drawing time); names and scales are text beside them.
     """
     errors = [(img - reference).mean(axis=2) for _, img in images]
     common = max((float(np.abs(e).max()) for e in errors), default=0.0)
@@ -551,25 +635,39 @@ def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path
     r0, r1, c0, c1 = _crop_box(worst, max(4, min(reference.shape[:2]) // 3))
     rows = [("ground truth", reference, None)] + [(n, img, err) for (n, img), err in zip(images, errors)]
     h, w = reference.shape[:2]
-    row_height = 9 / 3 * min(1.0, h / w) + 0.35
-    fig, axes = plt.subplots(len(rows), 3, figsize=(9, row_height * len(rows)), squeeze=False,
-                             gridspec_kw={"hspace": 0.3, "wspace": 0.05})
-    for (name, img, err), ax in zip(rows, axes):
+    side = max(h, w)  # each panel's square, so that the crop shows as large as the image
+    gap = max(3, side // 4)
+    canvas = np.full((len(rows) * (side + gap) - gap, 3 * side + 2 * gap, 3), 255, np.uint8)
+    fig, ax = plt.subplots(figsize=(9, (9 / 3) * canvas.shape[0] / canvas.shape[1] + 0.6))
+    ax.set_position([0.0, 0.0, 1.0, 1.0])
+    for i, (name, img, err) in enumerate(rows):
+        top = i * (side + gap)
         srgb = linear_to_srgb8(img)
-        ax[0].imshow(srgb, interpolation="nearest")
-        ax[0].add_patch(plt.Rectangle((c0 - 0.5, r0 - 0.5), c1 - c0, r1 - r0, fill=False, ec="red", lw=1))
-        ax[0].set_ylabel(name.replace(":", ":\n").replace(",", ",\n"), fontsize=7)
-        ax[1].imshow(srgb[r0:r1, c0:c1], interpolation="nearest")
+        _put(canvas, top, 0, srgb, side)
+        _put(canvas, top, side + gap, srgb[r0:r1, c0:c1], side)
+        ax.add_patch(plt.Rectangle((c0 - 0.5, top + r0 - 0.5), c1 - c0, r1 - r0, fill=False, ec="red", lw=1))
+        ax.text(-gap / 2, top + side / 2, name.replace(":", ":\n").replace(",", ",\n"), rotation=90,
+                ha="right", va="center", fontsize=7)
         if err is not None:
             scale = max(common if shared else float(np.abs(err).max()), np.finfo(float).tiny)
-            ax[2].imshow(err, cmap="RdBu_r", vmin=-scale, vmax=scale, interpolation="nearest")
-            ax[2].set_title(f"signed error, scale ±{scale:.2g}; mean |err| {np.abs(err).mean():.2g}"
-                            if np.abs(err).max() > 0 else "no error: identical to the ground truth", fontsize=7)
-        for a in ax:
-            a.set_xticks([])
-            a.set_yticks([])
-    axes[0, 0].set_title("image", fontsize=8)
-    axes[0, 1].set_title(f"crop rows {r0}-{r1 - 1}, cols {c0}-{c1 - 1}", fontsize=8)
-    axes[0, 2].axis("off")
-    _suptitle(fig, title, fontsize=9)
+            coloured = plt.get_cmap("RdBu_r")((err / scale + 1) / 2)[..., :3]
+            _put(canvas, top, 2 * (side + gap), np.round(coloured * 255).astype(np.uint8), side)
+            ax.text(2 * (side + gap) + side / 2, top - gap / 8,
+                    f"signed error, scale ±{scale:.2g}; mean |err| {np.abs(err).mean():.2g}"
+                    if np.abs(err).max() > 0 else "no error: identical to the ground truth",
+                    ha="center", va="bottom", fontsize=7)
+    ax.imshow(canvas, interpolation="nearest")
+    ax.text(side / 2, -gap / 8, "image", ha="center", va="bottom", fontsize=8)
+    ax.text(side + gap + side / 2, -gap / 8, f"crop rows {r0}-{r1 - 1}, cols {c0}-{c1 - 1}", ha="center",
+            va="bottom", fontsize=8)
+    ax.axis("off")
+    fig.suptitle(title, y=1.0 + 0.5 / fig.get_figheight(), va="bottom", fontsize=9)
     return save_figure(fig, path)
+
+
+def _put(canvas: np.ndarray, top: int, left: int, panel: np.ndarray, side: int) -> None:
+    """``panel`` (uint8 RGB) enlarged by whole pixels (nearest) to fit a ``side`` square at (top, left)."""
+    ph, pw = panel.shape[:2]
+    k = max(1, side // max(ph, pw))
+    big = np.repeat(np.repeat(panel, k, axis=0), k, axis=1)[:side, :side]
+    canvas[top:top + big.shape[0], left:left + big.shape[1]] = big

@@ -11,13 +11,12 @@ Each cell of these groups was judged against the ground truth through its own fi
 from __future__ import annotations
 
 import html
-import json
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from aaeval.metrics import METRICS
+from aaeval.report.sweep_data import METRICS
 from aaeval.report.figures import UNIT, metric_label, save_figure
 from aaeval.report.findings import per_spec
 from aaeval.report.style import Styles
@@ -31,16 +30,6 @@ _RESULTS = ("rmse",)
 _TEMPORAL = ("temporal_bias", "flicker", "image_flicker")
 
 
-def _filter_of(options_json: str) -> str:
-    return json.loads(options_json or "{}").get("filter", "box")
-
-
-def _without_filter(spec: str) -> str:
-    from aaeval.renderers import MethodSpec
-
-    return MethodSpec.parse(spec).with_options(filter="box").label()
-
-
 def _table(results: pd.DataFrame, temporal: pd.DataFrame, group: str) -> pd.DataFrame:
     """One row per spec of ``group``: its filter, its method, and every measure of the tables."""
     columns = {}
@@ -51,7 +40,8 @@ def _table(results: pd.DataFrame, temporal: pd.DataFrame, group: str) -> pd.Data
     base = per_spec(results, group, "rmse")
     if base.empty:
         return base
-    out = pd.DataFrame({"filter": base["options"].map(_filter_of), "method": base["spec"].map(_without_filter),
+    rows = results[results["group"] == group].drop_duplicates("spec").set_index("spec")
+    out = pd.DataFrame({"filter": base["spec"].map(rows["filter"]), "method": base["spec"].map(rows["label_unfiltered"]),
                         "spec": base["spec"], "style_method": base["method"], "options": base["options"],
                         "noise": base["noise"]})
     for name, table in columns.items():
@@ -91,17 +81,15 @@ def filters_section(out_dir: Path, figures_dir: Path, results: pd.DataFrame | No
     ``temporal`` are the sweep's tables (read from ``out_dir`` when not given)."""
     out_dir, figures_dir = Path(out_dir), Path(figures_dir)
     if results is None or temporal is None:
-        from aaeval.experiments.table import read_table
+        from aaeval.report.sweep_data import read_sweep
 
-        results = read_table(out_dir / "results.parquet") if (out_dir / "results.parquet").is_file() else pd.DataFrame()
-        path = out_dir / "temporal.parquet"
-        temporal = read_table(path) if path.is_file() else pd.DataFrame()
+        data = read_sweep(out_dir)
+        results, temporal, styles = data.results, data.temporal, styles or Styles.from_sweep(data.specs)
     if results.empty:
         return ""
     groups = [g for g in dict.fromkeys(results["group"]) if str(g).startswith(GROUP_PREFIX)]
     if not groups:
         return ""
-    styles = styles or Styles(zip(results["method"], results["options"]))
     parts = ["<h2 id='filters'>Pixel filters</h2>",
              "<p>Every filter as Mitsuba 3 defines it and normalises its film (docs/filters.md). <code>catmull:filter=F"
              "</code> integrates the visible pieces against the filter exactly; the samplers use the same filter. "

@@ -21,7 +21,8 @@ from dataclasses import dataclass
 import pandas as pd
 
 from aaeval.experiments.record import agreement_column, noise_column
-from aaeval.metrics import METRICS, format_value
+from aaeval.metrics.info import format_value
+from aaeval.report.sweep_data import METRICS
 from aaeval.metrics.agreement import PASS_FRACTION, SIGNIFICANCE, agrees
 from aaeval.report.names import figure_stem
 
@@ -79,7 +80,7 @@ def per_spec(frame: pd.DataFrame, group: str, column: str, *, how: str = "mean",
     value, noise, rows, agreement (the mean z-test pass fraction of an RMS metric against
     the truth, :mod:`aaeval.metrics.agreement`; NaN for other columns). The one
     aggregation behind every ranking of the page."""
-    columns = ["spec", "label", "method", "options", "value", "noise", "rows", "agreement"]
+    columns = ["spec", "label", "method", "options", "ladder", "value", "noise", "rows", "agreement"]
     rows = frame[(frame["group"] == group)] if "group" in frame else frame.iloc[:0]
     if "error" in rows:
         rows = rows[rows["error"].isna()]
@@ -95,7 +96,8 @@ def per_spec(frame: pd.DataFrame, group: str, column: str, *, how: str = "mean",
         passed = pd.to_numeric(r[agreement_column(column)], errors="coerce") \
             if agreement_column(column) in r else pd.Series(dtype=float)
         out.append({"spec": spec, "label": r["label"].iloc[0], "method": r["method"].iloc[0],
-                    "options": r["options"].iloc[0] if "options" in r else "{}", "value": value,
+                    "options": r["options"].iloc[0] if "options" in r else "{}",
+                    "ladder": r["ladder"].iloc[0] if "ladder" in r else spec, "value": value,
                     "noise": float(truth.mean()) if truth.notna().any() else math.nan, "rows": int(values.notna().sum()),
                     "agreement": float(passed.mean()) if passed.notna().any() else math.nan})
     return pd.DataFrame(out, columns=columns)
@@ -143,8 +145,7 @@ def leader_sentence(question: Question, table: pd.DataFrame, group: str) -> str:
         return f"{question.title}: no cell of this sweep answers it."
     first = table.iloc[0]
     title = _title(question.column)
-    others = table[table["options"].map(_ladder_free).radd(table["method"] + "|")
-                   != first["method"] + "|" + _ladder_free(first["options"])]
+    others = table[table["ladder"] != first["ladder"]]
     head = (f"{question.title} ({title}, group {group}): <b>{html.escape(first['label'])}</b> leads with "
             f"{_fmt(question.column, first['value'])}")
     if others.empty:
@@ -226,15 +227,6 @@ def _agreement_cell(fraction: float) -> str:
     return f"<td class='num'>{word} ({fraction:.2%} pass)</td>"
 
 
-def _ladder_free(options) -> str:
-    """The options without their numeric values: two specs of one ladder (k, spp) share it."""
-    import json
-
-    opts = json.loads(options) if isinstance(options, str) else dict(options or {})
-    return json.dumps({k: v for k, v in opts.items()
-                       if not (isinstance(v, (int, float)) and not isinstance(v, bool))}, sort_keys=True)
-
-
 def _cell(value: str, *, source: str, group: str, spec: str, column: str, how: str, href: str) -> str:
     attrs = (f"data-source='{html.escape(source)}' data-group='{html.escape(group)}' "
              f"data-spec='{html.escape(spec)}' data-column='{html.escape(column)}' data-agg='{how}'")
@@ -267,7 +259,9 @@ def findings_section(results: pd.DataFrame, temporal: pd.DataFrame, speed: pd.Da
     tables = {"results": results, "temporal": temporal}
     if speed is not None and not speed.empty:
         # each [[speed]] table is its own group: "speed" (the first), "speed-1", ...
-        tables["speed"] = speed.assign(group=speed["pass"].map(lambda i: "speed" if i == 0 else f"speed-{i}"))
+        ladders = dict(zip(results["spec"], results["ladder"])) if "ladder" in results else {}
+        tables["speed"] = speed.assign(group=speed["pass"].map(lambda i: "speed" if i == 0 else f"speed-{i}"),
+                                       ladder=[ladders.get(spec, spec) for spec in speed["spec"]])
     parts = ["<h2 id='findings'>Findings</h2>",
              "<p class='note'>Generated from <a href='results.parquet'>results.parquet</a>, "
              "<a href='temporal.parquet'>temporal.parquet</a>"

@@ -15,20 +15,21 @@ from __future__ import annotations
 import html
 import json
 import math
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from aaeval.experiments.store import SweepStore
-from aaeval.experiments.table import rebuild_results, short_label
-from aaeval.imageio import atomic_write
+from aaeval.experiments.record import agreement_column
+from aaeval.metrics.agreement import agrees
+from aaeval.fileio import atomic_write
 from aaeval.report import figures
 from aaeval.report.names import figure_stem
 from aaeval.report.filters_section import filters_section
 from aaeval.report.specular_section import specular_section
-from aaeval.metrics import METRICS
+from aaeval.report.sweep_data import METRICS, SweepData, read_sweep
 from aaeval.report.findings import findings_section
 from aaeval.report.style import Styles
 from aaeval.report.html_tables import write_table
@@ -94,8 +95,9 @@ def failed_cells(rows: pd.DataFrame, primary: str, fail_above, shaded=frozenset(
     return bad
 
 
-def _is_ground_truth(spec: str) -> bool:
-    return spec.split(":", 1)[0] == "mitsuba"
+def _is_ground_truth(rows: pd.DataFrame) -> pd.Series:
+    """Whether each row's reference is a Mitsuba render (the ground truth's renderer)."""
+    return rows["reference_method"] == "mitsuba"
 
 
 def _cross_check(rows: pd.DataFrame) -> str | None:
@@ -104,13 +106,10 @@ def _cross_check(rows: pd.DataFrame) -> str | None:
     :mod:`aaeval.experiments.measure`), on the highlight pixels where the group measures them
     (what the exact shading is for), with the whole image's pass fraction beside it; None
     without such a row."""
-    from aaeval.experiments.record import agreement_column
-    from aaeval.metrics.agreement import agrees
-
     mitsuba = rows[rows["method"] == "mitsuba"]
     if mitsuba.empty:
         return None
-    spp = mitsuba["options"].map(lambda o: json.loads(o).get("spp", 0))
+    spp = mitsuba["spp"].fillna(0)
     best = mitsuba[spp == spp.max()]
 
     def passed(metric: str) -> float:
@@ -125,7 +124,7 @@ def _cross_check(rows: pd.DataFrame) -> str | None:
     verdict = "agrees" if agrees(judged) else "DIFFERS"
     whole = passed("rmse")
     beside = f"; whole image {whole:.2%}" if where != "whole image" and math.isfinite(whole) else ""
-    return f"exact, cross-checked by {short_label(best['spec'].iloc[0])} on {where}: {verdict} ({judged:.2%} pass{beside})"
+    return f"exact, cross-checked by {best['label_plain'].iloc[0]} on {where}: {verdict} ({judged:.2%} pass{beside})"
 
 
 def reference_statement(rows: pd.DataFrame) -> str:
@@ -145,9 +144,9 @@ def reference_statement(rows: pd.DataFrame) -> str:
                      f"{noise.max():.3g} (seed-to-seed RMSE / sqrt 2 over {noise.notna().sum()} frames)")
         else:
             level = "deterministic but not exact: its own error is unknown"
-        what = "Mitsuba ground truth" if _is_ground_truth(spec) else "NOT the Mitsuba ground truth"
+        what = "Mitsuba ground truth" if _is_ground_truth(refs).iloc[0] else "NOT the Mitsuba ground truth"
         extra = ", ".join(f"{k} {int(v)}" for k, v in (("spp", spp), ("seed", seed)) if pd.notna(v))
-        parts.append(f"<b>{html.escape(short_label(spec))}</b> ({what}; {html.escape(str(kind))}{'; ' + extra if extra else ''}; "
+        parts.append(f"<b>{html.escape(refs['reference_label'].iloc[0])}</b> ({what}; {html.escape(str(kind))}{'; ' + extra if extra else ''}; "
                      f"{level})")
     return "Reference: " + "; ".join(parts) + "."
 
@@ -185,38 +184,31 @@ def spec_summary(rows: pd.DataFrame, metrics: list[str], primary: str, failed: p
 
 
 def figure_html(path: Path, root: Path, caption: str) -> str:
-    """A figure of the page: the PNG, its caption, and links to its SVG and PDF twins."""
+    """A figure of the page: the PNG, its caption, and links to its twins in other formats."""
     rel = path.relative_to(root).as_posix()
     twins = " · ".join(f"<a href='{html.escape(Path(rel).with_suffix('.' + f).as_posix())}'>{f.upper()}</a>"
-                       for f in figures.FORMATS if f != "png")
+                       for f in figures.twin_formats())
+    links = f" <span class='dl'>(also as {twins})</span>" if twins else ""
     return (f"<figure><img src='{html.escape(rel)}' alt='{html.escape(html.unescape(''.join(p.split('>', 1)[-1] for p in caption.split('<')))[:120])}'>"
-            f"<figcaption>{caption} <span class='dl'>(also as {twins})</span></figcaption></figure>")
-
-
-def _with_options(temporal: pd.DataFrame, results: pd.DataFrame) -> pd.DataFrame:
-    if temporal.empty or "options" in temporal:
-        return temporal
-    options = results.drop_duplicates("spec").set_index("spec")["options"]
-    return temporal.assign(options=temporal["spec"].map(options))
+            f"<figcaption>{caption}{links}</figcaption></figure>")
 
 
 class _Page:
     """What one report build shares: folders, styles, the failure definition."""
 
-    def __init__(self, store: SweepStore, results: pd.DataFrame, manifest: dict):
-        self.store, self.root = store, store.root
+    def __init__(self, data: SweepData):
+        store, results, manifest = data.store, data.results, data.manifest
+        self.store, self.root, self.data = store, store.root, data
         # real folders of the sweep folder (a planted link to a folder elsewhere is refused by name)
         self.figdir, self.tabdir, self.viewdir = (store.own_folder(d) for d in ("figures", "tables", "viewer"))
         self.primary = manifest.get("primary", "rmse")
         self.fail_above = manifest.get("fail_above")
-        self.styles = Styles(zip(results.get("method", []), results.get("options", [])))
+        self.styles = Styles.from_sweep(data.specs)
         self.definition = failure_definition(self.primary, self.fail_above)
         self.viewer_scripts: list[str] = []
         self.viewer_left = VIEWER_BUDGET  # bytes of viewer data the page may still load
-        self.shaded = {digest for digest, scene in manifest.get("scenes", {}).items()
-                       if isinstance(scene, dict) and "shaded" in scene.get("document", {})}
+        self.shaded = set(results.loc[results["shaded"].astype(bool), "scene_digest"]) if not results.empty else set()
         self.group_temporal = manifest.get("group_temporal", {})
-        self.scene_documents = manifest.get("scenes", {})
 
     def table(self, frame: pd.DataFrame, name: str, caption: str = "") -> str:
         return write_table(frame, self.tabdir, name, self.root, caption)  # names: fixed words and figure stems
@@ -238,25 +230,6 @@ def _accuracy_block(page: _Page, group: str, slug: str, summary: pd.DataFrame, r
                    "are not charted (cells may share the machine): see <a href='#speed'>Speed</a>.")
 
 
-def _with_phases(rows: pd.DataFrame, documents: dict) -> pd.DataFrame:
-    """``rows`` with a ``phase`` column: each frame's offset along x modulo 1 px, from the
-    scene's document in the manifest (:meth:`aaeval.scenes.Scene.offset`); rows of scenes
-    the manifest does not hold are left out."""
-    from aaeval.scenes import parse_scene
-    from aaeval.scenes.phases import subpixel_phase
-
-    phases = {}
-    for digest in rows["scene_digest"].unique():
-        entry = documents.get(digest)
-        if entry is None:
-            continue
-        scene = parse_scene(entry["document"], source=entry["source"])
-        for k in rows.loc[rows["scene_digest"] == digest, "frame"].unique():
-            phases[(digest, int(k))] = float(subpixel_phase(scene.offset(int(k)))[0])
-    phase = [phases.get((d, int(k)), math.nan) for d, k in zip(rows["scene_digest"], rows["frame"])]
-    return rows.assign(phase=phase).dropna(subset=["phase"])
-
-
 def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp: pd.DataFrame,
                     ref: str) -> list[str]:
     out = []
@@ -275,7 +248,7 @@ def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp
     out.append(figure_html(p, page.root, "Intensity sum of every frame divided by the ground truth's sum of the same "
                "frame (linear axis; 1 is right); the thick grey curve is the ground truth's own sum relative to "
                f"its frame 0. Area sampling keeps the sum while the scene moves inside the frame. {ref}"))
-    phased = _with_phases(animated, page.scene_documents)
+    phased = animated.dropna(subset=["phase"])
     if page.primary in animated and not phased.empty:
         p = figures.phase_figure(phased, page.figdir / f"{slug}_phase", metric=page.primary,
                                  title=f"{group}: against the sub-pixel phase", styles=page.styles)
@@ -306,33 +279,19 @@ def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp
     return out
 
 
-def _filter_of_spec(spec: str) -> str:
-    """The pixel filter of a stored reference spec (box when its method is unknown here)."""
-    from aaeval.renderers import MethodError, MethodSpec
-
-    try:
-        return str(MethodSpec.parse(spec).options.get("filter", "box"))
-    except MethodError:
-        return "box"
-
-
 def _validation_rows(rows: pd.DataFrame, shaded: set[str]) -> pd.DataFrame:
     """Exact methods against a Mitsuba ground truth: one row per scene frame and spec, on
     flat scenes only (``shaded``: digests of scenes with smooth-shaded objects, where an
     exact method's coverage is exact but its shading is one Phong shade per visible piece)."""
-    from aaeval.renderers import METHODS
-
-    ok = rows[rows["error"].isna() & rows["reference"].map(_is_ground_truth)]
+    ok = rows[rows["error"].isna() & _is_ground_truth(rows)]
     if "scene_digest" in ok:
         ok = ok[~ok["scene_digest"].isin(shaded)]
-    exact = ok[ok["method"].map(lambda m: getattr(METHODS.get(m), "exact", False)).astype(bool)]
+    exact = ok[ok["exact"].astype(bool)]
     if exact.empty:
         return pd.DataFrame()
     # an exact render with another pixel filter (catmull:filter=tent) is exact for that
     # filter, not for the box-filtered ground truth: it is no check of the ground truth
-    same_filter = pd.Series([_filter_of_spec(ref) == json.loads(o).get("filter", "box")
-                             for ref, o in zip(exact["reference"], exact["options"])], index=exact.index, dtype=bool)
-    exact = exact[same_filter]
+    exact = exact[exact["reference_filter"] == exact["filter"]]
     if exact.empty or "rmse" not in exact:
         return pd.DataFrame()
     return pd.DataFrame({"group": exact["group"], "scene": exact["scene"], "frame": exact["frame"],
@@ -355,8 +314,8 @@ def _policy_section(page: _Page, results: pd.DataFrame) -> str:
     for group, rows in results.groupby("group", sort=False):
         for spec, refs in rows.groupby("reference", sort=False):
             noise = refs.drop_duplicates(["scene", "frame"])["reference_noise_rmse"].astype(float)
-            per_group.append({"group": group, "reference": short_label(spec),
-                              "Mitsuba ground truth": "yes" if _is_ground_truth(spec)
+            per_group.append({"group": group, "reference": refs["reference_label"].iloc[0],
+                              "Mitsuba ground truth": "yes" if _is_ground_truth(refs).iloc[0]
                               else _cross_check(rows) or "NO (unvalidated)",
                               "spp": refs["reference_spp"].iloc[0], "seed": refs["reference_seed"].iloc[0],
                               "noise RMS (mean)": noise.mean(), "noise RMS (max)": noise.max()})
@@ -430,7 +389,7 @@ same split is made on the highlight's energy, so a clamp that dims the highlight
 not as flicker. Each is one registered metric (aaeval/metrics), used by every table, chart and section.</li>
 <li id='controls'><b>Controls.</b> Each temporal measure is checked on images whose answer is known before it judges
 a method (aaeval/metrics/controls.py; computed as this page was built):
-{controls_html()}</li>
+{controls_html(page.data.controls)}</li>
 <li><b>Failed.</b> {html.escape(page.definition)} The same definition is used by every table and chart; a metric
 that could not be computed for a cell is listed separately and does not make the cell fail.</li>
 <li><b>The viewer.</b> Each group ends with an interactive viewer: pick a scene, scrub or play the frames, choose
@@ -476,7 +435,7 @@ def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.Dat
     out = [f"<h2 id='{html.escape(slug)}'>{html.escape(group)}</h2>"]
     ref = reference_statement(rows)
     out.append(f"<p class='ref'>{ref} Methods' spp and seed are in their specs and in the table.</p>")
-    if not rows["reference"].map(_is_ground_truth).all():
+    if not _is_ground_truth(rows).all():
         out.append("<p class='warn'>This group's reference is not the Mitsuba ground truth and is not validated "
                    "in this report.</p>")
     ok = rows[rows["error"].isna()]
@@ -529,12 +488,12 @@ def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.Dat
     return "\n".join(out)
 
 
-def _ladder_tops(cells: pd.DataFrame) -> pd.Series:
+def _ladder_tops(cells: pd.DataFrame, styles: Styles) -> pd.Series:
     """Which rows to keep for a static figure: of a method's numeric ladder (k, spp) only
     the last row given (the caller sorts by value: the largest); every categorical option."""
     keep = pd.Series(True, index=cells.index)
-    for _, rows in cells.groupby("method", sort=False):
-        options = [json.loads(o) for o in rows["options"]]
+    for method, rows in cells.groupby("method", sort=False):
+        options = [styles.options(method, o) for o in rows["options"]]
         varying = {k for k in set().union(*options) if len({json.dumps(o.get(k)) for o in options}) > 1}
         numeric = varying and all(isinstance(o.get(k), (int, float)) and not isinstance(o.get(k), bool)
                                   for o in options for k in varying)
@@ -555,7 +514,7 @@ def _grid(page: _Page, ok: pd.DataFrame, slug: str, group: str, ref: str) -> str
     cells = ok[(ok["scene"] == scene) & (ok["frame"] == frame)].drop_duplicates("spec")
     cells = cells.iloc[sorted(range(len(cells)), key=lambda i: page.styles.order(cells["method"].iloc[i],
                                                                               cells["options"].iloc[i]))]
-    cells = cells[_ladder_tops(cells)]
+    cells = cells[_ladder_tops(cells, page.styles)]
     cells = cells.head(10)
     reference = page.store.load_reference(page.store.read_cell(cells["key"].iloc[0])["reference_key"])
     images = [(label, page.store.load_image(key)) for label, key in zip(cells["label"], cells["key"])]
@@ -569,11 +528,25 @@ def _grid(page: _Page, ok: pd.DataFrame, slug: str, group: str, ref: str) -> str
                    f"one symmetric scale shared by every row (red: too bright, blue: too dark); {figures.UNIT}. {ref}")
 
 
+def speed_summary(speed: pd.DataFrame) -> pd.DataFrame:
+    """One row per (pass, scene, spec) of the speed pass: median, fastest and slowest ms per
+    megapixel and render ms."""
+    if speed.empty:
+        return speed
+    ok = speed[speed["error"].isna()]
+    keys = ["pass", "scene", "spec"]
+    agg = ok.groupby(keys, sort=False).agg(
+        label=("label", "first"), method=("method", "first"), options=("options", "first"),
+        width=("width", "first"), height=("height", "first"), threads=("threads", "first"),
+        rounds=("round", "size"), render_ms=("render_s", lambda s: 1e3 * s.median()),
+        ms_per_mpix=("ms_per_mpix", "median"), ms_per_mpix_min=("ms_per_mpix", "min"),
+        ms_per_mpix_max=("ms_per_mpix", "max"), accuracy_group=("accuracy_group", "first"))
+    return agg.reset_index()
+
+
 def _speed_section(page: _Page, results: pd.DataFrame, speed: pd.DataFrame) -> str:
     """The speed pass (``speed.parquet``): the only times charted; with each ``accuracy`` group,
     the speed-accuracy chart (each method's ladder and the Pareto front)."""
-    from aaeval.experiments.speed import speed_summary
-
     out = ["<h2 id='speed'>Speed</h2>"]
     if speed.empty:
         out.append("<p class='warn'>This sweep has no speed pass (no [[speed]] table in its config): no time is "
@@ -669,15 +642,21 @@ def _timing_note(results: pd.DataFrame) -> str:
     return (f"Rendered on {len(hosts)} host(s): {html.escape(', '.join(map(str, hosts)))}. " if len(hosts) else "")
 
 
-def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
-    """Write ``DIR/index.html`` with ``DIR/figures/``, ``DIR/tables/`` and ``DIR/viewer/``."""
-    from aaeval.experiments.runner import progress_bar
+def write_report(directory: str | Path, *, quiet: bool = True, formats=("png",)) -> Path:
+    """Write ``DIR/index.html`` with ``DIR/figures/``, ``DIR/tables/`` and ``DIR/viewer/``;
+    ``formats``: of the figures (``"svg"`` and ``"pdf"`` beside the PNG, for papers)."""
+    data = read_sweep(directory)
+    with figures.drawing(formats):  # the page is written once every figure is
+        page_text = _page_text(data, quiet)
+    index = data.store.root / "index.html"
+    atomic_write(index, lambda tmp: Path(tmp).write_text(page_text))
+    return index
 
-    store = SweepStore(directory)
-    manifest = store.read_manifest()
-    results, temporal = rebuild_results(store)
-    temporal = _with_options(temporal, results)
-    page = _Page(store, results, manifest)
+
+def _page_text(data: SweepData, quiet: bool) -> str:
+    """The page's HTML; its figures, tables and viewer data are written on the way."""
+    store, manifest, results, temporal, speed = data.store, data.manifest, data.results, data.temporal, data.speed
+    page = _Page(data)
     metrics = _metric_columns(results, manifest)
     distinct = {c["key"] for c in manifest["cells"]}
     failed = (failed_cells(results, page.primary, page.fail_above, page.shaded) if not results.empty
@@ -686,9 +665,6 @@ def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
     n_errors = int(results.loc[~results["key"].duplicated(), "error"].notna().sum()) if not results.empty else 0
     done = results["key"].nunique() if not results.empty else 0
 
-    from aaeval.experiments.speed import read_speed
-
-    speed = read_speed(store.root)
     parts = [f"<h1>{html.escape(manifest['experiment'])}</h1>",
              f"<p>{html.escape(manifest.get('description', ''))}</p>",
              f"<p class='note'>{done} of {len(distinct)} distinct cells finished ({n_failed} failed by the "
@@ -713,27 +689,23 @@ def write_report(directory: str | Path, *, quiet: bool = True) -> Path:
     if not results.empty:
         parts.append(_policy_section(page, results))
         parts.append(_overview(page, results, failed))
-    with progress_bar(quiet) as progress:
-        task = progress.add_task("report", total=len(groups)) if progress else None
-        for group in groups:
-            rows = results[results["group"] == group] if not results.empty else results
-            if rows.empty:
-                parts.append(f"<h2 id='{html.escape(figure_stem(group))}'>{html.escape(group)}</h2>"
-                             "<p>No finished cells yet.</p>")
-            else:
-                parts.append(_group_section(page, group, rows, temporal, metrics, failed))
-            if task is not None:
-                progress.advance(task)
+    for group in groups:
+        rows = results[results["group"] == group] if not results.empty else results
+        if rows.empty:
+            parts.append(f"<h2 id='{html.escape(figure_stem(group))}'>{html.escape(group)}</h2>"
+                         "<p>No finished cells yet.</p>")
+        else:
+            parts.append(_group_section(page, group, rows, temporal, metrics, failed))
+        if not quiet:
+            print(f"report: group {group} drawn", file=sys.stderr, flush=True)
     parts.append(_speed_section(page, results, speed))
     if not results.empty:
         parts.append(specular_section(store.root, page.figdir, results, temporal, shaded=page.shaded,
-                                      styles=page.styles))
+                                      styles=page.styles, detection=data.detection))
         parts.append(filters_section(store.root, page.figdir, results, temporal, page.styles))
     scripts = "".join(f"<script src='{html.escape(s)}'></script>" for s in page.viewer_scripts)
-    page_text = ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"
-                 f"<title>{html.escape(manifest['experiment'])} — aaeval report</title><style>{_CSS}</style>"
-                 f"<script>{viewer_script()}</script></head>"
-                 f"<body>{''.join(parts)}{scripts}<script>AAV.init();</script></body></html>\n")
-    index = store.root / "index.html"
-    atomic_write(index, lambda tmp: Path(tmp).write_text(page_text))
-    return index
+    return ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"
+            f"<title>{html.escape(manifest['experiment'])} — aaeval report</title><style>{_CSS}</style>"
+            f"<script>{viewer_script()}</script></head>"
+            f"<body>{''.join(parts)}{scripts}<script>AAV.init();</script></body></html>\n")
+

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from aaeval.imageio import atomic_write
+from aaeval.fileio import atomic_write
 
 __all__ = ["html_table", "write_table", "latex_table", "fmt"]
 

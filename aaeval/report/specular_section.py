@@ -10,7 +10,8 @@ the aggregation the findings and the group charts use, so the rankings agree:
   left, frame to frame) side by side, as a chart and a table ranked by flicker;
 - Amanatides' tables (his figures 2 and 3: the power cutoff of cos^n, and what clamping
   with renormalisation does to the lobe's cosine components) and where his detector flags
-  the shipped cylinders (no ground truth involved: the paper's own quantities).
+  the sweep's first scene with shaded objects (no ground truth involved: the paper's own
+  quantities; the sweep ran the detector and stored its maps, ``specular_detection.npz``).
 
 The images of every method (and the truth) are in the specular group's image grid and viewer.
 The section appears when the sweep has scenes with ``[shaded]`` objects; otherwise it is empty.
@@ -29,27 +30,16 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 from scipy.special import gammaln  # noqa: E402
 
-import aaeval  # noqa: E402
-from aaeval.metrics import METRICS  # noqa: E402
-from aaeval.report.figures import UNIT, save_figure  # noqa: E402
+from aaeval.report.sweep_data import METRICS  # noqa: E402
+from aaeval.report.figures import UNIT, save_figure, twin_formats  # noqa: E402
 from aaeval.report.findings import per_spec, ranked  # noqa: E402
 from aaeval.report.style import Styles  # noqa: E402
-from aaeval.scenes import Scene, load_scene  # noqa: E402
-from aaeval.specular.render import specular_aliasing_map  # noqa: E402
 from aaeval.specular.tables import cutoff_table, maximum  # noqa: E402
 
-__all__ = ["specular_section", "specular_table", "verdicts", "plate_scenes", "BIAS", "FLICKER", "ERROR"]
+__all__ = ["specular_section", "specular_table", "verdicts", "BIAS", "FLICKER", "ERROR"]
 
 #: The columns of the section: registered metric names.
 ERROR, BIAS, FLICKER = "highlight_rmse", "highlight_bias", "highlight_profile_flicker"
-
-
-def plate_scenes() -> list[Path]:
-    """The shipped plates (``configs/scenes/shaded/*.toml`` of the source tree), if present;
-    the cylinders first."""
-    folder = Path(aaeval.__file__).parents[1] / "configs" / "scenes" / "shaded"
-    found = sorted(folder.glob("*.toml")) if folder.is_dir() else []
-    return sorted(found, key=lambda p: (p.stem != "cylinders", p.stem))
 
 
 def shaded_groups(results: pd.DataFrame, shaded: set[str]) -> list[str]:
@@ -94,35 +84,25 @@ def _reference(results: pd.DataFrame, groups: list[str]) -> str:
     return "; ".join(parts)
 
 
-def _spp(spec: str) -> int:
-    from aaeval.renderers import MethodSpec
-
-    return int(MethodSpec.parse(spec).options.get("spp", 0))
-
-
-def _is_baseline(row) -> bool:
+def _is_baseline(row, options: dict) -> bool:
     """``catmull:specular=none`` with the default per-piece shading: one shade per visible piece."""
-    from aaeval.renderers import MethodSpec
-
-    if row.method != "catmull":
-        return False
-    options = MethodSpec.parse(row.spec).options
-    return options.get("specular") == "none" and options.get("shading") == "piece"
+    return row.method == "catmull" and options.get("specular") == "none" and options.get("shading") == "piece"
 
 
-def verdicts(table: pd.DataFrame) -> list[str]:
+def verdicts(table: pd.DataFrame, styles: Styles) -> list[str]:
     """One sentence per clamp of a group's table (:func:`specular_table`), against the
     group's truth: its highlight flicker and error beside ``catmull:specular=none``'s (the
     one-shade-per-piece baseline), and the Mitsuba cross-check rows' error."""
-    base = [r for r in table.itertuples() if _is_baseline(r)]
+    options = {r.spec: styles.options(r.method, r.options) for r in table.itertuples()}
+    base = [r for r in table.itertuples() if _is_baseline(r, options[r.spec])]
     out = []
     for r in table.itertuples():
         if r.method == "mitsuba":
-            role = "cross-check" if _spp(r.spec) >= 4096 else "sampled"
+            role = "cross-check" if int(options[r.spec].get("spp", 0)) >= 4096 else "sampled"
             out.append(f"{html.escape(r.label)} ({role}): {METRICS[ERROR].title} {METRICS[ERROR].format(getattr(r, ERROR))} "
                        f"against this truth, bias {METRICS[BIAS].format(getattr(r, BIAS))}.")
             continue
-        if not base or r.method != "catmull" or _is_baseline(r):
+        if not base or r.method != "catmull" or _is_baseline(r, options[r.spec]):
             continue
         b = base[0]
         f0, f1 = getattr(b, FLICKER), getattr(r, FLICKER)
@@ -142,9 +122,9 @@ def verdicts(table: pd.DataFrame) -> list[str]:
 
 
 def specular_section(out_dir: Path, figures_dir: Path, results: pd.DataFrame, temporal: pd.DataFrame, *,
-                     shaded: set[str], styles: Styles, scenes=None) -> str:
+                     shaded: set[str], styles: Styles, detection: dict | None = None) -> str:
     """HTML fragment of the specular study, or "" when the sweep has no shaded scenes.
-    ``scenes`` replaces the shipped plates for the detection map."""
+    ``detection``: the detector's maps the sweep stored (``specular_detection.npz``)."""
     out_dir, figures_dir = Path(out_dir), Path(figures_dir)
     groups = shaded_groups(results, shaded)
     if not groups:
@@ -173,7 +153,7 @@ def specular_section(out_dir: Path, figures_dir: Path, results: pd.DataFrame, te
             "label": "method (options), best flicker first", ERROR: METRICS[ERROR].title, BIAS: METRICS[BIAS].title,
             FLICKER: METRICS[FLICKER].title, "noise": "ground truth noise RMS"})
         parts.append(_html_table(shown, group))
-        said = verdicts(table)
+        said = verdicts(table, styles)
         if said:
             parts.append(f"<p class='verdict'>Verdict on each clamp in {html.escape(group)}, against this group's "
                          "truth:</p><ul>" + "".join(f"<li>{v}</li>" for v in said) + "</ul>")
@@ -182,11 +162,10 @@ def specular_section(out_dir: Path, figures_dir: Path, results: pd.DataFrame, te
     parts.append(_figure(rel, _fig_clamp_ratio(figures_dir),
                          "Amanatides' figure 3: cosine components of cos^160 clamped to n' and renormalised by "
                          "Maximum[160]/Maximum[n'], over those of cos^160."))
-    paths = list(plate_scenes() if scenes is None else scenes)
-    if paths:
-        detect = load_scene(paths[0]).at_frame(0)
-        parts.append(_figure(rel, _fig_detection(figures_dir / f"specular_detection_{_slug(paths[0].stem)}", detect),
-                             f"{paths[0].stem}, frame 0: Amanatides' detection (conservative and P = 0.999) and the "
+    if detection is not None:
+        name = str(detection["scene"])
+        parts.append(_figure(rel, _fig_detection(figures_dir / f"specular_detection_{_slug(name)}", detection),
+                             f"{name}, frame 0: Amanatides' detection (conservative and P = 0.999) and the "
                              "largest normal turn per pixel (the detector's own output, no ground truth)."))
     return "\n".join(parts)
 
@@ -259,17 +238,17 @@ def _fig_clamp_ratio(figures_dir: Path) -> Path:
     return save_figure(fig, figures_dir / "specular_fig3_clamp_ratio")
 
 
-def _fig_detection(stem: Path, scene: Scene) -> Path:
+def _fig_detection(stem: Path, detection: dict) -> Path:
     fig, axes = plt.subplots(1, 3, figsize=(11, 3.8), layout="constrained")
-    # the normal's turn does not depend on the power: the third panel reuses the first map
-    maps = {power: specular_aliasing_map(scene, power=power) for power in (1.0, 0.999)}
-    for ax, (power, found) in zip(axes[:2], maps.items()):
-        im = ax.imshow(np.log2(np.maximum(found.rate, 1e-3)), cmap="magma", vmin=-4, vmax=8, interpolation="nearest")
-        if found.flag.any():
-            ax.contour(found.flag, levels=[0.5], colors="c", linewidths=0.5)
+    for ax, power in zip(axes[:2], (1.0, 0.999)):
+        rate, flag = detection[f"rate_{power:g}"], detection[f"flag_{power:g}"]
+        im = ax.imshow(np.log2(np.maximum(rate, 1e-3)), cmap="magma", vmin=-4, vmax=8, interpolation="nearest")
+        if flag.any():
+            ax.contour(flag, levels=[0.5], colors="c", linewidths=0.5)
         ax.set_title(f"log2 oversampling rate, power {power} (cyan: flagged)", fontsize=8)
         fig.colorbar(im, ax=ax, fraction=0.046)
-    im = axes[2].imshow(np.degrees(np.arccos(maps[1.0].dot)), cmap="viridis", interpolation="nearest")
+    # the normal's turn does not depend on the power: one map, stored once
+    im = axes[2].imshow(np.degrees(np.arccos(detection["dot"])), cmap="viridis", interpolation="nearest")
     axes[2].set_title("largest normal turn in the pixel (degrees)", fontsize=8)
     fig.colorbar(im, ax=axes[2], fraction=0.046)
     for ax in axes:
@@ -280,9 +259,9 @@ def _fig_detection(stem: Path, scene: Scene) -> Path:
 
 def _figure(rel: str, png: Path, caption: str) -> str:
     src = f"{rel}/{png.name}" if rel else png.name
-    svg = src[:-4] + ".svg"
+    twins = "".join(f" <a href='{html.escape(src[:-4])}.{f}'>{f.upper()}</a>" for f in twin_formats())
     return (f"<figure><img src='{html.escape(src)}' alt='{html.escape(caption[:120])}' style='max-width:100%'>"
-            f"<figcaption>{html.escape(caption)} <a href='{html.escape(svg)}'>SVG</a></figcaption></figure>")
+            f"<figcaption>{html.escape(caption)}{twins}</figcaption></figure>")
 
 
 def _relative_to(folder: Path, root: Path) -> str:

@@ -26,7 +26,7 @@ import colorsys
 import hashlib
 import json
 from dataclasses import dataclass
-from typing import Iterable
+from typing import Iterable, Mapping
 
 from matplotlib.colors import to_rgb
 
@@ -103,11 +103,7 @@ class SpecStyle:
             kw.update(mec=self.colour, mew=1.6, zorder=3)
         return kw
 
-    @property
-    def gid(self) -> str:
-        """Tag of this spec's artists (kept as SVG ids): ``method=NAME;options=k=v,k=v``."""
-        opts = json.loads(self.options)
-        return f"method={self.method};options=" + ",".join(f"{k}={opts[k]}" for k in sorted(opts))
+    gid: str = ""  # tag of this spec's artists (kept as SVG ids): ``method=NAME;options=k=v,k=v``
 
     def point(self) -> dict:
         """Keywords for a marker-only ``ax.plot``."""
@@ -148,12 +144,17 @@ def _numeric(value) -> bool:
 class Styles:
     """The styles of every spec one report shows (a spec: method plus its options)."""
 
-    def __init__(self, specs: Iterable[tuple[str, str]]):
-        """``specs``: (method, options as JSON) pairs, as in the results table."""
+    def __init__(self, specs: Iterable[tuple[str, dict]], choices: Mapping[str, Mapping[str, list]] | None = None,
+                 texts: Mapping[tuple[str, str], dict] | None = None):
+        """``specs``: (method, options) pairs; ``choices``: each method's declared choices per
+        categorical option (their order orders the colours); ``texts``: the options of each
+        (method, ``options`` column text) of the tables, so rows name a spec by that text."""
         self._options: dict[str, dict] = {}
+        self._choices = {m: {k: list(v) for k, v in c.items()} for m, c in (choices or {}).items()}
+        self._texts = dict(texts or {})
         ladders: dict[tuple[str, str], set] = {}
         for method, options in specs:
-            opts = json.loads(options) if isinstance(options, str) else dict(options)
+            opts = dict(options)
             self._options[_key(method, opts)] = opts
         by_method: dict[str, list[dict]] = {}
         for key, opts in self._options.items():
@@ -166,8 +167,21 @@ class Styles:
                 ladders[(method, k)] = {o.get(k) for o in all_opts}
         self._ladders = ladders
 
+    @classmethod
+    def from_sweep(cls, stored: Mapping) -> "Styles":
+        """The styles of a sweep's specs as it stored them (``specs.json``)."""
+        specs = stored.get("specs", {})
+        texts = {(method, text): opts for method, by_text in specs.items() for text, opts in by_text.items()}
+        return cls([(method, opts) for (method, _), opts in texts.items()], stored.get("choices", {}), texts)
+
+    def options(self, method: str, options) -> dict:
+        """The options of a spec named by its table text (or given as a dict)."""
+        if isinstance(options, str):
+            return dict(self._texts.get((method, options), {}))
+        return dict(options or {})
+
     def spec(self, method: str, options) -> SpecStyle:
-        opts = json.loads(options) if isinstance(options, str) else dict(options)
+        opts = self.options(method, options)
         base = method_style(method)
         t, fill, choice = 0.5, "full", None
         for k in self._varying.get(method, []):
@@ -177,7 +191,7 @@ class Styles:
                 ordered = sorted(values)
                 t = ordered.index(v) / max(1, len(ordered) - 1) if v in ordered else 0.5
             elif not _numeric(v):
-                choices = _choices(method, k) or sorted(map(str, values))
+                choices = self._choices.get(method, {}).get(k) or sorted(map(str, values))
                 if v in choices:
                     fill = _FILLS[choices.index(v) % len(_FILLS)]
                     choice = (choices.index(v), len(choices))
@@ -187,12 +201,13 @@ class Styles:
         size = 5.0 + 4.0 * t if ladder else 7.0
         if base.hollow:
             fill, size = "none", size + 3.0
+        gid = f"method={method};options=" + ",".join(f"{k}={opts[k]}" for k in sorted(opts))
         return SpecStyle(method, json.dumps(opts, sort_keys=True), colour, base.marker, fill, size, base.dashes,
-                         base.hollow)
+                         base.hollow, gid)
 
     def order(self, method: str, options) -> tuple:
         """Sort key of legends: method (table order), then option values (numbers by value)."""
-        opts = json.loads(options) if isinstance(options, str) else dict(options)
+        opts = self.options(method, options)
         names = list(METHOD_STYLES)
         rank = names.index(method) if method in names else len(names)
         values = []
@@ -201,18 +216,10 @@ class Styles:
             if _numeric(v):
                 values.append((0, float(v), ""))
             else:
-                choices = _choices(method, k)
+                choices = self._choices.get(method, {}).get(k, [])
                 values.append((1, float(choices.index(v)) if v in choices else 0.0, str(v)))
         return (rank, method, tuple(values))
 
 
 def _key(method: str, opts: dict) -> str:
     return f"{method}|{json.dumps(opts, sort_keys=True)}"
-
-
-def _choices(method: str, option: str) -> list:
-    from aaeval.renderers import METHODS
-
-    m = METHODS.get(method)
-    opt = m.options.get(option) if m is not None else None
-    return list(opt.choices) if opt is not None and opt.choices else []

@@ -3,7 +3,7 @@
 For every group, ``viewer/<slug>.js`` holds each scene's frames for the ground truth and
 every method (linear RGB), each method's signed error (mean over RGB, computed here in
 float64 so that errors far below float16's step near 1 keep their value) and its FLIP
-map, as zlib-compressed float16 arrays (the FLIP map as bytes, 1/255 steps) in base64 inside
+map (measured by the sweep, ``flip/<key>.npy``), as zlib-compressed float16 arrays (the FLIP map as bytes, 1/255 steps) in base64 inside
 an ``AAV.add(...)`` call. The page
 loads these files with plain ``<script src>`` tags, which work from ``file://``; the
 viewer itself (``viewer.js`` beside this module, with the colour maps filled in at build
@@ -23,10 +23,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from aaeval.imageio import atomic_write
+from aaeval.fileio import atomic_write
 from aaeval.report.style import Styles
 
-__all__ = ["viewer_payload", "write_viewer_data", "viewer_div", "viewer_script", "flip_map", "GROUP_BUDGET",
+__all__ = ["viewer_payload", "write_viewer_data", "viewer_div", "viewer_script", "GROUP_BUDGET",
            "scene_series", "interesting_row"]
 
 # Above this many bytes of viewer data a group keeps its first scenes only (the page
@@ -43,16 +43,6 @@ def _blob8(array: np.ndarray) -> str:
     """Values in [0, 1] as bytes (steps of 1/255: the viewer's colour maps have 256 entries)."""
     codes = np.round(np.clip(array, 0.0, 1.0) * 255).astype(np.uint8)
     return base64.b64encode(zlib.compress(codes.tobytes(), 6)).decode("ascii")
-
-
-def flip_map(reference: np.ndarray, image: np.ndarray) -> np.ndarray:
-    """Per-pixel LDR-FLIP error map (H, W) in [0, 1], with the parameters of the ``flip``
-    metric (linear inputs clipped to [0, 1], FLIP's default viewing distance)."""
-    import flip_evaluator
-
-    fmap, _, _ = flip_evaluator.evaluate(np.clip(reference, 0.0, 1.0), np.clip(image, 0.0, 1.0), "LDR",
-                                         inputsRGB=False, applyMagma=False, computeMeanError=False)
-    return np.asarray(fmap, dtype=np.float64).reshape(reference.shape[:2])
 
 
 def interesting_row(frames: np.ndarray) -> int:
@@ -99,10 +89,11 @@ def viewer_payload(ok: pd.DataFrame, store, styles: Styles, *, budget: int = GRO
         for rows, imgs in series:
             st = styles.spec(rows["method"].iloc[0], rows["options"].iloc[0])
             signed = (imgs - reference).mean(axis=3)
-            flips = np.stack([flip_map(reference[f], imgs[f]) for f in range(len(frames))])
+            flips = [store.load_flip(k) for k in rows["key"]]  # measured by the sweep (none: no FLIP view)
             panels.append({"label": rows["label"].iloc[0], "method": rows["method"].iloc[0],
                            "colour": "#%02x%02x%02x" % tuple(int(round(255 * c)) for c in st.colour),
-                           "img": _blob(imgs), "error": _blob(signed), "flip": _blob8(flips)})
+                           "img": _blob(imgs), "error": _blob(signed),
+                           "flip": _blob8(np.stack(flips)) if all(f is not None for f in flips) else None})
         entry = {"name": scene, "width": int(reference.shape[2]), "height": int(reference.shape[1]),
                  "frames": len(frames), "frame_numbers": [int(f) for f in frames],
                  "row": interesting_row(reference), "panels": panels}

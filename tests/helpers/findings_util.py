@@ -4,10 +4,9 @@ pass) and its report, built once per test session."""
 from __future__ import annotations
 
 from pathlib import Path
-from unittest import mock
 
 from aaeval.experiments import load_experiment, run_sweep
-from aaeval.report import figures, write_report
+from aaeval.report import write_report
 
 CONFIG = """
 [experiment]
@@ -63,7 +62,6 @@ def findings_report(tmp_path_factory) -> Path:
         run_sweep(load_experiment(config), out, workers=1, quiet=True, cache_dir=tmp / "cache")
         # PNG (the page) and SVG (which the findings tests read); the PDF twins, a third of
         # the report's time in font subsetting, are tested on the small report
-        with mock.patch.object(figures, "FORMATS", ("png", "svg")):
-            write_report(out)
+        write_report(out, formats=("png", "svg"))
         _BUILT["out"] = out
     return _BUILT["out"]

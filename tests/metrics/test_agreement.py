@@ -65,7 +65,7 @@ def test_ties_in_the_findings_follow_the_test_not_the_gap():
     from aaeval.report.findings import QUESTIONS, leader_sentence
 
     edges = next(q for q in QUESTIONS if q.key == "edges")
-    table = pd.DataFrame({"spec": ["a", "b"], "label": ["a", "b"], "method": ["a", "b"], "options": ["{}", "{}"],
+    table = pd.DataFrame({"spec": ["a", "b"], "label": ["a", "b"], "method": ["a", "b"], "options": ["{}", "{}"], "ladder": ["a|{}", "b|{}"],
                           "value": [1.0e-3, 1.4e-3], "noise": [1.0e-3, 1.0e-3], "rows": [4, 4],
                           "agreement": [0.9990, 0.9980]})
     assert " tie (" in leader_sentence(edges, table, "g")  # both pass the z-test
@@ -87,7 +87,7 @@ def test_per_scene_table_shows_each_animation():
 
 
 def test_noise_weight_is_the_colour_range_of_the_fragments_meeting_in_a_pixel():
-    from aaeval.metrics.agreement import noise_weight
+    from aaeval.metrics.edges import noise_weight
     from aaeval.scenes import parse_scene
 
     scene = parse_scene({"image": {"width": 4, "height": 2, "background": [0.0, 0.0, 0.0]},

@@ -21,7 +21,8 @@ from aaeval.experiments import load_experiment, run_sweep
 from aaeval.scenes.generate import generate_scene
 from aaeval.filters import FILTERS
 from aaeval.renderers import render
-from aaeval.metrics import build_mask, image_flicker
+from aaeval.experiments.measure import scene_mask
+from aaeval.metrics import image_flicker
 from aaeval.metrics.filters import edges_window as _edge_window, edge_width_10_90
 from aaeval.report.filters_section import filters_section
 from aaeval.scenes import load_scene, parse_scene
@@ -53,7 +54,7 @@ def test_edge_width_matches_the_filters_step_response(name):
 
 def test_period_one_fence_flickers_only_through_the_gaussian():
     scene = load_scene(ROOT / "configs" / "scenes" / "picket_fence.toml")
-    mask = np.stack([build_mask("interior", scene.at_frame(k)) for k in range(scene.frames)])
+    mask = np.stack([scene_mask("interior", scene.at_frame(k)) for k in range(scene.frames)])
     assert mask.all(axis=0).sum() >= 20
     for name, filt in FILTERS.items():
         frames = np.stack([render(scene, f"catmull:filter={name}", frame=k) for k in range(scene.frames)])

@@ -68,7 +68,7 @@ def test_a_users_experiment_with_its_own_group_names_gets_every_findings_table(t
     config.write_text(CONFIG)
     out = tmp_path / "sweep"
     run_sweep(load_experiment(config), out, workers=1, quiet=True, cache_dir=tmp_path / "cache")
-    write_report(out)
+    write_report(out, formats=("png", "svg"))  # the SVG: its text shows which methods a figure draws
     page = (out / "index.html").read_text()
     findings = page[page.index("<h2 id='findings'>"):page.index("<h2 id='how-to-read'>")]
     sections = {part.split("'", 1)[0]: part for part in findings.split("<h3 id='finding-")[1:]}

@@ -153,3 +153,25 @@ def test_the_speed_chart_says_one_worker_and_draws_the_pareto_front(out):
     assert "catmull / Skia = " in speed
     svg = (out / "figures" / "speed_accuracy_0.svg").read_text()
     assert "Pareto front" in svg
+
+
+def test_a_copied_sweep_folder_gives_the_same_page(out, tmp_path, monkeypatch):
+    """The report reads only the sweep folder: copied elsewhere and drawn from a directory with
+    no configs/ and no scene files, it writes the same page (but for the time it was generated),
+    the same tables, viewer data and PNG figures."""
+    import shutil
+
+    from aaeval.report import write_report
+
+    copy = tmp_path / "copy"
+    shutil.copytree(out, copy, ignore=shutil.ignore_patterns("index.html", "figures", "tables", "viewer"))
+    monkeypatch.chdir(tmp_path)
+    assert not (tmp_path / "configs").exists() and not list(tmp_path.glob("*.toml"))
+    write_report(copy, formats=("png", "svg"))  # as findings_report drew the original
+    generated = re.compile(r"Generated \d{4}-\d\d-\d\d \d\d:\d\d UTC")
+    assert generated.sub("", (copy / "index.html").read_text()) == generated.sub("", (out / "index.html").read_text())
+    for folder, pattern in (("tables", "*"), ("viewer", "*"), ("figures", "*.png")):  # SVG ids are random salts
+        originals = sorted((out / folder).glob(pattern))
+        assert originals and [p.name for p in sorted((copy / folder).glob(pattern))] == [p.name for p in originals]
+        for p in originals:
+            assert (copy / folder / p.name).read_bytes() == p.read_bytes(), p.name

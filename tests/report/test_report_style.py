@@ -71,12 +71,31 @@ def _synthetic_results() -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def _use_registered_metrics(folder: Path) -> None:
+    """The metric descriptions the figures label with, stored and read as a sweep's are."""
+    from aaeval.metrics import METRICS as REGISTERED
+    from aaeval.report.sweep_data import use_metrics
+
+    (folder / "metrics.json").write_text(json.dumps({n: m.info().to_dict() for n, m in REGISTERED.items()}))
+    use_metrics(folder)
+
+
+def _styles(specs) -> Styles:
+    """The styles of (method, options text) pairs, as a report gets them: through the specs
+    the sweep stores (``specs.json``)."""
+    from aaeval.experiments.table import specs_of
+
+    method, options = zip(*specs)
+    return Styles.from_sweep(specs_of(pd.DataFrame({"method": method, "options": options})))
+
+
 @pytest.fixture(scope="module")
 def drawn(tmp_path_factory):
     """Every chart kind of the report for every group, as (name, figure) pairs."""
     out = tmp_path_factory.mktemp("style")
+    _use_registered_metrics(out)
     results = _synthetic_results()
-    styles = Styles(zip(results["method"], results["options"]))
+    styles = _styles(zip(results["method"], results["options"]))
     made = []
     save = figures.save_figure
 
@@ -85,7 +104,8 @@ def drawn(tmp_path_factory):
         fig.draw_without_rendering()  # lay out at the saved size, for the collision check (no pixels)
         made.append((Path(path).stem, fig, _tick_collisions(fig)))
         if Path(path).stem == SAVED:  # every chart is drawn; one is written in every format (the
-            return save(fig, path)  # writing costs 80% of the time and is the same code for all)
+            with figures.drawing(figures.FORMATS):  # writing costs 80% of the time and is the same code for all)
+                return save(fig, path)
         plt.close(fig)
         return Path(path).with_suffix(".png")
 
@@ -241,7 +261,7 @@ def test_every_method_and_clamp_has_a_colour_of_its_own():
 
     specs = [(m, json.dumps(resolve(m)[1])) for m in METHODS]
     specs += [("catmull", json.dumps(resolve(f"catmull:specular={s}")[1])) for s in SPECULAR_METHODS]
-    styles = Styles(specs)
+    styles = _styles(specs)
     colours = {(m, o): np.asarray(styles.spec(m, o).colour, float) for m, o in specs}
     lab = {k: rgb2lab(c[None, None, :])[0, 0] for k, c in colours.items()}
     for a, b in itertools.combinations(lab, 2):
@@ -254,7 +274,7 @@ def test_every_method_and_clamp_has_a_colour_of_its_own():
 
 def test_coincident_exact_methods_both_show():
     """Weiler-Atherton's points sit exactly on catmull's: it is drawn hollow, larger and above."""
-    styles = Styles([("catmull", "{}"), ("weiler-atherton", "{}")])
+    styles = _styles([("catmull", "{}"), ("weiler-atherton", "{}")])
     cat, wa = styles.spec("catmull", "{}"), styles.spec("weiler-atherton", "{}")
     assert wa.fillstyle == "none" and cat.fillstyle == "full" and wa.size > cat.size
     assert wa.line()["zorder"] > 2

@@ -15,7 +15,7 @@ from tests.helpers.findings_util import findings_report
 
 def test_no_section_for_a_sweep_without_shaded_scenes(tmp_path):
     results = pd.DataFrame({"group": ["a"], "scene_digest": ["d"], "method": ["catmull"], "options": ["{}"]})
-    styles = Styles([("catmull", "{}")])
+    styles = Styles([("catmull", {})])
     assert specular_section(tmp_path, tmp_path / "figures", results, pd.DataFrame(), shaded=set(),
                             styles=styles) == ""
     assert not (tmp_path / "figures").exists()
