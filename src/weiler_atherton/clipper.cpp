@@ -5,6 +5,8 @@
 // the sorted list of distinct points of both shapes and their crossings, so shared
 // vertices and edges are found by comparing integers.
 #include "clipper.hpp"
+#include "holding_lists.hpp"
+#include "segments.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,8 +16,6 @@ namespace wa {
 namespace {
 
 constexpr double TWO_PI = 2.0 * 3.141592653589793;
-
-struct Crossing { bool hit; double x, y; };
 
 struct IdShape {
     std::vector<i64> ids, lab, st;
@@ -63,30 +63,6 @@ ClipScratch::~ClipScratch() = default;
 namespace {
 
 using Scratch = ClipScratch::Arrays;
-
-// Where two segments cross strictly inside both (each end farther than eps from the
-// other line); hit false otherwise.
-Crossing proper_crossing(double p0x, double p0y, double p1x, double p1y, double q0x, double q0y, double q1x,
-                         double q1y, double eps) {
-    double dpx = p1x - p0x, dpy = p1y - p0y, dqx = q1x - q0x, dqy = q1y - q0y;
-    double d0 = dpx * (q0y - p0y) - dpy * (q0x - p0x);
-    double d1 = dpx * (q1y - p0y) - dpy * (q1x - p0x);
-    if ((d0 >= 0.0 && d1 >= 0.0) || (d0 <= 0.0 && d1 <= 0.0)) return {false, 0.0, 0.0};
-    double e0 = dqx * (p0y - q0y) - dqy * (p0x - q0x);
-    double e1 = dqx * (p1y - q0y) - dqy * (p1x - q0x);
-    if ((e0 >= 0.0 && e1 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0)) return {false, 0.0, 0.0};
-    double lp = std::hypot(dpx, dpy), lq = std::hypot(dqx, dqy);
-    if (!((d0 > eps * lp && d1 < -eps * lp) || (d0 < -eps * lp && d1 > eps * lp))) return {false, 0.0, 0.0};
-    if (!((e0 > eps * lq && e1 < -eps * lq) || (e0 < -eps * lq && e1 > eps * lq))) return {false, 0.0, 0.0};
-    double tp = e0 / (e0 - e1), tq = d0 / (d0 - d1);
-    // the point from the shorter parametrisation's nearer end (less rounding)
-    if (pmin(tp, 1 - tp) * lp <= pmin(tq, 1 - tq) * lq) {
-        if (tp <= 0.5) return {true, p0x + tp * dpx, p0y + tp * dpy};
-        return {true, p1x - (1 - tp) * dpx, p1y - (1 - tp) * dpy};
-    }
-    if (tq <= 0.5) return {true, q0x + tq * dqx, q0y + tq * dqy};
-    return {true, q1x - (1 - tq) * dqx, q1y - (1 - tq) * dqy};
-}
 
 // Parameter t in (0, 1) of q on segment p0-p1 when q lies on it strictly between the
 // ends (distance <= eps from the line, > eps from both ends); else -1.
@@ -399,60 +375,6 @@ void trace(const Edges& edges, const std::vector<double>& ux, const std::vector<
     out.lab.resize(n);
 }
 
-// -- step 2: no boundaries meet
-
-// Copy contour a..b-1 to the output (reversed: walked backwards, each edge keeping its
-// label).
-void append_ring(const double* xs, const double* ys, const i64* labels, i64 a, i64 b, bool reverse, Shape& o) {
-    i64 k = b - a;
-    for (i64 i = 0; i < k; ++i) {
-        if (reverse) {
-            i64 src = b - 1 - i;
-            o.x.push_back(xs[src]);
-            o.y.push_back(ys[src]);
-            // reversed edge i runs from vertex b-1-i to b-2-i: the original edge b-2-i
-            o.lab.push_back(i < k - 1 ? labels[b - 2 - i] : labels[b - 1]);
-        } else {
-            o.x.push_back(xs[a + i]);
-            o.y.push_back(ys[a + i]);
-            o.lab.push_back(labels[a + i]);
-        }
-    }
-}
-
-// A point in the middle of the first edge of contour a..b-1 (a one-vertex contour: that
-// vertex).
-inline double first_mid(const double* v, i64 a, i64 b) { return 0.5 * (v[a] + v[a + 1 < b ? a + 1 : a]); }
-
-// The paper's step 2 when no boundaries meet: whole contours to the holding lists; clip
-// contours inside the subject go to both, reversed for the outside (a hole).
-void holding_lists(const ShapeView& s, const double* cx, const double* cy, const ShapeView& c, Shape& in,
-                   Shape& out) {
-    std::vector<char> s_in(s.nst - 1), c_in(c.nst - 1);
-    for (i64 r = 0; r + 1 < s.nst; ++r) {
-        i64 a = s.st[r], b = s.st[r + 1];
-        s_in[r] = winding(first_mid(s.x, a, b), first_mid(s.y, a, b), cx, cy, c.st, c.nst) > 0;
-    }
-    for (i64 r = 0; r + 1 < c.nst; ++r) {
-        i64 a = c.st[r], b = c.st[r + 1];
-        c_in[r] = winding(first_mid(cx, a, b), first_mid(cy, a, b), s.x, s.y, s.st, s.nst) > 0;
-    }
-    for (i64 r = 0; r + 1 < s.nst; ++r) {
-        Shape& o = s_in[r] ? in : out;
-        o.st.push_back((i64)o.x.size());
-        append_ring(s.x, s.y, s.lab, s.st[r], s.st[r + 1], false, o);
-    }
-    for (i64 r = 0; r + 1 < c.nst; ++r) {
-        if (!c_in[r]) continue;
-        in.st.push_back((i64)in.x.size());
-        append_ring(cx, cy, c.lab, c.st[r], c.st[r + 1], false, in);
-        out.st.push_back((i64)out.x.size());
-        append_ring(cx, cy, c.lab, c.st[r], c.st[r + 1], true, out);
-    }
-    in.st.push_back((i64)in.x.size());
-    out.st.push_back((i64)out.x.size());
-}
-
 // -- the edges classified
 
 // Sorted keys from * nu + to of the contours' edges of positive length.
@@ -639,38 +561,6 @@ std::pair<Shape, Shape> clip_arrays(const ShapeView& s, const ShapeView& c, doub
     std::pair<Shape, Shape> r;
     clip_into(s, c, eps, r.first, r.second, scratch);
     return r;
-}
-
-std::pair<i64, i64> first_crossing(const double* xs, const double* ys, i64 n, const i64* starts, i64 nst,
-                                   double eps) {
-    // edges sorted by their left end: only edges whose x ranges overlap are compared
-    std::vector<i64> e0(n), e1(n), order(n);
-    std::vector<double> lo(n);
-    for (i64 r = 0; r + 1 < nst; ++r) {
-        i64 a = starts[r], b = starts[r + 1];
-        for (i64 v = a; v < b; ++v) {
-            i64 w = next_in_ring(v, a, b);
-            e0[v] = v;
-            e1[v] = w;
-            lo[v] = pmin(xs[v], xs[w]);
-        }
-    }
-    for (i64 i = 0; i < n; ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(), [&](i64 a, i64 b) { return lo[a] < lo[b]; });
-    for (i64 i = 0; i < n; ++i) {
-        i64 u = order[i], a0 = e0[u], a1 = e1[u];
-        double hi = pmax(xs[a0], xs[a1]);
-        for (i64 j = i + 1; j < n; ++j) {
-            i64 w = order[j];
-            if (lo[w] > hi + eps) break;
-            i64 b0 = e0[w], b1 = e1[w];
-            if (pmax(ys[b0], ys[b1]) < pmin(ys[a0], ys[a1]) - eps || pmin(ys[b0], ys[b1]) > pmax(ys[a0], ys[a1]) + eps)
-                continue;
-            if (proper_crossing(xs[a0], ys[a0], xs[a1], ys[a1], xs[b0], ys[b0], xs[b1], ys[b1], eps).hit)
-                return {std::min(u, w), std::max(u, w)};
-        }
-    }
-    return {-1, -1};
 }
 
 }  // namespace wa

@@ -10,65 +10,13 @@
 #include <cmath>
 
 #include "clipper.hpp"
+#include "arena.hpp"
 #include "convex.hpp"
+#include "local_outline.hpp"
 
 namespace wa {
 
 namespace {
-
-struct Arena {
-    struct Meta {
-        i64 v0, v1, r0, r1, source;
-    };
-    std::vector<double> x, y;
-    std::vector<i64> lab, st;
-    std::vector<Meta> meta;
-    std::vector<Box> box;
-
-    Arena() {
-        x.reserve(1024);
-        y.reserve(1024);
-        lab.reserve(1024);
-        st.reserve(256);
-        meta.reserve(128);
-        box.reserve(128);
-    }
-    i64 size() const { return (i64)meta.size(); }
-    i64 source(i64 k) const { return meta[k].source; }
-
-    // the vertices just appended (v0..) close piece k: its box
-    i64 close(i64 v0, i64 r0, i64 source) {
-        i64 v1 = (i64)x.size();
-        meta.push_back(Meta{v0, v1, r0, (i64)st.size(), source});
-        box.push_back(v1 > v0 ? shape_bbox(x.data() + v0, y.data() + v0, v1 - v0) : Box{0, 0, 0, 0});
-        return size() - 1;
-    }
-    // Store a piece (not a view into this arena); its index.
-    i64 add(const Shape& s, i64 source) {
-        i64 v0 = (i64)x.size(), r0 = (i64)st.size();
-        x.insert(x.end(), s.x.begin(), s.x.end());
-        y.insert(y.end(), s.y.begin(), s.y.end());
-        lab.insert(lab.end(), s.lab.begin(), s.lab.end());
-        st.insert(st.end(), s.st.begin(), s.st.end());
-        return close(v0, r0, source);
-    }
-    // Store a piece of one contour, the first n vertices of xs, ys, labels; its index.
-    i64 add_contour(const double* xs, const double* ys, const i64* labels, i64 n, i64 source) {
-        i64 v0 = (i64)x.size(), r0 = (i64)st.size();
-        x.insert(x.end(), xs, xs + n);
-        y.insert(y.end(), ys, ys + n);
-        lab.insert(lab.end(), labels, labels + n);
-        st.push_back(0);
-        st.push_back(n);
-        return close(v0, r0, source);
-    }
-    // (xs, ys, labels, starts) of piece k: valid until the next piece is added
-    ShapeView piece(i64 k) const {
-        const Meta& m = meta[k];
-        return ShapeView{x.data() + m.v0, y.data() + m.v0, lab.data() + m.v0, st.data() + m.r0, m.v1 - m.v0,
-                         m.r1 - m.r0};
-    }
-};
 
 bool disjoint(const Box& p, const Box& b) { return p.x0 >= b.x1 || p.x1 <= b.x0 || p.y0 >= b.y1 || p.y1 <= b.y0; }
 
@@ -94,129 +42,6 @@ constexpr i64 WORK_VERTICES = 64;  // a convex piece and outline with more verti
 // chain loop keeps the limit above, so its images keep their recorded bits.)
 constexpr i64 INDEXED_WORK_VERTICES = i64(1) << 40;
 constexpr i64 SPLIT_VERTICES = 64;  // the indexed loop halves pieces with more vertices (Solver::halve)
-
-struct Outline {
-    std::vector<double> x, y, len;  // len: each edge's length (separation's margins, once an outline)
-    std::vector<i64> lab, st;
-    ShapeView view() const {
-        return ShapeView{x.data(), y.data(), lab.data(), st.data(), (i64)x.size(), (i64)st.size()};
-    }
-};
-
-// -- the outline as a piece's box sees it (the indexed loop)
-
-// How far beyond a piece's box (in units of eps) an outline edge counts as away from it:
-// far beyond every tolerance of the clipper, yet a negligible share of a pixel.
-constexpr double RIM = 1e6;
-
-// The side of box b by which the ray from its centre to a point outside it leaves (0
-// right, 1 top, 2 left, 3 bottom: counter-clockwise in x-y), from the point's offset
-// from the centre and the box's half sides.
-int rim_side(double dx, double dy, double hw, double hh) {
-    if (std::fabs(dy) * hw <= std::fabs(dx) * hh) return dx > 0 ? 0 : 2;
-    return dy > 0 ? 1 : 3;
-}
-
-// Box b's corner between rim sides k and k + 1 (mod 4).
-void rim_corner(const Box& b, int k, double& x, double& y) {
-    x = (k == 0 || k == 3) ? b.x1 : b.x0;
-    y = (k == 0 || k == 1) ? b.y1 : b.y0;
-}
-
-// Outline o as box b sees it, into `local`: its edges that come near b (their boxes meet
-// it) as they are, each run of edges away from b replaced by a walk around b's rim (its
-// corners) that turns about b as often and the same way as the run does. Run and walk
-// join the same two vertices and neither enters b, so every point of b has the same
-// winding number about both outlines, while the edges near b, the only ones whose
-// crossings and shared points the clipper computes for a shape inside b, are the
-// outline's own: the clip of a shape inside b (away from b's rim by far more than the
-// clipper's tolerance) by `local` is its clip by o, with a fraction of o's vertices.
-// The turns are counted by the rim side each vertex faces: a straight edge that misses
-// b sweeps less than half a turn about b's centre, so it passes to a neighbouring side
-// the short way and to the opposite side the way its cross product says.
-// Returns false when no edge comes near b (local untouched).
-bool local_outline(const Outline& o, const Box& b, Outline& local) {
-    i64 m = (i64)o.x.size();
-    auto near = [&](i64 i) {
-        i64 j = i + 1 < m ? i + 1 : 0;
-        return !(pmin(o.x[i], o.x[j]) > b.x1 || pmax(o.x[i], o.x[j]) < b.x0 || pmin(o.y[i], o.y[j]) > b.y1 ||
-                 pmax(o.y[i], o.y[j]) < b.y0);
-    };
-    i64 first = 0;
-    while (first < m && !near(first)) ++first;
-    if (first == m) return false;
-    local.x.clear();
-    local.y.clear();
-    double qx = 0.5 * (b.x0 + b.x1), qy = 0.5 * (b.y0 + b.y1), hw = 0.5 * (b.x1 - b.x0), hh = 0.5 * (b.y1 - b.y0);
-    auto side = [&](i64 v) { return rim_side(o.x[v] - qx, o.y[v] - qy, hw, hh); };
-    for (i64 k = 0; k < m;) {
-        i64 i = first + k < m ? first + k : first + k - m;
-        local.x.push_back(o.x[i]);
-        local.y.push_back(o.y[i]);
-        ++k;
-        if (near(i)) continue;
-        // a run of edges away from b, from vertex i to the next vertex whose edge is near
-        int s0 = side(i), s = s0, turns = 0;
-        i64 v = i;
-        while (true) {
-            i64 u = v + 1 < m ? v + 1 : 0;
-            int su = side(u), d = (su - s + 4) % 4;
-            if (d == 2)
-                d = (o.x[v] - qx) * (o.y[u] - qy) - (o.y[v] - qy) * (o.x[u] - qx) > 0 ? 2 : -2;
-            else if (d == 3)
-                d = -1;
-            turns += d;
-            s = su;
-            v = u;
-            if (k == m || near(v)) break;
-            ++k;
-        }
-        for (int t = 0; t < std::abs(turns); ++t) {
-            double x, y;
-            rim_corner(b, ((turns > 0 ? s0 + t : s0 - 1 - t) % 4 + 4) % 4, x, y);
-            local.x.push_back(x);
-            local.y.push_back(y);
-        }
-    }
-    i64 n = (i64)local.x.size();
-    local.lab.assign(n, EDGE_CUT);
-    local.st.assign({0, n});
-    return true;
-}
-
-// Whether contour r of shape s lies inside outline o, by the winding number of the middle
-// of its first edge (for a contour whose boundary and o's are apart).
-bool contour_inside(const ShapeView& s, i64 r, const Outline& o) {
-    i64 a = s.st[r], b = s.st[r + 1], c = a + 1 < b ? a + 1 : a;
-    return winding(0.5 * (s.x[a] + s.x[c]), 0.5 * (s.y[a] + s.y[c]), o.x.data(), o.y.data(), o.st.data(),
-                   (i64)o.st.size()) > 0;
-}
-
-// Whether no edge of outline o comes within eps of an edge of shape s (their boxes grown
-// by eps do not meet) and o's first vertex near s lies outside s: then o's boundary and
-// s's are apart and o does not reach into s, so s lies wholly inside or wholly outside o.
-bool boundaries_apart(const ShapeView& s, const Outline& o, double eps) {
-    i64 m = (i64)o.x.size();
-    Box sb = shape_bbox(s.x, s.y, s.n);
-    i64 probe = -1;
-    for (i64 i = 0; i < m; ++i) {
-        i64 j = i + 1 < m ? i + 1 : 0;
-        double ox0 = pmin(o.x[i], o.x[j]) - eps, ox1 = pmax(o.x[i], o.x[j]) + eps;
-        double oy0 = pmin(o.y[i], o.y[j]) - eps, oy1 = pmax(o.y[i], o.y[j]) + eps;
-        if (ox0 > sb.x1 || ox1 < sb.x0 || oy0 > sb.y1 || oy1 < sb.y0) continue;
-        if (probe < 0) probe = i;
-        for (i64 r = 0; r + 1 < s.nst; ++r) {
-            i64 a = s.st[r], b = s.st[r + 1];
-            for (i64 v = a; v < b; ++v) {
-                i64 u = next_in_ring(v, a, b);
-                if (!(pmin(s.x[v], s.x[u]) > ox1 || pmax(s.x[v], s.x[u]) < ox0 || pmin(s.y[v], s.y[u]) > oy1 ||
-                      pmax(s.y[v], s.y[u]) < oy0))
-                    return false;
-            }
-        }
-    }
-    return probe < 0 || winding(o.x[probe], o.y[probe], s.x, s.y, s.st, s.nst) == 0;
-}
 
 // Scratch rows for cutting one convex piece: current x, y; left part x, y; right part x,
 // y; line values; labels current, left, right. Rows grow (never shrink) to what a split

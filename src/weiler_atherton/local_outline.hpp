@@ -1,0 +1,36 @@
+// An outline as seen from a piece's box (the indexed loop of solver.cpp): the edges near
+// the box as they are, runs of far edges replaced by walks round the box, so that a clip
+// of a piece inside the box sees a few vertices instead of the whole outline.
+#pragma once
+
+#include <vector>
+
+#include "shape.hpp"
+
+namespace wa {
+
+// How far beyond a piece's box (in units of eps) an outline edge counts as away from it:
+// far beyond every tolerance of the clipper, yet a negligible share of a pixel.
+constexpr double RIM = 1e6;
+
+struct Outline {
+    std::vector<double> x, y, len;  // len: each edge's length (separation's margins, once an outline)
+    std::vector<i64> lab, st;
+    ShapeView view() const {
+        return ShapeView{x.data(), y.data(), lab.data(), st.data(), (i64)x.size(), (i64)st.size()};
+    }
+};
+
+// Outline o as box b sees it, into `local` (definition: local_outline.cpp). Returns false
+// when no edge comes near b (local untouched).
+bool local_outline(const Outline& o, const Box& b, Outline& local);
+
+// Whether contour r of shape s lies inside outline o (for a contour whose boundary and
+// o's are apart).
+bool contour_inside(const ShapeView& s, i64 r, const Outline& o);
+
+// Whether o's boundary and s's are apart (boxes grown by eps do not meet) and o does not
+// reach into s: then s lies wholly inside or wholly outside o.
+bool boundaries_apart(const ShapeView& s, const Outline& o, double eps);
+
+}  // namespace wa
