@@ -15,6 +15,7 @@ import ast
 from pathlib import Path
 
 import aaeval
+from tests.helpers.package_modules import aaeval_modules
 
 ROOT = Path(aaeval.__file__).parent
 
@@ -25,14 +26,7 @@ FORBIDDEN = ("aaeval.groundtruth", "aaeval.catmull", "aaeval.weiler_atherton", "
              "aaeval.experiments.runner", "aaeval.filters", "aaeval.plugins")
 
 
-def _modules() -> dict[str, Path]:
-    out = {}
-    for path in ROOT.rglob("*.py"):
-        parts = ("aaeval",) + path.relative_to(ROOT).with_suffix("").parts
-        if parts[-1] == "__init__":
-            parts = parts[:-1]
-        out[".".join(parts)] = path
-    return out
+_modules = aaeval_modules
 
 
 MODULES = _modules()
