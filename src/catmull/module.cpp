@@ -173,7 +173,7 @@ nb::ndarray<nb::numpy, double> render_flat(In start, In length, In x, In y, In p
     // Never cleared: the row sweep writes every pixel of a band's rows once (a run, a whole
     // pixel or a flushed sum), on the band's own thread, so the pages of a large new image
     // are first touched in parallel (100 MB at 2048x2048) and no pass clears what the sweep
-    // then overwrites (tests/test_catmull_native.py fills the image with NaN first to check).
+    // then overwrites (tests/catmull/test_catmull_native.py fills the image with NaN first to check).
     double* image = nullptr;
     auto array = results::new_array<double>({size_t(height), size_t(width), 3}, image, false);
     {

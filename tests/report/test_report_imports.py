@@ -1,7 +1,7 @@
 """The report draws what the sweep stored: nothing it can import renders or measures.
 
 Every import counts here, function-level ones too (unlike the cycle rule of
-tests/test_import_cycles.py, which is about load order): a function-level import of a
+tests/project/test_import_cycles.py, which is about load order): a function-level import of a
 renderer is still a renderer the report can run. Starting from every module of
 ``aaeval/report`` and ``aaeval/cli/report.py``, the walk follows each import to the module
 it names and every package ``__init__`` on the way, transitively; no module that renders,
@@ -139,7 +139,7 @@ def test_the_report_reaches_nothing_that_renders_or_measures():
 def test_metrics_import_no_renderer_ground_truth_or_sweep():
     """Every import statement of aaeval/metrics, function-level ones too: a mask read from a
     render is given that render by the sweep's measuring step (what the modules they import
-    in turn reach is their packages' affair: tests/test_import_cycles.py)."""
+    in turn reach is their packages' affair: tests/project/test_import_cycles.py)."""
     banned = ("aaeval.renderers", "aaeval.groundtruth", "aaeval.experiments")
     found = [f"{m} imports {t}" for m in MODULES if m == "aaeval.metrics" or m.startswith("aaeval.metrics.")
              for t in _imports(m) if any(t == b or t.startswith(b + ".") for b in banned)]
