@@ -1,8 +1,8 @@
 """The report draws what the sweep stored: nothing it can import renders or measures.
 
-Every import counts here, function-level ones too (unlike the cycle rule of
-tests/project/test_import_cycles.py, which is about load order): a function-level import of a
-renderer is still a renderer the report can run. Starting from every module of
+Every import counts here, function-level ones too (as in the cycle rule of
+tests/project/test_import_cycles.py): a function-level import of a renderer is still a
+renderer the report can run. Starting from every module of
 ``aaeval/report`` and ``aaeval/cli/report.py``, the walk follows each import to the module
 it names and every package ``__init__`` on the way, transitively; no module that renders,
 measures or parses scenes may be reached. And ``aaeval/metrics`` imports no renderer, ground
