@@ -70,5 +70,6 @@ def _load_builtins() -> None:
         taa,
     )
     import aaeval.filters  # noqa: F401
-    import aaeval.metrics  # noqa: F401
+    import aaeval.metrics.masks  # noqa: F401  (aaeval.metrics loads its names lazily: the modules that register)
+    import aaeval.metrics.registry  # noqa: F401
     import aaeval.specular.methods  # noqa: F401

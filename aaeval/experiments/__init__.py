@@ -4,7 +4,7 @@ folder of crash-proof results, summarised in ``results.parquet``. Both measure t
 engine (:mod:`aaeval.experiments.measure`) into one record
 (:class:`aaeval.experiments.record.CellRecord`)."""
 
-import importlib
+from aaeval._lazy import lazy_names
 
 # Loaded on first use (PEP 562): a reader of a sweep folder (the report) imports the store
 # and the record without loading the renderers the sweep runs.
@@ -36,12 +36,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module 'aaeval.experiments' has no attribute {name!r}")
-    return getattr(importlib.import_module(f"aaeval.experiments.{module}"), name)
-
-
-def __dir__():
-    return sorted([*globals(), *_EXPORTS])
+__getattr__, __dir__ = lazy_names(__name__, _EXPORTS)

@@ -10,7 +10,7 @@ loaded on first use (PEP 562): :mod:`aaeval.metrics.info` (what a metric is, wit
 function) is importable without loading any metric, mask or renderer.
 """
 
-import importlib
+from aaeval._lazy import lazy_names
 
 _EXPORTS = {
     "colour_difference": ("ciede2000_map", "ciede2000_mean", "ciede2000_p95", "linear_rgb_to_lab"),
@@ -70,12 +70,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    module = _MODULE_OF.get(name)
-    if module is None:
-        raise AttributeError(f"module 'aaeval.metrics' has no attribute {name!r}")
-    return getattr(importlib.import_module(f"aaeval.metrics.{module}"), name)
-
-
-def __dir__():
-    return sorted([*globals(), *_MODULE_OF])
+__getattr__, __dir__ = lazy_names(__name__, _MODULE_OF)

@@ -12,6 +12,7 @@ truth or sweep code: the masks it is given are rendered by the sweep's measuring
 from __future__ import annotations
 
 import ast
+import importlib
 from pathlib import Path
 
 import aaeval
@@ -61,12 +62,17 @@ def _parse(module: str):
 
 def _lazy(module: str) -> set[str]:
     """What a package's PEP 562 ``__getattr__`` imports: loaded only when a name it serves is
-    asked for (``from aaeval import render``, ``aaeval.render``), not by importing the package."""
+    asked for (``from aaeval import render``, ``aaeval.render``), not by importing the package.
+    A ``__getattr__`` written out is read from its imports; one made by
+    :func:`aaeval._lazy.lazy_names` names its modules (``module_of``)."""
     tree, package = _parse(module)
     for node in tree.body:
         if isinstance(node, ast.FunctionDef) and node.name == "__getattr__":
             return _with_packages(n for sub in ast.walk(node) if isinstance(sub, (ast.Import, ast.ImportFrom))
                                   for n in _names(sub, package))
+    served = getattr(getattr(importlib.import_module(module), "__getattr__", None), "module_of", None)
+    if served is not None:
+        return _with_packages(f"{module}.{sub}" for sub in set(served.values())) | {"aaeval._lazy"}
     return set()
 
 
@@ -85,7 +91,9 @@ def _imports(module: str) -> set[str]:
             loaded = _names(node, package)
             names += loaded
             if isinstance(node, ast.ImportFrom):
-                asked.update(n for n, alias in zip(loaded, node.names) if n not in MODULES or alias.name == "*")
+                # a name (not a submodule) asked of a package: what its lazy __getattr__ serves
+                asked.update(n for n, alias in zip(loaded, node.names)
+                             if alias.name == "*" or not n.endswith("." + alias.name))
             else:
                 bound.update({alias.asname or alias.name.split(".")[0]: alias.asname and alias.name
                               or alias.name.split(".")[0] for alias in node.names})
