@@ -213,6 +213,9 @@ def run_sweep(experiment: Experiment, out: str | Path, *, workers: int | None = 
 
             # after the accuracy cells, in this process: one worker, the stated threads
             run_speed_pass(experiment, store.root, log=(lambda *_: None) if quiet else log)
+            from aaeval.experiments.table import write_summary_tables
+
+            write_summary_tables(store)  # the speed pass's summary and the findings that read it
         return summary
 
 

@@ -24,7 +24,8 @@ Beside them, what the report shows that is not a cell (:data:`STUDY_FILES`):
 the figures' styles), ``controls.json`` (every temporal metric on the controls whose
 answer is known, :mod:`aaeval.metrics.controls`) and ``specular_detection.npz``
 (Amanatides' detector on the sweep's first scene with shaded objects). Each finished
-cell's FLIP map lies beside its image (``flip/<key>.npy``).
+cell's FLIP map lies beside its image (``flip/<key>.npy``). Every table the report shows is
+aggregated from these once and stored in ``summaries/`` (:mod:`aaeval.experiments.summaries`).
 """
 
 from __future__ import annotations
@@ -41,10 +42,12 @@ from aaeval.metrics import relative_variation
 from aaeval.experiments.record import (SCHEMA_VERSION, TABLE_FIELDS, CellRecord, RecordError, agreement_column,
                                        noise_column)
 from aaeval.experiments.store import SCHEMA_KEY, SweepStore, read_table
+from aaeval.experiments.summaries import SUMMARY_FOLDER, summarize
 from aaeval.imageio import atomic_write
 
 __all__ = ["results_frame", "temporal_frame", "write_results", "rebuild_results", "read_table", "short_label",
-           "varying_options", "RESULTS_COLUMNS", "TEMPORAL_COLUMNS", "STUDY_FILES", "specs_of"]
+           "varying_options", "RESULTS_COLUMNS", "TEMPORAL_COLUMNS", "STUDY_FILES", "specs_of",
+           "write_summary_tables"]
 
 #: Typed columns of ``results.parquet`` the sweep adds to the record's fields.
 SPEC_COLUMNS = ("label", "label_plain", "exact", "filter", "label_unfiltered", "ladder", "reference_method", "reference_label",
@@ -335,7 +338,23 @@ def write_results(store: SweepStore) -> pd.DataFrame:
         _write_parquet(results, store.writable("results.parquet"))
         _write_parquet(temporal, store.writable("temporal.parquet"))
         write_studies(store, results)
+        write_summary_tables(store)
     return results
+
+
+def write_summary_tables(store: SweepStore) -> None:
+    """``DIR/summaries/``: every table the report shows, from the tables just written
+    (:mod:`aaeval.experiments.summaries`); again after the speed pass, whose summary it holds."""
+    from aaeval.experiments.speed import read_speed
+    from aaeval.metrics.info import MetricInfo
+
+    root = store.root
+    infos = {name: MetricInfo.from_dict(entry) for name, entry in json.loads((root / "metrics.json").read_text()).items()}
+    found = summarize(read_table(root / "results.parquet"), read_table(root / "temporal.parquet"), read_speed(root),
+                      store.read_manifest(), infos, store)
+    folder = store.own_folder(SUMMARY_FOLDER)
+    for name, frame in found.items():
+        _write_parquet(frame, folder / f"{name}.parquet")
 
 
 def rebuild_results(store: SweepStore) -> tuple[pd.DataFrame, pd.DataFrame]:

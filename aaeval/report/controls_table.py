@@ -10,6 +10,7 @@ from __future__ import annotations
 import html
 import math
 
+from aaeval.report.html_tables import Stored, shown
 from aaeval.report.sweep_data import METRICS
 
 __all__ = ["controls_html"]
@@ -23,9 +24,9 @@ def controls_html(stored: dict) -> str:
     the measure's score on that control and, where the construction fixes one, the answer
     (``stored``: the sweep's ``controls.json``)."""
     CONTROLS, CONTROL_NOTES = stored["controls"], stored["notes"]  # noqa: N806 - the module's names, as stored
-    rows: dict[str, dict[str, dict]] = {}
-    for r in stored["scores"]:
-        rows.setdefault(r["measure"], {})[r["control"]] = r
+    rows: dict[str, dict[str, tuple[int, dict]]] = {}
+    for i, r in enumerate(stored["scores"]):  # a number's stored row: its place in "scores"
+        rows.setdefault(r["measure"], {})[r["control"]] = (i, r)
     head = "".join(f"<th title='{html.escape(CONTROL_NOTES[c])}'>{html.escape(c.replace('_', ' '))}</th>"
                    for c in CONTROLS)
     body = []
@@ -33,14 +34,14 @@ def controls_html(stored: dict) -> str:
         metric = METRICS[name]
         cells = []
         for control in CONTROLS:
-            r = by_control[control]
+            i, r = by_control[control]
             score, expected = r["score"], r["expected"]
-            text = metric.format(score) if math.isfinite(score) else "n/a"
+            text = shown(score, Stored("controls.json", i, "score", metric.fmt)) if math.isfinite(score) else "n/a"
             if math.isfinite(expected):
                 met = math.isfinite(score) and abs(score - expected) <= TOLERANCE
-                text += f" ({'=' if met else 'expected'} {metric.format(expected)}{'' if met else ' ✗'})"
-            cells.append(f"<td class='num' data-measure='{html.escape(name)}' data-control='{control}'>"
-                         f"{html.escape(text)}</td>")
+                answer = shown(expected, Stored("controls.json", i, "expected", metric.fmt))
+                text += f" ({'=' if met else 'expected'} {answer}{'' if met else ' ✗'})"
+            cells.append(f"<td class='num' data-measure='{html.escape(name)}' data-control='{control}'>{text}</td>")
         body.append(f"<tr><td>{html.escape(metric.title)} <code>{html.escape(name)}</code></td>{''.join(cells)}</tr>")
     notes = "; ".join(f"<i>{html.escape(c.replace('_', ' '))}</i>: {html.escape(CONTROL_NOTES[c])}" for c in CONTROLS)
     return (f"<p>Every temporal measure on controls whose right answer is known (a thin highlight drifting "

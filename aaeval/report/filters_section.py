@@ -1,7 +1,7 @@
 """Report section of the pixel-filter groups (``filters*``): exact against sampled, and how much
-each filter lets a picket fence flicker. It reads ``results.parquet`` and ``temporal.parquet``
-and computes nothing: every value is a registered metric (:mod:`aaeval.metrics`) the sweep
-measured, averaged per (filter, method) by :func:`aaeval.report.findings.per_spec`.
+each filter lets a picket fence flicker. It draws the sweep's stored ``filters`` summary and
+computes nothing: every value is a registered metric (:mod:`aaeval.metrics`) the sweep
+measured, averaged per (filter, method) by :func:`aaeval.experiments.aggregate.per_spec`.
 
 Each cell of these groups was judged against the ground truth through its own filter
 (``mitsuba:filter=F``, or ``catmull:filter=F`` for an exact reference;
@@ -18,36 +18,14 @@ import pandas as pd
 
 from aaeval.report.sweep_data import METRICS
 from aaeval.report.figures import UNIT, metric_label, save_figure
-from aaeval.report.findings import per_spec
+from aaeval.experiments.summaries import FILTER_ORDER
 from aaeval.report.style import Styles
-from aaeval.report.html_tables import write_table
+from aaeval.report.html_tables import stored_cells, write_table
 
-__all__ = ["filters_section", "GROUP_PREFIX", "FILTER_ORDER"]
+__all__ = ["filters_section"]
 
-GROUP_PREFIX = "filters"
-FILTER_ORDER = ("box", "tent", "bspline", "mitchell", "catmullrom", "gaussian")
-_RESULTS = ("rmse",)
-_TEMPORAL = ("temporal_bias", "flicker", "image_flicker")
-
-
-def _table(results: pd.DataFrame, temporal: pd.DataFrame, group: str) -> pd.DataFrame:
-    """One row per spec of ``group``: its filter, its method, and every measure of the tables."""
-    columns = {}
-    for name in _RESULTS:
-        columns[name] = per_spec(results, group, name).set_index("spec")
-    for name in _TEMPORAL:
-        columns[name] = per_spec(temporal, group, name).set_index("spec") if not temporal.empty else pd.DataFrame()
-    base = per_spec(results, group, "rmse")
-    if base.empty:
-        return base
-    rows = results[results["group"] == group].drop_duplicates("spec").set_index("spec")
-    out = pd.DataFrame({"filter": base["spec"].map(rows["filter"]), "method": base["spec"].map(rows["label_unfiltered"]),
-                        "spec": base["spec"], "style_method": base["method"], "options": base["options"],
-                        "noise": base["noise"]})
-    for name, table in columns.items():
-        out[name] = out["spec"].map(table["value"]) if "value" in table else np.nan
-    order = {f: i for i, f in enumerate(FILTER_ORDER)}
-    return out.assign(_o=out["filter"].map(order)).sort_values(["_o", "method"], kind="stable").drop(columns="_o")
+_MEASURES = ("rmse", "temporal_bias", "flicker", "image_flicker")
+_STORED = "summaries/filters.parquet"
 
 
 def _chart(table: pd.DataFrame, path: Path, styles: Styles, group: str) -> Path:
@@ -75,21 +53,19 @@ def _chart(table: pd.DataFrame, path: Path, styles: Styles, group: str) -> Path:
     return save_figure(fig, path)
 
 
-def filters_section(out_dir: Path, figures_dir: Path, results: pd.DataFrame | None = None,
-                    temporal: pd.DataFrame | None = None, styles: Styles | None = None) -> str:
-    """HTML fragment of the filter groups; empty when the sweep has none. ``results`` and
-    ``temporal`` are the sweep's tables (read from ``out_dir`` when not given)."""
+def filters_section(out_dir: Path, figures_dir: Path, data=None, styles: Styles | None = None) -> str:
+    """HTML fragment of the filter groups; empty when the sweep has none. ``data``: the
+    sweep's :class:`~aaeval.report.sweep_data.SweepData` (read from ``out_dir`` when not given)."""
     out_dir, figures_dir = Path(out_dir), Path(figures_dir)
-    if results is None or temporal is None:
+    if data is None:
         from aaeval.report.sweep_data import read_sweep
 
         data = read_sweep(out_dir)
-        results, temporal, styles = data.results, data.temporal, styles or Styles.from_sweep(data.specs)
-    if results.empty:
+    styles = styles or Styles.from_sweep(data.specs)
+    stored = data.summary("filters")
+    if stored.empty:
         return ""
-    groups = [g for g in dict.fromkeys(results["group"]) if str(g).startswith(GROUP_PREFIX)]
-    if not groups:
-        return ""
+    groups = list(dict.fromkeys(stored["group"]))
     parts = ["<h2 id='filters'>Pixel filters</h2>",
              "<p>Every filter as Mitsuba 3 defines it and normalises its film (docs/filters.md). <code>catmull:filter=F"
              "</code> integrates the visible pieces against the filter exactly; the samplers use the same filter. "
@@ -99,12 +75,10 @@ def filters_section(out_dir: Path, figures_dir: Path, results: pd.DataFrame | No
              "<a href='results.parquet'>results.parquet</a> and <a href='temporal.parquet'>temporal.parquet</a>, "
              f"mean over the group's cells or animations, {UNIT}: "
              + "; ".join(f"<b>{html.escape(METRICS[m].title)}</b>: {html.escape(METRICS[m].summary)}"
-                         for m in (*_RESULTS, *_TEMPORAL)) + ".</p>"]
+                         for m in _MEASURES) + ".</p>"]
     figures_dir.mkdir(parents=True, exist_ok=True)
     for group in groups:
-        table = _table(results, temporal, group)
-        if table.empty:
-            continue
+        table = stored[stored["group"] == group]
         slug = "".join(c if c.isalnum() else "_" for c in group)
         png = _chart(table, figures_dir / f"filters_{slug}", styles, group)
         try:
@@ -116,8 +90,10 @@ def filters_section(out_dir: Path, figures_dir: Path, results: pd.DataFrame | No
                      "scene's interior (the picket fences' bars repeat at or above the Nyquist rate, so an ideal "
                      "low-pass image is constant there: every change is aliasing the filter let through). Right: "
                      f"RMSE against the ground truth through the same filter. {UNIT}.</figcaption></figure>")
-        shown = table.drop(columns=["spec", "style_method", "options"]).rename(
-            columns={"noise": "ground truth noise RMS", **{m: METRICS[m].title for m in (*_RESULTS, *_TEMPORAL)}})
-        parts.append(write_table(shown, out_dir / "tables", f"filters_{slug}", out_dir,
-                                 f"{group}: every filter, exact and sampled, against its own ground truth"))
+        renamed = {"noise": "ground truth noise RMS", **{m: METRICS[m].title for m in _MEASURES}}
+        shown = table.drop(columns=["group", "spec", "style_method", "options"]).rename(columns=renamed)
+        where = stored_cells(shown, _STORED, table.index, renamed)
+        parts.append(write_table(shown.reset_index(drop=True), out_dir / "tables", f"filters_{slug}", out_dir,
+                                 f"{group}: every filter, exact and sampled, against its own ground truth",
+                                 where.reset_index(drop=True)))
     return "\n".join(parts)

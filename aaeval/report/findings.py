@@ -1,12 +1,13 @@
-"""The findings at the top of the report: one ranked table per question, read from the results.
+"""The findings at the top of the report: one ranked table per question, drawn from the sweep.
 
-Every number here is a value of ``results.parquet`` (one row per cell) or
-``temporal.parquet`` (one row per animation), averaged over one group's cells of one spec
-by :func:`per_spec`; that one aggregation is also what the group charts and the specular
-and filters sections draw, so a ranking reads the same wherever it appears. Each number
-carries ``data-*`` attributes naming the table, group, spec, column and aggregation it
-comes from (the tests recompute it from the parquet files) and links to the group's
-section and to its CSV.
+The sweep ranked every question's answers once (:mod:`aaeval.experiments.summaries`:
+``findings``, ``findings_questions``, ``findings_per_scene``), each value the mean of one
+group's cells (``results.parquet``) or animations (``temporal.parquet``) of one spec by
+:func:`~aaeval.experiments.aggregate.per_spec`, the aggregation the group charts and the
+specular and filters sections use, so a ranking reads the same wherever it appears. Each
+number names where it is stored (``data-source``, ``data-row``, ``data-column``) and the
+cells it aggregates (``data-from``, ``data-group``, ``data-spec``, ``data-agg``: the tests
+recompute it), and links to the group's section.
 
 Nothing is measured here: the sentence naming a question's leader is computed from the
 table it sits on.
@@ -16,111 +17,20 @@ from __future__ import annotations
 
 import html
 import math
-from dataclasses import dataclass
+import json
 
 import pandas as pd
 
-from aaeval.experiments.record import agreement_column, noise_column
+from aaeval.experiments.aggregate import per_spec
+from aaeval.experiments.record import noise_column
+from aaeval.experiments.summaries import QUESTIONS, Question
 from aaeval.metrics.info import format_value
-from aaeval.report.sweep_data import METRICS
+from aaeval.report.html_tables import Stored
+from aaeval.report.sweep_data import METRICS, SweepData
 from aaeval.metrics.agreement import PASS_FRACTION, SIGNIFICANCE, agrees
 from aaeval.report.names import figure_stem
 
-__all__ = ["Question", "QUESTIONS", "per_spec", "ranked", "findings_section", "leader_sentence", "answering_groups"]
-
-
-@dataclass(frozen=True)
-class Question:
-    """One question of the findings: which column of which table answers it, where."""
-
-    key: str
-    title: str
-    table: str  # "results" or "temporal" (or "speed": the speed pass)
-    column: str
-    groups: tuple[str, ...]  # groups that answer it, first present wins
-    extra: tuple[tuple[str, str], ...] = ()  # further columns beside it: (table, column)
-    what: str = ""
-    noise: str = "reference_noise_rmse"  # the ground truth's own value of this kind, beside each number
-    per_scene: bool = False  # also a table of each scene's values: a mean over unlike scenes hides them
-
-
-QUESTIONS = (
-    Question("edges", "Edge aliasing", "results", "edge_rmse", ("edge-aliasing", "khan-figures-moving"),
-             what="error over the pixels a visible edge crosses, mean over scenes and frames"),
-    Question("highlights", "Highlight aliasing", "results", "highlight_rmse", ("specular-thin", "specular"),
-             extra=(("temporal", "highlight_bias"), ("temporal", "highlight_profile_flicker")),
-             what="error over the highlight pixels, mean over scenes and frames; beside it the highlight's bias "
-                  "(time-average of its energy error) and flicker (what is left, frame to frame)"),
-    Question("temporal", "Temporal stability", "temporal", "flicker", ("edge-aliasing", "khan-figures-moving"),
-             extra=(("temporal", "temporal_bias"),),
-             what="flicker of the error over each animation (the error minus its time-average), mean over "
-                  "animations; beside it the bias (the time-average)"),
-    Question("highlight-flicker", "Temporal stability of highlights", "temporal", "highlight_profile_flicker",
-             ("specular-thin", "specular"), extra=(("temporal", "highlight_bias"),),
-             what="spread over frames of each highlight cross-section's energy error, relative, mean over animations; "
-                  "beside it the highlight's bias"),
-    Question("sums", "Sum invariance", "temporal", "sum_variation", ("invariance", "edge-aliasing"),
-             extra=(("temporal", "sum_bias"),), per_scene=True,
-             what="(max - min) / mean of the image's intensity sum while the scene moves, mean over animations; "
-                  "beside it the sum's bias against the exact sum in the typical frame (median over frames), and "
-                  "the ground truth's own variation", noise="reference_sum_variation"),
-    Question("cost", "Cost", "speed", "ms_per_mpix", ("speed",),
-             what="render time per megapixel in the speed pass (one worker, interleaved repeats after a "
-                  "warm-up), median over its scenes and rounds"),
-    Question("cost-shading", "Cost of specular anti-aliasing", "speed", "ms_per_mpix", ("speed-1",),
-             what="render time per megapixel of every specular method in the speed pass's second table, median "
-                  "over its scenes and rounds"),
-)
-
-
-def per_spec(frame: pd.DataFrame, group: str, column: str, *, how: str = "mean",
-             noise: str = "reference_noise_rmse") -> pd.DataFrame:
-    """One row per spec of ``group``: ``column`` aggregated over its rows (``how``: mean or
-    median) with the ground truth's noise beside it; columns spec, label, method, options,
-    value, noise, rows, agreement (the mean z-test pass fraction of an RMS metric against
-    the truth, :mod:`aaeval.metrics.agreement`; NaN for other columns). The one
-    aggregation behind every ranking of the page."""
-    columns = ["spec", "label", "method", "options", "ladder", "value", "noise", "rows", "agreement"]
-    rows = frame[(frame["group"] == group)] if "group" in frame else frame.iloc[:0]
-    if "error" in rows:
-        rows = rows[rows["error"].isna()]
-    if column not in rows or rows.empty:
-        return pd.DataFrame(columns=columns)
-    out = []
-    for spec, r in rows.groupby("spec", sort=False):
-        values = pd.to_numeric(r[column], errors="coerce")
-        if not values.notna().any():
-            continue
-        value = float(values.median() if how == "median" else values.mean())
-        truth = pd.to_numeric(r[noise], errors="coerce") if noise in r else pd.Series(dtype=float)
-        passed = pd.to_numeric(r[agreement_column(column)], errors="coerce") \
-            if agreement_column(column) in r else pd.Series(dtype=float)
-        out.append({"spec": spec, "label": r["label"].iloc[0], "method": r["method"].iloc[0],
-                    "options": r["options"].iloc[0] if "options" in r else "{}",
-                    "ladder": r["ladder"].iloc[0] if "ladder" in r else spec, "value": value,
-                    "noise": float(truth.mean()) if truth.notna().any() else math.nan, "rows": int(values.notna().sum()),
-                    "agreement": float(passed.mean()) if passed.notna().any() else math.nan})
-    return pd.DataFrame(out, columns=columns)
-
-
-def _better_first(column: str) -> callable:
-    metric = METRICS.get(column)
-    if metric is not None and metric.target is not None:
-        return lambda v: abs(v - metric.target)
-    if metric is not None and metric.higher_is_better:
-        return lambda v: -v
-    return lambda v: v
-
-
-def ranked(frame: pd.DataFrame, group: str, column: str, *, how: str = "mean",
-           noise: str = "reference_noise_rmse") -> pd.DataFrame:
-    """:func:`per_spec`, best first (by the metric's direction), ties kept in spec order."""
-    table = per_spec(frame, group, column, how=how, noise=noise)
-    if table.empty:
-        return table
-    key = _better_first(column)
-    return table.assign(_k=table["value"].map(key)).sort_values("_k", kind="stable").drop(columns="_k") \
-        .reset_index(drop=True)
+__all__ = ["Question", "QUESTIONS", "per_spec", "findings_section", "leader_sentence"]
 
 
 def _fmt(column: str, value) -> str:
@@ -187,31 +97,39 @@ def leader_sentence(question: Question, table: pd.DataFrame, group: str) -> str:
 _ROUNDING = 1e-12
 
 
-def per_scene_html(question: Question, frame: pd.DataFrame, group: str, order: list[str]) -> str:
-    """A table of ``question``'s column and extras per scene of ``group`` (rows: specs in
-    ``order``; one column per scene and measure), each value one animation's."""
-    rows = frame[frame["group"] == group]
-    scenes = list(dict.fromkeys(rows["scene"]))
+FINDINGS, PER_SCENE = "summaries/findings.parquet", "summaries/findings_per_scene.parquet"
+
+
+def per_scene_html(question: Question, stored: pd.DataFrame) -> str:
+    """A table of ``question``'s column and extras per scene (rows: specs in rank order; one
+    column per scene and measure), each value one animation's (``stored``: the question's
+    rows of the stored ``findings_per_scene`` summary)."""
+    scenes = list(dict.fromkeys(stored["scene"]))
     if len(scenes) < 2:
         return ""
-    columns = [question.column] + [c for t, c in question.extra if t == question.table and c in rows]
+    columns = list(dict.fromkeys(stored["column"]))
     head = "".join(f"<th>{html.escape(_title(c))}, {html.escape(s)}</th>" for s in scenes for c in columns)
     body = []
-    for spec in order:
-        mine = rows[rows["spec"] == spec]
-        if mine.empty:
-            continue
+    for spec, mine in stored.groupby("spec", sort=False):
         cells = []
         for s in scenes:
-            one = mine[mine["scene"] == s]
             for c in columns:
-                v = pd.to_numeric(one[c], errors="coerce").mean() if not one.empty else math.nan
-                cells.append(f"<td class='num' data-source='temporal.parquet' data-group='{html.escape(group)}' "
-                             f"data-spec='{html.escape(spec)}' data-scene='{html.escape(s)}' "
-                             f"data-column='{html.escape(c)}'>{html.escape(_fmt(c, v))}</td>")
-        body.append(f"<tr><td>{html.escape(mine['label'].iloc[0])}</td>{''.join(cells)}</tr>")
+                at = mine[(mine["scene"] == s) & (mine["column"] == c)]
+                if at.empty:
+                    cells.append("<td></td>")
+                    continue
+                i = at.index[0]
+                where = Stored(PER_SCENE, i, "value", _format_of(c))
+                cells.append(f"<td class='num' {where.attributes()}>{html.escape(_fmt(c, at.at[i, 'value']))}</td>")
+        label = Stored(PER_SCENE, mine.index[0], "label")
+        body.append(f"<tr><td {label.attributes()}>{html.escape(mine['label'].iloc[0])}</td>{''.join(cells)}</tr>")
     return ("<p class='dl'>Per scene (one animation each):</p><table class='findings per-scene'>"
             f"<tr><th>method (options)</th>{head}</tr>{''.join(body)}</table>")
+
+
+def _format_of(column: str) -> str:
+    metric = METRICS.get(column)
+    return metric.fmt if metric is not None else ".4g"
 
 
 def _z_test_words() -> str:
@@ -219,53 +137,88 @@ def _z_test_words() -> str:
             f"{PASS_FRACTION:.2%} of the pixels passing")
 
 
-def _agreement_cell(fraction: float) -> str:
-    verdict = agrees(fraction)
-    if verdict is None:
-        return "<td></td>"
-    word = "agrees" if verdict else "differs"
-    return f"<td class='num'>{word} ({fraction:.2%} pass)</td>"
+def _cell(row: int, column: str, value, *, fmt: str, href: str, origin: str = "") -> str:
+    """A number of a findings table: where it is stored, and (``origin``) the cells it is
+    the aggregate of, for the tests to recompute it."""
+    where = Stored(FINDINGS, row, column, fmt)
+    text = format_value(value, fmt)
+    link = f"<a href='{html.escape(href)}'>{html.escape(text)}</a>" if href else html.escape(text)
+    return f"<td class='num' {where.attributes()}{origin}>{link}</td>"
 
 
-def _cell(value: str, *, source: str, group: str, spec: str, column: str, how: str, href: str) -> str:
-    attrs = (f"data-source='{html.escape(source)}' data-group='{html.escape(group)}' "
-             f"data-spec='{html.escape(spec)}' data-column='{html.escape(column)}' data-agg='{how}'")
-    return f"<td class='num' {attrs}><a href='{html.escape(href)}'>{html.escape(value)}</a></td>"
+def _origin(source: str, group: str, spec: str, column: str, how: str) -> str:
+    return (f" data-from='{html.escape(source)}' data-group='{html.escape(group)}' data-spec='{html.escape(spec)}' "
+            f"data-from-column='{html.escape(column)}' data-agg='{how}'")
 
 
-def answering_groups(question: Question, tables: dict[str, pd.DataFrame]) -> list[str]:
-    """Every group that measured ``question``'s column, the question's own groups first (in
-    their order), then the others in the order of the table: whatever a group is named, what
-    it measured answers the questions of that measure."""
-    frame = tables.get(question.table)
-    if frame is None or frame.empty or question.column not in frame:
-        return []
-    values = pd.to_numeric(frame[question.column], errors="coerce")
-    measured = list(dict.fromkeys(frame.loc[values.notna(), "group"]))
-    if question.table == "speed":  # each speed pass is named by its place, and each is its own question
-        return [g for g in question.groups if g in measured]
-    return [g for g in question.groups if g in measured] + [g for g in measured if g not in question.groups]
+_SOURCES = {"results": "results.parquet", "temporal": "temporal.parquet", "speed": "speed.parquet"}
 
 
-def _pick_group(question: Question, tables: dict[str, pd.DataFrame]) -> str | None:
-    groups = answering_groups(question, tables)
-    return groups[0] if groups else None
+def _question_html(q: Question, group: str | None, also: list[str], table: pd.DataFrame, per_scene: pd.DataFrame,
+                   speed_note: str) -> list[str]:
+    parts = [f"<h3 id='finding-{q.key}'>{html.escape(q.title)}</h3>"]
+    if group is None:
+        return parts + [f"<p>Not measured in this sweep ({html.escape(q.what)}).</p>"]
+    parts.append(f"<p>{leader_sentence(q, table, group)}</p>")
+    parts.append(f"<p class='dl'>{html.escape(q.what)}. {speed_note if q.table == 'speed' else ''}</p>")
+    if also and q.table != "speed":
+        links = ", ".join(f"<a href='#{figure_stem(g)}'>{html.escape(g)}</a>" for g in also)
+        parts.append(f"<p class='dl'>Also measured in group(s) {links}: their tables rank the same column.</p>")
+    href = "#speed" if q.table == "speed" else f"#{figure_stem(group)}"
+    extras = [(t, c) for t, c in q.extra if c in table]
+    noise = table["noise_column"].iloc[0] if len(table) else q.noise
+    tested = table["agreement_text"].astype(bool).any() if len(table) else False
+    head = ["rank", "method (options)", _title(q.column)] + [_title(c) for _, c in extras]
+    head.append("spread over scenes and rounds (fastest-slowest)" if q.table == "speed" else
+                "ground truth's own sum variation" if q.noise == "reference_sum_variation" else
+                f"ground truth noise RMS ({_title(q.column)} pixels)" if noise == noise_column(q.column) else
+                "ground truth noise RMS")
+    if tested:
+        head.append("against the truth: per-pixel z-test")
+    rows = []
+    for i, r in table.iterrows():
+        how = r["how"]
+        cells = [f"<td {Stored(FINDINGS, i, 'rank').attributes()}>{int(r['rank'])}</td>",
+                 f"<td {Stored(FINDINGS, i, 'label').attributes()}>{html.escape(r['label'])}</td>",
+                 _cell(i, "value", r["value"], fmt=_format_of(q.column), href=href,
+                       origin=_origin(_SOURCES[q.table], group, r["spec"], q.column, how))]
+        for t, c in extras:
+            cells.append(_cell(i, c, r[c], fmt=_format_of(c), href=href,
+                               origin=_origin(_SOURCES[t], group, r["spec"], c, "mean")))
+        if q.table == "speed":
+            cells.append(_spread(i, r) if math.isfinite(r["spread_min"]) else "<td></td>")
+        elif math.isfinite(r["noise"]):
+            cells.append(_cell(i, "noise", r["noise"], fmt=".2e", href=""))
+        else:
+            cells.append("<td></td>")
+        if tested:
+            text = r["agreement_text"]
+            cells.append(f"<td class='num' {Stored(FINDINGS, i, 'agreement_text').attributes()}>{html.escape(text)}</td>"
+                         if text else "<td></td>")
+        rows.append("<tr>" + "".join(cells) + "</tr>")
+    parts.append("<table class='findings'><tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in head) + "</tr>"
+                 + "".join(rows) + "</table>")
+    if q.per_scene and not per_scene.empty:
+        parts.append(per_scene_html(q, per_scene))
+    return parts
 
 
-def findings_section(results: pd.DataFrame, temporal: pd.DataFrame, speed: pd.DataFrame | None = None, *,
-                     speed_note: str = "") -> str:
-    """The findings: per question a computed sentence and a ranked table whose numbers link to
-    where they come from. ``speed``: the speed pass's table (``speed.parquet``), if any."""
-    tables = {"results": results, "temporal": temporal}
-    if speed is not None and not speed.empty:
-        # each [[speed]] table is its own group: "speed" (the first), "speed-1", ...
-        ladders = dict(zip(results["spec"], results["ladder"])) if "ladder" in results else {}
-        tables["speed"] = speed.assign(group=speed["pass"].map(lambda i: "speed" if i == 0 else f"speed-{i}"),
-                                       ladder=[ladders.get(spec, spec) for spec in speed["spec"]])
+def _spread(i: int, r) -> str:
+    low = Stored(FINDINGS, i, "spread_min", ".4g")
+    high = Stored(FINDINGS, i, "spread_max", ".4g")
+    return (f"<td class='num'><span {low.attributes()}>{r['spread_min']:.4g}</span>-"
+            f"<span {high.attributes()}>{r['spread_max']:.4g}</span></td>")
+
+
+def findings_section(data: SweepData, *, speed_note: str = "") -> str:
+    """The findings: per question a computed sentence and a ranked table, drawn from the
+    stored ``findings`` summaries; each number names where it is stored and links to its group."""
+    found, questions = data.summary("findings"), data.summary("findings_questions")
+    per_scene = data.summary("findings_per_scene")
     parts = ["<h2 id='findings'>Findings</h2>",
              "<p class='note'>Generated from <a href='results.parquet'>results.parquet</a>, "
              "<a href='temporal.parquet'>temporal.parquet</a>"
-             + (" and <a href='speed.parquet'>speed.parquet</a>" if "speed" in tables else "") + ": every "
+             + (" and <a href='speed.parquet'>speed.parquet</a>" if not data.speed.empty else "") + ": every "
              "number is the mean of one group's cells (or animations) of one method and option, the same value the "
              "group's charts and tables show; it links to that group. Rows are methods with their options (a ladder "
              "is several rows), best first. The ground truth's own noise (RMS per pixel and channel, measured seed to "
@@ -277,56 +230,12 @@ def findings_section(results: pd.DataFrame, temporal: pd.DataFrame, speed: pd.Da
              "quadrature's bound) a seeded method, Mitsuba's cross-check row among them, is tested within its own "
              "noise, measured as the truth's would be (a second render with the next seed). Where no test applies, "
              "differences smaller than the noise are not resolved.</p>"]
+    answered = questions.set_index("question") if not questions.empty else questions
     for q in QUESTIONS:
-        group = _pick_group(q, tables)
-        parts.append(f"<h3 id='finding-{q.key}'>{html.escape(q.title)}</h3>")
-        if group is None:
-            parts.append(f"<p>Not measured in this sweep ({html.escape(q.what)}).</p>")
-            continue
-        how = "median" if q.table == "speed" else "mean"
-        # an RMS metric's noise is the truth's on that metric's own pixels, with the same reduction
-        own_noise = noise_column(q.column)
-        noise = own_noise if q.table == "results" and own_noise in tables["results"] else q.noise
-        tested = q.table == "results" and agreement_column(q.column) in tables["results"]
-        table = ranked(tables[q.table], group, q.column, how=how, noise=noise)
-        parts.append(f"<p>{leader_sentence(q, table, group)}</p>")
-        parts.append(f"<p class='dl'>{html.escape(q.what)}. {speed_note if q.table == 'speed' else ''}</p>")
-        also = answering_groups(q, tables)[1:]
-        if also and q.table != "speed":
-            links = ", ".join(f"<a href='#{figure_stem(g)}'>{html.escape(g)}</a>" for g in also)
-            parts.append(f"<p class='dl'>Also measured in group(s) {links}: their tables rank the same column.</p>")
-        href = "#speed" if q.table == "speed" else f"#{figure_stem(group)}"
-        extras = [(t, c) for t, c in q.extra if t in tables and c in tables[t]]
-        extra_values = {(t, c): per_spec(tables[t], group, c).set_index("spec")["value"] for t, c in extras}
-        head = ["rank", "method (options)", _title(q.column)] + [_title(c) for _, c in extras]
-        head.append("spread over scenes and rounds (fastest-slowest)" if q.table == "speed" else
-                    "ground truth's own sum variation" if q.noise == "reference_sum_variation" else
-                    f"ground truth noise RMS ({_title(q.column)} pixels)" if noise == own_noise else
-                    "ground truth noise RMS")
-        if tested:
-            head.append("against the truth: per-pixel z-test")
-        rows = []
-        source = {"results": "results.parquet", "temporal": "temporal.parquet", "speed": "speed.parquet"}
-        for i, r in enumerate(table.itertuples(), 1):
-            cells = [f"<td>{i}</td>", f"<td>{html.escape(r.label)}</td>",
-                     _cell(_fmt(q.column, r.value), source=source[q.table], group=group, spec=r.spec,
-                           column=q.column, how=how, href=href)]
-            for t, c in extras:
-                v = extra_values[(t, c)].get(r.spec, math.nan)
-                cells.append(_cell(_fmt(c, v), source=source[t], group=group, spec=r.spec, column=c, how="mean",
-                                   href=href))
-            if q.table == "speed":
-                spread = tables["speed"]
-                s = pd.to_numeric(spread[(spread["group"] == group) & (spread["spec"] == r.spec)]["ms_per_mpix"],
-                                  errors="coerce").dropna()
-                cells.append(f"<td class='num'>{s.min():.4g}-{s.max():.4g}</td>" if len(s) else "<td></td>")
-            else:
-                cells.append(f"<td class='num'>{'' if not math.isfinite(r.noise) else f'{r.noise:.2e}'}</td>")
-            if tested:
-                cells.append(_agreement_cell(r.agreement))
-            rows.append("<tr>" + "".join(cells) + "</tr>")
-        parts.append("<table class='findings'><tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in head) + "</tr>"
-                     + "".join(rows) + "</table>")
-        if q.per_scene:
-            parts.append(per_scene_html(q, tables[q.table], group, list(table["spec"])))
+        group = answered.at[q.key, "group"] if q.key in answered.index else None
+        group = group if isinstance(group, str) else None
+        also = json.loads(answered.at[q.key, "also"]) if group is not None else []
+        table = found[found["question"] == q.key] if not found.empty else found
+        scenes = per_scene[per_scene["question"] == q.key] if not per_scene.empty else per_scene
+        parts.extend(_question_html(q, group, also, table, scenes, speed_note))
     return "\n".join(parts)

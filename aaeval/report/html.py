@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import html
 import json
-import math
 import sys
 import time
 from pathlib import Path
@@ -22,8 +21,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from aaeval.experiments.record import agreement_column
-from aaeval.metrics.agreement import agrees
+from aaeval.experiments.aggregate import failed_cells, failure_definition
+from aaeval.experiments.summaries import validation_rows
 from aaeval.fileio import atomic_write
 from aaeval.report import figures
 from aaeval.report.names import figure_stem
@@ -32,19 +31,17 @@ from aaeval.report.specular_section import specular_section
 from aaeval.report.sweep_data import METRICS, SweepData, read_sweep
 from aaeval.report.findings import findings_section
 from aaeval.report.style import Styles
-from aaeval.report.html_tables import write_table
-from aaeval.report.viewer import (GROUP_BUDGET, VIEWER_CSS, interesting_row, scene_series, viewer_div,
+from aaeval.report.html_tables import Stored, shown, stored_cells, write_table
+from aaeval.report.viewer import (GROUP_BUDGET, VIEWER_CSS, scene_series, viewer_div,
                                   viewer_payload, viewer_script, write_viewer_data)
 
-__all__ = ["write_report", "reference_statement", "spec_summary", "failed_cells", "failure_definition",
-           "SPEED_MIN_PIXELS"]
+__all__ = ["write_report", "reference_statement", "SPEED_MIN_PIXELS"]
 
 # Below 256 x 256 pixels a render's time is mostly call overhead: such groups report accuracy.
 SPEED_MIN_PIXELS = 256 * 256
 # The page must stay small (figures' PNG, SVG and PDF, tables and this, under 20 MB): past
 # this many bytes of viewer data, a group's viewer keeps its first scene only.
 VIEWER_BUDGET = 4_000_000
-_VALIDATION_RATIO = 1.5  # an exact method "matches" when its error is within this factor of the noise
 
 _CSS = """
 body{font-family:system-ui,sans-serif;max-width:1250px;margin:1.5em auto;padding:0 1em;color:#222}
@@ -59,128 +56,43 @@ figure{margin:1em 0} figcaption{font-size:12px;color:#444;max-width:1000px} img{
 """ + VIEWER_CSS
 
 
-def _column(rows: pd.DataFrame, name: str, fallback) -> pd.Series:
-    """A results column that older sweep folders may lack."""
-    if name in rows and rows[name].notna().any():
-        return pd.to_numeric(rows[name], errors="coerce")
-    return pd.Series(fallback, index=rows.index, dtype=float)
+REFS = "summaries/references.parquet"
 
 
-def _megapixels(rows: pd.DataFrame) -> pd.Series:
-    size = pd.to_numeric(rows.get("width"), errors="coerce") * pd.to_numeric(rows.get("height"), errors="coerce")
-    return _column(rows, "megapixels", size / 1e6)
+def definition_html(definition: str, fail_above, stored_at: Stored) -> str:
+    """The failure definition with its threshold marked as the value stored in the manifest."""
+    text = html.escape(definition)
+    if not fail_above:
+        return text
+    number = f"{fail_above:g}"
+    i = text.rindex(f"above {number}") + len("above ")
+    return text[:i] + shown(fail_above, stored_at, number) + text[i + len(number):]
 
 
-def failure_definition(primary: str, fail_above) -> str:
-    """The one definition of a failed cell, as written on the page."""
-    crit = "its render raised an error or gave non-finite pixels"
-    if fail_above:
-        crit += (f", or, on a flat-coloured scene, its {primary} against its own ground truth (the Mitsuba render "
-                 f"through the same pixel filter) is above {fail_above:g}")
-    text = f"A cell fails when {crit}."
-    if fail_above:
-        text += (" On scenes with shaded objects a specular method departs from the Phong truth by design (a clamp "
-                 "widens and dims the highlight): that departure is shown as highlight bias and flicker, not counted "
-                 "as a failure.")
-    return text
-
-
-def failed_cells(rows: pd.DataFrame, primary: str, fail_above, shaded=frozenset()) -> pd.Series:
-    """Boolean per cell, by :func:`failure_definition` (a metric that could not be computed
-    is listed apart and is not a failure). ``shaded``: digests of scenes with shaded objects."""
-    bad = rows["error"].notna()
-    if fail_above and primary in rows:
-        flat = ~rows["scene_digest"].isin(set(shaded)) if "scene_digest" in rows else True
-        bad |= flat & (pd.to_numeric(rows[primary], errors="coerce") > fail_above)
-    return bad
-
-
-def _is_ground_truth(rows: pd.DataFrame) -> pd.Series:
-    """Whether each row's reference is a Mitsuba render (the ground truth's renderer)."""
-    return rows["reference_method"] == "mitsuba"
-
-
-def _cross_check(rows: pd.DataFrame) -> str | None:
-    """For a group judged against an exact truth: its Mitsuba row of the most samples and
-    that row's z-test verdict against the truth (within the row's own noise,
-    :mod:`aaeval.experiments.measure`), on the highlight pixels where the group measures them
-    (what the exact shading is for), with the whole image's pass fraction beside it; None
-    without such a row."""
-    mitsuba = rows[rows["method"] == "mitsuba"]
-    if mitsuba.empty:
-        return None
-    spp = mitsuba["spp"].fillna(0)
-    best = mitsuba[spp == spp.max()]
-
-    def passed(metric: str) -> float:
-        column = agreement_column(metric)
-        return pd.to_numeric(best[column], errors="coerce").mean() if column in best else math.nan
-
-    judged, where = (passed("highlight_rmse"), "highlight pixels")
-    if not math.isfinite(judged):
-        judged, where = (passed("rmse"), "whole image")
-    if not math.isfinite(judged):
-        return None
-    verdict = "agrees" if agrees(judged) else "DIFFERS"
-    whole = passed("rmse")
-    beside = f"; whole image {whole:.2%}" if where != "whole image" and math.isfinite(whole) else ""
-    return f"exact, cross-checked by {best['label_plain'].iloc[0]} on {where}: {verdict} ({judged:.2%} pass{beside})"
-
-
-def reference_statement(rows: pd.DataFrame) -> str:
-    """What the cells in ``rows`` were compared against, with its noise level."""
+def reference_statement(refs: pd.DataFrame) -> str:
+    """What a group's cells were compared against, with its noise level (``refs``: the
+    group's rows of the stored ``references`` summary, indexed by stored row)."""
     parts = []
-    for spec, refs in rows.groupby("reference", sort=False):
-        kind = refs["reference_kind"].iloc[0]
-        spp, seed = refs["reference_spp"].iloc[0], refs["reference_seed"].iloc[0]
-        noise = refs.drop_duplicates(["scene", "frame"])["reference_noise_rmse"].astype(float)
-        if kind == "exact" and noise.fillna(0).gt(0).any():
-            level = (f"no sampling noise; its quadrature error bound, RMS {noise.mean():.3g} per pixel (max "
-                     f"{noise.max():.3g} over {noise.notna().sum()} frames), stands as its noise")
-        elif kind == "exact":
+    for i, r in refs.iterrows():
+        at = lambda column, f="": Stored(REFS, i, column, f)  # noqa: E731
+        frames = shown(r["noise_frames"], at("noise_frames"))
+        if r["kind"] == "exact" and r["noise_positive"]:
+            level = (f"no sampling noise; its quadrature error bound, RMS {shown(r['noise_mean'], at('noise_mean', '.3g'))} "
+                     f"per pixel (max {shown(r['noise_max'], at('noise_max', '.3g'))} over {frames} frames), stands as "
+                     "its noise")
+        elif r["kind"] == "exact":
             level = "noise 0"
-        elif noise.notna().any():
-            level = (f"measured noise RMS {noise.mean():.3g} per pixel channel, range {noise.min():.3g} to "
-                     f"{noise.max():.3g} (seed-to-seed RMSE / sqrt 2 over {noise.notna().sum()} frames)")
+        elif r["noise_frames"] > 0:
+            level = (f"measured noise RMS {shown(r['noise_mean'], at('noise_mean', '.3g'))} per pixel channel, range "
+                     f"{shown(r['noise_min'], at('noise_min', '.3g'))} to {shown(r['noise_max'], at('noise_max', '.3g'))} "
+                     f"(seed-to-seed RMSE / sqrt 2 over {frames} frames)")
         else:
             level = "deterministic but not exact: its own error is unknown"
-        what = "Mitsuba ground truth" if _is_ground_truth(refs).iloc[0] else "NOT the Mitsuba ground truth"
-        extra = ", ".join(f"{k} {int(v)}" for k, v in (("spp", spp), ("seed", seed)) if pd.notna(v))
-        parts.append(f"<b>{html.escape(refs['reference_label'].iloc[0])}</b> ({what}; {html.escape(str(kind))}{'; ' + extra if extra else ''}; "
-                     f"{level})")
+        what = "Mitsuba ground truth" if r["is_ground_truth"] else "NOT the Mitsuba ground truth"
+        extra = ", ".join(f"{k} {shown(r[k], at(k, '.0f'))}" for k in ("spp", "seed") if pd.notna(r[k]))
+        parts.append(f"<b>{html.escape(r['reference_label'])}</b> ({what}; {html.escape(str(r['kind']))}"
+                     f"{'; ' + extra if extra else ''}; {level})")
     return "Reference: " + "; ".join(parts) + "."
-
-
-def _noise(rows: pd.DataFrame) -> np.ndarray:
-    return rows.drop_duplicates(["scene", "frame"])["reference_noise_rmse"].to_numpy(float)
-
-
-def spec_summary(rows: pd.DataFrame, metrics: list[str], primary: str, failed: pd.Series) -> pd.DataFrame:
-    """One row per spec: cells, failures, times (per frame and per megapixel, with the spread
-    of the repeats), mean / best / worst primary error, mean of the other metrics."""
-    out = []
-    mpix = _megapixels(rows)
-    for spec, r in rows.groupby("spec", sort=False):
-        ok = r[r["error"].isna()]
-        t = _column(ok, "render_s", math.nan)
-        tmin, tmax = _column(ok, "render_s_min", t), _column(ok, "render_s_max", t)
-        mp = mpix.loc[ok.index]
-        per = _column(ok, "ms_per_mpix", t * 1e3 / mp)
-        row = {"spec": spec, "label": r["label"].iloc[0], "method": r["method"].iloc[0],
-               "options": r["options"].iloc[0], "cells": len(r), "failed": int(failed.loc[r.index].sum()),
-               "repeats": int(_column(ok, "repeats", 1).min()) if len(ok) else 0,
-               "render ms (median)": float(t.median() * 1e3) if len(ok) else math.nan,
-               "ms_per_mpix": float(per.median()) if len(ok) else math.nan,
-               "ms_per_mpix_min": float((tmin * 1e3 / mp).min()) if len(ok) else math.nan,
-               "ms_per_mpix_max": float((tmax * 1e3 / mp).max()) if len(ok) else math.nan}
-        if primary in ok:
-            vals = pd.to_numeric(ok[primary], errors="coerce")
-            row.update({primary: vals.mean(), f"{primary}_min": vals.min(), f"{primary}_max": vals.max()})
-        for m in metrics:
-            if m != primary and m in ok:
-                row[m] = pd.to_numeric(ok[m], errors="coerce").mean()
-        out.append(row)
-    return pd.DataFrame(out)
 
 
 def figure_html(path: Path, root: Path, caption: str) -> str:
@@ -205,13 +117,34 @@ class _Page:
         self.fail_above = manifest.get("fail_above")
         self.styles = Styles.from_sweep(data.specs)
         self.definition = failure_definition(self.primary, self.fail_above)
+        # the definition as running text, its threshold marked as the manifest's value
+        self.definition_html = definition_html(self.definition, self.fail_above,
+                                               Stored("manifest.json", 0, "fail_above"))
         self.viewer_scripts: list[str] = []
         self.viewer_left = VIEWER_BUDGET  # bytes of viewer data the page may still load
         self.shaded = set(results.loc[results["shaded"].astype(bool), "scene_digest"]) if not results.empty else set()
         self.group_temporal = manifest.get("group_temporal", {})
 
-    def table(self, frame: pd.DataFrame, name: str, caption: str = "") -> str:
-        return write_table(frame, self.tabdir, name, self.root, caption)  # names: fixed words and figure stems
+    def table(self, frame: pd.DataFrame, name: str, caption: str = "", where: pd.DataFrame | None = None) -> str:
+        # names: fixed words and figure stems
+        return write_table(frame, self.tabdir, name, self.root, caption, where)
+
+    def stored_table(self, frame: pd.DataFrame, source: str, name: str, caption: str = "",
+                     renamed: dict | None = None) -> str:
+        """Rows of the stored table ``source`` (``frame``'s index: their stored rows), its
+        columns ``renamed`` (``{stored name: shown name}``) for the page."""
+        shown_frame = frame.rename(columns=renamed or {})
+        return self.table(shown_frame.reset_index(drop=True), name, caption,
+                          stored_cells(shown_frame, source, frame.index, renamed).reset_index(drop=True))
+
+    def references(self, group: str) -> pd.DataFrame:
+        refs = self.data.summary("references")
+        return refs[refs["group"] == group] if not refs.empty else refs
+
+
+def _noise(rows: pd.DataFrame) -> np.ndarray:
+    """The ground truth's noise of each scene frame of ``rows``: the grey band of a chart."""
+    return rows.drop_duplicates(["scene", "frame"])["reference_noise_rmse"].to_numpy(float)
 
 
 def _accuracy_block(page: _Page, group: str, slug: str, summary: pd.DataFrame, rows: pd.DataFrame,
@@ -266,38 +199,22 @@ def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp
                    + "; ".join(f"<b>{html.escape(METRICS[m].title)}</b>: {html.escape(METRICS[m].summary)}"
                                for m in names)
                    + f". The dashed line is the ground truth's own noise RMS where it applies; {figures.UNIT}. {ref}"))
-    scene = animated["scene"].iloc[0]
+    slices = page.data.summary("space_time")
+    slices = slices[slices["group"] == group] if not slices.empty else slices
+    if slices.empty:
+        return out
+    at = slices.index[0]
+    scene, row = slices.at[at, "scene"], int(slices.at[at, "row"])
     reference, series, frames = scene_series(animated, page.store, scene, page.styles)
     if reference is not None and series:
-        row = interesting_row(reference)
         p = figures.space_time(reference, [(r["label"].iloc[0], imgs) for r, imgs in series[:15]],
                                page.figdir / f"{slug}_space_time", row=row, title=f"{group}: {scene}")
-        out.append(figure_html(p, page.root, f"Space-time slices of {html.escape(scene)}: row {row} (the row that "
+        where = shown(row, Stored("summaries/space_time.parquet", at, "row"))
+        out.append(figure_html(p, page.root, f"Space-time slices of {html.escape(scene)}: row {where} (the row that "
                    "changes most) of every frame stacked downwards, per method. Crawling edges show as "
                    "staircases, flicker as horizontal streaks; the viewer below shows any row (its space-time "
                    f"checkbox). The first panel is the ground truth. {ref}"))
     return out
-
-
-def _validation_rows(rows: pd.DataFrame, shaded: set[str]) -> pd.DataFrame:
-    """Exact methods against a Mitsuba ground truth: one row per scene frame and spec, on
-    flat scenes only (``shaded``: digests of scenes with smooth-shaded objects, where an
-    exact method's coverage is exact but its shading is one Phong shade per visible piece)."""
-    ok = rows[rows["error"].isna() & _is_ground_truth(rows)]
-    if "scene_digest" in ok:
-        ok = ok[~ok["scene_digest"].isin(shaded)]
-    exact = ok[ok["exact"].astype(bool)]
-    if exact.empty:
-        return pd.DataFrame()
-    # an exact render with another pixel filter (catmull:filter=tent) is exact for that
-    # filter, not for the box-filtered ground truth: it is no check of the ground truth
-    exact = exact[exact["reference_filter"] == exact["filter"]]
-    if exact.empty or "rmse" not in exact:
-        return pd.DataFrame()
-    return pd.DataFrame({"group": exact["group"], "scene": exact["scene"], "frame": exact["frame"],
-                         "method": exact["method"], "options": exact["options"], "label": exact["label"],
-                         "rmse": pd.to_numeric(exact["rmse"], errors="coerce"),
-                         "noise_rmse": exact["reference_noise_rmse"].astype(float)})
 
 
 def _policy_section(page: _Page, results: pd.DataFrame) -> str:
@@ -310,16 +227,12 @@ def _policy_section(page: _Page, results: pd.DataFrame) -> str:
            "by rendering it a second time with the next seed (noise RMS = RMSE between the two / sqrt 2). An "
            "exact renderer may stand in for it only where the check below shows that, on that group's scenes, "
            "it agrees with the Mitsuba ground truth within the ground truth's noise.</p>"]
-    per_group = []
-    for group, rows in results.groupby("group", sort=False):
-        for spec, refs in rows.groupby("reference", sort=False):
-            noise = refs.drop_duplicates(["scene", "frame"])["reference_noise_rmse"].astype(float)
-            per_group.append({"group": group, "reference": refs["reference_label"].iloc[0],
-                              "Mitsuba ground truth": "yes" if _is_ground_truth(refs).iloc[0]
-                              else _cross_check(rows) or "NO (unvalidated)",
-                              "spp": refs["reference_spp"].iloc[0], "seed": refs["reference_seed"].iloc[0],
-                              "noise RMS (mean)": noise.mean(), "noise RMS (max)": noise.max()})
-    out.append(page.table(pd.DataFrame(per_group), "ground_truth_per_group", "Ground truth of every group"))
+    refs = page.data.summary("references")
+    per_group = refs[["group", "reference_label", "Mitsuba ground truth", "spp", "seed", "noise_mean", "noise_max"]]
+    out.append(page.stored_table(per_group, REFS, "ground_truth_per_group", "Ground truth of every group",
+                                 {"reference_label": "reference", "noise_mean": "noise RMS (mean)",
+                                  "noise_max": "noise RMS (max)"}))
+    per_group = per_group.to_dict("records")
     checked = [g["Mitsuba ground truth"] == "yes" or ": agrees (" in g["Mitsuba ground truth"] for g in per_group]
     bad = [g["group"] for g, ok in zip(per_group, checked) if not ok]
     crossed = [g["group"] for g, ok in zip(per_group, checked) if ok and g["Mitsuba ground truth"] != "yes"]
@@ -335,27 +248,22 @@ def _policy_section(page: _Page, results: pd.DataFrame) -> str:
                    "that is not the Mitsuba ground truth, and no Mitsuba row of theirs agrees with it by the z-test "
                    "here (the table says how close it came): read their errors as agreement with that reference "
                    "only.</p>")
-    check = _validation_rows(results, page.shaded)
-    if check.empty:
+    check = validation_rows(results, page.shaded)
+    table = page.data.summary("validation")
+    if check.empty or table.empty:
         out.append("<p>No exact method was compared with a Mitsuba ground truth in this sweep.</p>")
         return "\n".join(out)
-    ratio = check["rmse"] / check["noise_rmse"]
-    table = (check.assign(ratio=ratio)
-             .groupby(["group", "label"], sort=False)
-             .agg(frames=("frame", "size"), rmse_mean=("rmse", "mean"), noise_mean=("noise_rmse", "mean"),
-                  ratio_max=("ratio", "max")).reset_index())
-    table["agrees within noise"] = np.where(table["ratio_max"] <= _VALIDATION_RATIO, "yes", "no")
-    table = table.rename(columns={"label": "exact method", "rmse_mean": "RMSE vs ground truth (mean)",
-                                  "noise_mean": "ground truth noise RMS (mean)",
-                                  "ratio_max": "RMSE / noise (worst frame)"})
     p = figures.validation(check, page.figdir / "ground_truth_validation",
                            title="exact renderers against the Mitsuba ground truth", styles=page.styles)
     out.append(figure_html(p, page.root, "Each exact method's RMSE against the Mitsuba ground truth (one point per "
                        "scene frame) over that ground truth's own measured noise. On the diagonal the exact "
                        "method agrees with the ground truth as well as two Mitsuba renders agree with each other "
                        f"(RMSE between an exact image and a noisy one is the noise RMS); {figures.UNIT}."))
-    out.append(page.table(table, "ground_truth_validation",
-                          "Exact renderers against the Mitsuba ground truth, with its seed-to-seed noise"))
+    out.append(page.stored_table(table, "summaries/validation.parquet", "ground_truth_validation",
+                                 "Exact renderers against the Mitsuba ground truth, with its seed-to-seed noise",
+                                 {"label": "exact method", "rmse_mean": "RMSE vs ground truth (mean)",
+                                  "noise_mean": "ground truth noise RMS (mean)",
+                                  "ratio_max": "RMSE / noise (worst frame)"}))
     if page.shaded:
         out.append("<p class='note'>Scenes with smooth-shaded objects are left out of this check: there the exact "
                    "methods' coverage is exact but their shading is one Phong shade per visible piece (or a "
@@ -402,44 +310,53 @@ z resets the zoom.</li>
 </ul>"""
 
 
-def _overview(page: _Page, results: pd.DataFrame, failed: pd.Series) -> str:
-    """Mean primary error and failed cells per method AND option (rows) and group (columns)."""
+SPECS = "summaries/specs.parquet"
+
+
+def _overview(page: _Page) -> str:
+    """Mean primary error and failed cells per method AND option (rows) and group (columns):
+    the stored ``specs`` summary, pivoted."""
     primary = page.primary
-    frame = results.assign(failed=failed)
-    frame["method and option"] = frame["label"]  # the one label of each spec (experiments.table)
-    first = frame.drop_duplicates("spec")
-    order = sorted(zip(first["method"], first["options"], first["method and option"]),
-                   key=lambda r: page.styles.order(r[0], r[1]))
+    specs = page.data.summary("specs")
+    if specs.empty:
+        return ""
+    first = specs.drop_duplicates("spec")
+    order = sorted(zip(first["method"], first["options"], first["label"]), key=lambda r: page.styles.order(r[0], r[1]))
     labels = list(dict.fromkeys(label for _, _, label in order))
-    errors = frame.pivot_table(index="method and option", columns="group", values=primary, aggfunc="mean",
-                               sort=False).reindex(labels)
-    fails = frame.pivot_table(index="method and option", columns="group", values="failed", aggfunc="sum",
-                              sort=False).reindex(labels)
-    cells = frame.pivot_table(index="method and option", columns="group", values="key", aggfunc="count",
-                              sort=False).reindex(labels)
-    groups = list(dict.fromkeys(frame["group"]))
-    errors, fails, cells = (t.reindex(columns=groups) for t in (errors, fails, cells))
-    fail_text = fails.fillna(0).astype(int).astype(str) + " / " + cells.fillna(0).astype(int).astype(str)
-    fail_text = fail_text.where(cells.notna(), "")
+    groups = list(dict.fromkeys(specs["group"]))
+    at = {(r.label, r.group): i for i, r in zip(specs.index, specs[["label", "group"]].itertuples())}
+
+    def pivot(value, column: str) -> tuple[pd.DataFrame, pd.DataFrame]:
+        shown_cells = {"method and option": labels}
+        where = {"method and option": [next(Stored(SPECS, at[(label, g)], "label") for g in groups if (label, g) in at)
+                                       for label in labels]}
+        for g in groups:
+            shown_cells[g] = [value(at[(label, g)]) if (label, g) in at else None for label in labels]
+            where[g] = [Stored(SPECS, at[(label, g)], column) if (label, g) in at else None for label in labels]
+        return pd.DataFrame(shown_cells), pd.DataFrame(where)
+
+    errors, where_errors = pivot(lambda i: specs.at[i, primary] if primary in specs else None, primary)
+    fails, where_fails = pivot(lambda i: specs.at[i, "failed_of_cells"], "failed_of_cells")
     return ("<h2 id='overview'>Overview</h2>"
             f"<p>Mean {html.escape(primary)} against each group's ground truth, per method and option (one row "
             "each: options are never averaged together). An empty cell: the method did not run in that group.</p>"
-            + page.table(errors.reset_index(), "overview_error", f"Mean {primary} per method and option and group")
-            + f"<p>Failed cells / cells per method and option and group. {html.escape(page.definition)}</p>"
-            + page.table(fail_text.reset_index(), "overview_failed", "Failed cells per method and option and group"))
+            + page.table(errors, "overview_error", f"Mean {primary} per method and option and group", where_errors)
+            + f"<p>Failed cells / cells per method and option and group. {page.definition_html}</p>"
+            + page.table(fails, "overview_failed", "Failed cells per method and option and group", where_fails))
 
 
-def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.DataFrame, metrics: list[str],
-                   failed: pd.Series) -> str:
+def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.DataFrame, failed: pd.Series) -> str:
     slug = figure_stem(group)  # unique per name: "fence a" and "fence-a" must not share files
     out = [f"<h2 id='{html.escape(slug)}'>{html.escape(group)}</h2>"]
-    ref = reference_statement(rows)
+    refs = page.references(group)
+    ref = reference_statement(refs)
     out.append(f"<p class='ref'>{ref} Methods' spp and seed are in their specs and in the table.</p>")
-    if not _is_ground_truth(rows).all():
+    if not refs["is_ground_truth"].all():
         out.append("<p class='warn'>This group's reference is not the Mitsuba ground truth and is not validated "
                    "in this report.</p>")
     ok = rows[rows["error"].isna()]
-    summary = spec_summary(rows, metrics, page.primary, failed)
+    specs = page.data.summary("specs")
+    summary = specs[specs["group"] == group]
     out.append(_accuracy_block(page, group, slug, summary, rows, ref))
     temp = temporal[temporal["group"] == group] if not temporal.empty else temporal
     out.extend(_temporal_block(page, group, slug, rows, temp, ref))
@@ -448,7 +365,7 @@ def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.Dat
                               failed=failed.loc[rows.index], title=f"{group}: error and failures as difficulty grows",
                               styles=page.styles, definition=page.definition)
         out.append(figure_html(p, page.root, f"Mean {page.primary} (left; thick grey: the ground truth's noise; {figures.UNIT}) and "
-                   f"fraction of failed cells (right) against difficulty. {html.escape(page.definition)} {ref}"))
+                   f"fraction of failed cells (right) against difficulty. {page.definition_html} {ref}"))
     grid = _grid(page, ok, slug, group, ref)
     if grid:
         out.append(grid)
@@ -463,28 +380,29 @@ def _group_section(page: _Page, group: str, rows: pd.DataFrame, temporal: pd.Dat
                        f"{html.escape(', '.join(left_out))} (their images are in images/ as .npy).</p>")
     out.append("<h3>Numbers per method and option</h3>")
     # the accuracy cells' times are left out: cells may share the machine (see the speed pass)
-    shown = summary.drop(columns=["spec", "method", "options", f"{page.primary}_min", f"{page.primary}_max",
-                                  "repeats", "render ms (median)", "ms_per_mpix", "ms_per_mpix_min",
-                                  "ms_per_mpix_max"], errors="ignore").rename(columns={"label": "method (options)"})
-    out.append(page.table(shown, f"{slug}_numbers", f"{group}: numbers per method and option (mean over cells; "
-                          f"{figures.UNIT}; times: see the speed pass)"))
-    out.append(f"<p class='dl'>{html.escape(page.definition)}</p>")
+    numbers = summary.drop(columns=["group", "spec", "method", "options", f"{page.primary}_min",
+                                    f"{page.primary}_max", "repeats", "render ms (median)", "ms_per_mpix",
+                                    "ms_per_mpix_min", "ms_per_mpix_max", "failed_of_cells"], errors="ignore")
+    numbers = numbers.dropna(axis=1, how="all")  # a metric of another group's
+    out.append(page.stored_table(numbers, SPECS, f"{slug}_numbers", f"{group}: numbers per method and option (mean "
+                                 f"over cells; {figures.UNIT}; times: see the speed pass)", {"label": "method (options)"}))
+    out.append(f"<p class='dl'>{page.definition_html}</p>")
     if not temp.empty:
         names = [c for c in page.group_temporal.get(group, ("flicker", "sum_variation")) if c in temp]
         cols = ["scene", "label", "frames", "failed_frames", *names, "reference_sum_variation",
                 "reference_noise_rmse"]
-        out.append(page.table(temp[[c for c in cols if c in temp.columns]], f"{slug}_temporal",
-                              f"{group}: temporal metrics per animation"))
+        out.append(page.stored_table(temp[[c for c in cols if c in temp.columns]], "temporal.parquet",
+                                     f"{slug}_temporal", f"{group}: temporal metrics per animation"))
     spoiled = rows[rows["metric_errors"].notna()] if "metric_errors" in rows else rows.iloc[:0]
     if not spoiled.empty:
         out.append(f"<h3>Metrics that could not be computed ({len(spoiled)} cells; not failures)</h3>")
-        out.append(page.table(spoiled[["scene", "label", "frame", "metric_errors"]], f"{slug}_metric_errors"))
+        out.append(page.stored_table(spoiled[["scene", "label", "frame", "metric_errors"]], "results.parquet",
+                                     f"{slug}_metric_errors"))
     bad = rows[failed.loc[rows.index]]
     if not bad.empty:
         out.append(f"<h3 class='bad'>Failed cells ({len(bad)})</h3>")
-        out.append(page.table(bad.assign(**{page.primary: bad.get(page.primary)})[
-            ["scene", "label", "frame", page.primary, "error", "host"]] if page.primary in bad else
-            bad[["scene", "label", "frame", "error", "host"]], f"{slug}_failed"))
+        columns = ["scene", "label", "frame", *([page.primary] if page.primary in bad else []), "error", "host"]
+        out.append(page.stored_table(bad[columns], "results.parquet", f"{slug}_failed"))
     return "\n".join(out)
 
 
@@ -522,26 +440,11 @@ def _grid(page: _Page, ok: pd.DataFrame, slug: str, group: str, ref: str) -> str
     if reference is None or not images:
         return ""
     p = figures.image_grid(reference, images, page.figdir / f"{slug}_images", title=f"{group}: {scene}, frame {frame}")
-    return figure_html(p, page.root, f"{html.escape(scene)}, frame {frame}: each method (a ladder at its largest k or "
+    frame_html = shown(frame, Stored("results.parquet", cells.index[0], "frame"))
+    return figure_html(p, page.root, f"{html.escape(scene)}, frame {frame_html}: each method (a ladder at its largest k or "
                    "spp; the viewer below has every option) with its image, the same zoomed crop "
                    "(red box, around the largest error) and its signed error, the mean of the R, G, B errors, on "
                    f"one symmetric scale shared by every row (red: too bright, blue: too dark); {figures.UNIT}. {ref}")
-
-
-def speed_summary(speed: pd.DataFrame) -> pd.DataFrame:
-    """One row per (pass, scene, spec) of the speed pass: median, fastest and slowest ms per
-    megapixel and render ms."""
-    if speed.empty:
-        return speed
-    ok = speed[speed["error"].isna()]
-    keys = ["pass", "scene", "spec"]
-    agg = ok.groupby(keys, sort=False).agg(
-        label=("label", "first"), method=("method", "first"), options=("options", "first"),
-        width=("width", "first"), height=("height", "first"), threads=("threads", "first"),
-        rounds=("round", "size"), render_ms=("render_s", lambda s: 1e3 * s.median()),
-        ms_per_mpix=("ms_per_mpix", "median"), ms_per_mpix_min=("ms_per_mpix", "min"),
-        ms_per_mpix_max=("ms_per_mpix", "max"), accuracy_group=("accuracy_group", "first"))
-    return agg.reset_index()
 
 
 def _speed_section(page: _Page, results: pd.DataFrame, speed: pd.DataFrame) -> str:
@@ -553,11 +456,15 @@ def _speed_section(page: _Page, results: pd.DataFrame, speed: pd.DataFrame) -> s
                    "charted. The accuracy cells' render times in the tables may come from several workers sharing "
                    "the machine and are not comparable.</p>")
         return "\n".join(out)
-    summary = speed_summary(speed)
+    summary = page.data.summary("speed")
     import os
 
-    threads = ", ".join(sorted({str(int(t)) for t in speed["threads"].dropna()}))
-    rounds = int(summary["rounds"].max())
+    stored = "summaries/speed.parquet"
+    counts = pd.to_numeric(summary["threads"], errors="coerce")
+    threads = ", ".join(shown(n, Stored(stored, counts[counts == n].index[0], "threads", ".0f"))
+                        for n in sorted(counts.dropna().unique()))
+    most = summary["rounds"].idxmax()
+    rounds = shown(summary.at[most, "rounds"], Stored(stored, most, "rounds", ".0f"))
     note = (f"Timed in the speed pass, after the accuracy cells: <b>one worker</b> (the sweep's own process), "
             f"<b>{threads} thread(s)</b> for every method with a threads option (Mitsuba keeps its own "
             f"thread pool), on a machine with {os.cpu_count()} cores (see provenance); each method warmed up on its "
@@ -572,8 +479,9 @@ def _speed_section(page: _Page, results: pd.DataFrame, speed: pd.DataFrame) -> s
             label=("label", "first"), method=("method", "first"), options=("options", "first"),
             ms_per_mpix=("ms_per_mpix", "median"), ms_per_mpix_min=("ms_per_mpix_min", "min"),
             ms_per_mpix_max=("ms_per_mpix_max", "max")).reset_index()
-        if group is not None and page.primary in results:
-            acc = results[(results["group"] == group) & results["error"].isna()].groupby("spec")[page.primary].mean()
+        specs = page.data.summary("specs")
+        if group is not None and page.primary in specs:
+            acc = specs[specs["group"] == group].set_index("spec")[page.primary]
             data = per.assign(**{page.primary: per["spec"].map(acc)}).dropna(subset=[page.primary, "ms_per_mpix"])
             if not data.empty:
                 noise = _noise(results[results["group"] == group])
@@ -595,10 +503,10 @@ def _speed_section(page: _Page, results: pd.DataFrame, speed: pd.DataFrame) -> s
             if "skia" in by and "catmull" in by:
                 ratios.append(f"{html.escape(scene)} ({int(r['width'].iloc[0])}x{int(r['height'].iloc[0])}): "
                               f"catmull / Skia = {by['catmull'] / by['skia']:.3g}")
-        out.append(page.table(table.rename(columns={"label": "method (options)", "render_ms": "render ms (median)",
-                                                    "ms_per_mpix": "ms/Mpix (median)", "ms_per_mpix_min": "fastest",
-                                                    "ms_per_mpix_max": "slowest"}),
-                              f"speed_pass_{index}", "Speed pass: render time per scene and method"))
+        out.append(page.stored_table(table, stored, f"speed_pass_{index}", "Speed pass: render time per scene and method",
+                                     {"label": "method (options)", "render_ms": "render ms (median)",
+                                      "ms_per_mpix": "ms/Mpix (median)", "ms_per_mpix_min": "fastest",
+                                      "ms_per_mpix_max": "slowest"}))
         if ratios:
             out.append("<p class='note'>Time ratios on the same scene: " + "; ".join(ratios) + ". "
                        "benchmarks/bench_methods.py times the same scene the same way (see docs/experiments.md) for "
@@ -632,11 +540,6 @@ def _provenance(root: Path, results: pd.DataFrame) -> str:
             + "".join(items) + "</dl>")
 
 
-def _metric_columns(results: pd.DataFrame, manifest: dict) -> list[str]:
-    names = list(manifest.get("metrics", []))  # the experiment's metrics, in config order
-    return [m for m in names if m in results.columns]
-
-
 def _timing_note(results: pd.DataFrame) -> str:
     hosts = results["host"].dropna().unique() if "host" in results else []
     return (f"Rendered on {len(hosts)} host(s): {html.escape(', '.join(map(str, hosts)))}. " if len(hosts) else "")
@@ -657,7 +560,6 @@ def _page_text(data: SweepData, quiet: bool) -> str:
     """The page's HTML; its figures, tables and viewer data are written on the way."""
     store, manifest, results, temporal, speed = data.store, data.manifest, data.results, data.temporal, data.speed
     page = _Page(data)
-    metrics = _metric_columns(results, manifest)
     distinct = {c["key"] for c in manifest["cells"]}
     failed = (failed_cells(results, page.primary, page.fail_above, page.shaded) if not results.empty
               else pd.Series(dtype=bool))
@@ -673,7 +575,7 @@ def _page_text(data: SweepData, quiet: bool) -> str:
              f"Generated {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. "
              + (_timing_note(results) if not results.empty else "") + "</p>"]
     if not results.empty:
-        parts.append(findings_section(results, temporal, speed, speed_note="See <a href='#speed'>Speed</a>."))
+        parts.append(findings_section(data, speed_note="See <a href='#speed'>Speed</a>."))
     groups = list(dict.fromkeys(c["group"] for c in manifest["cells"]))
     parts.append("<p>Sections: <a href='#findings'>findings</a>, <a href='#how-to-read'>how to read this report</a>, "
                  "<a href='#ground-truth'>ground truth</a>, <a href='#overview'>overview</a>, <a href='#speed'>speed</a>"
@@ -688,21 +590,21 @@ def _page_text(data: SweepData, quiet: bool) -> str:
                  "<a href='manifest.json'>manifest.json</a>.</p>")
     if not results.empty:
         parts.append(_policy_section(page, results))
-        parts.append(_overview(page, results, failed))
+        parts.append(_overview(page))
     for group in groups:
         rows = results[results["group"] == group] if not results.empty else results
         if rows.empty:
             parts.append(f"<h2 id='{html.escape(figure_stem(group))}'>{html.escape(group)}</h2>"
                          "<p>No finished cells yet.</p>")
         else:
-            parts.append(_group_section(page, group, rows, temporal, metrics, failed))
+            parts.append(_group_section(page, group, rows, temporal, failed))
         if not quiet:
             print(f"report: group {group} drawn", file=sys.stderr, flush=True)
     parts.append(_speed_section(page, results, speed))
     if not results.empty:
-        parts.append(specular_section(store.root, page.figdir, results, temporal, shaded=page.shaded,
+        parts.append(specular_section(store.root, page.figdir, data,
                                       styles=page.styles, detection=data.detection))
-        parts.append(filters_section(store.root, page.figdir, results, temporal, page.styles))
+        parts.append(filters_section(store.root, page.figdir, data, page.styles))
     scripts = "".join(f"<script src='{html.escape(s)}'></script>" for s in page.viewer_scripts)
     return ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"
             f"<title>{html.escape(manifest['experiment'])} — aaeval report</title><style>{_CSS}</style>"

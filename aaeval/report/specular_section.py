@@ -1,10 +1,11 @@
 """The specular study's section of the report: Amanatides 1992 against the exact Phong truth.
 
-It reads the sweep's tables and computes no measure: every value is a registered metric
-(:mod:`aaeval.metrics`) the sweep measured on the specular groups (scenes with ``[shaded]``
-objects), against the one specular ground truth of the page (the groups' reference, whose
-spp is stated once, here), averaged per spec by :func:`aaeval.report.findings.per_spec`,
-the aggregation the findings and the group charts use, so the rankings agree:
+It draws the sweep's stored ``specular`` summary and computes no measure: every value is a
+registered metric (:mod:`aaeval.metrics`) the sweep measured on the specular groups (scenes
+with ``[shaded]`` objects), against the one specular ground truth of the page (the groups'
+reference, whose spp is stated once, here), averaged per spec by
+:func:`aaeval.experiments.aggregate.per_spec`, the aggregation the findings and the group
+charts use, so the rankings agree:
 
 - the highlight's **bias** (time-average of its energy error) and **flicker** (what is
   left, frame to frame) side by side, as a chart and a table ranked by flicker;
@@ -30,56 +31,37 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 from scipy.special import gammaln  # noqa: E402
 
+from aaeval.metrics.info import format_value  # noqa: E402
 from aaeval.report.sweep_data import METRICS  # noqa: E402
 from aaeval.report.figures import UNIT, save_figure, twin_formats  # noqa: E402
-from aaeval.report.findings import per_spec, ranked  # noqa: E402
+from aaeval.experiments.summaries import SPECULAR_COLUMNS, shaded_groups  # noqa: E402
+from aaeval.report.html_tables import Stored, shown  # noqa: E402
 from aaeval.report.style import Styles  # noqa: E402
 from aaeval.specular.tables import cutoff_table, maximum  # noqa: E402
 
-__all__ = ["specular_section", "specular_table", "verdicts", "BIAS", "FLICKER", "ERROR"]
+__all__ = ["specular_section", "verdicts", "BIAS", "FLICKER", "ERROR", "STORED"]
 
 #: The columns of the section: registered metric names.
-ERROR, BIAS, FLICKER = "highlight_rmse", "highlight_bias", "highlight_profile_flicker"
+ERROR, BIAS, FLICKER = SPECULAR_COLUMNS
+STORED = "summaries/specular.parquet"
 
 
-def shaded_groups(results: pd.DataFrame, shaded: set[str]) -> list[str]:
-    """Groups whose cells render scenes with shaded objects, in page order."""
-    if results.empty or "scene_digest" not in results:
-        return []
-    rows = results[results["scene_digest"].isin(shaded)]
-    return list(dict.fromkeys(rows["group"]))
-
-
-def specular_table(results: pd.DataFrame, temporal: pd.DataFrame, group: str) -> pd.DataFrame:
-    """One row per spec of ``group``, ranked by highlight flicker (best first): label, hl RMSE,
-    hl bias, hl flicker, the truth's noise. Values from the tables, aggregated by per_spec."""
-    base = ranked(temporal, group, FLICKER) if not temporal.empty and FLICKER in temporal else pd.DataFrame()
-    if base.empty:
-        return base
-    error = per_spec(results, group, ERROR).set_index("spec")["value"]
-    bias = per_spec(temporal, group, BIAS).set_index("spec")["value"]
-    noise = per_spec(results, group, ERROR).set_index("spec")["noise"]
-    return pd.DataFrame({"spec": base["spec"], "method": base["method"], "options": base["options"],
-                         "label": base["label"], ERROR: base["spec"].map(error), BIAS: base["spec"].map(bias),
-                         FLICKER: base["value"], "noise": base["spec"].map(noise)}).reset_index(drop=True)
-
-
-def _reference(results: pd.DataFrame, groups: list[str]) -> str:
-    rows = results[results["group"].isin(groups)]
-    refs = rows.drop_duplicates("reference")
+def _reference(refs: pd.DataFrame) -> str:
+    """The truth of the shaded groups (``refs``: their rows of the stored ``references``)."""
     parts = []
-    for r in refs.itertuples():
-        noise = rows[rows["reference"] == r.reference].drop_duplicates(["scene", "frame"])["reference_noise_rmse"]
-        if r.reference_kind == "exact":
+    for i, r in refs.drop_duplicates("reference").iterrows():
+        at = lambda column, f="": Stored("summaries/references.parquet", i, column, f)  # noqa: E731
+        noise = shown(r["noise_mean"], at("noise_mean", ".2e"))
+        if r["kind"] == "exact":
             # catmull:shading=exact: no samples, so no sampling noise; the quadrature's own
             # error bound (RMS per pixel) is what the sweep recorded as its noise
-            parts.append(f"<code>{html.escape(r.reference)}</code> (the Phong model integrated exactly over every "
-                         f"visible piece: no sampling noise; its quadrature error bound, RMS {noise.mean():.2e} per "
+            parts.append(f"<code>{html.escape(r['reference'])}</code> (the Phong model integrated exactly over every "
+                         f"visible piece: no sampling noise; its quadrature error bound, RMS {noise} per "
                          "pixel, stands as its noise)")
             continue
-        spp = "" if pd.isna(r.reference_spp) else f"{int(r.reference_spp)} spp, "
-        seed = "" if pd.isna(r.reference_seed) else f"seed {int(r.reference_seed)}; "
-        parts.append(f"<code>{html.escape(r.reference)}</code> ({spp}{seed}noise RMS {noise.mean():.2e}, seed 1 "
+        spp = "" if pd.isna(r["spp"]) else f"{shown(r['spp'], at('spp', '.0f'))} spp, "
+        seed = "" if pd.isna(r["seed"]) else f"seed {shown(r['seed'], at('seed', '.0f'))}; "
+        parts.append(f"<code>{html.escape(r['reference'])}</code> ({spp}{seed}noise RMS {noise}, seed 1 "
                      "against seed 0)")
     return "; ".join(parts)
 
@@ -121,26 +103,27 @@ def verdicts(table: pd.DataFrame, styles: Styles) -> list[str]:
     return out
 
 
-def specular_section(out_dir: Path, figures_dir: Path, results: pd.DataFrame, temporal: pd.DataFrame, *,
-                     shaded: set[str], styles: Styles, detection: dict | None = None) -> str:
-    """HTML fragment of the specular study, or "" when the sweep has no shaded scenes.
-    ``detection``: the detector's maps the sweep stored (``specular_detection.npz``)."""
+def specular_section(out_dir: Path, figures_dir: Path, data, *, styles: Styles, detection: dict | None = None) -> str:
+    """HTML fragment of the specular study, or "" when the sweep has no shaded scenes
+    (``data``: the sweep's :class:`~aaeval.report.sweep_data.SweepData`). ``detection``: the
+    detector's maps the sweep stored (``specular_detection.npz``)."""
     out_dir, figures_dir = Path(out_dir), Path(figures_dir)
-    groups = shaded_groups(results, shaded)
+    groups = shaded_groups(data.results)
     if not groups:
         return ""
     figures_dir.mkdir(parents=True, exist_ok=True)
     rel = _relative_to(figures_dir, out_dir)
     parts = ["<h2 id='specular'>Specular aliasing (Amanatides 1992)</h2>",
-             f"<p class='ref'>The specular truth of this page: {_reference(results, groups)}. Mitsuba's Phong render "
+             f"<p class='ref'>The specular truth of this page: {_reference(_group_rows(data.summary('references'), groups))}. Mitsuba's Phong render "
              "at 4096 spp (the same Phong formula at every sample, box filter) is the cross-check row of each group "
              "judged against the exact truth; the highlight mask (pixels where its specular term exceeds 0.02) is "
              "read from it. Methods: the Catmull renderer (exact "
              "visibility, one shade per visible piece) under every registered specular method. Values: registered "
              "metrics from results.parquet and temporal.parquet, mean over each group's cells or animations, "
              f"{UNIT}.</p>"]
+    stored = data.summary("specular")
     for group in groups:
-        table = specular_table(results, temporal, group)
+        table = _group_rows(stored, [group])
         if table.empty:
             continue
         slug = "".join(c if c.isalnum() else "_" for c in group)
@@ -149,10 +132,7 @@ def specular_section(out_dir: Path, figures_dir: Path, results: pd.DataFrame, te
                                        f"its highlight flicker ({METRICS[FLICKER].summary}). A clamp that widens and "
                                        "dims the highlight wherever it goes sits left (bias), a highlight that pops "
                                        "between frames high (flicker)."))
-        shown = table.drop(columns=["spec", "method", "options"]).rename(columns={
-            "label": "method (options), best flicker first", ERROR: METRICS[ERROR].title, BIAS: METRICS[BIAS].title,
-            FLICKER: METRICS[FLICKER].title, "noise": "ground truth noise RMS"})
-        parts.append(_html_table(shown, group))
+        parts.append(_html_table(table, group))
         said = verdicts(table, styles)
         if said:
             parts.append(f"<p class='verdict'>Verdict on each clamp in {html.escape(group)}, against this group's "
@@ -170,14 +150,23 @@ def specular_section(out_dir: Path, figures_dir: Path, results: pd.DataFrame, te
     return "\n".join(parts)
 
 
-def _html_table(frame: pd.DataFrame, group: str) -> str:
-    head = "".join(f"<th>{html.escape(str(c))}</th>" for c in frame.columns)
+def _group_rows(stored: pd.DataFrame, groups: list[str]) -> pd.DataFrame:
+    return stored[stored["group"].isin(groups)] if not stored.empty else stored
+
+
+def _html_table(table: pd.DataFrame, group: str) -> str:
+    """The stored rows of one group, best flicker first, each cell naming where it is stored."""
+    columns = {"label": "method (options), best flicker first", ERROR: METRICS[ERROR].title,
+               BIAS: METRICS[BIAS].title, FLICKER: METRICS[FLICKER].title, "noise": "ground truth noise RMS"}
+    head = "".join(f"<th>{html.escape(title)}</th>" for title in columns.values())
     body = []
-    for row in frame.itertuples(index=False):
-        label, error, bias, flick, noise = row
-        body.append(f"<tr><td>{html.escape(label)}</td><td class='num'>{METRICS[ERROR].format(error)}</td>"
-                    f"<td class='num'>{METRICS[BIAS].format(bias)}</td><td class='num'>{METRICS[FLICKER].format(flick)}"
-                    f"</td><td class='num'>{noise:.2e}</td></tr>")
+    for i, r in table.iterrows():
+        cells = [f"<td {Stored(STORED, i, 'label').attributes()}>{html.escape(r['label'])}</td>"]
+        for column in (ERROR, BIAS, FLICKER, "noise"):
+            fmt = METRICS[column].fmt if column in METRICS else ".2e"
+            where = Stored(STORED, i, column, fmt)
+            cells.append(f"<td class='num' {where.attributes()}>{html.escape(format_value(r[column], fmt))}</td>")
+        body.append("<tr>" + "".join(cells) + "</tr>")
     return f"<table class='specular' data-group='{html.escape(group)}'><tr>{head}</tr>{''.join(body)}</table>"
 
 

@@ -4,7 +4,9 @@ The sweep measured every number and wrote it beside its cells
 (:func:`aaeval.experiments.table.write_results`): ``results.parquet``, ``temporal.parquet``,
 ``speed.parquet``, ``metrics.json`` (each metric's title, format and direction),
 ``specs.json`` (each spec's options and each method's choices, for the styles),
-``controls.json`` and ``specular_detection.npz``. :func:`read_sweep` loads them once;
+``controls.json``, ``specular_detection.npz`` and, in ``summaries/``, every table the page
+shows, aggregated by the sweep (:mod:`aaeval.experiments.summaries`). :func:`read_sweep`
+loads them once;
 :data:`METRICS` then describes the sweep's metrics (:class:`~aaeval.metrics.info.MetricInfo`)
 for every section that formats or labels a value.
 """
@@ -20,6 +22,7 @@ import pandas as pd
 
 from aaeval.experiments.record import RecordError
 from aaeval.experiments.store import SweepStore, read_table
+from aaeval.experiments.summaries import SUMMARIES, SUMMARY_FOLDER
 from aaeval.metrics.info import MetricInfo
 
 __all__ = ["SweepData", "read_sweep", "use_metrics", "METRICS"]
@@ -48,6 +51,12 @@ class SweepData:
     specs: dict = field(default_factory=dict)
     controls: dict = field(default_factory=dict)
     detection: dict | None = None
+    summaries: dict[str, pd.DataFrame] = field(default_factory=dict)
+
+    def summary(self, name: str) -> pd.DataFrame:
+        """The stored summary ``name`` (:data:`~aaeval.experiments.summaries.SUMMARIES`);
+        its index is the stored row."""
+        return self.summaries[name]
 
 
 def _json(path: Path):
@@ -74,5 +83,11 @@ def read_sweep(directory: str | Path) -> SweepData:
         with np.load(root / "specular_detection.npz") as found:
             detection = {k: found[k] for k in found.files}
     speed = pd.read_parquet(root / "speed.parquet") if (root / "speed.parquet").is_file() else pd.DataFrame()
+    summaries = {}
+    for name in SUMMARIES:
+        path = root / SUMMARY_FOLDER / f"{name}.parquet"
+        if not path.is_file():
+            _json(path)  # the one message for a table the sweep has not written
+        summaries[name] = pd.read_parquet(path).reset_index(drop=True)
     return SweepData(store, manifest, read_table(root / "results.parquet"), _table(root / "temporal.parquet"),
-                     speed, _json(root / "specs.json"), _json(root / "controls.json"), detection)
+                     speed, _json(root / "specs.json"), _json(root / "controls.json"), detection, summaries)

@@ -239,7 +239,8 @@ def test_a_seeded_reference_states_its_measured_noise(tmp_path):
     a, b = render(scene, "jitter:k=2,seed=3"), render(scene, "jitter:k=2,seed=4")
     assert row["reference_noise_rmse"] == pytest.approx(np.sqrt(np.mean((a - b) ** 2)) / math.sqrt(2), rel=1e-12)
     assert row["reference_noise_rmse"] > 0
-    statement = reference_statement(table[table["group"] == "stability"])
+    refs = pd.read_parquet(out / "summaries" / "references.parquet")
+    statement = reference_statement(refs[refs["group"] == "stability"])
     assert "jitter:k=2,seed=3" in statement and "stochastic" in statement and "noise RMS" in statement
 
 

@@ -74,16 +74,24 @@ def test_ties_in_the_findings_follow_the_test_not_the_gap():
 
 
 def test_per_scene_table_shows_each_animation():
-    from aaeval.report.findings import QUESTIONS, per_scene_html
+    from aaeval.experiments.summaries import QUESTIONS, per_scene_values
+    from aaeval.metrics import METRICS
+    from aaeval.report.findings import per_scene_html
+    from aaeval.report.sweep_data import METRICS as SHOWN
 
     sums = next(q for q in QUESTIONS if q.key == "sums")
     frame = pd.DataFrame({"group": ["g"] * 4, "scene": ["f1", "f2", "f1", "f2"], "spec": ["s", "s", "t", "t"],
                           "label": ["s", "s", "t", "t"], "sum_variation": [0.5, 0.1, 0.0, 0.0],
                           "sum_bias": [-1 / 6, -0.01, 0.0, 0.0]})
-    page = per_scene_html(sums, frame, "g", ["s", "t"])
-    assert "data-spec='s' data-scene='f1' data-column='sum_bias'>-16.67%<" in page
-    assert "data-spec='s' data-scene='f2' data-column='sum_variation'>1.000e-01<" in page
-    assert per_scene_html(sums, frame[frame["scene"] == "f1"], "g", ["s", "t"]) == ""
+    infos = {name: m.info() for name, m in METRICS.items()}
+    stored = per_scene_values(sums, frame, "g", ["s", "t"])
+    SHOWN.update(infos)
+    page = per_scene_html(sums, stored)
+    at = stored[(stored["spec"] == "s") & (stored["scene"] == "f1") & (stored["column"] == "sum_bias")].index[0]
+    assert f"data-row='{at}' data-column='value' data-fmt='{infos['sum_bias'].fmt}'>-16.67%<" in page
+    at = stored[(stored["spec"] == "s") & (stored["scene"] == "f2") & (stored["column"] == "sum_variation")].index[0]
+    assert f"data-row='{at}' data-column='value' data-fmt='{infos['sum_variation'].fmt}'>1.000e-01<" in page
+    assert per_scene_html(sums, stored[stored["scene"] == "f1"]) == ""
 
 
 def test_noise_weight_is_the_colour_range_of_the_fragments_meeting_in_a_pixel():

@@ -22,7 +22,7 @@ from matplotlib.patches import Patch
 from aaeval.experiments.table import short_label
 from aaeval.renderers import format_spec, resolve
 from aaeval.report import figures
-from aaeval.report.html import failed_cells, spec_summary
+from aaeval.experiments.aggregate import failed_cells, spec_summary
 from aaeval.report.style import METHOD_STYLES, Styles, method_style
 
 # one worker builds the module's sweep fixture once (pyproject's --dist loadgroup);

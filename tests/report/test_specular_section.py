@@ -8,16 +8,19 @@ import pandas as pd
 import pytest
 
 from aaeval.metrics import METRICS
-from aaeval.report.specular_section import BIAS, ERROR, FLICKER, specular_section, specular_table
+from aaeval.report.specular_section import BIAS, ERROR, FLICKER, specular_section
 from aaeval.report.style import Styles
 from tests.helpers.findings_util import findings_report
 
 
 def test_no_section_for_a_sweep_without_shaded_scenes(tmp_path):
-    results = pd.DataFrame({"group": ["a"], "scene_digest": ["d"], "method": ["catmull"], "options": ["{}"]})
+    from aaeval.report.sweep_data import SweepData
+
+    results = pd.DataFrame({"group": ["a"], "scene_digest": ["d"], "method": ["catmull"], "options": ["{}"],
+                            "shaded": [False]})
     styles = Styles([("catmull", {})])
-    assert specular_section(tmp_path, tmp_path / "figures", results, pd.DataFrame(), shaded=set(),
-                            styles=styles) == ""
+    data = SweepData(None, {}, results, pd.DataFrame(), pd.DataFrame())
+    assert specular_section(tmp_path, tmp_path / "figures", data, styles=styles) == ""
     assert not (tmp_path / "figures").exists()
 
 
@@ -37,17 +40,18 @@ def test_section_states_one_ground_truth_and_ranks_by_flicker(out):
     assert section.count(" spp, seed ") == 1  # the truth's spp stated once
     assert "mitsuba:seed=0,spp=64" in section or "mitsuba:spp=64" in section
     results, temporal = read_table(out / "results.parquet"), read_table(out / "temporal.parquet")
-    table = specular_table(results, temporal, "specular")
+    table = pd.read_parquet(out / "summaries" / "specular.parquet")
+    table = table[table["group"] == "specular"]
     flicker = table["highlight_profile_flicker"].to_list()
     assert flicker == sorted(flicker) and len(flicker) == 3
-    shown = re.findall(r"<tr><td>([^<]+)</td>", section[section.index("<table class='specular'"):])
+    shown = re.findall(r"<tr><td[^>]*>([^<]+)</td>", section[section.index("<table class='specular'"):])
     assert shown[:3] == table["label"].to_list()
     # every number of the section is the tables' own: per spec, the mean over the group's
     # finished cells (results.parquet) or animations (temporal.parquet), shown in the metric's format
     cells = results[(results["group"] == "specular") & results["error"].isna()]
     series = temporal[temporal["group"] == "specular"]
-    rows = re.findall(r"<tr><td>([^<]+)</td><td class='num'>([^<]+)</td><td class='num'>([^<]+)</td>"
-                      r"<td class='num'>([^<]+)</td>", section[section.index("<table class='specular'"):])
+    rows = re.findall(r"<tr><td[^>]*>([^<]+)</td><td class='num'[^>]*>([^<]+)</td><td class='num'[^>]*>([^<]+)</td>"
+                      r"<td class='num'[^>]*>([^<]+)</td>", section[section.index("<table class='specular'"):])
     assert len(rows) == 3
     for (label, error, bias, flick), spec in zip(rows, table["spec"]):
         expected = {ERROR: cells.loc[cells["spec"] == spec, ERROR].mean(),

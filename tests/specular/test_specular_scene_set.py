@@ -90,7 +90,9 @@ def test_findings_rank_amanatides_ten_times_steadier_on_the_thin_highlight(tmp_p
 
     from aaeval.experiments import load_experiment, run_sweep
     from aaeval.renderers import MethodSpec
-    from aaeval.report.findings import QUESTIONS, ranked
+    from aaeval.experiments.aggregate import ranked
+    from aaeval.experiments.summaries import QUESTIONS
+    from aaeval.metrics import METRICS
 
     config = tmp_path / "exp.toml"
     config.write_text(THIN_SWEEP.format(scene=SCENES / "thin-highlight.toml"))
@@ -100,7 +102,7 @@ def test_findings_rank_amanatides_ten_times_steadier_on_the_thin_highlight(tmp_p
     question = next(q for q in QUESTIONS if q.key == "highlight-flicker")
     group = next(g for g in question.groups if g in set(temporal["group"]))
     assert group == "specular-thin"
-    table = ranked(temporal, group, question.column)
+    table = ranked(temporal, group, question.column, {name: m.info() for name, m in METRICS.items()})
     value = {MethodSpec.parse(spec).options["specular"]: v for m, spec, v in zip(table["method"], table["spec"],
                                                                                   table["value"]) if m == "catmull"}
     assert value["none"] >= 10 * value["amanatides"], value  # measured 74x
