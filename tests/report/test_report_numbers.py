@@ -134,15 +134,17 @@ def test_no_caption_or_reference_shows_a_number_that_is_not_stored(sweep):
     assert [x for x in left if x[1]] == []
 
 
-def test_a_number_changed_in_a_stored_table_changes_on_the_page(sweep, tmp_path):
-    """The page draws the stored summary, not a value of its own: edit one stored mean and
-    the page shows the edited value where it showed the old one."""
+@pytest.mark.xdist_group("small_report")
+def test_a_number_changed_in_a_stored_table_changes_on_the_page(tmp_path_factory, tmp_path):
+    """The page draws the stored summary, not a value of its own: edit one stored count and
+    the page shows the edited value where it showed the old one (on the small sweep: a
+    report of the larger one takes 5 s)."""
     import shutil
 
     from aaeval.report import write_report
 
     copy = tmp_path / "copy"
-    shutil.copytree(sweep, copy, ignore=shutil.ignore_patterns("index.html", "figures", "tables", "viewer"))
+    shutil.copytree(small_report(tmp_path_factory).parent, copy, ignore=shutil.ignore_patterns("index.html", "figures", "tables", "viewer"))
     specs_path = copy / "summaries" / "specs.parquet"
     specs = pd.read_parquet(specs_path)
     specs.loc[0, "cells"] = 4242
