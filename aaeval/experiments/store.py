@@ -80,6 +80,8 @@ def read_table(path: str | Path):
 
 # Packages whose source cannot change a cell's result: editing them keeps old results.
 _PRESENTATION = ("cli", "report", "studies")
+# Modules that only aggregate the stored tables (the summaries the report draws): the same.
+_AGGREGATION = ("experiments/aggregate.py", "experiments/summaries.py")
 
 
 def _package_digest() -> str:
@@ -87,7 +89,7 @@ def _package_digest() -> str:
     h = hashlib.sha256()
     for path in sorted(root.rglob("*.py")):
         rel = path.relative_to(root)
-        if rel.parts[0] in _PRESENTATION:
+        if rel.parts[0] in _PRESENTATION or rel.as_posix() in _AGGREGATION:
             continue
         h.update(str(rel).encode() + b"\0" + path.read_bytes() + b"\0")
     return h.hexdigest()[:12]

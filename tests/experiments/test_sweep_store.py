@@ -9,6 +9,7 @@ import os
 import stat
 import subprocess
 import sys
+from pathlib import Path
 
 import pandas as pd
 import pytest
@@ -176,3 +177,23 @@ def test_a_smaller_config_of_the_same_experiment_says_which_rows_leave_the_table
     assert summary.ran == 0
     assert "2 finished cells" in capsys.readouterr().err
     assert len(list((tmp_path / "out" / "cells").glob("*.json"))) == 9  # their files stay
+
+
+def test_editing_what_only_draws_or_aggregates_keeps_the_cells(tmp_path, monkeypatch):
+    """A cell's key holds the code version: a hash of the package source that computes
+    results. The report and the summaries of the stored tables compute none, so editing
+    them keeps every finished cell; editing what measures does not."""
+    import shutil
+
+    import aaeval
+    from aaeval.experiments import store
+
+    copy = tmp_path / "aaeval"
+    shutil.copytree(Path(aaeval.__file__).parent, copy, ignore=shutil.ignore_patterns("__pycache__", "*.so"))
+    monkeypatch.setattr(aaeval, "__file__", str(copy / "__init__.py"))
+    before = store._package_digest()
+    for rel in ("experiments/summaries.py", "experiments/aggregate.py", "report/html.py"):
+        (copy / rel).write_text((copy / rel).read_text() + "\n# edited\n")
+    assert store._package_digest() == before
+    (copy / "experiments/table.py").write_text((copy / "experiments/table.py").read_text() + "\n# edited\n")
+    assert store._package_digest() != before
