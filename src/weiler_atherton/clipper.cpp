@@ -5,6 +5,7 @@
 // the sorted list of distinct points of both shapes and their crossings, so shared
 // vertices and edges are found by comparing integers.
 #include "clipper.hpp"
+#include "clip_stages.hpp"
 #include "holding_lists.hpp"
 #include "segments.hpp"
 
@@ -17,67 +18,7 @@ namespace {
 
 constexpr double TWO_PI = 2.0 * 3.141592653589793;
 
-struct IdShape {
-    std::vector<i64> ids, lab, st;
-};
-
-struct Edges {
-    std::vector<i64> from, to, lab;
-    void clear() {
-        from.clear();
-        to.clear();
-        lab.clear();
-    }
-    void add(i64 a, i64 b, i64 l) {
-        from.push_back(a);
-        to.push_back(b);
-        lab.push_back(l);
-    }
-};
-
-// A point with its input index (lex_order's sort key).
-struct Keyed {
-    double x, y;
-    i64 i;
-};
-
-}  // namespace
-
-// Every working array of one clip, kept between calls so that a clip allocates nothing
-// once the arrays have grown to its size: the hidden-surface loop makes tens of
-// thousands of small clips, and allocating a few dozen arrays each took a third of
-// their time.
-struct ClipScratch::Arrays {
-    std::vector<double> cx, cy, px, py, ux, uy, ts;
-    std::vector<i64> ids, near, crossing_edges, qs, s_keys, c_keys, head, out_edges, fill;
-    std::vector<i64> band_head[2], band_edges[2];
-    std::vector<Keyed> keyed;
-    std::vector<char> used, mark;
-    IdShape s2, c2;
-    Edges ins, outs;
-};
-
-ClipScratch::ClipScratch() : arrays(new Arrays) {}
-ClipScratch::~ClipScratch() = default;
-
-namespace {
-
 using Scratch = ClipScratch::Arrays;
-
-// Parameter t in (0, 1) of q on segment p0-p1 when q lies on it strictly between the
-// ends (distance <= eps from the line, > eps from both ends); else -1.
-double on_segment(double qx, double qy, double p0x, double p0y, double p1x, double p1y, double eps) {
-    double dx = p1x - p0x, dy = p1y - p0y;
-    double ll = dx * dx + dy * dy;
-    if (ll == 0.0) return -1.0;
-    double rx = qx - p0x, ry = qy - p0y;
-    double cr = dx * ry - dy * rx;
-    if (cr * cr > eps * eps * ll) return -1.0;
-    double t = (dx * rx + dy * ry) / ll;
-    double tol = eps / std::sqrt(ll);
-    if (t <= tol || t >= 1.0 - tol) return -1.0;
-    return t;
-}
 
 i64 lower_bound(const std::vector<double>& a, double v) {
     i64 lo = 0, hi = (i64)a.size();
@@ -314,6 +255,8 @@ double turn(double back, i64 f, const std::vector<i64>& eb, const std::vector<do
     return t == 0.0 ? TWO_PI : t;
 }
 
+}  // namespace
+
 // Link directed edges into closed contours, turning at shared vertices onto the first
 // edge clockwise from the way the walk came (keeps contours free of crossings); drop the
 // zero-area leftovers of degenerate contact.
@@ -374,6 +317,8 @@ void trace(const Edges& edges, const std::vector<double>& ux, const std::vector<
     out.y.resize(n);
     out.lab.resize(n);
 }
+
+namespace {
 
 // -- the edges classified
 
@@ -517,6 +462,9 @@ bool shares_a_point(const std::vector<i64>& ids, i64 ns, i64 nc, i64 nu, std::ve
 
 }  // namespace
 
+ClipScratch::ClipScratch() : arrays(new Arrays) {}
+ClipScratch::~ClipScratch() = default;
+
 void grouped(const i64* keys, i64 m, i64 n, std::vector<i64>& starts, std::vector<i64>& order) {
     // counted at key + 2 and filled through key + 1, which then holds the next group's start
     starts.assign(n + 2, 0);
@@ -527,7 +475,8 @@ void grouped(const i64* keys, i64 m, i64 n, std::vector<i64>& starts, std::vecto
     starts.pop_back();
 }
 
-void clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Shape& out, ClipScratch& scratch) {
+void clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Shape& out, ClipScratch& scratch,
+               bool subject_clean) {
     in.clear();
     out.clear();
     if (s.nst < 2 || s.n == 0) return in.st.push_back(0), out.st.push_back(0);
@@ -539,6 +488,7 @@ void clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Sh
         return;
     }
     Scratch& w = *scratch.arrays;
+    if (subject_clean && clip_clean(s, c, eps, sb, w, in, out)) return;
     snap(s, c, eps, w.cx, w.cy);
     ShapeView cs{w.cx.data(), w.cy.data(), c.lab, c.st, c.n, c.nst};
     points(s, cs, eps, w.px, w.py, w.near, w.crossing_edges);

@@ -22,8 +22,15 @@ struct ClipScratch {
 };
 
 // clip_arrays into the given shapes, with the given working arrays (no allocation once
-// the arrays have grown).
-void clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Shape& out, ClipScratch& scratch);
+// the arrays have grown). subject_clean: self_clean(s, eps) is known to hold, so that a
+// clean pair may take the clean road (clean_clip.cpp: the same bits, sooner).
+void clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Shape& out, ClipScratch& scratch,
+               bool subject_clean = false);
+
+// Whether no vertex of s comes within a few eps of an edge of s that it does not end
+// (nor of another vertex): a subject the clean road can take.
+// (scratch: working arrays.)
+bool self_clean(const ShapeView& s, double eps, ClipScratch& scratch);
 
 // The first pair of edges (global vertex indices of their starts) of one shape that
 // cross properly, each strictly inside the other; (-1, -1) when none do.

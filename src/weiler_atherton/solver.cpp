@@ -50,6 +50,7 @@ struct Work {
     std::vector<double> f[7];
     std::vector<i64> l[3];
     Outline local;  // the outline a piece's box sees (local_outline)
+    std::vector<signed char> clean;  // per piece: self_clean (-1: not known yet)
     Shape in, out;  // a clip's two parts
     ClipScratch clip;  // the clipper's working arrays
     void ensure(i64 n) {
@@ -57,6 +58,12 @@ struct Work {
         if (f[0].size() >= need) return;
         for (auto& r : f) r.resize(need);
         for (auto& r : l) r.resize(need);
+    }
+    // whether piece pid is self_clean (computed once: pieces do not change)
+    bool is_clean(const Arena& arena, i64 pid, double eps) {
+        if ((i64)clean.size() < arena.size()) clean.resize(arena.size(), -1);
+        if (clean[pid] < 0) clean[pid] = self_clean(arena.piece(pid), eps, clip);
+        return clean[pid] > 0;
     }
     i64 load(const ShapeView& s) {
         ensure(s.n);
@@ -180,7 +187,7 @@ void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps
         }
         clip = &w.local;
     }
-    clip_into(s, clip->view(), eps, w.in, w.out, w.clip);
+    clip_into(s, clip->view(), eps, w.in, w.out, w.clip, limit > WORK_VERTICES && w.is_clean(arena, pid, eps));
     if (w.in.st.size() > 1 && keep_inside) inside.push_back(arena.add(w.in, source));
     if (w.out.st.size() > 1) outside.push_back(arena.add(w.out, source));
 }
@@ -408,7 +415,8 @@ struct Solver {
         else y1 = std::floor(0.5 * (b.y0 + b.y1));
         const double hx[4] = {x0, x1, x1, x0}, hy[4] = {y0, y0, y1, y1};
         const i64 hl[4] = {EDGE_CUT, EDGE_CUT, EDGE_CUT, EDGE_CUT}, hs[2] = {0, 4};
-        auto [a, c] = clip_arrays(s, ShapeView{hx, hy, hl, hs, 4, 2}, eps);
+        Shape a, c;
+        clip_into(s, ShapeView{hx, hy, hl, hs, 4, 2}, eps, a, c, work.clip, work.is_clean(arena, pid, eps));
         i64 source = arena.source(pid);
         if (a.st.size() < 2 || c.st.size() < 2) return out.push_back(pid);  // the line missed it
         i64 ka = arena.add(a, source), kc = arena.add(c, source);
