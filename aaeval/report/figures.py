@@ -14,11 +14,14 @@ an exact reference) is drawn on a marked "exact" strip under the axis' data rang
 from __future__ import annotations
 
 import contextlib
+import functools
+import inspect
 import math
+import multiprocessing
 import os
-import sys
 import textwrap
 import traceback
+from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 
 import matplotlib
@@ -28,6 +31,7 @@ from aaeval.report.names import MATHTEXT_OFF
 matplotlib.use("Agg")
 matplotlib.rcParams.update(MATHTEXT_OFF)  # group names and labels are text: "$5" is no mathtext
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
@@ -67,11 +71,11 @@ def metric_label(name: str) -> str:
 def save_figure(fig, path: Path) -> Path:
     """Write the figure as ``path`` with suffix ``.png`` (what the page shows), and its twins
     in the other formats of :func:`drawing`; close it; return the PNG path. Inside
-    :func:`drawing` a child process writes the files."""
+    :func:`drawing` a worker process writes the files."""
     path = Path(path).with_suffix(".png")
     _plain_log_axes(fig)
-    if _children.slots:
-        _children.start(lambda: _write_files(fig, path), path)
+    if _workers.executor is not None:
+        _workers.submit(path, _write_files, fig, path)
     else:
         _write_files(fig, path)
     plt.close(fig)
@@ -80,12 +84,12 @@ def save_figure(fig, path: Path) -> Path:
 
 def twin_formats() -> tuple[str, ...]:
     """The formats besides PNG that :func:`save_figure` writes now (for the page's links)."""
-    return tuple(f for f in _children.formats if f != "png")
+    return tuple(f for f in _workers.formats if f != "png")
 
 
 def _write_files(fig, path: Path) -> None:
     box = _tight_box(fig)
-    for fmt in _children.formats:
+    for fmt in _workers.formats:
         # a temporary file moved into place: a link planted at the name is replaced, never written through
         atomic_write(path.with_suffix(f".{fmt}"),
                      lambda tmp, fmt=fmt: fig.savefig(tmp, format=fmt, dpi=_DPI, bbox_inches=box,
@@ -97,77 +101,98 @@ def _metadata(fmt: str) -> dict:
     return {"png": {"Software": None}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}[fmt]
 
 
-class _Children:
-    """Forked processes each drawing one figure while the parent builds the next: drawing is
-    most of the report's time. Each file is written by one process, so the output is the
-    same as drawing them in turn."""
+class _Workers:
+    """Processes forked once per report that build and write the figures while the parent
+    reads the sweep and writes the page: building and drawing are most of the report's time.
+    They live for the whole report, so matplotlib's caches (fonts, text extents) serve
+    every figure, and the parent's memory is not copied again for each one. Each file is
+    written by one process, so the output is the same as drawing them in turn."""
 
     def __init__(self):
-        self.slots = 0
+        self.executor: ProcessPoolExecutor | None = None
         self.formats: tuple[str, ...] = ("png",)
-        self.running: dict[int, Path] = {}
-        self.failed: list[Path] = []
+        self.jobs: list[tuple[Path, Future]] = []
 
-    def start(self, work, path: Path) -> None:
-        while len(self.running) >= self.slots:
-            self._reap_oldest()
-        sys.stdout.flush()
-        sys.stderr.flush()
-        pid = os.fork()
-        if pid == 0:  # the child: draw, and leave without running the parent's cleanup
-            code = 1
-            try:
-                work()
-                code = 0
-            except BaseException:  # noqa: BLE001 - reported to the parent through the exit status
-                traceback.print_exc()
-            finally:
-                os._exit(code)
-        self.running[pid] = path
+    def open(self, count: int, formats: tuple[str, ...]) -> None:
+        self.formats = formats
+        if count:  # forked at the first job, with what the parent holds then
+            self.executor = ProcessPoolExecutor(count, mp_context=multiprocessing.get_context("fork"),
+                                                initializer=_in_worker)
 
-    def _reap_oldest(self) -> None:
-        pid = next(iter(self.running))  # by pid, never another child of this process
-        _, status = os.waitpid(pid, 0)
-        path = self.running.pop(pid)
-        if os.waitstatus_to_exitcode(status) != 0:
-            self.failed.append(path)
+    def submit(self, path: Path, work, *args, **kwargs) -> None:
+        self.jobs.append((path, self.executor.submit(_job, work, args, kwargs)))
 
-    def finish(self, check: bool = True) -> None:
-        while self.running:
-            self._reap_oldest()
-        failed, self.failed = self.failed, []
+    def close(self, check: bool = True) -> None:
+        """Wait for the jobs (``check=False``: for the running ones only, the queued ones are
+        dropped) and raise if one failed."""
+        executor, jobs = self.executor, self.jobs
+        self.executor, self.formats, self.jobs = None, ("png",), []
+        if executor is not None:
+            executor.shutdown(wait=True, cancel_futures=not check)
+        failed = [path for path, job in jobs if not job.cancelled() and (job.exception() or not job.result())]
         if failed and check:
             raise RuntimeError(f"drawing {', '.join(p.name for p in failed)} failed (its error is printed above)")
 
 
-_children = _Children()
+def _in_worker() -> None:
+    _workers.executor = None  # a worker draws its figures itself
+
+
+def _job(work, args, kwargs) -> bool:
+    """Run one figure's work in a worker; its error is printed there (the parent names the figure)."""
+    try:
+        work(*args, **kwargs)
+    except BaseException:  # noqa: BLE001 - reported to the parent as a failed figure
+        traceback.print_exc()
+        return False
+    return True
+
+
+_workers = _Workers()
+
+
+def _figure(draw):
+    """A figure function ``draw(..., path, ...)``: inside :func:`drawing` the whole call,
+    building the figure as well as writing it, runs in a worker process (its arguments
+    are sent there), and the PNG's path is returned at once."""
+    signature = inspect.signature(draw)
+
+    @functools.wraps(draw)
+    def call(*args, **kwargs):
+        if _workers.executor is None:
+            return draw(*args, **kwargs)
+        path = Path(signature.bind(*args, **kwargs).arguments["path"]).with_suffix(".png")
+        _workers.submit(path, call, *args, **kwargs)  # by its module name: the worker runs it itself
+        return path
+
+    return call
 
 
 @contextlib.contextmanager
 def drawing(formats=("png",)):
-    """Within this block :func:`save_figure` writes ``formats`` (PNG always; SVG and PDF
-    for papers cost most of the drawing time: PDF subsets its fonts) in forked processes,
-    as many as the cores this process may use (none where ``os.fork`` is missing); leaving
-    it waits for them all and raises if one failed."""
+    """Within this block the figure functions and :func:`save_figure` write ``formats``
+    (PNG always; SVG and PDF for papers cost most of the drawing time: PDF subsets its
+    fonts) in worker processes, as many as the cores this process may use (none where
+    ``os.fork`` is missing); leaving it waits for them all and raises if one failed."""
     unknown = set(formats) - set(FORMATS)
     if unknown:
         raise ValueError(f"unknown figure format(s) {', '.join(sorted(unknown))}; known: {', '.join(FORMATS)}")
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    _children.slots = cores if hasattr(os, "fork") and cores > 1 else 0
-    _children.formats = tuple(f for f in FORMATS if f in formats or f == "png")
+    _workers.open(cores if hasattr(os, "fork") and cores > 1 else 0,
+                  tuple(f for f in FORMATS if f in formats or f == "png"))
     try:
         yield
     except BaseException:
-        _children.finish(check=False)  # the body's error is the one to see
+        _workers.close(check=False)  # the body's error is the one to see
         raise
-    finally:
-        _children.slots, _children.formats = 0, ("png",)
-    _children.finish()
+    _workers.close()
 
 
 def _tight_box(fig):
     """The figure's tight bounding box (inches, with savefig's pad), measured from the artists'
     extents without drawing the figure (``bbox_inches="tight"`` draws it once more just to find it)."""
+    if not isinstance(fig.canvas, FigureCanvasAgg):  # a figure sent to a worker comes without pyplot's canvas
+        FigureCanvasAgg(fig)
     fig.set_dpi(_DPI)
     return fig.get_tightbbox(fig.canvas.get_renderer()).padded(plt.rcParams["savefig.pad_inches"])
 
@@ -297,6 +322,7 @@ def pareto_front(times: np.ndarray, errors: np.ndarray) -> np.ndarray:
     return np.array(front, dtype=int)
 
 
+@_figure
 def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles,
                    noise=()) -> Path:
     """Time per megapixel (median, bars from the fastest to the slowest repeat) against mean
@@ -347,6 +373,7 @@ def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str
     return save_figure(fig, path)
 
 
+@_figure
 def accuracy_dots(summary: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles,
                   noise=()) -> Path:
     """Mean error per spec (dot, bar from the best to the worst cell) on a log axis, with the
@@ -408,6 +435,7 @@ def _error_panel(ax, rows: pd.DataFrame, x: str, metric: str, styles: Styles, *,
     ax.grid(True, alpha=0.3)
 
 
+@_figure
 def error_per_frame(results: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles) -> Path:
     """The error of every frame, one curve per spec, one panel per animated scene; the
     ground truth's noise of each frame as a grey curve."""
@@ -423,6 +451,7 @@ def error_per_frame(results: pd.DataFrame, path: Path, *, metric: str, title: st
     return save_figure(fig, path)
 
 
+@_figure
 def intensity_sums(results: pd.DataFrame, path: Path, *, title: str, styles: Styles) -> Path:
     """Intensity sum per frame relative to the ground truth's sum of the same frame, on a
     linear axis: 1 is right, and area sampling stays at 1 while the scene moves."""
@@ -449,6 +478,7 @@ def intensity_sums(results: pd.DataFrame, path: Path, *, title: str, styles: Sty
     return save_figure(fig, path)
 
 
+@_figure
 def phase_figure(results: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles) -> Path:
     """Each method's error and intensity sum against the sub-pixel phase of the frame.
 
@@ -482,6 +512,7 @@ def phase_figure(results: pd.DataFrame, path: Path, *, metric: str, title: str, 
     return save_figure(fig, path)
 
 
+@_figure
 def temporal_bars(temporal: pd.DataFrame, path: Path, *, group: str, metrics: list[str], title: str,
                   styles: Styles) -> Path:
     """One panel per temporal metric (registered, from temporal.parquet): a bar per spec, mean over
@@ -525,6 +556,7 @@ def _bar_edge(st) -> str:
     return "black"
 
 
+@_figure
 def space_time(reference: np.ndarray, series: list[tuple[str, np.ndarray]], path: Path, *, row: int,
                title: str) -> Path:
     """Space-time slices: image row ``row`` of every frame stacked downwards (x: column,
@@ -546,6 +578,7 @@ def space_time(reference: np.ndarray, series: list[tuple[str, np.ndarray]], path
     return save_figure(fig, path)
 
 
+@_figure
 def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: str, styles: Styles,
               definition: str) -> Path:
     """Error (left) and fraction of failed cells (right) against difficulty, one line per spec.
@@ -584,6 +617,7 @@ def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: 
     return save_figure(fig, path)
 
 
+@_figure
 def validation(table: pd.DataFrame, path: Path, *, title: str, styles: Styles) -> Path:
     """Exact method against the ground truth (y) over the ground truth's own noise (x), one
     point per scene frame: on the diagonal, the exact method agrees within the noise."""
@@ -619,6 +653,7 @@ def _crop_box(error: np.ndarray, size: int) -> tuple[int, int, int, int]:
     return r0, r0 + size, c0, c0 + size
 
 
+@_figure
 def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path: Path, *, title: str,
                shared: bool = True) -> Path:
     """Rows: the ground truth, then each method; columns: image, zoomed crop, signed error
