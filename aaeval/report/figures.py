@@ -31,7 +31,9 @@ from aaeval.report.names import MATHTEXT_OFF
 matplotlib.use("Agg")
 matplotlib.rcParams.update(MATHTEXT_OFF)  # group names and labels are text: "$5" is no mathtext
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.image  # noqa: E402
 from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
+from matplotlib.transforms import Bbox  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
@@ -88,12 +90,51 @@ def twin_formats() -> tuple[str, ...]:
 
 
 def _write_files(fig, path: Path) -> None:
-    box = _tight_box(fig)
+    box = _write_png(fig, path)
     for fmt in _workers.formats:
-        # a temporary file moved into place: a link planted at the name is replaced, never written through
-        atomic_write(path.with_suffix(f".{fmt}"),
-                     lambda tmp, fmt=fmt: fig.savefig(tmp, format=fmt, dpi=_DPI, bbox_inches=box,
-                                                      metadata=_metadata(fmt)))
+        if fmt != "png":
+            # a temporary file moved into place: a link planted at the name is replaced, never written through
+            atomic_write(path.with_suffix(f".{fmt}"),
+                         lambda tmp, fmt=fmt: fig.savefig(tmp, format=fmt, dpi=_DPI, bbox_inches=box,
+                                                          metadata=_metadata(fmt)))
+
+
+#: Room drawn beside and above/below a figure (inches, whole pixels at :data:`_DPI`) for what
+#: lies outside it: legends beside the axes, long tick labels, titles above.
+_ROOM = (4.0, 2.0)
+
+
+def _write_png(fig, path: Path):
+    """Write ``path``, the PNG of ``fig``'s tight box, drawing the figure once; return the box
+    (inches, with savefig's pad), for the other formats.
+
+    ``savefig(bbox_inches=box)`` lays every text out twice: once to find the box, once more
+    for the canvas of the box's size. Here the figure is drawn once on a canvas with
+    :data:`_ROOM` around it, the box is measured with the renderer that drew it (its text
+    extents cached), widened to whole pixels, and cut out: the same pixels savefig draws
+    for the widened box (hatching aside: its pattern starts at the canvas' corner). Where
+    the figure reaches beyond the room, savefig draws the box."""
+    # a figure sent to a worker comes without pyplot's canvas
+    canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
+    fig.set_dpi(_DPI)
+    width, height = fig.get_size_inches()
+    across, up = _ROOM
+    fig.savefig(os.devnull, format="raw", dpi=_DPI,  # the pixels are read from the renderer that drew
+                bbox_inches=Bbox.from_extents(-across, -up, width + across, height + up))
+    renderer = canvas.renderer
+    box = fig.get_tightbbox(renderer).padded(plt.rcParams["savefig.pad_inches"])
+    x0, y0 = math.floor(box.x0 * _DPI), math.floor(box.y0 * _DPI)
+    x1, y1 = math.ceil(box.x1 * _DPI), math.ceil(box.y1 * _DPI)
+    top, left = renderer.height - round(up * _DPI) - y1, round(across * _DPI) + x0  # Agg's rows run downwards
+    if min(top, left) >= 0 and left + x1 - x0 <= renderer.width and top + y1 - y0 <= renderer.height:
+        cut = np.asarray(renderer.buffer_rgba())[top:top + y1 - y0, left:left + x1 - x0]
+        atomic_write(path, lambda tmp: matplotlib.image.imsave(tmp, cut, format="png", origin="upper", dpi=_DPI,
+                                                                metadata=_metadata("png")))
+    else:
+        widened = Bbox.from_extents(x0 / _DPI, y0 / _DPI, x1 / _DPI, y1 / _DPI)
+        atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=_DPI, bbox_inches=widened,
+                                                   metadata=_metadata("png")))
+    return box
 
 
 def _metadata(fmt: str) -> dict:
@@ -186,15 +227,6 @@ def drawing(formats=("png",)):
         _workers.close(check=False)  # the body's error is the one to see
         raise
     _workers.close()
-
-
-def _tight_box(fig):
-    """The figure's tight bounding box (inches, with savefig's pad), measured from the artists'
-    extents without drawing the figure (``bbox_inches="tight"`` draws it once more just to find it)."""
-    if not isinstance(fig.canvas, FigureCanvasAgg):  # a figure sent to a worker comes without pyplot's canvas
-        FigureCanvasAgg(fig)
-    fig.set_dpi(_DPI)
-    return fig.get_tightbbox(fig.canvas.get_renderer()).padded(plt.rcParams["savefig.pad_inches"])
 
 
 def _placed_title(ax, text: str, **kw) -> None:
