@@ -170,7 +170,14 @@ class _Workers:
         self.executor, self.formats, self.jobs = None, ("png",), []
         if executor is not None:
             executor.shutdown(wait=True, cancel_futures=not check)
-        failed = [path for path, job in jobs if not job.cancelled() and (job.exception() or not job.result())]
+        failed = []
+        for path, job in jobs:
+            if job.cancelled():
+                continue
+            if job.exception() is not None:  # never ran: its arguments would not pickle, or a worker died
+                traceback.print_exception(job.exception())
+            if job.exception() is not None or not job.result():
+                failed.append(path)
         if failed and check:
             raise RuntimeError(f"drawing {', '.join(p.name for p in failed)} failed (its error is printed above)")
 
