@@ -14,11 +14,14 @@ an exact reference) is drawn on a marked "exact" strip under the axis' data rang
 from __future__ import annotations
 
 import contextlib
+import functools
+import inspect
 import math
+import multiprocessing
 import os
-import sys
 import textwrap
 import traceback
+from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 
 import matplotlib
@@ -28,6 +31,9 @@ from aaeval.report.names import MATHTEXT_OFF
 matplotlib.use("Agg")
 matplotlib.rcParams.update(MATHTEXT_OFF)  # group names and labels are text: "$5" is no mathtext
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.image  # noqa: E402
+from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
+from matplotlib.transforms import Bbox  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
@@ -67,11 +73,11 @@ def metric_label(name: str) -> str:
 def save_figure(fig, path: Path) -> Path:
     """Write the figure as ``path`` with suffix ``.png`` (what the page shows), and its twins
     in the other formats of :func:`drawing`; close it; return the PNG path. Inside
-    :func:`drawing` a child process writes the files."""
+    :func:`drawing` a worker process writes the files."""
     path = Path(path).with_suffix(".png")
     _plain_log_axes(fig)
-    if _children.slots:
-        _children.start(lambda: _write_files(fig, path), path)
+    if _workers.executor is not None:
+        _workers.submit(path, _write_files, fig, path)
     else:
         _write_files(fig, path)
     plt.close(fig)
@@ -80,16 +86,55 @@ def save_figure(fig, path: Path) -> Path:
 
 def twin_formats() -> tuple[str, ...]:
     """The formats besides PNG that :func:`save_figure` writes now (for the page's links)."""
-    return tuple(f for f in _children.formats if f != "png")
+    return tuple(f for f in _workers.formats if f != "png")
 
 
 def _write_files(fig, path: Path) -> None:
-    box = _tight_box(fig)
-    for fmt in _children.formats:
-        # a temporary file moved into place: a link planted at the name is replaced, never written through
-        atomic_write(path.with_suffix(f".{fmt}"),
-                     lambda tmp, fmt=fmt: fig.savefig(tmp, format=fmt, dpi=_DPI, bbox_inches=box,
-                                                      metadata=_metadata(fmt)))
+    box = _write_png(fig, path)
+    for fmt in _workers.formats:
+        if fmt != "png":
+            # a temporary file moved into place: a link planted at the name is replaced, never written through
+            atomic_write(path.with_suffix(f".{fmt}"),
+                         lambda tmp, fmt=fmt: fig.savefig(tmp, format=fmt, dpi=_DPI, bbox_inches=box,
+                                                          metadata=_metadata(fmt)))
+
+
+#: Room drawn beside and above/below a figure (inches, whole pixels at :data:`_DPI`) for what
+#: lies outside it: legends beside the axes, long tick labels, titles above.
+_ROOM = (4.0, 2.0)
+
+
+def _write_png(fig, path: Path):
+    """Write ``path``, the PNG of ``fig``'s tight box, drawing the figure once; return the box
+    (inches, with savefig's pad), for the other formats.
+
+    ``savefig(bbox_inches=box)`` lays every text out twice: once to find the box, once more
+    for the canvas of the box's size. Here the figure is drawn once on a canvas with
+    :data:`_ROOM` around it, the box is measured with the renderer that drew it (its text
+    extents cached), widened to whole pixels, and cut out: the same pixels savefig draws
+    for the widened box (hatching aside: its pattern starts at the canvas' corner). Where
+    the figure reaches beyond the room, savefig draws the box."""
+    # a figure sent to a worker comes without pyplot's canvas
+    canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
+    fig.set_dpi(_DPI)
+    width, height = fig.get_size_inches()
+    across, up = _ROOM
+    fig.savefig(os.devnull, format="raw", dpi=_DPI,  # the pixels are read from the renderer that drew
+                bbox_inches=Bbox.from_extents(-across, -up, width + across, height + up))
+    renderer = canvas.renderer
+    box = fig.get_tightbbox(renderer).padded(plt.rcParams["savefig.pad_inches"])
+    x0, y0 = math.floor(box.x0 * _DPI), math.floor(box.y0 * _DPI)
+    x1, y1 = math.ceil(box.x1 * _DPI), math.ceil(box.y1 * _DPI)
+    top, left = renderer.height - round(up * _DPI) - y1, round(across * _DPI) + x0  # Agg's rows run downwards
+    if min(top, left) >= 0 and left + x1 - x0 <= renderer.width and top + y1 - y0 <= renderer.height:
+        cut = np.asarray(renderer.buffer_rgba())[top:top + y1 - y0, left:left + x1 - x0]
+        atomic_write(path, lambda tmp: matplotlib.image.imsave(tmp, cut, format="png", origin="upper", dpi=_DPI,
+                                                                metadata=_metadata("png")))
+    else:
+        widened = Bbox.from_extents(x0 / _DPI, y0 / _DPI, x1 / _DPI, y1 / _DPI)
+        atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=_DPI, bbox_inches=widened,
+                                                   metadata=_metadata("png")))
+    return box
 
 
 def _metadata(fmt: str) -> dict:
@@ -97,79 +142,114 @@ def _metadata(fmt: str) -> dict:
     return {"png": {"Software": None}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}[fmt]
 
 
-class _Children:
-    """Forked processes each drawing one figure while the parent builds the next: drawing is
-    most of the report's time. Each file is written by one process, so the output is the
-    same as drawing them in turn."""
+class _Workers:
+    """Processes forked once per report that build and write the figures while the parent
+    reads the sweep and writes the page: building and drawing are most of the report's time.
+    They live for the whole report, so matplotlib's caches (fonts, text extents) serve
+    every figure, and the parent's memory is not copied again for each one. Each file is
+    written by one process, so the output is the same as drawing them in turn."""
 
     def __init__(self):
-        self.slots = 0
+        self.executor: ProcessPoolExecutor | None = None
         self.formats: tuple[str, ...] = ("png",)
-        self.running: dict[int, Path] = {}
-        self.failed: list[Path] = []
+        self.jobs: list[tuple[Path, Future]] = []
 
-    def start(self, work, path: Path) -> None:
-        while len(self.running) >= self.slots:
-            self._reap_oldest()
-        sys.stdout.flush()
-        sys.stderr.flush()
-        pid = os.fork()
-        if pid == 0:  # the child: draw, and leave without running the parent's cleanup
-            code = 1
-            try:
-                work()
-                code = 0
-            except BaseException:  # noqa: BLE001 - reported to the parent through the exit status
-                traceback.print_exc()
-            finally:
-                os._exit(code)
-        self.running[pid] = path
+    def open(self, count: int, formats: tuple[str, ...]) -> None:
+        self.formats = formats
+        if count:  # forked at the first job, with what the parent holds then
+            self.executor = ProcessPoolExecutor(count, mp_context=multiprocessing.get_context("fork"),
+                                                initializer=_in_worker)
 
-    def _reap_oldest(self) -> None:
-        pid = next(iter(self.running))  # by pid, never another child of this process
-        _, status = os.waitpid(pid, 0)
-        path = self.running.pop(pid)
-        if os.waitstatus_to_exitcode(status) != 0:
-            self.failed.append(path)
+    def submit(self, path: Path, work, *args, **kwargs) -> None:
+        self.jobs.append((path, self.executor.submit(_job, work, args, kwargs)))
 
-    def finish(self, check: bool = True) -> None:
-        while self.running:
-            self._reap_oldest()
-        failed, self.failed = self.failed, []
+    def close(self, check: bool = True) -> None:
+        """Wait for the jobs (``check=False``: for the running ones only, the queued ones are
+        dropped) and raise if one failed."""
+        executor, jobs = self.executor, self.jobs
+        self.executor, self.formats, self.jobs = None, ("png",), []
+        if executor is not None:
+            executor.shutdown(wait=True, cancel_futures=not check)
+        failed = []
+        for path, job in jobs:
+            if job.cancelled():
+                continue
+            if job.exception() is not None:  # never ran: its arguments would not pickle, or a worker died
+                traceback.print_exception(job.exception())
+            if job.exception() is not None or not job.result():
+                failed.append(path)
         if failed and check:
             raise RuntimeError(f"drawing {', '.join(p.name for p in failed)} failed (its error is printed above)")
 
 
-_children = _Children()
+def _in_worker() -> None:
+    _workers.executor = None  # a worker draws its figures itself
+
+
+def _job(work, args, kwargs) -> bool:
+    """Run one figure's work in a worker; its error is printed there (the parent names the figure)."""
+    try:
+        work(*args, **kwargs)
+    except BaseException:  # noqa: BLE001 - reported to the parent as a failed figure
+        traceback.print_exc()
+        return False
+    return True
+
+
+_workers = _Workers()
+
+
+def _figure(draw):
+    """A figure function ``draw(..., path, ...)``: inside :func:`drawing` the whole call,
+    building the figure as well as writing it, runs in a worker process (its arguments
+    are sent there), and the PNG's path is returned at once."""
+    signature = inspect.signature(draw)
+
+    @functools.wraps(draw)
+    def call(*args, **kwargs):
+        if _workers.executor is None:
+            return draw(*args, **kwargs)
+        path = Path(signature.bind(*args, **kwargs).arguments["path"]).with_suffix(".png")
+        _workers.submit(path, call, *args, **kwargs)  # by its module name: the worker runs it itself
+        return path
+
+    return call
 
 
 @contextlib.contextmanager
 def drawing(formats=("png",)):
-    """Within this block :func:`save_figure` writes ``formats`` (PNG always; SVG and PDF
-    for papers cost most of the drawing time: PDF subsets its fonts) in forked processes,
-    as many as the cores this process may use (none where ``os.fork`` is missing); leaving
-    it waits for them all and raises if one failed."""
+    """Within this block the figure functions and :func:`save_figure` write ``formats``
+    (PNG always; SVG and PDF for papers cost most of the drawing time: PDF subsets its
+    fonts) in worker processes, as many as the cores this process may use (none where
+    ``os.fork`` is missing); leaving it waits for them all and raises if one failed."""
     unknown = set(formats) - set(FORMATS)
     if unknown:
         raise ValueError(f"unknown figure format(s) {', '.join(sorted(unknown))}; known: {', '.join(FORMATS)}")
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    _children.slots = cores if hasattr(os, "fork") and cores > 1 else 0
-    _children.formats = tuple(f for f in FORMATS if f in formats or f == "png")
+    _workers.open(cores if hasattr(os, "fork") and cores > 1 else 0,
+                  tuple(f for f in FORMATS if f in formats or f == "png"))
     try:
         yield
     except BaseException:
-        _children.finish(check=False)  # the body's error is the one to see
+        _workers.close(check=False)  # the body's error is the one to see
         raise
-    finally:
-        _children.slots, _children.formats = 0, ("png",)
-    _children.finish()
+    _workers.close()
 
 
-def _tight_box(fig):
-    """The figure's tight bounding box (inches, with savefig's pad), measured from the artists'
-    extents without drawing the figure (``bbox_inches="tight"`` draws it once more just to find it)."""
-    fig.set_dpi(_DPI)
-    return fig.get_tightbbox(fig.canvas.get_renderer()).padded(plt.rcParams["savefig.pad_inches"])
+def _placed_title(ax, text: str, **kw) -> None:
+    """An axes title at its usual place, for an axes whose y axis is log, categorical or
+    hidden. Matplotlib's automatic placement lays the y axis out once more per title, at
+    every draw, to dodge an offset text above it; such an axis never shows one."""
+    ax.set_title(text, y=1.0, **kw)
+
+
+def _opaque_rgba(srgb8: np.ndarray) -> np.ndarray:
+    """uint8 sRGB as the float32 RGBA matplotlib turns it into (the same pixels): given
+    uint8 RGB it resamples a float64 copy, a fifth of an image grid's drawing time."""
+    rgba = np.empty(srgb8.shape[:2] + (4,), np.float32)
+    np.divide(srgb8, np.float32(255), out=rgba[..., :3], dtype=np.float32)
+    rgba[..., 3] = 1.0
+    return rgba
 
 
 def _legend(ax, *, outside: bool = True, **kw) -> None:
@@ -297,6 +377,7 @@ def pareto_front(times: np.ndarray, errors: np.ndarray) -> np.ndarray:
     return np.array(front, dtype=int)
 
 
+@_figure
 def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles,
                    noise=()) -> Path:
     """Time per megapixel (median, bars from the fastest to the slowest repeat) against mean
@@ -341,12 +422,13 @@ def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str
     ax.set_xlabel("render time per megapixel (ms; speed pass, one worker: median of the rounds, bar: fastest to "
                   "slowest)")
     ax.set_ylabel(f"{metric_label(metric)} against the ground truth (mean over cells)")
-    ax.set_title(title)
+    _placed_title(ax, title)
     ax.grid(True, which="major", alpha=0.3)
     _legend(ax, ncols=1 if len(summary) <= 22 else 2)
     return save_figure(fig, path)
 
 
+@_figure
 def accuracy_dots(summary: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles,
                   noise=()) -> Path:
     """Mean error per spec (dot, bar from the best to the worst cell) on a log axis, with the
@@ -371,7 +453,7 @@ def accuracy_dots(summary: pd.DataFrame, path: Path, *, metric: str, title: str,
     ax.set_xlim(lo, hi)
     _log_ticks(ax.xaxis)
     ax.set_xlabel(f"{metric_label(metric)} against the ground truth (dot: mean over cells; bar: best to worst cell)")
-    ax.set_title(title)
+    _placed_title(ax, title)
     ax.grid(True, axis="x", which="major", alpha=0.3)
     if ax.get_legend_handles_labels()[0]:  # below the axis, never over a point
         ax.legend(loc="upper right", bbox_to_anchor=(1.0, -0.5 / fig.get_figheight() - 0.05), fontsize=7,
@@ -408,6 +490,7 @@ def _error_panel(ax, rows: pd.DataFrame, x: str, metric: str, styles: Styles, *,
     ax.grid(True, alpha=0.3)
 
 
+@_figure
 def error_per_frame(results: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles) -> Path:
     """The error of every frame, one curve per spec, one panel per animated scene; the
     ground truth's noise of each frame as a grey curve."""
@@ -416,13 +499,14 @@ def error_per_frame(results: pd.DataFrame, path: Path, *, metric: str, title: st
     for ax, scene in zip(axes, scenes):
         _error_panel(ax, results[results["scene"] == scene], "frame", metric, styles)
         _frame_ticks(ax)
-        ax.set_title(scene)
+        _placed_title(ax, scene)
         ax.set_xlabel("frame")
         _legend(ax)
     _suptitle(fig, title)
     return save_figure(fig, path)
 
 
+@_figure
 def intensity_sums(results: pd.DataFrame, path: Path, *, title: str, styles: Styles) -> Path:
     """Intensity sum per frame relative to the ground truth's sum of the same frame, on a
     linear axis: 1 is right, and area sampling stays at 1 while the scene moves."""
@@ -449,6 +533,7 @@ def intensity_sums(results: pd.DataFrame, path: Path, *, title: str, styles: Sty
     return save_figure(fig, path)
 
 
+@_figure
 def phase_figure(results: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles) -> Path:
     """Each method's error and intensity sum against the sub-pixel phase of the frame.
 
@@ -476,12 +561,14 @@ def phase_figure(results: pd.DataFrame, path: Path, *, metric: str, title: str, 
         for ax in (ax_error, ax_sum):
             ax.set_xlim(0.0, 1.0)
             ax.set_xlabel("sub-pixel phase of the frame along x (px)")
-            ax.set_title(scene)
+        _placed_title(ax_error, scene)
+        ax_sum.set_title(scene)  # linear: its y axis may show an offset text to dodge
         _legend(ax_sum)
     _suptitle(fig, title)
     return save_figure(fig, path)
 
 
+@_figure
 def temporal_bars(temporal: pd.DataFrame, path: Path, *, group: str, metrics: list[str], title: str,
                   styles: Styles) -> Path:
     """One panel per temporal metric (registered, from temporal.parquet): a bar per spec, mean over
@@ -525,6 +612,7 @@ def _bar_edge(st) -> str:
     return "black"
 
 
+@_figure
 def space_time(reference: np.ndarray, series: list[tuple[str, np.ndarray]], path: Path, *, row: int,
                title: str) -> Path:
     """Space-time slices: image row ``row`` of every frame stacked downwards (x: column,
@@ -540,12 +628,13 @@ def space_time(reference: np.ndarray, series: list[tuple[str, np.ndarray]], path
     for ax in axes.ravel():
         ax.axis("off")
     for ax, (name, frames) in zip(axes.ravel(), panels):
-        ax.imshow(linear_to_srgb8(frames[:, row]), interpolation="nearest", aspect="auto")
-        ax.set_title(name, fontsize=7)
+        ax.imshow(_opaque_rgba(linear_to_srgb8(frames[:, row])), interpolation="nearest", aspect="auto")
+        _placed_title(ax, name, fontsize=7)
     _suptitle(fig, f"{title} (row {row}; x: column, y: frame downwards)")
     return save_figure(fig, path)
 
 
+@_figure
 def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: str, styles: Styles,
               definition: str) -> Path:
     """Error (left) and fraction of failed cells (right) against difficulty, one line per spec.
@@ -584,6 +673,7 @@ def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: 
     return save_figure(fig, path)
 
 
+@_figure
 def validation(table: pd.DataFrame, path: Path, *, title: str, styles: Styles) -> Path:
     """Exact method against the ground truth (y) over the ground truth's own noise (x), one
     point per scene frame: on the diagonal, the exact method agrees within the noise."""
@@ -603,7 +693,7 @@ def validation(table: pd.DataFrame, path: Path, *, title: str, styles: Styles) -
     ax.set_ylim(lo, hi)
     ax.set_xlabel("ground truth's noise RMS (seed-to-seed RMSE / sqrt 2)")
     ax.set_ylabel("exact method's RMSE against the ground truth")
-    ax.set_title(title)
+    _placed_title(ax, title)
     ax.grid(True, alpha=0.3)
     _legend(ax)
     return save_figure(fig, path)
@@ -619,6 +709,7 @@ def _crop_box(error: np.ndarray, size: int) -> tuple[int, int, int, int]:
     return r0, r0 + size, c0, c0 + size
 
 
+@_figure
 def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path: Path, *, title: str,
                shared: bool = True) -> Path:
     """Rows: the ground truth, then each method; columns: image, zoomed crop, signed error
@@ -656,7 +747,7 @@ def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path
                     f"signed error, scale ±{scale:.2g}; mean |err| {np.abs(err).mean():.2g}"
                     if np.abs(err).max() > 0 else "no error: identical to the ground truth",
                     ha="center", va="bottom", fontsize=7)
-    ax.imshow(canvas, interpolation="nearest")
+    ax.imshow(_opaque_rgba(canvas), interpolation="nearest")
     ax.text(side / 2, -gap / 8, "image", ha="center", va="bottom", fontsize=8)
     ax.text(side + gap + side / 2, -gap / 8, f"crop rows {r0}-{r1 - 1}, cols {c0}-{c1 - 1}", ha="center",
             va="bottom", fontsize=8)
