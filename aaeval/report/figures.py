@@ -729,7 +729,9 @@ def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path
     side = max(h, w)  # each panel's square, so that the crop shows as large as the image
     gap = max(3, side // 4)
     canvas = np.full((len(rows) * (side + gap) - gap, 3 * side + 2 * gap, 3), 255, np.uint8)
-    fig, ax = plt.subplots(figsize=(9, (9 / 3) * canvas.shape[0] / canvas.shape[1] + 0.6))
+    # each panel as large as a page shows comfortably (2.4 in), a long grid kept to about 16 in
+    inches = min(2.4, max(1.0, 16.0 / len(rows))) / side
+    fig, ax = plt.subplots(figsize=(canvas.shape[1] * inches, canvas.shape[0] * inches))
     ax.set_position([0.0, 0.0, 1.0, 1.0])
     for i, (name, img, err) in enumerate(rows):
         top = i * (side + gap)
