@@ -8,7 +8,6 @@ where the ground truth's specular term is significant.
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
 
 from aaeval.metrics.image import masked_rmse
 
@@ -148,6 +147,8 @@ def highlight_profile_flicker(frames_true, frames_test, *, mask, axis: int = 1, 
     if axis not in (0, 1):
         raise ValueError(f"axis must be 0 (columns) or 1 (rows), got {axis!r}")
     if margin > 0:
+        from scipy import ndimage  # here, not at the top: every command line loads this module, few dilate
+
         reach = np.zeros((1, 2 * margin + 1) if axis == 1 else (2 * margin + 1, 1), dtype=bool)
         reach[...] = True
         mask = ndimage.binary_dilation(mask, structure=reach)
