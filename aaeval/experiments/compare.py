@@ -167,7 +167,7 @@ def run_comparison(plan: ComparisonPlan, *, on_render: Callable[[str, int], None
         reference_rows.append({"frame": k, "intensity_sum": ref["intensity_sum"], "render_s": ref["render_s"]})
         for spec in plan.methods:
             measured = measure_frame(scene, spec, k, ref["image"], plan.metrics, repeats=plan.repeats,
-                                     digest=digest, cache=cache)
+                                     digest=digest, cache=cache, keep_flip=False)  # no viewer here
             _notify(on_render, spec, k)
             method_frames[spec].append(measured.image)
             fields = measured.fields(scene.width, scene.height)

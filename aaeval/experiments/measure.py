@@ -37,7 +37,7 @@ from aaeval.metrics import (
     intensity_sum,
     rmse,
 )
-from aaeval.metrics.perceptual import flip_map
+from aaeval.metrics.perceptual import flip_map, one_flip_per_pair
 
 if TYPE_CHECKING:
     from aaeval.renderers.registry import MethodSpec
@@ -393,14 +393,16 @@ def _test_noise(scene, spec: MethodSpec, frame: int, image: np.ndarray,
 def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | None, metrics: Sequence[str], *,
                   digest: str, repeats: int = 1, cache: SceneCache | None = None,
                   reference_error: str | None = None,
-                  noise_by_metric: Mapping[str, Sequence[float]] | None = None) -> FrameMeasurement:
+                  noise_by_metric: Mapping[str, Sequence[float]] | None = None,
+                  keep_flip: bool = True) -> FrameMeasurement:
     """Render one frame (timed), then measure it against ``reference``; never raises for the
     cell's own failures: they come back as ``error`` (and every metric NaN).
 
     ``digest`` names the scene's content in ``cache`` (masks are kept per digest and frame).
     ``reference_error``: why there is no reference (the cell fails with this message).
     ``noise_by_metric``: the reference's noise strata (:func:`render_reference`); with them
-    the record's ``agreement`` holds each RMS metric's z-test pass fraction.
+    the record's ``agreement`` holds each RMS metric's z-test pass fraction. ``keep_flip``:
+    also the per-pixel FLIP map (``flip``) a sweep stores for its viewer.
     """
     cache = cache or SCENES
     out = FrameMeasurement(None, Timing.missing(repeats), metrics={m: math.nan for m in metrics})
@@ -412,8 +414,11 @@ def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | N
         if not np.all(np.isfinite(image)):
             raise FloatingPointError("the image has non-finite pixels")
         out.intensity_sum = intensity_sum(image)
-        out.metrics, out.metric_errors = frame_metrics(
-            metrics, reference, image, lambda name: cache.mask(digest, scene, frame, name))
+        with one_flip_per_pair():  # the flip metric's evaluation gives the viewer's map too
+            out.metrics, out.metric_errors = frame_metrics(
+                metrics, reference, image, lambda name: cache.mask(digest, scene, frame, name))
+            if keep_flip:
+                out.flip = flip_map(reference, image)
         not_finite = not_finite_metrics(out.metrics, out.metric_errors)
         if not_finite:  # stored as null and read back as NaN, never above fail_above: "0 failed"
             raise FloatingPointError(f"metric(s) infinite: {not_finite}; the image is too far from its "
@@ -422,7 +427,6 @@ def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | N
             out.agreement = agreement(metrics, reference, image, _test_noise(scene, spec, frame, image, noise_by_metric),
                                       lambda name: cache.mask(digest, scene, frame, name),
                                       cache.noise_weight(digest, scene, frame))
-        out.flip = flip_map(reference, image)
     except Exception as exc:  # noqa: BLE001 - a failing cell is a result, not the end of the run
         out.error = f"{type(exc).__name__}: {exc}"
         out.traceback = traceback.format_exc(limit=6)

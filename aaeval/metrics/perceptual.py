@@ -2,11 +2,29 @@
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+
 import numpy as np
 
 from aaeval.metrics._checks import check_image_pair, check_positive
 
-__all__ = ["flip", "flip_map"]
+__all__ = ["flip", "flip_map", "one_flip_per_pair"]
+
+# Inside one_flip_per_pair(): what FLIP gave for the pairs of arrays seen there, by identity.
+_SEEN: list | None = None
+
+
+@contextmanager
+def one_flip_per_pair():
+    """Within this block FLIP is evaluated once per pair of arrays (the same objects, not
+    changed in between): a sweep cell takes its mean as the ``flip`` metric and its map for
+    the viewer, and one evaluation gives both (about 30 ms of a 512 x 512 cell)."""
+    global _SEEN
+    outer, _SEEN = _SEEN, []
+    try:
+        yield
+    finally:
+        _SEEN = outer
 
 
 def flip(image_true, image_test, *, ppd: float | None = None) -> float:
@@ -32,10 +50,7 @@ def flip(image_true, image_test, *, ppd: float | None = None) -> float:
     flip : float
         Mean of the per-pixel FLIP error, in [0, 1]; 0 for identical images.
     """
-    image_true, image_test = check_image_pair(image_true, image_test)
-    if ppd is not None:
-        check_positive("ppd", ppd)
-    _, mean = _evaluate(image_true, image_test, ppd, mean=True)
+    _, mean = _evaluated(image_true, image_test, ppd, mean=True)
     return float(mean)
 
 
@@ -55,11 +70,24 @@ def flip_map(image_true, image_test, *, ppd: float | None = None) -> np.ndarray:
     ndarray, shape (H, W), float32
         The FLIP error of every pixel, in [0, 1].
     """
-    image_true, image_test = check_image_pair(image_true, image_test)
+    fmap, _ = _evaluated(image_true, image_test, ppd, mean=False)
+    return np.asarray(fmap, dtype=np.float32).reshape(np.shape(image_true)[:2])
+
+
+def _evaluated(image_true, image_test, ppd, *, mean: bool):
+    """(map, mean) of the pair, checked first; inside :func:`one_flip_per_pair` a pair seen
+    before gives what it gave then (its mean always computed there)."""
+    if _SEEN is not None:
+        for a, b, p, found in _SEEN:
+            if a is image_true and b is image_test and p == ppd:
+                return found
+    checked_true, checked_test = check_image_pair(image_true, image_test)
     if ppd is not None:
         check_positive("ppd", ppd)
-    fmap, _ = _evaluate(image_true, image_test, ppd, mean=False)
-    return np.asarray(fmap, dtype=np.float32).reshape(image_true.shape[:2])
+    found = _evaluate(checked_true, checked_test, ppd, mean=mean or _SEEN is not None)
+    if _SEEN is not None:
+        _SEEN.append((image_true, image_test, ppd, found))
+    return found
 
 
 def _evaluate(image_true, image_test, ppd, *, mean: bool):

@@ -343,3 +343,29 @@ def test_image_flicker_measures_the_test_alone_inside_the_mask():
     assert image_flicker(frames * 0, frames, mask=inside) == pytest.approx(0.5)
     assert image_flicker(frames * 0, frames, mask=~inside) == 0.0
     assert math.isnan(image_flicker(frames, frames, mask=np.zeros((3, 4), bool)))
+
+
+def test_a_measured_frame_evaluates_flip_once_for_its_metric_and_its_map(monkeypatch):
+    """A sweep cell takes FLIP's mean as the ``flip`` metric and its map for the viewer: one
+    evaluation gives both, with the values two separate calls give; ``aaeval compare`` keeps
+    no map and asks for none."""
+    import flip_evaluator
+
+    from aaeval.experiments.measure import measure_frame
+    from aaeval.metrics.perceptual import flip, flip_map
+    from aaeval.renderers import MethodSpec, render
+    from aaeval.scenes.generate import random_triangles
+
+    scene = random_triangles(50, 64, 64, size=20.0, seed=1)
+    reference, image = render(scene, "catmull"), render(scene, "supersample:k=2")
+    calls = []
+    evaluate = flip_evaluator.evaluate
+    monkeypatch.setattr(flip_evaluator, "evaluate", lambda *a, **k: calls.append(1) or evaluate(*a, **k))
+    spec = MethodSpec.parse("supersample:k=2")
+    measured = measure_frame(scene, spec, 0, reference, ["rmse", "flip"], digest="flip-once")
+    assert len(calls) == 1
+    assert measured.metrics["flip"] == flip(reference, image)
+    assert np.array_equal(measured.flip, flip_map(reference, image))
+    calls.clear()
+    assert measure_frame(scene, spec, 0, reference, ["rmse"], digest="flip-once", keep_flip=False).flip is None
+    assert calls == []
