@@ -302,7 +302,7 @@ def test_degenerate_scenes_agree_with_oracle(name, seed):
 
 @pytest.mark.parametrize("name", ["mitchell", "gaussian"])
 def test_polygons_with_holes_agree_with_oracle(name):
-    from test_holes import random_holed_scene
+    from tests.helpers.randomscenes import random_holed_scene
 
     scene = random_holed_scene(2)
     assert scene.holed

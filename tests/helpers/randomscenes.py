@@ -58,3 +58,45 @@ def degenerate_scene(seed):
         z = a * x + b * y + float(rng.integers(0, 4))  # small integer depths: many shared planes
         polys.append({"color": rng.uniform(0, 1, 3).tolist(), "vertices": np.column_stack([xy, z]).tolist()})
     return parse_scene({"image": {"width": width, "height": height}, "polygons": polys})
+
+
+def holed_polygon(rng, centre, n_holes, tilt=1.0):
+    """A random star-shaped outer ring with ``n_holes`` random star-shaped holes inside.
+
+    The outer ring's vertices are at radius >= 4 with angular gaps < 1 rad, so its edges
+    stay beyond radius 3.5; holes of radius <= 1 centred at radius 1.7, one per sector of
+    a circle split in three, stay inside radius 2.7 and apart from each other.
+    """
+    outer = star(rng, centre, 4.0, 6.5, 12)
+    start = rng.uniform(0, 2 * np.pi)
+    holes = []
+    for m in range(n_holes):
+        angle = start + 2 * np.pi * m / 3
+        c = centre + 1.7 * np.array([np.cos(angle), np.sin(angle)])
+        holes.append(star(rng, c, 0.3, 0.95, int(rng.integers(3, 8))))
+    a, b = rng.uniform(-tilt, tilt, 2)
+    depth = rng.uniform(0, 10)
+
+    def lift(xy):
+        return np.column_stack([xy, a * xy[:, 0] + b * xy[:, 1] + depth]).tolist()
+
+    return {"color": rng.uniform(0, 1, 3).tolist(), "vertices": lift(outer), "holes": [lift(h) for h in holes]}
+
+
+def random_holed_document(seed, width=16, height=12):
+    rng = np.random.default_rng(seed)
+    polygons = []
+    for _ in range(3):
+        centre = rng.uniform([1, 1], [width - 1, height - 1])
+        polygons.append(holed_polygon(rng, centre, int(rng.integers(1, 4))))
+    for _ in range(2):
+        xy = rng.uniform([-2, -2], [width + 2, height + 2]) + rng.uniform(-6, 6, (3, 2))
+        polygons.append({"color": rng.uniform(0, 1, 3).tolist(), "vertices": with_plane(xy, rng)})
+    rng.shuffle(polygons)
+    doc = {"image": {"width": width, "height": height, "background": rng.uniform(0, 1, 3).tolist()},
+           "polygons": polygons, "animation": {"frames": 3, "translate": [0.37, -0.21]}}
+    return doc
+
+
+def random_holed_scene(seed, width=16, height=12):
+    return parse_scene(random_holed_document(seed, width, height), source=f"<holed {seed}>")
