@@ -726,41 +726,48 @@ def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path
     r0, r1, c0, c1 = _crop_box(worst, max(4, min(reference.shape[:2]) // 3))
     rows = [("ground truth", reference, None)] + [(n, img, err) for (n, img), err in zip(images, errors)]
     h, w = reference.shape[:2]
-    side = max(h, w)  # each panel's square, so that the crop shows as large as the image
-    gap = max(3, side // 4)
-    canvas = np.full((len(rows) * (side + gap) - gap, 3 * side + 2 * gap, 3), 255, np.uint8)
-    # each panel as large as a page shows comfortably (2.4 in), a long grid kept to about 16 in
-    inches = min(2.4, max(1.0, 16.0 / len(rows))) / side
+    # columns: the image, the crop enlarged to a square as tall as the image, the error map
+    crop_side = max(h, r1 - r0)
+    gap = max(3, max(h, w) // 12)
+    lefts = (0, w + gap, w + crop_side + 2 * gap)
+    row_height = max(h, crop_side)
+    canvas = np.full((len(rows) * (row_height + gap) - gap, lefts[2] + w, 3), 255, np.uint8)
+    # the canvas fitted into 10 x 18 in (a long grid is read by scrolling, a wide one is not),
+    # an image at most 3 in across
+    inches = min(10.0 / canvas.shape[1], 18.0 / canvas.shape[0], 3.0 / max(h, w))
     fig, ax = plt.subplots(figsize=(canvas.shape[1] * inches, canvas.shape[0] * inches))
     ax.set_position([0.0, 0.0, 1.0, 1.0])
+    upright = row_height * inches >= 1.3
     for i, (name, img, err) in enumerate(rows):
-        top = i * (side + gap)
+        top = i * (row_height + gap)
         srgb = linear_to_srgb8(img)
-        _put(canvas, top, 0, srgb, side)
-        _put(canvas, top, side + gap, srgb[r0:r1, c0:c1], side)
+        _put(canvas, top, lefts[0], srgb, h, w)
+        _put(canvas, top, lefts[1], srgb[r0:r1, c0:c1], crop_side, crop_side)
         ax.add_patch(plt.Rectangle((c0 - 0.5, top + r0 - 0.5), c1 - c0, r1 - r0, fill=False, ec="red", lw=1))
-        ax.text(-gap / 2, top + side / 2, name.replace(":", ":\n").replace(",", ",\n"), rotation=90,
-                ha="right", va="center", fontsize=7)
+        # a name reads along a row tall enough for it, across a short one (wide scenes, text)
+        ax.text(-gap / 2, top + row_height / 2, name.replace(":", ":\n").replace(",", ",\n"),
+                rotation=90 if upright else 0, ha="right", va="center", fontsize=7 if upright else 6)
         if err is not None:
             scale = max(common if shared else float(np.abs(err).max()), np.finfo(float).tiny)
             coloured = plt.get_cmap("RdBu_r")((err / scale + 1) / 2)[..., :3]
-            _put(canvas, top, 2 * (side + gap), np.round(coloured * 255).astype(np.uint8), side)
-            ax.text(2 * (side + gap) + side / 2, top - gap / 8,
+            _put(canvas, top, lefts[2], np.round(coloured * 255).astype(np.uint8), h, w)
+            ax.text(lefts[2] + w / 2, top - gap / 8,
                     f"signed error, scale ±{scale:.2g}; mean |err| {np.abs(err).mean():.2g}"
                     if np.abs(err).max() > 0 else "no error: identical to the ground truth",
                     ha="center", va="bottom", fontsize=7)
     ax.imshow(_opaque_rgba(canvas), interpolation="nearest")
-    ax.text(side / 2, -gap / 8, "image", ha="center", va="bottom", fontsize=8)
-    ax.text(side + gap + side / 2, -gap / 8, f"crop rows {r0}-{r1 - 1}, cols {c0}-{c1 - 1}", ha="center",
+    ax.text(w / 2, -gap / 8, "image", ha="center", va="bottom", fontsize=8)
+    ax.text(lefts[1] + crop_side / 2, -gap / 8, f"crop rows {r0}-{r1 - 1}, cols {c0}-{c1 - 1}", ha="center",
             va="bottom", fontsize=8)
     ax.axis("off")
     fig.suptitle(title, y=1.0 + 0.5 / fig.get_figheight(), va="bottom", fontsize=9)
     return save_figure(fig, path)
 
 
-def _put(canvas: np.ndarray, top: int, left: int, panel: np.ndarray, side: int) -> None:
-    """``panel`` (uint8 RGB) enlarged by whole pixels (nearest) to fit a ``side`` square at (top, left)."""
+def _put(canvas: np.ndarray, top: int, left: int, panel: np.ndarray, height: int, width: int) -> None:
+    """``panel`` (uint8 RGB) enlarged by whole pixels (nearest) to fit a ``height`` x ``width``
+    box at (top, left)."""
     ph, pw = panel.shape[:2]
-    k = max(1, side // max(ph, pw))
-    big = np.repeat(np.repeat(panel, k, axis=0), k, axis=1)[:side, :side]
+    k = max(1, min(height // ph, width // pw))
+    big = np.repeat(np.repeat(panel, k, axis=0), k, axis=1)[:height, :width]
     canvas[top:top + big.shape[0], left:left + big.shape[1]] = big
