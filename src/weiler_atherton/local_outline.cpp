@@ -100,7 +100,8 @@ bool local_outline(const Outline& o, const Box& b, Outline& local) {
             near = true;
             local.st.push_back((i64)local.x.size());
         } else if (o.st.size() > 2) {  // a single ring away from b: no outline near b at all
-            far_winding += winding(0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1), o.x.data(), o.y.data(), o.st.data() + r, 2);
+            double qx = 0.5 * (b.x0 + b.x1), qy = 0.5 * (b.y0 + b.y1);
+            far_winding += winding(qx, qy, o.x.data(), o.y.data(), o.st.data() + r, 2);
         }
     }
     if (!near) return false;
