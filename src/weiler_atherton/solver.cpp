@@ -188,7 +188,8 @@ void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps
         }
         clip = &w.local;
     }
-    clip_into(s, clip->view(), eps, w.in, w.out, w.clip, limit > WORK_VERTICES && w.is_clean(arena, pid, eps));
+    clip_into(s, clip->view(), eps, w.in, w.out, w.clip, limit > WORK_VERTICES && w.is_clean(arena, pid, eps),
+              keep_inside);
     if (w.in.st.size() > 1 && keep_inside) inside.push_back(arena.add(w.in, source));
     if (w.out.st.size() > 1) outside.push_back(arena.add(w.out, source));
 }
