@@ -60,12 +60,21 @@ void edge_boxes(const ShapeView& s, double g, std::vector<Box>& boxes) {
 
 // Whether every clip vertex stays apart from every clip edge near the subject (its
 // starts in w.near) that it does not end: the general road would insert such a vertex
-// into the edge, or merge two equal vertices.
-bool clip_edges_clean(const ShapeView& c, const std::vector<i64>& near, const std::vector<Box>& boxes, double tol) {
+// into the edge, or merge two equal vertices. Only the clip vertices inside the near
+// edges' grown boxes together can come near one (gathered into `close` first).
+bool clip_edges_clean(const ShapeView& c, const std::vector<i64>& near, const std::vector<Box>& boxes, double tol,
+                      std::vector<i64>& close) {
+    if (boxes.empty()) return true;
+    Box all = boxes[0];
+    for (const Box& b : boxes)
+        all = Box{pmin(all.x0, b.x0), pmin(all.y0, b.y0), pmax(all.x1, b.x1), pmax(all.y1, b.y1)};
+    close.clear();
+    for (i64 j = 0; j < c.n; ++j)
+        if (in_box(c.x[j], c.y[j], all)) close.push_back(j);
     for (size_t e = 0; e < near.size(); e += 2) {
         i64 u = near[e], z = near[e + 1];
         const Box& g = boxes[e / 2];
-        for (i64 j = 0; j < c.n; ++j)
+        for (i64 j : close)
             if (j != u && j != z && !apart(c.x[j], c.y[j], g, c.x[u], c.y[u], c.x[z], c.y[z], tol)) return false;
     }
     return true;
@@ -221,7 +230,7 @@ bool self_clean(const ShapeView& s, double eps, ClipScratch& scratch) {
 }
 
 bool clip_clean(const ShapeView& s, const ShapeView& c, double eps, const Box& sb, ClipScratch::Arrays& w,
-                Shape& in, Shape& out) {
+                Shape& in, Shape& out, bool want_inside) {
     double tol = CLEAN_MARGIN * eps;
     Box g{sb.x0 - tol, sb.y0 - tol, sb.x1 + tol, sb.y1 + tol};
     w.near.clear();
@@ -236,7 +245,7 @@ bool clip_clean(const ShapeView& s, const ShapeView& c, double eps, const Box& s
             w.near_boxes.push_back(segment_box(c.x[u], c.y[u], c.x[z], c.y[z], tol));
         }
     }
-    if (!clip_edges_clean(c, w.near, w.near_boxes, tol)) return false;
+    if (!clip_edges_clean(c, w.near, w.near_boxes, tol, w.close)) return false;
     edge_boxes(s, tol, w.subject_boxes);
     w.px.assign(s.x, s.x + s.n);
     w.py.assign(s.y, s.y + s.n);
@@ -258,7 +267,8 @@ bool clip_clean(const ShapeView& s, const ShapeView& c, double eps, const Box& s
     w.ins.clear();
     w.outs.clear();
     classify_runs(s, c, sb, w);
-    trace(w.ins, w.px, w.py, eps, w, in);
+    if (want_inside) trace(w.ins, w.px, w.py, eps, w, in);
+    else in.st.assign(1, 0);
     trace(w.outs, w.px, w.py, eps, w, out);
     return true;
 }

@@ -57,6 +57,7 @@ struct ClipScratch::Arrays {
     std::vector<i64> by_subject, by_clip;  // crossing indices ordered along each shape
     std::vector<Box> subject_boxes, near_boxes;  // edge boxes grown by the clean margin
     std::vector<i64> by_x;  // vertex indices ordered by x (self_clean)
+    std::vector<i64> close;  // clip vertices near the subject (clip_edges_clean)
 };
 
 // Parameter t in (0, 1) of q on segment p0-p1 when q lies on it strictly between the
@@ -79,8 +80,8 @@ void trace(const Edges& edges, const std::vector<double>& ux, const std::vector<
            ClipScratch::Arrays& w, Shape& out);
 
 // The clip of a clean pair (clean_clip.cpp): false, with nothing written, when the pair
-// is not clean. sb: the subject's box.
+// is not clean. sb: the subject's box; want_inside false: the inside part is not traced.
 bool clip_clean(const ShapeView& s, const ShapeView& c, double eps, const Box& sb, ClipScratch::Arrays& w,
-                Shape& in, Shape& out);
+                Shape& in, Shape& out, bool want_inside);
 
 }  // namespace wa

@@ -476,7 +476,7 @@ void grouped(const i64* keys, i64 m, i64 n, std::vector<i64>& starts, std::vecto
 }
 
 void clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Shape& out, ClipScratch& scratch,
-               bool subject_clean) {
+               bool subject_clean, bool want_inside) {
     in.clear();
     out.clear();
     if (s.nst < 2 || s.n == 0) return in.st.push_back(0), out.st.push_back(0);
@@ -488,7 +488,7 @@ void clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Sh
         return;
     }
     Scratch& w = *scratch.arrays;
-    if (subject_clean && clip_clean(s, c, eps, sb, w, in, out)) return;
+    if (subject_clean && clip_clean(s, c, eps, sb, w, in, out, want_inside)) return;
     snap(s, c, eps, w.cx, w.cy);
     ShapeView cs{w.cx.data(), w.cy.data(), c.lab, c.st, c.n, c.nst};
     points(s, cs, eps, w.px, w.py, w.near, w.crossing_edges);
@@ -502,7 +502,8 @@ void clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Sh
     w.ins.clear();
     w.outs.clear();
     classify(w.s2, w.c2, w.ux, w.uy, sb, w, w.ins, w.outs);
-    trace(w.ins, w.ux, w.uy, eps, w, in);
+    if (want_inside) trace(w.ins, w.ux, w.uy, eps, w, in);
+    else in.st.assign(1, 0);
     trace(w.outs, w.ux, w.uy, eps, w, out);
 }
 

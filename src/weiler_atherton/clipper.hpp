@@ -24,8 +24,10 @@ struct ClipScratch {
 // clip_arrays into the given shapes, with the given working arrays (no allocation once
 // the arrays have grown). subject_clean: self_clean(s, eps) is known to hold, so that a
 // clean pair may take the clean road (clean_clip.cpp: the same bits, sooner).
+// want_inside false: where the boundaries meet, the inside part is not traced (left
+// empty); the outside part is the same.
 void clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Shape& out, ClipScratch& scratch,
-               bool subject_clean = false);
+               bool subject_clean = false, bool want_inside = true);
 
 // Whether no vertex of s comes within a few eps of an edge of s that it does not end
 // (nor of another vertex): a subject the clean road can take.

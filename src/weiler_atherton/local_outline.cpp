@@ -26,36 +26,32 @@ void rim_corner(const Box& b, int k, double& x, double& y) {
     y = (k == 0 || k == 1) ? b.y1 : b.y0;
 }
 
-}  // namespace
-
-// Outline o as box b sees it, into `local`: its edges that come near b (their boxes meet
-// it) as they are, each run of edges away from b replaced by a walk around b's rim (its
-// corners) that turns about b as often and the same way as the run does. Run and walk
-// join the same two vertices and neither enters b, so every point of b has the same
-// winding number about both outlines, while the edges near b, the only ones whose
-// crossings and shared points the clipper computes for a shape inside b, are the
-// outline's own: the clip of a shape inside b (away from b's rim by far more than the
-// clipper's tolerance) by `local` is its clip by o, with a fraction of o's vertices.
+// Ring [a, e) of outline o as box b sees it, appended to `local` (one contour): its edges
+// that come near b (their boxes meet it) as they are, each run of edges away from b
+// replaced by a walk around b's rim (its corners) that turns about b as often and the same
+// way as the run does. Run and walk join the same two vertices and neither enters b, so
+// every point of b has the same winding number about both rings, while the edges near b,
+// the only ones whose crossings and shared points the clipper computes for a shape inside
+// b, are the ring's own: the clip of a shape inside b (away from b's rim by far more than
+// the clipper's tolerance) by `local` is its clip by o, with a fraction of o's vertices.
 // The turns are counted by the rim side each vertex faces: a straight edge that misses
 // b sweeps less than half a turn about b's centre, so it passes to a neighbouring side
 // the short way and to the opposite side the way its cross product says.
-// Returns false when no edge comes near b (local untouched).
-bool local_outline(const Outline& o, const Box& b, Outline& local) {
-    i64 m = (i64)o.x.size();
+// Returns false when no edge of the ring comes near b (nothing appended).
+bool local_ring(const Outline& o, i64 a, i64 e, const Box& b, Outline& local) {
+    i64 m = e - a;
     auto near = [&](i64 i) {
-        i64 j = i + 1 < m ? i + 1 : 0;
+        i64 j = i + 1 < e ? i + 1 : a;
         return !(pmin(o.x[i], o.x[j]) > b.x1 || pmax(o.x[i], o.x[j]) < b.x0 || pmin(o.y[i], o.y[j]) > b.y1 ||
                  pmax(o.y[i], o.y[j]) < b.y0);
     };
-    i64 first = 0;
-    while (first < m && !near(first)) ++first;
-    if (first == m) return false;
-    local.x.clear();
-    local.y.clear();
+    i64 first = a;
+    while (first < e && !near(first)) ++first;
+    if (first == e) return false;
     double qx = 0.5 * (b.x0 + b.x1), qy = 0.5 * (b.y0 + b.y1), hw = 0.5 * (b.x1 - b.x0), hh = 0.5 * (b.y1 - b.y0);
     auto side = [&](i64 v) { return rim_side(o.x[v] - qx, o.y[v] - qy, hw, hh); };
     for (i64 k = 0; k < m;) {
-        i64 i = first + k < m ? first + k : first + k - m;
+        i64 i = first + k < e ? first + k : first + k - m;
         local.x.push_back(o.x[i]);
         local.y.push_back(o.y[i]);
         ++k;
@@ -64,7 +60,7 @@ bool local_outline(const Outline& o, const Box& b, Outline& local) {
         int s0 = side(i), s = s0, turns = 0;
         i64 v = i;
         while (true) {
-            i64 u = v + 1 < m ? v + 1 : 0;
+            i64 u = v + 1 < e ? v + 1 : a;
             int su = side(u), d = (su - s + 4) % 4;
             if (d == 2)
                 d = (o.x[v] - qx) * (o.y[u] - qy) - (o.y[v] - qy) * (o.x[u] - qx) > 0 ? 2 : -2;
@@ -83,9 +79,43 @@ bool local_outline(const Outline& o, const Box& b, Outline& local) {
             local.y.push_back(y);
         }
     }
-    i64 n = (i64)local.x.size();
-    local.lab.assign(n, EDGE_CUT);
-    local.st.assign({0, n});
+    return true;
+}
+
+}  // namespace
+
+// Outline o as box b sees it, into `local`: each ring with an edge near b as local_ring
+// gives it; the rings with none keep the same winding number over all of b, and stand
+// together as b's rim walked once that way round (or not at all when they add to
+// nothing), so that every point of b keeps its winding number about the outline.
+// Returns false when no edge comes near b (local then holds nothing of use).
+bool local_outline(const Outline& o, const Box& b, Outline& local) {
+    local.x.clear();
+    local.y.clear();
+    local.st.assign(1, 0);
+    bool near = false;
+    i64 far_winding = 0;
+    for (size_t r = 0; r + 1 < o.st.size(); ++r) {
+        if (local_ring(o, o.st[r], o.st[r + 1], b, local)) {
+            near = true;
+            local.st.push_back((i64)local.x.size());
+        } else if (o.st.size() > 2) {  // a single ring away from b: no outline near b at all
+            double qx = 0.5 * (b.x0 + b.x1), qy = 0.5 * (b.y0 + b.y1);
+            far_winding += winding(qx, qy, o.x.data(), o.y.data(), o.st.data() + r, 2);
+        }
+    }
+    if (!near) return false;
+    if (far_winding != 0) {
+        const int ccw[4] = {2, 3, 0, 1}, cw[4] = {2, 1, 0, 3};
+        for (int k : far_winding > 0 ? ccw : cw) {
+            double x, y;
+            rim_corner(b, k, x, y);
+            local.x.push_back(x);
+            local.y.push_back(y);
+        }
+        local.st.push_back((i64)local.x.size());
+    }
+    local.lab.assign(local.x.size(), EDGE_CUT);
     return true;
 }
 
@@ -98,29 +128,32 @@ bool contour_inside(const ShapeView& s, i64 r, const Outline& o) {
 }
 
 // Whether no edge of outline o comes within eps of an edge of shape s (their boxes grown
-// by eps do not meet) and o's first vertex near s lies outside s: then o's boundary and
-// s's are apart and o does not reach into s, so s lies wholly inside or wholly outside o.
+// by eps do not meet) and no ring of o reaches into s (its first vertex near s lies
+// outside s): then o's boundary and s's are apart, so s lies wholly inside or wholly
+// outside o.
 bool boundaries_apart(const ShapeView& s, const Outline& o, double eps) {
-    i64 m = (i64)o.x.size();
     Box sb = shape_bbox(s.x, s.y, s.n);
-    i64 probe = -1;
-    for (i64 i = 0; i < m; ++i) {
-        i64 j = i + 1 < m ? i + 1 : 0;
-        double ox0 = pmin(o.x[i], o.x[j]) - eps, ox1 = pmax(o.x[i], o.x[j]) + eps;
-        double oy0 = pmin(o.y[i], o.y[j]) - eps, oy1 = pmax(o.y[i], o.y[j]) + eps;
-        if (ox0 > sb.x1 || ox1 < sb.x0 || oy0 > sb.y1 || oy1 < sb.y0) continue;
-        if (probe < 0) probe = i;
-        for (i64 r = 0; r + 1 < s.nst; ++r) {
-            i64 a = s.st[r], b = s.st[r + 1];
-            for (i64 v = a; v < b; ++v) {
-                i64 u = next_in_ring(v, a, b);
-                if (!(pmin(s.x[v], s.x[u]) > ox1 || pmax(s.x[v], s.x[u]) < ox0 || pmin(s.y[v], s.y[u]) > oy1 ||
-                      pmax(s.y[v], s.y[u]) < oy0))
-                    return false;
+    for (size_t q = 0; q + 1 < o.st.size(); ++q) {
+        i64 oa = o.st[q], ob = o.st[q + 1], probe = -1;
+        for (i64 i = oa; i < ob; ++i) {
+            i64 j = next_in_ring(i, oa, ob);
+            double ox0 = pmin(o.x[i], o.x[j]) - eps, ox1 = pmax(o.x[i], o.x[j]) + eps;
+            double oy0 = pmin(o.y[i], o.y[j]) - eps, oy1 = pmax(o.y[i], o.y[j]) + eps;
+            if (ox0 > sb.x1 || ox1 < sb.x0 || oy0 > sb.y1 || oy1 < sb.y0) continue;
+            if (probe < 0) probe = i;
+            for (i64 r = 0; r + 1 < s.nst; ++r) {
+                i64 a = s.st[r], b = s.st[r + 1];
+                for (i64 v = a; v < b; ++v) {
+                    i64 u = next_in_ring(v, a, b);
+                    if (!(pmin(s.x[v], s.x[u]) > ox1 || pmax(s.x[v], s.x[u]) < ox0 || pmin(s.y[v], s.y[u]) > oy1 ||
+                          pmax(s.y[v], s.y[u]) < oy0))
+                        return false;
+                }
             }
         }
+        if (probe >= 0 && winding(o.x[probe], o.y[probe], s.x, s.y, s.st, s.nst) != 0) return false;
     }
-    return probe < 0 || winding(o.x[probe], o.y[probe], s.x, s.y, s.st, s.nst) == 0;
+    return true;
 }
 
 }  // namespace wa

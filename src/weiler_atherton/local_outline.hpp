@@ -21,8 +21,8 @@ struct Outline {
     }
 };
 
-// Outline o as box b sees it, into `local` (definition: local_outline.cpp). Returns false
-// when no edge comes near b (local untouched).
+// Outline o (one or more rings) as box b sees it, into `local` (definition:
+// local_outline.cpp). Returns false when no edge comes near b (local then not to be used).
 bool local_outline(const Outline& o, const Box& b, Outline& local);
 
 // Whether contour r of shape s lies inside outline o (for a contour whose boundary and

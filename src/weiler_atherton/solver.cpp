@@ -12,6 +12,7 @@
 #include "clipper.hpp"
 #include "arena.hpp"
 #include "convex.hpp"
+#include "holed_outline.hpp"
 #include "local_outline.hpp"
 
 namespace wa {
@@ -187,7 +188,8 @@ void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps
         }
         clip = &w.local;
     }
-    clip_into(s, clip->view(), eps, w.in, w.out, w.clip, limit > WORK_VERTICES && w.is_clean(arena, pid, eps));
+    clip_into(s, clip->view(), eps, w.in, w.out, w.clip, limit > WORK_VERTICES && w.is_clean(arena, pid, eps),
+              keep_inside);
     if (w.in.st.size() > 1 && keep_inside) inside.push_back(arena.add(w.in, source));
     if (w.out.st.size() > 1) outside.push_back(arena.add(w.out, source));
 }
@@ -436,15 +438,18 @@ struct Solver {
                        const std::array<double, 4>& win, const i64* group) {
         std::vector<i64> position(npoly, -1);
         for (i64 p = 0; p < n; ++p) position[order[p]] = p;
-        // per piece: its polygon's depth position while it waits (-1 once taken), and the
-        // last clip polygon that saw it (met once though in many buckets)
-        std::vector<i64> pos, stamp;
+        // per piece: its polygon's depth position while it waits (-1 once taken), the last
+        // clip polygon that saw it (met once though in many buckets), and the polygon with
+        // holes (group) it is known to lie outside of (-1: none)
+        std::vector<i64> pos, stamp, cleared;
         auto grow = [&]() {
             if ((i64)pos.size() < arena.size()) {
                 pos.resize(arena.size(), -1);
                 stamp.resize(arena.size(), -1);
+                cleared.resize(arena.size(), -1);
             }
         };
+        HoledOutlines holed(ox, oy, ost, group, npoly);
         // about two pieces' boxes a bucket at the start, at most 256 a side
         double w = std::max(win[2] - win[0], 1e-300), h = std::max(win[3] - win[1], 1e-300);
         double side = std::sqrt(std::max<double>(1.0, (double)first.size() / 2.0) * std::max(w, h) / std::min(w, h));
@@ -501,19 +506,31 @@ struct Solver {
                 pos[met[k]] = -1;
             }
             if (inside.empty()) continue;  // nothing of this polygon is left in the window
+            i64 g = holed.holed_group(src);
             for (; k < met.size(); ++k) {
                 i64 pid = met[k], q = pos[pid];
                 parts.clear();
                 bool behind = wholly_behind(arena.piece(pid), arena.source(pid), src, planes, eps_z);
+                // a piece wholly behind a part of a polygon with holes lies behind all of
+                // it (one plane): clipped by the whole polygon once, skipped by its other parts
+                bool whole = behind && g >= 0;
+                if (whole && cleared[pid] == g) continue;
                 dropped.clear();
-                clip_piece(arena, pid, convex, o, eps, convex_road, work, behind ? dropped : inside, parts,
-                           INDEXED_WORK_VERTICES, !behind);
-                if (parts.size() == 1 && parts[0] == pid) continue;  // wholly outside: it stays
+                clip_piece(arena, pid, convex && !whole, whole ? holed.of(g) : o, eps, convex_road, work,
+                           behind ? dropped : inside, parts, INDEXED_WORK_VERTICES, !behind);
+                i64 mark = whole ? g : cleared[pid];
+                if (parts.size() == 1 && parts[0] == pid) {  // wholly outside: it stays
+                    cleared[pid] = mark;
+                    continue;
+                }
                 pos[pid] = -1;
                 for (i64 part : parts) {
                     halves.clear();
                     halve(part, halves);
-                    for (i64 h : halves) enter(h, q);
+                    for (i64 h : halves) {
+                        enter(h, q);
+                        cleared[h] = mark;
+                    }
                 }
             }
             settle(src, inside, empty);
