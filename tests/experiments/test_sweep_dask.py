@@ -15,7 +15,7 @@ distributed = pytest.importorskip("distributed", reason="dask[distributed] is a 
 def cluster():
     # threads in this process keep the test quick; the scheduler still talks TCP on loopback
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False, protocol="tcp",
-                                  host="127.0.0.1", dashboard_address=None) as c:
+                                  host="127.0.0.1", dashboard_address=":0") as c:
         yield c
 
 

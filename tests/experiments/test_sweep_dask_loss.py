@@ -33,10 +33,12 @@ methods = ["point", "supersample:k=3"]
 
 def local_cluster(n_workers):
     """An in-process cluster. Connect attempts give up after 3 s (not Dask's 30): closing a
-    cluster whose scheduler a test killed otherwise waits 30 s for it to answer."""
+    cluster whose scheduler a test killed otherwise waits 30 s for it to answer. Its
+    dashboard on a free port (None still starts it on 8787: two clusters at once warned of
+    the taken port on the sweep's stderr)."""
     with dask.config.set({"distributed.comm.timeouts.connect": "3s"}):
         return _Quick(n_workers=n_workers, threads_per_worker=1, processes=False, protocol="tcp",
-                      host="127.0.0.1", dashboard_address=None)
+                      host="127.0.0.1", dashboard_address=":0")
 
 
 class _Quick(distributed.LocalCluster):

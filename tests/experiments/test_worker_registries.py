@@ -33,7 +33,7 @@ def test_a_dask_worker_process_loads_the_registries_when_it_joins():
     from aaeval.experiments.executors import DaskExecutor
 
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, protocol="tcp",
-                                  dashboard_address=None) as cluster:
+                                  dashboard_address=":0") as cluster:
         executor = DaskExecutor(cluster.scheduler_address)
         try:
             got = list(executor.run(spec_as_received, [(MethodSpec.parse("supersample:k=2"),)]))
