@@ -36,7 +36,7 @@ from aaeval.metrics.info import MetricInfo
 
 __all__ = ["SUMMARIES", "SUMMARY_FOLDER", "Question", "QUESTIONS", "summarize", "cross_check",
            "agreement_text", "FILTER_GROUP_PREFIX", "FILTER_ORDER", "SPECULAR_COLUMNS", "VALIDATION_RATIO",
-           "speed_groups", "shaded_groups", "changing_row", "per_scene_values"]
+           "speed_groups", "shaded_groups", "changing_row", "per_scene_values", "frame_noise"]
 
 SUMMARY_FOLDER = "summaries"
 SUMMARIES = ("specs", "references", "validation", "speed", "specular", "filters", "findings", "findings_questions",
@@ -103,7 +103,8 @@ def agreement_text(fraction: float) -> str:
     return f"{'agrees' if verdict else 'differs'} ({fraction:.2%} pass)"
 
 
-def _noise_of(rows: pd.DataFrame) -> pd.Series:
+def frame_noise(rows: pd.DataFrame) -> pd.Series:
+    """The ground truth's measured noise of each scene frame of ``rows`` (once per frame)."""
     return rows.drop_duplicates(["scene", "frame"])["reference_noise_rmse"].astype(float)
 
 
@@ -138,7 +139,7 @@ def _references(results: pd.DataFrame) -> pd.DataFrame:
     out = []
     for group, rows in results.groupby("group", sort=False):
         for spec, refs in rows.groupby("reference", sort=False):
-            noise = _noise_of(refs)
+            noise = frame_noise(refs)
             truth = bool(is_ground_truth(refs).iloc[0])
             out.append({"group": group, "reference": spec, "reference_label": refs["reference_label"].iloc[0],
                         "kind": str(refs["reference_kind"].iloc[0]), "is_ground_truth": truth,

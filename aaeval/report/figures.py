@@ -572,10 +572,10 @@ def phase_figure(results: pd.DataFrame, path: Path, *, metric: str, title: str, 
 def temporal_bars(temporal: pd.DataFrame, path: Path, *, group: str, metrics: list[str], title: str,
                   styles: Styles) -> Path:
     """One panel per temporal metric (registered, from temporal.parquet): a bar per spec, mean over
-    the group's animations (:func:`aaeval.report.findings.per_spec`, the findings' aggregation),
+    the group's animations (:func:`aaeval.experiments.aggregate.per_spec`, the findings' aggregation),
     linear axes, the ground truth's noise RMS dashed where the metric is an RMS of errors."""
     from aaeval.report.sweep_data import METRICS
-    from aaeval.report.findings import per_spec
+    from aaeval.experiments.aggregate import per_spec
 
     tables = {m: per_spec(temporal, group, m) for m in metrics}
     specs = tables[metrics[0]]

@@ -21,7 +21,6 @@ import json
 
 import pandas as pd
 
-from aaeval.experiments.aggregate import per_spec
 from aaeval.experiments.record import noise_column
 from aaeval.experiments.summaries import QUESTIONS, Question
 from aaeval.metrics.info import format_value
@@ -30,7 +29,7 @@ from aaeval.report.sweep_data import METRICS, SweepData
 from aaeval.metrics.agreement import PASS_FRACTION, SIGNIFICANCE, agrees
 from aaeval.report.names import figure_stem
 
-__all__ = ["Question", "QUESTIONS", "per_spec", "findings_section", "leader_sentence"]
+__all__ = ["Question", "QUESTIONS", "findings_section", "leader_sentence"]
 
 
 def _fmt(column: str, value) -> str:

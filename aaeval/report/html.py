@@ -22,7 +22,7 @@ import numpy as np
 import pandas as pd
 
 from aaeval.experiments.aggregate import failed_cells, failure_definition
-from aaeval.experiments.summaries import validation_rows
+from aaeval.experiments.summaries import frame_noise, validation_rows
 from aaeval.fileio import atomic_write
 from aaeval.report import figures
 from aaeval.report.names import figure_stem
@@ -144,7 +144,7 @@ class _Page:
 
 def _noise(rows: pd.DataFrame) -> np.ndarray:
     """The ground truth's noise of each scene frame of ``rows``: the grey band of a chart."""
-    return rows.drop_duplicates(["scene", "frame"])["reference_noise_rmse"].to_numpy(float)
+    return frame_noise(rows).to_numpy(float)
 
 
 def _accuracy_block(page: _Page, group: str, slug: str, summary: pd.DataFrame, rows: pd.DataFrame,

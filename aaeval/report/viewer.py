@@ -23,11 +23,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from aaeval.experiments.summaries import changing_row
 from aaeval.fileio import atomic_write
 from aaeval.report.style import Styles
 
 __all__ = ["viewer_payload", "write_viewer_data", "viewer_div", "viewer_script", "GROUP_BUDGET",
-           "scene_series", "interesting_row"]
+           "scene_series"]
 
 # Above this many bytes of viewer data a group keeps its first scenes only (the page
 # must stay small enough to open from disk).
@@ -43,14 +44,6 @@ def _blob8(array: np.ndarray) -> str:
     """Values in [0, 1] as bytes (steps of 1/255: the viewer's colour maps have 256 entries)."""
     codes = np.round(np.clip(array, 0.0, 1.0) * 255).astype(np.uint8)
     return base64.b64encode(zlib.compress(codes.tobytes(), 6)).decode("ascii")
-
-
-def interesting_row(frames: np.ndarray) -> int:
-    """The row that changes most over the frames: the default space-time slice."""
-    if frames.shape[0] < 2:
-        return frames.shape[1] // 2
-    change = np.abs(np.diff(frames, axis=0)).sum(axis=(0, 2, 3))
-    return int(np.argmax(change)) if change.max() > 0 else frames.shape[1] // 2
 
 
 def scene_series(ok: pd.DataFrame, store, scene: str, styles: Styles):
@@ -96,7 +89,7 @@ def viewer_payload(ok: pd.DataFrame, store, styles: Styles, *, budget: int = GRO
                            "flip": _blob8(np.stack(flips)) if all(f is not None for f in flips) else None})
         entry = {"name": scene, "width": int(reference.shape[2]), "height": int(reference.shape[1]),
                  "frames": len(frames), "frame_numbers": [int(f) for f in frames],
-                 "row": interesting_row(reference), "panels": panels}
+                 "row": changing_row(reference), "panels": panels}
         cost = sum(len(p["img"]) + len(p["error"] or "") + len(p["flip"] or "") for p in panels)
         if scenes and size + cost > budget:
             left_out.append(scene)
