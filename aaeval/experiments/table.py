@@ -350,6 +350,8 @@ def write_summary_tables(store: SweepStore) -> None:
 
     root = store.root
     infos = {name: MetricInfo.from_dict(entry) for name, entry in json.loads((root / "metrics.json").read_text()).items()}
+    # from the stored tables, not the frames in memory: a summary is of exactly what a reader of
+    # the folder finds (parquet's types), and after the speed pass only the files are at hand
     found = summarize(read_table(root / "results.parquet"), read_table(root / "temporal.parquet"), read_speed(root),
                       store.read_manifest(), infos, store)
     folder = store.own_folder(SUMMARY_FOLDER)
