@@ -8,6 +8,7 @@
 // and are traced by the same code, so the two roads give the same bits; a pair that is
 // not clean takes the general road.
 #include <algorithm>
+#include <cmath>
 
 #include "clip_stages.hpp"
 #include "holding_lists.hpp"
@@ -58,24 +59,36 @@ void edge_boxes(const ShapeView& s, double g, std::vector<Box>& boxes) {
     }
 }
 
-// Whether every clip vertex stays apart from every clip edge near the subject (its
-// starts in w.near) that it does not end: the general road would insert such a vertex
-// into the edge, or merge two equal vertices. Only the clip vertices inside the near
-// edges' grown boxes together can come near one (gathered into `close` first).
-bool clip_edges_clean(const ShapeView& c, const std::vector<i64>& near, const std::vector<Box>& boxes, double tol,
-                      std::vector<i64>& close) {
-    if (boxes.empty()) return true;
+// The union of the boxes (boxes not empty).
+Box union_of(const std::vector<Box>& boxes) {
     Box all = boxes[0];
     for (const Box& b : boxes)
         all = Box{pmin(all.x0, b.x0), pmin(all.y0, b.y0), pmax(all.x1, b.x1), pmax(all.y1, b.y1)};
+    return all;
+}
+
+// Whether every clip vertex stays apart from every clip edge near the subject (its
+// starts in w.near) that it does not end: the general road would insert such a vertex
+// into the edge, or merge two equal vertices. Only the clip vertices inside the near
+// edges' grown boxes together (`all`) can come near one (gathered into `close` first).
+// A vertex and an edge that are both a self-clean outline's own (clip_own, may be null)
+// are apart already: self_clean checked that pair with the same arithmetic.
+bool clip_edges_clean(const ShapeView& c, const std::vector<i64>& near, const std::vector<Box>& boxes,
+                      const Box& all, double tol, const char* clip_own, std::vector<i64>& close) {
+    if (boxes.empty()) return true;
+    bool foreign_edge = !clip_own;
+    for (size_t e = 0; e < near.size() && !foreign_edge; e += 2) foreign_edge = !clip_own[near[e]];
     close.clear();
     for (i64 j = 0; j < c.n; ++j)
-        if (in_box(c.x[j], c.y[j], all)) close.push_back(j);
+        if ((foreign_edge || !clip_own[j]) && in_box(c.x[j], c.y[j], all)) close.push_back(j);
     for (size_t e = 0; e < near.size(); e += 2) {
         i64 u = near[e], z = near[e + 1];
         const Box& g = boxes[e / 2];
-        for (i64 j : close)
+        bool own_edge = clip_own && clip_own[u];
+        for (i64 j : close) {
+            if (own_edge && clip_own[j]) continue;
             if (j != u && j != z && !apart(c.x[j], c.y[j], g, c.x[u], c.y[u], c.x[z], c.y[z], tol)) return false;
+        }
     }
     return true;
 }
@@ -83,14 +96,17 @@ bool clip_edges_clean(const ShapeView& c, const std::vector<i64>& near, const st
 // The proper crossings (appended to w.px, w.py and w.crossings in the general road's
 // order), or false where a subject vertex comes near a clip edge, a clip vertex near a
 // subject edge, or a crossing lies where the general road would not split both edges
-// at it.
-bool clean_crossings(const ShapeView& s, const ShapeView& c, double eps, double tol, ClipScratch::Arrays& w) {
+// at it. all: the union of the near clip edges' grown boxes (a subject edge whose box
+// misses it meets none of them).
+bool clean_crossings(const ShapeView& s, const ShapeView& c, double eps, double tol, const Box& all,
+                     ClipScratch::Arrays& w) {
     for (i64 r = 0; r + 1 < s.nst; ++r) {
         i64 a = s.st[r], b = s.st[r + 1];
         for (i64 v = a; v < b; ++v) {
             i64 t = next_in_ring(v, a, b);
             double p0x = s.x[v], p0y = s.y[v], p1x = s.x[t], p1y = s.y[t];
             const Box& sg = w.subject_boxes[v];
+            if (!boxes_meet(sg, all)) continue;
             for (size_t e = 0; e < w.near.size(); e += 2) {
                 const Box& cg = w.near_boxes[e / 2];
                 if (!boxes_meet(sg, cg)) continue;
@@ -230,7 +246,7 @@ bool self_clean(const ShapeView& s, double eps, ClipScratch& scratch) {
 }
 
 bool clip_clean(const ShapeView& s, const ShapeView& c, double eps, const Box& sb, ClipScratch::Arrays& w,
-                Shape& in, Shape& out, bool want_inside) {
+                Shape& in, Shape& out, bool want_inside, const char* clip_own) {
     double tol = CLEAN_MARGIN * eps;
     Box g{sb.x0 - tol, sb.y0 - tol, sb.x1 + tol, sb.y1 + tol};
     w.near.clear();
@@ -245,14 +261,15 @@ bool clip_clean(const ShapeView& s, const ShapeView& c, double eps, const Box& s
             w.near_boxes.push_back(segment_box(c.x[u], c.y[u], c.x[z], c.y[z], tol));
         }
     }
-    if (!clip_edges_clean(c, w.near, w.near_boxes, tol, w.close)) return false;
+    Box all = w.near_boxes.empty() ? Box{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL} : union_of(w.near_boxes);
+    if (!clip_edges_clean(c, w.near, w.near_boxes, all, tol, clip_own, w.close)) return false;
     edge_boxes(s, tol, w.subject_boxes);
     w.px.assign(s.x, s.x + s.n);
     w.py.assign(s.y, s.y + s.n);
     w.px.insert(w.px.end(), c.x, c.x + c.n);
     w.py.insert(w.py.end(), c.y, c.y + c.n);
     w.crossings.clear();
-    if (!clean_crossings(s, c, eps, tol, w) || !crossings_apart(s, c, tol, w)) return false;
+    if (!clean_crossings(s, c, eps, tol, all, w) || !crossings_apart(s, c, tol, w)) return false;
     if (w.crossings.empty()) {  // boundaries apart: the paper's step 2
         holding_lists(s, c.x, c.y, c, in, out);
         return true;

@@ -80,8 +80,9 @@ void trace(const Edges& edges, const std::vector<double>& ux, const std::vector<
            ClipScratch::Arrays& w, Shape& out);
 
 // The clip of a clean pair (clean_clip.cpp): false, with nothing written, when the pair
-// is not clean. sb: the subject's box; want_inside false: the inside part is not traced.
+// is not clean. sb: the subject's box; want_inside false: the inside part is not traced;
+// clip_own: as clip_into takes it.
 bool clip_clean(const ShapeView& s, const ShapeView& c, double eps, const Box& sb, ClipScratch::Arrays& w,
-                Shape& in, Shape& out, bool want_inside);
+                Shape& in, Shape& out, bool want_inside, const char* clip_own);
 
 }  // namespace wa

@@ -475,20 +475,24 @@ void grouped(const i64* keys, i64 m, i64 n, std::vector<i64>& starts, std::vecto
     starts.pop_back();
 }
 
-void clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Shape& out, ClipScratch& scratch,
-               bool subject_clean, bool want_inside) {
+bool clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Shape& out, ClipScratch& scratch,
+               bool subject_clean, bool want_inside, const char* clip_own) {
     in.clear();
     out.clear();
-    if (s.nst < 2 || s.n == 0) return in.st.push_back(0), out.st.push_back(0);
+    if (s.nst < 2 || s.n == 0) {
+        in.st.push_back(0);
+        out.st.push_back(0);
+        return true;
+    }
     Box sb = s.n > 0 ? shape_bbox(s.x, s.y, s.n) : Box{}, cb = c.n > 0 ? shape_bbox(c.x, c.y, c.n) : Box{};
     if (c.nst < 2 || c.n == 0 || cb.x0 >= sb.x1 - eps || cb.x1 <= sb.x0 + eps || cb.y0 >= sb.y1 - eps ||
         cb.y1 <= sb.y0 + eps) {
         in.st.push_back(0);
         out.assign(s);
-        return;
+        return subject_clean;
     }
     Scratch& w = *scratch.arrays;
-    if (subject_clean && clip_clean(s, c, eps, sb, w, in, out, want_inside)) return;
+    if (subject_clean && clip_clean(s, c, eps, sb, w, in, out, want_inside, clip_own)) return true;
     snap(s, c, eps, w.cx, w.cy);
     ShapeView cs{w.cx.data(), w.cy.data(), c.lab, c.st, c.n, c.nst};
     points(s, cs, eps, w.px, w.py, w.near, w.crossing_edges);
@@ -497,14 +501,17 @@ void clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Sh
         point_ids(w.px, w.py, w.ux, w.uy, w.ids, w.keyed);
     i64 s_ins = split(w.ids.data(), s.lab, s.st, s.nst, w.ux, w.uy, eps, w.s2, w.ts, w.qs);
     i64 c_ins = split(w.ids.data() + s.n, c.lab, c.st, c.nst, w.ux, w.uy, eps, w.c2, w.ts, w.qs, &sb);
-    if (s_ins == 0 && c_ins == 0 && !shares_a_point(w.ids, s.n, c.n, (i64)w.ux.size(), w.mark))
-        return holding_lists(s, w.cx.data(), w.cy.data(), c, in, out);
+    if (s_ins == 0 && c_ins == 0 && !shares_a_point(w.ids, s.n, c.n, (i64)w.ux.size(), w.mark)) {
+        holding_lists(s, w.cx.data(), w.cy.data(), c, in, out);
+        return false;
+    }
     w.ins.clear();
     w.outs.clear();
     classify(w.s2, w.c2, w.ux, w.uy, sb, w, w.ins, w.outs);
     if (want_inside) trace(w.ins, w.ux, w.uy, eps, w, in);
     else in.st.assign(1, 0);
     trace(w.outs, w.ux, w.uy, eps, w, out);
+    return false;
 }
 
 std::pair<Shape, Shape> clip_arrays(const ShapeView& s, const ShapeView& c, double eps) {

@@ -66,8 +66,9 @@ Outline holed_outline(const double* ox, const double* oy, const i64* ost, const 
     return o;
 }
 
-HoledOutlines::HoledOutlines(const double* ox_, const double* oy_, const i64* ost_, const i64* group_, i64 npoly)
-    : ox(ox_), oy(oy_), ost(ost_), group(group_) {
+HoledOutlines::HoledOutlines(const double* ox_, const double* oy_, const i64* ost_, const i64* group_, i64 npoly,
+                             double eps_)
+    : ox(ox_), oy(oy_), ost(ost_), group(group_), eps(eps_) {
     if (!group) return;
     parts.resize(npoly);
     outline.resize(npoly);
@@ -79,6 +80,7 @@ HoledOutlines::HoledOutlines(const double* ox_, const double* oy_, const i64* os
 const Outline& HoledOutlines::of(i64 g) {
     if (!built[g]) {
         outline[g] = holed_outline(ox, oy, ost, parts[g]);
+        outline[g].clean = self_clean(outline[g].view(), eps, scratch);
         built[g] = 1;
     }
     return outline[g];

@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "clipper.hpp"
 #include "local_outline.hpp"
 
 namespace wa {
@@ -19,15 +20,17 @@ namespace wa {
 Outline holed_outline(const double* ox, const double* oy, const i64* ost, const std::vector<i64>& parts);
 
 // Per polygon: the group its parts share (group[p], may be null: none) and, built on
-// first use, each group's whole outline.
+// first use, each group's whole outline (its clean flag set: self_clean with eps).
 struct HoledOutlines {
     const double *ox = nullptr, *oy = nullptr;
     const i64* ost = nullptr;
     const i64* group = nullptr;
+    double eps = 0.0;
     std::vector<std::vector<i64>> parts;  // by group id; a group of one part is no polygon with holes
     std::vector<Outline> outline;
     std::vector<char> built;
-    HoledOutlines(const double* ox, const double* oy, const i64* ost, const i64* group, i64 npoly);
+    ClipScratch scratch;
+    HoledOutlines(const double* ox, const double* oy, const i64* ost, const i64* group, i64 npoly, double eps);
     // polygon p's group when p is one of several parts, else -1
     i64 holed_group(i64 p) const { return group && parts[group[p]].size() > 1 ? group[p] : -1; }
     const Outline& of(i64 g);

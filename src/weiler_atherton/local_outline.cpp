@@ -55,6 +55,7 @@ bool local_ring(const Outline& o, i64 a, i64 e, const Box& b, Outline& local) {
         local.x.push_back(o.x[i]);
         local.y.push_back(o.y[i]);
         ++k;
+        local.own.push_back(near(i));
         if (near(i)) continue;
         // a run of edges away from b, from vertex i to the next vertex whose edge is near
         int s0 = side(i), s = s0, turns = 0;
@@ -77,6 +78,7 @@ bool local_ring(const Outline& o, i64 a, i64 e, const Box& b, Outline& local) {
             rim_corner(b, ((turns > 0 ? s0 + t : s0 - 1 - t) % 4 + 4) % 4, x, y);
             local.x.push_back(x);
             local.y.push_back(y);
+            local.own.push_back(0);
         }
     }
     return true;
@@ -92,6 +94,8 @@ bool local_ring(const Outline& o, i64 a, i64 e, const Box& b, Outline& local) {
 bool local_outline(const Outline& o, const Box& b, Outline& local) {
     local.x.clear();
     local.y.clear();
+    local.own.clear();
+    local.clean = o.clean;
     local.st.assign(1, 0);
     bool near = false;
     i64 far_winding = 0;
@@ -112,6 +116,7 @@ bool local_outline(const Outline& o, const Box& b, Outline& local) {
             rim_corner(b, k, x, y);
             local.x.push_back(x);
             local.y.push_back(y);
+            local.own.push_back(0);
         }
         local.st.push_back((i64)local.x.size());
     }

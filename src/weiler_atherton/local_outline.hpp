@@ -16,6 +16,12 @@ constexpr double RIM = 1e6;
 struct Outline {
     std::vector<double> x, y, len;  // len: each edge's length (separation's margins, once an outline)
     std::vector<i64> lab, st;
+    // clean: self_clean is known to hold (of the whole outline, or of the one a local
+    // outline was taken from); own (local outlines only): per vertex, 1 when the vertex and
+    // the edge from it are the whole outline's own, 0 for the rim walks' vertices and edges,
+    // so that a clip need not check the pairs of own vertices and edges again
+    bool clean = false;
+    std::vector<char> own;
     ShapeView view() const {
         return ShapeView{x.data(), y.data(), lab.data(), st.data(), (i64)x.size(), (i64)st.size()};
     }

@@ -12,6 +12,7 @@
 #include "clipper.hpp"
 #include "arena.hpp"
 #include "convex.hpp"
+#include "depth.hpp"
 #include "holed_outline.hpp"
 #include "local_outline.hpp"
 
@@ -65,6 +66,11 @@ struct Work {
         if ((i64)clean.size() < arena.size()) clean.resize(arena.size(), -1);
         if (clean[pid] < 0) clean[pid] = self_clean(arena.piece(pid), eps, clip);
         return clean[pid] > 0;
+    }
+    // piece pid is known to be self_clean (clip_into said so of the parts it came from)
+    void known_clean(const Arena& arena, i64 pid) {
+        if ((i64)clean.size() < arena.size()) clean.resize(arena.size(), -1);
+        clean[pid] = 1;
     }
     i64 load(const ShapeView& s) {
         ensure(s.n);
@@ -188,10 +194,17 @@ void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps
         }
         clip = &w.local;
     }
-    clip_into(s, clip->view(), eps, w.in, w.out, w.clip, limit > WORK_VERTICES && w.is_clean(arena, pid, eps),
-              keep_inside);
-    if (w.in.st.size() > 1 && keep_inside) inside.push_back(arena.add(w.in, source));
-    if (w.out.st.size() > 1) outside.push_back(arena.add(w.out, source));
+    bool indexed = limit > WORK_VERTICES;
+    bool parts_clean = clip_into(s, clip->view(), eps, w.in, w.out, w.clip, indexed && w.is_clean(arena, pid, eps),
+                                 keep_inside, indexed && clip->clean ? clip->own.data() : nullptr);
+    if (w.in.st.size() > 1 && keep_inside) {
+        inside.push_back(arena.add(w.in, source));
+        if (parts_clean) w.known_clean(arena, inside.back());
+    }
+    if (w.out.st.size() > 1) {
+        outside.push_back(arena.add(w.out, source));
+        if (parts_clean) w.known_clean(arena, outside.back());
+    }
 }
 
 Outline outline_of(const double* ox, const double* oy, const i64* ost, i64 src) {
@@ -210,37 +223,6 @@ Outline outline_of(const double* ox, const double* oy, const i64* ost, i64 src) 
 }
 
 Box box_of(const double* obb, i64 s) { return Box{obb[4 * s], obb[4 * s + 1], obb[4 * s + 2], obb[4 * s + 3]}; }
-
-// -- step c: depth comparison
-
-// Whether every vertex of the piece lies behind polygon src's plane by more than twice
-// the tie band: then so does every point of it, and of every part clipped from it (their
-// vertices lie in it, and depth differences are affine), which step c drops.
-bool wholly_behind(const ShapeView& s, i64 source, i64 src, const double* planes, double eps_z) {
-    double da = planes[3 * source] - planes[3 * src];
-    double db = planes[3 * source + 1] - planes[3 * src + 1];
-    double dc = planes[3 * source + 2] - planes[3 * src + 2];
-    for (i64 i = 0; i < s.n; ++i)
-        if (!(da * s.x[i] + db * s.y[i] + dc > 2.0 * eps_z)) return false;
-    return true;
-}
-
-// FRONT, BEHIND or 0 (planes cross inside the piece) relative to polygon src.
-int relation(const ShapeView& s, i64 source, i64 src, const double* planes, double eps_z) {
-    double da = planes[3 * source] - planes[3 * src];
-    double db = planes[3 * source + 1] - planes[3 * src + 1];
-    double dc = planes[3 * source + 2] - planes[3 * src + 2];
-    bool front = false, behind = false;
-    for (i64 i = 0; i < s.n; ++i) {
-        double d = da * s.x[i] + db * s.y[i] + dc;
-        if (d < -eps_z) front = true;
-        else if (d > eps_z) behind = true;
-    }
-    if (front && behind) return 0;
-    if (front) return FRONT;
-    if (behind) return BEHIND;
-    return source > src ? FRONT : BEHIND;  // one plane: later in file in front
-}
 
 struct Solver {
     Arena arena;
@@ -418,10 +400,15 @@ struct Solver {
         const double hx[4] = {x0, x1, x1, x0}, hy[4] = {y0, y0, y1, y1};
         const i64 hl[4] = {EDGE_CUT, EDGE_CUT, EDGE_CUT, EDGE_CUT}, hs[2] = {0, 4};
         Shape a, c;
-        clip_into(s, ShapeView{hx, hy, hl, hs, 4, 2}, eps, a, c, work.clip, work.is_clean(arena, pid, eps));
+        bool parts_clean =
+            clip_into(s, ShapeView{hx, hy, hl, hs, 4, 2}, eps, a, c, work.clip, work.is_clean(arena, pid, eps));
         i64 source = arena.source(pid);
         if (a.st.size() < 2 || c.st.size() < 2) return out.push_back(pid);  // the line missed it
         i64 ka = arena.add(a, source), kc = arena.add(c, source);
+        if (parts_clean) {
+            work.known_clean(arena, ka);
+            work.known_clean(arena, kc);
+        }
         halve(ka, out);
         halve(kc, out);
     }
@@ -449,7 +436,7 @@ struct Solver {
                 cleared.resize(arena.size(), -1);
             }
         };
-        HoledOutlines holed(ox, oy, ost, group, npoly);
+        HoledOutlines holed(ox, oy, ost, group, npoly, eps);
         // about two pieces' boxes a bucket at the start, at most 256 a side
         double w = std::max(win[2] - win[0], 1e-300), h = std::max(win[3] - win[1], 1e-300);
         double side = std::sqrt(std::max<double>(1.0, (double)first.size() / 2.0) * std::max(w, h) / std::min(w, h));
@@ -506,6 +493,7 @@ struct Solver {
                 pos[met[k]] = -1;
             }
             if (inside.empty()) continue;  // nothing of this polygon is left in the window
+            o.clean = self_clean(o.view(), eps, work.clip);
             i64 g = holed.holed_group(src);
             for (; k < met.size(); ++k) {
                 i64 pid = met[k], q = pos[pid];
