@@ -81,6 +81,7 @@ const Outline& HoledOutlines::of(i64 g) {
     if (!built[g]) {
         outline[g] = holed_outline(ox, oy, ost, parts[g]);
         outline[g].clean = self_clean(outline[g].view(), eps, scratch);
+        index_chunks(outline[g]);
         built[g] = 1;
     }
     return outline[g];

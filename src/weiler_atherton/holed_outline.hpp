@@ -20,7 +20,8 @@ namespace wa {
 Outline holed_outline(const double* ox, const double* oy, const i64* ost, const std::vector<i64>& parts);
 
 // Per polygon: the group its parts share (group[p], may be null: none) and, built on
-// first use, each group's whole outline (its clean flag set: self_clean with eps).
+// first use, each group's whole outline (its clean flag set: self_clean with eps; its
+// chunks indexed).
 struct HoledOutlines {
     const double *ox = nullptr, *oy = nullptr;
     const i64* ost = nullptr;

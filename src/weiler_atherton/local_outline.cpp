@@ -1,5 +1,6 @@
 #include "local_outline.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
@@ -26,7 +27,16 @@ void rim_corner(const Box& b, int k, double& x, double& y) {
     y = (k == 0 || k == 1) ? b.y1 : b.y0;
 }
 
-// Ring [a, e) of outline o as box b sees it, appended to `local` (one contour): its edges
+// The number of edges in the chunk that starts at vertex v of ring [a, e) when its box
+// misses b (no edge of it near b), else 0. c0: the ring's first chunk.
+i64 far_chunk(const Outline& o, i64 c0, i64 a, i64 e, i64 v, const Box& b) {
+    if (o.chunk.empty() || (v - a) % CHUNK != 0) return 0;
+    const Box& c = o.chunk[c0 + (v - a) / CHUNK];
+    if (!(c.x0 > b.x1 || c.x1 < b.x0 || c.y0 > b.y1 || c.y1 < b.y0)) return 0;
+    return std::min(CHUNK, e - v);
+}
+
+// Ring r of outline o as box b sees it, appended to `local` (one contour): its edges
 // that come near b (their boxes meet it) as they are, each run of edges away from b
 // replaced by a walk around b's rim (its corners) that turns about b as often and the same
 // way as the run does. Run and walk join the same two vertices and neither enters b, so
@@ -36,17 +46,24 @@ void rim_corner(const Box& b, int k, double& x, double& y) {
 // the clipper's tolerance) by `local` is its clip by o, with a fraction of o's vertices.
 // The turns are counted by the rim side each vertex faces: a straight edge that misses
 // b sweeps less than half a turn about b's centre, so it passes to a neighbouring side
-// the short way and to the opposite side the way its cross product says.
+// the short way and to the opposite side the way its cross product says. A chunk of
+// edges whose box misses b is counted as its chord (the straight edge from its first
+// vertex to its last): inside a box that misses b, the edges sweep the same angle about
+// b's centre as the chord, so they cross the rim sides' borders as often, the same way.
 // Returns false when no edge of the ring comes near b (nothing appended).
-bool local_ring(const Outline& o, i64 a, i64 e, const Box& b, Outline& local) {
-    i64 m = e - a;
+bool local_ring(const Outline& o, i64 r, const Box& b, Outline& local) {
+    i64 a = o.st[r], e = o.st[r + 1], m = e - a, c0 = o.chunk.empty() ? 0 : o.chunk_first[r];
     auto near = [&](i64 i) {
         i64 j = i + 1 < e ? i + 1 : a;
         return !(pmin(o.x[i], o.x[j]) > b.x1 || pmax(o.x[i], o.x[j]) < b.x0 || pmin(o.y[i], o.y[j]) > b.y1 ||
                  pmax(o.y[i], o.y[j]) < b.y0);
     };
     i64 first = a;
-    while (first < e && !near(first)) ++first;
+    while (first < e) {
+        i64 skip = far_chunk(o, c0, a, e, first, b);
+        if (skip == 0 && near(first)) break;
+        first += skip > 0 ? skip : 1;
+    }
     if (first == e) return false;
     double qx = 0.5 * (b.x0 + b.x1), qy = 0.5 * (b.y0 + b.y1), hw = 0.5 * (b.x1 - b.x0), hh = 0.5 * (b.y1 - b.y0);
     auto side = [&](i64 v) { return rim_side(o.x[v] - qx, o.y[v] - qy, hw, hh); };
@@ -57,11 +74,14 @@ bool local_ring(const Outline& o, i64 a, i64 e, const Box& b, Outline& local) {
         ++k;
         local.own.push_back(near(i));
         if (near(i)) continue;
-        // a run of edges away from b, from vertex i to the next vertex whose edge is near
+        // a run of edges away from b, from vertex i to the next vertex whose edge is near:
+        // edge by edge, or a chunk at a time (its inner vertices' edges are far, so the
+        // run cannot end inside it; nor can it reach `first`, whose edge is near)
         int s0 = side(i), s = s0, turns = 0;
         i64 v = i;
         while (true) {
-            i64 u = v + 1 < e ? v + 1 : a;
+            i64 skip = far_chunk(o, c0, a, e, v, b);
+            i64 u = skip > 0 ? (v + skip < e ? v + skip : a) : (v + 1 < e ? v + 1 : a);
             int su = side(u), d = (su - s + 4) % 4;
             if (d == 2)
                 d = (o.x[v] - qx) * (o.y[u] - qy) - (o.y[v] - qy) * (o.x[u] - qx) > 0 ? 2 : -2;
@@ -70,6 +90,7 @@ bool local_ring(const Outline& o, i64 a, i64 e, const Box& b, Outline& local) {
             turns += d;
             s = su;
             v = u;
+            if (skip > 1) k += skip - 1;
             if (k == m || near(v)) break;
             ++k;
         }
@@ -86,6 +107,22 @@ bool local_ring(const Outline& o, i64 a, i64 e, const Box& b, Outline& local) {
 
 }  // namespace
 
+void index_chunks(Outline& o) {
+    o.chunk.clear();
+    o.chunk_first.clear();
+    for (size_t r = 0; r + 1 < o.st.size(); ++r) {
+        i64 a = o.st[r], e = o.st[r + 1];
+        o.chunk_first.push_back((i64)o.chunk.size());
+        for (i64 v = a; v < e; v += CHUNK) {
+            i64 last = v + CHUNK < e ? v + CHUNK : a;  // the chunk's last vertex (the ring's first at its end)
+            Box c{o.x[last], o.y[last], o.x[last], o.y[last]};
+            for (i64 i = v; i < v + CHUNK && i < e; ++i)
+                c = Box{pmin(c.x0, o.x[i]), pmin(c.y0, o.y[i]), pmax(c.x1, o.x[i]), pmax(c.y1, o.y[i])};
+            o.chunk.push_back(c);
+        }
+    }
+}
+
 // Outline o as box b sees it, into `local`: each ring with an edge near b as local_ring
 // gives it; the rings with none keep the same winding number over all of b, and stand
 // together as b's rim walked once that way round (or not at all when they add to
@@ -100,7 +137,7 @@ bool local_outline(const Outline& o, const Box& b, Outline& local) {
     bool near = false;
     i64 far_winding = 0;
     for (size_t r = 0; r + 1 < o.st.size(); ++r) {
-        if (local_ring(o, o.st[r], o.st[r + 1], b, local)) {
+        if (local_ring(o, (i64)r, b, local)) {
             near = true;
             local.st.push_back((i64)local.x.size());
         } else if (o.st.size() > 2) {  // a single ring away from b: no outline near b at all

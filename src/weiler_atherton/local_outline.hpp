@@ -22,10 +22,21 @@ struct Outline {
     // so that a clip need not check the pairs of own vertices and edges again
     bool clean = false;
     std::vector<char> own;
+    // chunk (index_chunks, may be empty): the box of each CHUNK consecutive edges of a
+    // ring (ring r's first chunk is chunk_first[r]), so that local_outline passes a run of
+    // edges away from a piece's box chunk by chunk
+    std::vector<Box> chunk;
+    std::vector<i64> chunk_first;
     ShapeView view() const {
         return ShapeView{x.data(), y.data(), lab.data(), st.data(), (i64)x.size(), (i64)st.size()};
     }
 };
+
+// How many consecutive edges of an outline share one box in Outline::chunk.
+constexpr i64 CHUNK = 8;
+
+// Fill o.chunk and o.chunk_first from o's rings.
+void index_chunks(Outline& o);
 
 // Outline o (one or more rings) as box b sees it, into `local` (definition:
 // local_outline.cpp). Returns false when no edge comes near b (local then not to be used).

@@ -494,6 +494,7 @@ struct Solver {
             }
             if (inside.empty()) continue;  // nothing of this polygon is left in the window
             o.clean = self_clean(o.view(), eps, work.clip);
+            index_chunks(o);
             i64 g = holed.holed_group(src);
             for (; k < met.size(); ++k) {
                 i64 pid = met[k], q = pos[pid];
