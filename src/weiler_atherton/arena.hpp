@@ -17,13 +17,16 @@ struct Arena {
     std::vector<Meta> meta;
     std::vector<Box> box;
 
-    Arena() {
-        x.reserve(1024);
-        y.reserve(1024);
-        lab.reserve(1024);
-        st.reserve(256);
-        meta.reserve(128);
-        box.reserve(128);
+    Arena() { reserve(1024, 128); }
+    // Room for about `vertices` vertices in `pieces` pieces before a pool is copied to
+    // grow (reserved memory that is never written costs no pages).
+    void reserve(i64 vertices, i64 pieces) {
+        x.reserve(vertices);
+        y.reserve(vertices);
+        lab.reserve(vertices);
+        st.reserve(2 * pieces);
+        meta.reserve(pieces);
+        box.reserve(pieces);
     }
     i64 size() const { return (i64)meta.size(); }
     i64 source(i64 k) const { return meta[k].source; }
