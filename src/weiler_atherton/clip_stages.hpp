@@ -58,6 +58,7 @@ struct ClipScratch::Arrays {
     std::vector<Box> subject_boxes, near_boxes;  // edge boxes grown by the clean margin
     std::vector<i64> by_x;  // vertex indices ordered by x (self_clean)
     std::vector<i64> close;  // clip vertices near the subject (clip_edges_clean)
+    std::vector<i64> exit;  // per point, the one edge that starts there (trace)
 };
 
 // Parameter t in (0, 1) of q on segment p0-p1 when q lies on it strictly between the

@@ -267,7 +267,16 @@ void trace(const Edges& edges, const std::vector<double>& ux, const std::vector<
     i64 m = (i64)ea.size(), nu = (i64)ux.size();
     std::vector<i64>& head = w.head;
     std::vector<i64>& out_edges = w.out_edges;
-    grouped(ea.data(), m, nu, head, out_edges);
+    // where every point starts one edge at most (as on the clean road), the walk's next
+    // edge is that one, found in one array; else the edges are grouped by start
+    std::vector<i64>& exit = w.exit;
+    exit.assign(nu, -1);
+    bool single = true;
+    for (i64 e = 0; e < m && single; ++e) {
+        single = exit[ea[e]] < 0;
+        exit[ea[e]] = e;
+    }
+    if (!single) grouped(ea.data(), m, nu, head, out_edges);
     std::vector<char>& used = w.used;
     used.assign(m, 0);
     out.x.resize(m);
@@ -286,6 +295,12 @@ void trace(const Edges& edges, const std::vector<double>& ux, const std::vector<
             ++n;
             i64 v = eb[e], best = -1, count = 0;
             double best_turn = 0.0, back = 0.0;
+            if (single) {
+                best = exit[v] >= 0 && !used[exit[v]] ? exit[v] : -1;
+                if (best < 0) break;
+                e = best;
+                continue;
+            }
             for (i64 k = head[v]; k < head[v + 1]; ++k) {
                 i64 f = out_edges[k];
                 if (used[f]) continue;
