@@ -165,8 +165,26 @@ bool local_outline(const Outline& o, const Box& b, Outline& local) {
 // of its first edge (for a contour whose boundary and o's are apart).
 bool contour_inside(const ShapeView& s, i64 r, const Outline& o) {
     i64 a = s.st[r], b = s.st[r + 1], c = a + 1 < b ? a + 1 : a;
-    return winding(0.5 * (s.x[a] + s.x[c]), 0.5 * (s.y[a] + s.y[c]), o.x.data(), o.y.data(), o.st.data(),
-                   (i64)o.st.size()) > 0;
+    return outline_winding(0.5 * (s.x[a] + s.x[c]), 0.5 * (s.y[a] + s.y[c]), o) > 0;
+}
+
+// winding(px, py) about outline o, its chunks (when indexed) passed whole where their
+// box lies above py or at or below it: none of their edges spans py, so none adds to
+// the sum (winds), which is an integer, the same in any order.
+i64 outline_winding(double px, double py, const Outline& o) {
+    if (o.chunk.empty()) return winding(px, py, o.x.data(), o.y.data(), o.st.data(), (i64)o.st.size());
+    i64 w = 0;
+    for (size_t r = 0; r + 1 < o.st.size(); ++r) {
+        i64 a = o.st[r], e = o.st[r + 1];
+        for (i64 v = a, k = o.chunk_first[r]; v < e; v += CHUNK, ++k) {
+            if (o.chunk[k].y0 > py || o.chunk[k].y1 <= py) continue;
+            for (i64 i = v; i < v + CHUNK && i < e; ++i) {
+                i64 j = i + 1 < e ? i + 1 : a;
+                w += winds(px, py, o.x[i], o.y[i], o.x[j], o.y[j]);
+            }
+        }
+    }
+    return w;
 }
 
 // Whether no edge of outline o comes within eps of an edge of shape s (their boxes grown

@@ -42,6 +42,9 @@ void index_chunks(Outline& o);
 // local_outline.cpp). Returns false when no edge comes near b (local then not to be used).
 bool local_outline(const Outline& o, const Box& b, Outline& local);
 
+// The winding number of point (px, py) about outline o (as winding gives it).
+i64 outline_winding(double px, double py, const Outline& o);
+
 // Whether contour r of shape s lies inside outline o (for a contour whose boundary and
 // o's are apart).
 bool contour_inside(const ShapeView& s, i64 r, const Outline& o);

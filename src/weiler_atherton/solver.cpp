@@ -154,7 +154,8 @@ void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps
     i64 source = arena.source(pid);
     ShapeView s = arena.piece(pid);
     if (convex) {
-        int side = separation(s.x, s.y, s.n, o.x.data(), o.y.data(), (i64)o.x.size(), eps, o.len.data());
+        int side =
+            separation(s.x, s.y, s.n, o.x.data(), o.y.data(), (i64)o.x.size(), eps, o.len.data(), &arena.box[pid]);
         if (side == OUTSIDE) {
             outside.push_back(pid);
             return;

@@ -19,9 +19,10 @@ constexpr int INSIDE = 2;
 // For a convex clip contour: OUTSIDE when every subject vertex lies farther than 2 eps
 // beyond one clip edge's line, INSIDE when every one lies farther than 2 eps inside every
 // edge's line, else 0.
-// len: the clip edges' lengths when known (nullptr: computed here).
+// len: the clip edges' lengths when known (nullptr: computed here); sbox: the subject's
+// box when known (a box inside every edge's line by far more than 2 eps is INSIDE at once).
 int separation(const double* sx, const double* sy, i64 ns, const double* cx, const double* cy, i64 nc, double eps,
-               const double* len = nullptr);
+               const double* len = nullptr, const Box* sbox = nullptr);
 
 // The part a x + b y + c <= 0 of the bounding box (grown by one unit), as a convex shape
 // whose edge along the line is labelled EDGE_CROSSING.
