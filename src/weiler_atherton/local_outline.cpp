@@ -187,33 +187,4 @@ i64 outline_winding(double px, double py, const Outline& o) {
     return w;
 }
 
-// Whether no edge of outline o comes within eps of an edge of shape s (their boxes grown
-// by eps do not meet) and no ring of o reaches into s (its first vertex near s lies
-// outside s): then o's boundary and s's are apart, so s lies wholly inside or wholly
-// outside o.
-bool boundaries_apart(const ShapeView& s, const Outline& o, double eps) {
-    Box sb = shape_bbox(s.x, s.y, s.n);
-    for (size_t q = 0; q + 1 < o.st.size(); ++q) {
-        i64 oa = o.st[q], ob = o.st[q + 1], probe = -1;
-        for (i64 i = oa; i < ob; ++i) {
-            i64 j = next_in_ring(i, oa, ob);
-            double ox0 = pmin(o.x[i], o.x[j]) - eps, ox1 = pmax(o.x[i], o.x[j]) + eps;
-            double oy0 = pmin(o.y[i], o.y[j]) - eps, oy1 = pmax(o.y[i], o.y[j]) + eps;
-            if (ox0 > sb.x1 || ox1 < sb.x0 || oy0 > sb.y1 || oy1 < sb.y0) continue;
-            if (probe < 0) probe = i;
-            for (i64 r = 0; r + 1 < s.nst; ++r) {
-                i64 a = s.st[r], b = s.st[r + 1];
-                for (i64 v = a; v < b; ++v) {
-                    i64 u = next_in_ring(v, a, b);
-                    if (!(pmin(s.x[v], s.x[u]) > ox1 || pmax(s.x[v], s.x[u]) < ox0 || pmin(s.y[v], s.y[u]) > oy1 ||
-                          pmax(s.y[v], s.y[u]) < oy0))
-                        return false;
-                }
-            }
-        }
-        if (probe >= 0 && winding(o.x[probe], o.y[probe], s.x, s.y, s.st, s.nst) != 0) return false;
-    }
-    return true;
-}
-
 }  // namespace wa

@@ -49,8 +49,4 @@ i64 outline_winding(double px, double py, const Outline& o);
 // o's are apart).
 bool contour_inside(const ShapeView& s, i64 r, const Outline& o);
 
-// Whether o's boundary and s's are apart (boxes grown by eps do not meet) and o does not
-// reach into s: then s lies wholly inside or wholly outside o.
-bool boundaries_apart(const ShapeView& s, const Outline& o, double eps);
-
 }  // namespace wa

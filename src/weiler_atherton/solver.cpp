@@ -144,6 +144,13 @@ i64 cut_by_plane_line(Arena& arena, i64 pid, i64 source, double a, double b, dou
     return arena.add_contour(w.f[2].data(), w.f[3].data(), w.l[1].data(), nl, source);
 }
 
+// Whether shape a holds the same contours as b, bit for bit.
+bool same_shape(const Shape& a, const ShapeView& b) {
+    return (i64)a.x.size() == b.n && (i64)a.st.size() == b.nst && std::equal(a.st.begin(), a.st.end(), b.st) &&
+           std::equal(a.x.begin(), a.x.end(), b.x) && std::equal(a.y.begin(), a.y.end(), b.y) &&
+           std::equal(a.lab.begin(), a.lab.end(), b.lab);
+}
+
 // Piece pid (its box meeting the outline's box) split by an outline, its parts appended
 // to the inside and outside lists.
 // keep_inside false: the part inside is not stored (a piece wholly behind the outline's
@@ -181,23 +188,21 @@ void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps
             (contour_inside(s, 0, o) ? inside : outside).push_back(pid);
             return;
         }
-        // Likewise when the outline's edges come nowhere near the piece's edges, the
-        // outline does not reach into the piece and all the piece's contours lie on one
-        // side: the clipper would find no crossing, shared point or point on an edge, and
-        // hold each contour whole.
-        if (boundaries_apart(s, w.local, eps)) {
-            bool in = contour_inside(s, 0, w.local), same = true;
-            for (i64 r = 1; r + 1 < s.nst && same; ++r) same = contour_inside(s, r, w.local) == in;
-            if (same) {
-                (in ? inside : outside).push_back(pid);
-                return;
-            }
-        }
         clip = &w.local;
     }
     bool indexed = limit > WORK_VERTICES;
     bool parts_clean = clip_into(s, clip->view(), eps, w.in, w.out, w.clip, indexed && w.is_clean(arena, pid, eps),
                                  keep_inside, indexed && clip->clean ? clip->own.data() : nullptr);
+    // A clip that holds the piece whole on one side (the boundaries apart: the clipper's
+    // step 2) hands on the piece itself, not a copy.
+    if (indexed && (w.in.st.size() <= 1 || w.out.st.size() <= 1)) {
+        bool in = w.in.st.size() > 1;
+        if (same_shape(in ? w.in : w.out, s)) {
+            if (in && keep_inside) inside.push_back(pid);
+            else if (!in) outside.push_back(pid);
+            return;
+        }
+    }
     if (w.in.st.size() > 1 && keep_inside) {
         inside.push_back(arena.add(w.in, source));
         if (parts_clean) w.known_clean(arena, inside.back());
