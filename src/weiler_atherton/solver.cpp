@@ -160,6 +160,20 @@ void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps
                 bool keep_inside = true) {
     i64 source = arena.source(pid);
     ShapeView s = arena.piece(pid);
+    bool indexed = limit > WORK_VERTICES;
+    if (indexed) {
+        // No clip edge near the piece's box: the outline's boundary does not pass through
+        // the box, so the piece lies wholly inside or wholly outside it, as the winding
+        // number of any one of its points says. The clipper would find the same (its
+        // step 2) after sorting every vertex of both. (Asked first: it costs a look at
+        // the outline's chunks, where separation tests every edge.)
+        const Box& sb = arena.box[pid];
+        Box grown{sb.x0 - RIM * eps, sb.y0 - RIM * eps, sb.x1 + RIM * eps, sb.y1 + RIM * eps};
+        if (!local_outline(o, grown, w.local)) {
+            (contour_inside(s, 0, o) ? inside : outside).push_back(pid);
+            return;
+        }
+    }
     if (convex) {
         int side =
             separation(s.x, s.y, s.n, o.x.data(), o.y.data(), (i64)o.x.size(), eps, o.len.data(), &arena.box[pid]);
@@ -176,21 +190,7 @@ void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps
             return;
         }
     }
-    const Outline* clip = &o;
-    if (limit > WORK_VERTICES) {  // the indexed loop
-        // No clip edge near the piece's box: the outline's boundary does not pass through
-        // the box, so the piece lies wholly inside or wholly outside it, as the winding
-        // number of any one of its points says. The clipper would find the same (its
-        // step 2) after sorting every vertex of both.
-        const Box& sb = arena.box[pid];
-        Box grown{sb.x0 - RIM * eps, sb.y0 - RIM * eps, sb.x1 + RIM * eps, sb.y1 + RIM * eps};
-        if (!local_outline(o, grown, w.local)) {
-            (contour_inside(s, 0, o) ? inside : outside).push_back(pid);
-            return;
-        }
-        clip = &w.local;
-    }
-    bool indexed = limit > WORK_VERTICES;
+    const Outline* clip = indexed ? &w.local : &o;
     bool parts_clean = clip_into(s, clip->view(), eps, w.in, w.out, w.clip, indexed && w.is_clean(arena, pid, eps),
                                  keep_inside, indexed && clip->clean ? clip->own.data() : nullptr);
     // A clip that holds the piece whole on one side (the boundaries apart: the clipper's
