@@ -491,7 +491,7 @@ void grouped(const i64* keys, i64 m, i64 n, std::vector<i64>& starts, std::vecto
 }
 
 bool clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Shape& out, ClipScratch& scratch,
-               bool subject_clean, bool want_inside, const char* clip_own) {
+               bool subject_clean, bool want_inside, const char* clip_own, const Box* subject_box) {
     in.clear();
     out.clear();
     if (s.nst < 2 || s.n == 0) {
@@ -499,7 +499,7 @@ bool clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Sh
         out.st.push_back(0);
         return true;
     }
-    Box sb = s.n > 0 ? shape_bbox(s.x, s.y, s.n) : Box{}, cb = c.n > 0 ? shape_bbox(c.x, c.y, c.n) : Box{};
+    Box sb = subject_box ? *subject_box : shape_bbox(s.x, s.y, s.n), cb = c.n > 0 ? shape_bbox(c.x, c.y, c.n) : Box{};
     if (c.nst < 2 || c.n == 0 || cb.x0 >= sb.x1 - eps || cb.x1 <= sb.x0 + eps || cb.y0 >= sb.y1 - eps ||
         cb.y1 <= sb.y0 + eps) {
         in.st.push_back(0);

@@ -28,11 +28,13 @@ struct ClipScratch {
 // empty); the outside part is the same.
 // clip_own (may be null: nothing known): per clip vertex, 1 when it and the edge from it
 // belong to a self-clean outline, whose pairs the clean road then need not check again.
+// subject_box (may be null): s's box as shape_bbox gives it, when the caller holds it.
 // Returns whether both parts are self_clean for certain: the subject was, and the pair
 // took the clean road (its parts' vertices and edges are the subject's and clip's, and
 // crossings, all of them checked apart from one another) or did not meet.
 bool clip_into(const ShapeView& s, const ShapeView& c, double eps, Shape& in, Shape& out, ClipScratch& scratch,
-               bool subject_clean = false, bool want_inside = true, const char* clip_own = nullptr);
+               bool subject_clean = false, bool want_inside = true, const char* clip_own = nullptr,
+               const Box* subject_box = nullptr);
 
 // Whether no vertex of s comes within a few eps of an edge of s that it does not end
 // (nor of another vertex): a subject the clean road can take.

@@ -192,7 +192,7 @@ void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps
     }
     const Outline* clip = indexed ? &w.local : &o;
     bool parts_clean = clip_into(s, clip->view(), eps, w.in, w.out, w.clip, indexed && w.is_clean(arena, pid, eps),
-                                 keep_inside, indexed && clip->clean ? clip->own.data() : nullptr);
+                                 keep_inside, indexed && clip->clean ? clip->own.data() : nullptr, &arena.box[pid]);
     // A clip that holds the piece whole on one side (the boundaries apart: the clipper's
     // step 2) hands on the piece itself, not a copy.
     if (indexed && (w.in.st.size() <= 1 || w.out.st.size() <= 1)) {
@@ -405,9 +405,9 @@ struct Solver {
         else y1 = std::floor(0.5 * (b.y0 + b.y1));
         const double hx[4] = {x0, x1, x1, x0}, hy[4] = {y0, y0, y1, y1};
         const i64 hl[4] = {EDGE_CUT, EDGE_CUT, EDGE_CUT, EDGE_CUT}, hs[2] = {0, 4};
-        Shape a, c;
-        bool parts_clean =
-            clip_into(s, ShapeView{hx, hy, hl, hs, 4, 2}, eps, a, c, work.clip, work.is_clean(arena, pid, eps));
+        Shape &a = work.in, &c = work.out;  // free again once both are stored, before the recursion
+        bool parts_clean = clip_into(s, ShapeView{hx, hy, hl, hs, 4, 2}, eps, a, c, work.clip,
+                                     work.is_clean(arena, pid, eps), true, nullptr, &b);
         i64 source = arena.source(pid);
         if (a.st.size() < 2 || c.st.size() < 2) return out.push_back(pid);  // the line missed it
         i64 ka = arena.add(a, source), kc = arena.add(c, source);
