@@ -168,28 +168,30 @@ bool along(const std::vector<CleanCrossing>& ks, std::vector<i64>& order, Edge e
 // (what the general road's split gives a clean pair); base: the id of vertex 0.
 void with_crossings(const ShapeView& s, i64 base, const std::vector<CleanCrossing>& ks,
                     const std::vector<i64>& order, bool subject, IdShape& out) {
-    out.ids.clear();
-    out.lab.clear();
+    out.ids.resize(s.n + order.size());  // every vertex, and every crossing once
+    out.lab.resize(s.n + order.size());
     out.st.assign(s.nst, 0);
     size_t k = 0;
+    i64 n = 0;
     for (i64 r = 0; r + 1 < s.nst; ++r) {
-        out.st[r] = (i64)out.ids.size();
+        out.st[r] = n;
         for (i64 v = s.st[r]; v < s.st[r + 1]; ++v) {
-            out.ids.push_back(base + v);
-            out.lab.push_back(s.lab[v]);
+            out.ids[n] = base + v;
+            out.lab[n++] = s.lab[v];
             for (; k < order.size() && (subject ? ks[order[k]].v : ks[order[k]].u) == v; ++k) {
-                out.ids.push_back(ks[order[k]].id);
-                out.lab.push_back(s.lab[v]);
+                out.ids[n] = ks[order[k]].id;
+                out.lab[n++] = s.lab[v];
             }
         }
     }
-    out.st[s.nst - 1] = (i64)out.ids.size();
+    out.st[s.nst - 1] = n;
 }
 
 // The general road's classify for a clean pair: the side of an edge changes only at a
 // crossing, so the winding number is taken once per run of edges that starts at a
-// contour's first vertex or at a crossing.
-void classify_runs(const ShapeView& s, const ShapeView& c, const Box& sb, ClipScratch::Arrays& w) {
+// contour's first vertex or at a crossing. want_inside false: the inside part's edges are
+// not gathered (it is not traced).
+void classify_runs(const ShapeView& s, const ShapeView& c, const Box& sb, bool want_inside, ClipScratch::Arrays& w) {
     const std::vector<double>&px = w.px, &py = w.py;
     i64 first_crossing = s.n + c.n;
     for (size_t r = 0; r + 1 < w.s2.st.size(); ++r) {
@@ -199,7 +201,8 @@ void classify_runs(const ShapeView& s, const ShapeView& c, const Box& sb, ClipSc
             i64 a = w.s2.ids[v], b = w.s2.ids[next_in_ring(v, ra, rb)];
             if (v == ra || a >= first_crossing)
                 inside = winding(0.5 * (px[a] + px[b]), 0.5 * (py[a] + py[b]), c.x, c.y, c.st, c.nst) > 0;
-            (inside ? w.ins : w.outs).add(a, b, w.s2.lab[v]);
+            if (!inside) w.outs.add(a, b, w.s2.lab[v]);
+            else if (want_inside) w.ins.add(a, b, w.s2.lab[v]);
         }
     }
     for (size_t r = 0; r + 1 < w.c2.st.size(); ++r) {
@@ -211,7 +214,7 @@ void classify_runs(const ShapeView& s, const ShapeView& c, const Box& sb, ClipSc
             bool in_sb = !(mx < sb.x0 || mx > sb.x1 || my < sb.y0 || my > sb.y1);
             if (v == ra || a >= first_crossing) inside = in_sb && winding(mx, my, s.x, s.y, s.st, s.nst) > 0;
             if (inside && in_sb) {
-                w.ins.add(a, b, w.c2.lab[v]);
+                if (want_inside) w.ins.add(a, b, w.c2.lab[v]);
                 w.outs.add(b, a, w.c2.lab[v]);  // walked backwards: it bounds the outside part
             }
         }
@@ -283,7 +286,7 @@ bool clip_clean(const ShapeView& s, const ShapeView& c, double eps, const Box& s
     with_crossings(c, s.n, w.crossings, w.by_clip, false, w.c2);
     w.ins.clear();
     w.outs.clear();
-    classify_runs(s, c, sb, w);
+    classify_runs(s, c, sb, want_inside, w);
     if (want_inside) trace(w.ins, w.px, w.py, eps, w, in);
     else in.st.assign(1, 0);
     trace(w.outs, w.px, w.py, eps, w, out);
