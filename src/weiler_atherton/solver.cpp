@@ -11,7 +11,7 @@
 
 #include "clipper.hpp"
 #include "arena.hpp"
-#include "convex.hpp"
+#include "convex_road.hpp"
 #include "depth.hpp"
 #include "holed_outline.hpp"
 #include "local_outline.hpp"
@@ -24,124 +24,6 @@ bool disjoint(const Box& p, const Box& b) { return p.x0 >= b.x1 || p.x1 <= b.x0 
 
 bool within(const Box& bb, const std::array<double, 4>& win) {
     return bb.x0 >= win[0] && bb.x1 <= win[2] && bb.y0 >= win[1] && bb.y1 <= win[3];
-}
-
-// Whether the contour (positive area) turns left or goes straight at every vertex.
-bool is_convex(const double* xs, const double* ys, i64 n) {
-    for (i64 i = 0; i < n; ++i) {
-        i64 j = (i + 1) % n, k = (i + 2) % n;
-        if ((xs[j] - xs[i]) * (ys[k] - ys[j]) - (ys[j] - ys[i]) * (xs[k] - xs[j]) < 0) return false;
-    }
-    return true;
-}
-
-// -- the short road for convex pairs (convex.hpp)
-
-constexpr i64 WORK_VERTICES = 64;  // a convex piece and outline with more vertices together take the paper's road
-// The indexed loop (solve_indexed) takes the convex road for convex pairs of any size:
-// cutting by m edge lines costs O(n m), no more than the paper's clipper on such a pair,
-// and its outside stays convex pieces instead of one growing polygon with holes. (The
-// chain loop keeps the limit above, so its images keep their recorded bits.)
-constexpr i64 INDEXED_WORK_VERTICES = i64(1) << 40;
-constexpr i64 SPLIT_VERTICES = 64;  // the indexed loop halves pieces with more vertices (Solver::halve)
-
-// Scratch rows for cutting one convex piece: current x, y; left part x, y; right part x,
-// y; line values; labels current, left, right. Rows grow (never shrink) to what a split
-// can write, so no input can write past them.
-struct Work {
-    std::vector<double> f[7];
-    std::vector<i64> l[3];
-    Outline local;  // the outline a piece's box sees (local_outline)
-    std::vector<signed char> clean;  // per piece: self_clean (-1: not known yet)
-    Shape in, out;  // a clip's two parts
-    ClipScratch clip;  // the clipper's working arrays
-    void ensure(i64 n) {
-        size_t need = (size_t)(2 * n + 2);
-        if (f[0].size() >= need) return;
-        for (auto& r : f) r.resize(need);
-        for (auto& r : l) r.resize(need);
-    }
-    // whether piece pid is self_clean (computed once: pieces do not change)
-    bool is_clean(const Arena& arena, i64 pid, double eps) {
-        if ((i64)clean.size() < arena.size()) clean.resize(arena.size(), -1);
-        if (clean[pid] < 0) clean[pid] = self_clean(arena.piece(pid), eps, clip);
-        return clean[pid] > 0;
-    }
-    // piece pid is known to be self_clean (clip_into said so of the parts it came from)
-    void known_clean(const Arena& arena, i64 pid) {
-        if ((i64)clean.size() < arena.size()) clean.resize(arena.size(), -1);
-        clean[pid] = 1;
-    }
-    i64 load(const ShapeView& s) {
-        ensure(s.n);
-        std::copy(s.x, s.x + s.n, f[0].begin());
-        std::copy(s.y, s.y + s.n, f[1].begin());
-        std::copy(s.lab, s.lab + s.n, l[0].begin());
-        return s.n;
-    }
-    // the left part becomes the current contour
-    i64 keep_left(i64 nl) {
-        ensure(nl);
-        std::copy(f[2].begin(), f[2].begin() + nl, f[0].begin());
-        std::copy(f[3].begin(), f[3].begin() + nl, f[1].begin());
-        std::copy(l[1].begin(), l[1].begin() + nl, l[0].begin());
-        return nl;
-    }
-    std::pair<i64, i64> split(i64 n, double tol, i64 line_label) {
-        return split_convex(f[0].data(), f[1].data(), l[0].data(), n, f[6].data(), tol, line_label, f[2].data(),
-                            f[3].data(), l[1].data(), f[4].data(), f[5].data(), l[2].data());
-    }
-};
-
-// Whether a piece is one convex contour small enough for the scratch rows, with `extra`
-// vertices (those of the outline) added by the cuts.
-bool takes_convex_road(const ShapeView& s, i64 extra, i64 limit = WORK_VERTICES) {
-    return s.nst == 2 && s.n + extra + 2 <= limit && is_convex(s.x, s.y, s.n);
-}
-
-// Piece pid (one convex contour) clipped by a convex outline, edge line by edge line:
-// the part beyond each line goes to the outside list, what is left at the end to the
-// inside list (a part of area eps**2 or less is dropped, as the clipper drops it). A
-// piece no line cuts goes whole to its list.
-void cut_by_outline(Arena& arena, i64 pid, i64 source, const Outline& o, double eps, Work& w,
-                    std::vector<i64>& inside, std::vector<i64>& outside) {
-    i64 n = w.load(arena.piece(pid));
-    double tiny = eps * eps;
-    i64 m = (i64)o.x.size();
-    bool cut = false;
-    for (i64 i = 0; i < m; ++i) {
-        i64 j = i + 1 < m ? i + 1 : 0;
-        double tol = eps * edge_line_values(w.f[0].data(), w.f[1].data(), n, o.x[i], o.y[i], o.x[j], o.y[j],
-                                            w.f[6].data());
-        auto [below, above] = vertex_sides(w.f[6].data(), n, tol);
-        if (!above) continue;
-        if (!below) {  // the rest lies beyond this edge: all of it outside
-            outside.push_back(cut ? arena.add_contour(w.f[0].data(), w.f[1].data(), w.l[0].data(), n, source) : pid);
-            return;
-        }
-        auto [nl, nr] = w.split(n, tol, o.lab[i]);
-        if (ring_area_of(w.f[4].data(), w.f[5].data(), 0, nr) > tiny)
-            outside.push_back(arena.add_contour(w.f[4].data(), w.f[5].data(), w.l[2].data(), nr, source));
-        n = w.keep_left(nl);
-        cut = true;
-    }
-    if (!cut) inside.push_back(pid);
-    else if (ring_area_of(w.f[0].data(), w.f[1].data(), 0, n) > tiny)
-        inside.push_back(arena.add_contour(w.f[0].data(), w.f[1].data(), w.l[0].data(), n, source));
-}
-
-// The part a x + b y + c <= 0 of piece pid (one convex contour), its edge along the line
-// labelled EDGE_CROSSING, stored as a new piece: its index, or -1 when it has area eps**2
-// or less. Only for a piece the line crosses (its relation is 0).
-i64 cut_by_plane_line(Arena& arena, i64 pid, i64 source, double a, double b, double c, double eps, Work& w) {
-    i64 n = w.load(arena.piece(pid));
-    double tol = eps * plane_line_values(w.f[0].data(), w.f[1].data(), n, a, b, c, w.f[6].data());
-    auto [below, above] = vertex_sides(w.f[6].data(), n, tol);
-    if (!below) return -1;
-    if (!above) return pid;
-    i64 nl = w.split(n, tol, EDGE_CROSSING).first;
-    if (ring_area_of(w.f[2].data(), w.f[3].data(), 0, nl) <= eps * eps) return -1;
-    return arena.add_contour(w.f[2].data(), w.f[3].data(), w.l[1].data(), nl, source);
 }
 
 // Whether shape a holds the same contours as b, bit for bit.
@@ -467,11 +349,25 @@ struct Solver {
         for (i64 pid : first) enter(pid, position[arena.source(pid)]);
         std::vector<i64> inside, parts, met, halves, dropped;
         const std::vector<i64> empty;
+        // a polygon's first piece when it is its whole outline (inside the window): the two
+        // are self_clean together (self_clean reads no labels), so one check does for both
+        std::vector<i64> whole_piece(npoly, -1);
+        for (i64 pid : first)
+            if (within(box_of(obb, arena.source(pid)), win)) whole_piece[arena.source(pid)] = pid;
+        // per group of a polygon with holes: whether its parts' planes are one (bit for bit)
+        std::vector<signed char> one_plane(npoly, -1);
+        auto same_plane = [&](i64 g) {
+            if (one_plane[g] < 0) {
+                one_plane[g] = 1;
+                for (i64 q : holed.parts[g])
+                    for (int c = 0; c < 3; ++c)
+                        if (planes[3 * q + c] != planes[3 * holed.parts[g][0] + c]) one_plane[g] = 0;
+            }
+            return one_plane[g] > 0;
+        };
         for (i64 p = 0; p < n; ++p) {
             i64 src = order[p];
-            Outline o = outline_of(ox, oy, ost, src);
             Box box = box_of(obb, src);
-            bool convex = is_convex(o.x.data(), o.y.data(), (i64)o.x.size());
             met.clear();
             i64 i0, i1, j0, j1;
             span(box, i0, i1, j0, j1);
@@ -499,15 +395,20 @@ struct Solver {
                 pos[met[k]] = -1;
             }
             if (inside.empty()) continue;  // nothing of this polygon is left in the window
-            o.clean = self_clean(o.view(), eps, work.clip);
+            Outline o = outline_of(ox, oy, ost, src);
+            bool convex = is_convex(o.x.data(), o.y.data(), (i64)o.x.size());
+            i64 wp = whole_piece[src];
+            o.clean = wp >= 0 ? work.is_clean(arena, wp, eps) : self_clean(o.view(), eps, work.clip);
             index_chunks(o);
             i64 g = holed.holed_group(src);
             for (; k < met.size(); ++k) {
                 i64 pid = met[k], q = pos[pid];
                 parts.clear();
-                bool behind = wholly_behind(arena.piece(pid), arena.source(pid), src, planes, eps_z);
                 // a piece wholly behind a part of a polygon with holes lies behind all of
-                // it (one plane): clipped by the whole polygon once, skipped by its other parts
+                // it (one plane): clipped by the whole polygon once, skipped by its other
+                // parts (a piece cut from one so clipped lies outside the whole polygon)
+                if (g >= 0 && cleared[pid] == g && same_plane(g)) continue;
+                bool behind = wholly_behind(arena.piece(pid), arena.source(pid), src, planes, eps_z);
                 bool whole = behind && g >= 0;
                 if (whole && cleared[pid] == g) continue;
                 dropped.clear();
