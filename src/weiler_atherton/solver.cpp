@@ -457,16 +457,30 @@ Visible solve_window(const double* ox, const double* oy, const i64* ost, i64 npo
     const double wxs[4] = {win[0], win[2], win[2], win[0]}, wys[4] = {win[1], win[1], win[3], win[3]};
     const i64 wl[4] = {EDGE_CUT, EDGE_CUT, EDGE_CUT, EDGE_CUT}, ws[2] = {0, 4};
     ShapeView window{wxs, wys, wl, ws, 4, 2};
+    // (the indexed loop lets a self-clean polygon take the clipper's clean road, the same
+    // bits sooner; the chain loop keeps the call its recorded bits were made with)
     std::vector<i64> first;
+    Shape piece, outside;
     for (i64 k = 0; k < norder; ++k) {
         i64 s = order[k], a = ost[s], b = ost[s + 1];
-        Shape piece;
         piece.x.assign(ox + a, ox + b);
         piece.y.assign(oy + a, oy + b);
         piece.lab.assign(b - a, EDGE_OWN);
         piece.st = {0, b - a};
-        if (!within(box_of(obb, s), win)) piece = clip_arrays(piece.view(), window, eps).first;
-        if (piece.st.size() > 1) first.push_back(S.arena.add(piece, s));
+        bool clean = false;
+        if (!within(box_of(obb, s), win)) {
+            if (indexed) {
+                Shape whole = piece;
+                clean = clip_into(whole.view(), window, eps, piece, outside, S.work.clip,
+                                  self_clean(whole.view(), eps, S.work.clip));
+            } else {
+                piece = clip_arrays(piece.view(), window, eps).first;
+            }
+        }
+        if (piece.st.size() > 1) {
+            first.push_back(S.arena.add(piece, s));
+            if (clean) S.work.known_clean(S.arena, first.back());
+        }
     }
     if (indexed) S.solve_indexed(first, order, norder, npoly, win, group);
     else S.solve(first, order, norder, npoly);
