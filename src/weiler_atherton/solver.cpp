@@ -56,7 +56,11 @@ void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps
             return;
         }
     }
-    if (convex) {
+    // (the indexed loop asks separation only of a piece the convex road would cut: any
+    // other piece the clip below hands on whole when it lies to one side, and pieces with
+    // an outline edge near them mostly straddle it, so the test of every edge was spent)
+    bool road = convex && convex_road && takes_convex_road(s, (i64)o.x.size(), limit);
+    if (convex && (road || !indexed)) {
         int side =
             separation(s.x, s.y, s.n, o.x.data(), o.y.data(), (i64)o.x.size(), eps, o.len.data(), &arena.box[pid]);
         if (side == OUTSIDE) {
@@ -67,7 +71,7 @@ void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps
             inside.push_back(pid);
             return;
         }
-        if (convex_road && takes_convex_road(s, (i64)o.x.size(), limit)) {
+        if (road) {
             cut_by_outline(arena, pid, source, o, eps, w, inside, outside);
             return;
         }
