@@ -59,13 +59,19 @@ void edge_boxes(const ShapeView& s, double g, std::vector<Box>& boxes) {
     }
 }
 
+// The box holding boxes a and b.
+Box join(const Box& a, const Box& b) {
+    return Box{pmin(a.x0, b.x0), pmin(a.y0, b.y0), pmax(a.x1, b.x1), pmax(a.y1, b.y1)};
+}
+
 // The union of the boxes (boxes not empty).
 Box union_of(const std::vector<Box>& boxes) {
     Box all = boxes[0];
-    for (const Box& b : boxes)
-        all = Box{pmin(all.x0, b.x0), pmin(all.y0, b.y0), pmax(all.x1, b.x1), pmax(all.y1, b.y1)};
+    for (const Box& b : boxes) all = join(all, b);
     return all;
 }
+
+constexpr size_t NEAR_GROUP = 4;  // near clip edges a group box holds (clean_crossings)
 
 // Whether every clip vertex stays apart from every clip edge near the subject (its
 // starts in w.near) that it does not end: the general road would insert such a vertex
@@ -100,6 +106,16 @@ bool clip_edges_clean(const ShapeView& c, const std::vector<i64>& near, const st
 // misses it meets none of them).
 bool clean_crossings(const ShapeView& s, const ShapeView& c, double eps, double tol, const Box& all,
                      ClipScratch::Arrays& w) {
+    // the near edges in groups of NEAR_GROUP consecutive ones (mostly neighbours along the
+    // outline, so their boxes together stay small), each group's boxes together: a
+    // subject edge whose box misses a group's meets none of its edges
+    const size_t m = w.near_boxes.size();
+    w.group_boxes.clear();
+    for (size_t g = 0; g < m; g += NEAR_GROUP) {
+        Box u = w.near_boxes[g];
+        for (size_t e = g + 1; e < g + NEAR_GROUP && e < m; ++e) u = join(u, w.near_boxes[e]);
+        w.group_boxes.push_back(u);
+    }
     for (i64 r = 0; r + 1 < s.nst; ++r) {
         i64 a = s.st[r], b = s.st[r + 1];
         for (i64 v = a; v < b; ++v) {
@@ -108,6 +124,10 @@ bool clean_crossings(const ShapeView& s, const ShapeView& c, double eps, double 
             const Box& sg = w.subject_boxes[v];
             if (!boxes_meet(sg, all)) continue;
             for (size_t e = 0; e < w.near.size(); e += 2) {
+                if ((e / 2) % NEAR_GROUP == 0 && !boxes_meet(sg, w.group_boxes[(e / 2) / NEAR_GROUP])) {
+                    e += 2 * (NEAR_GROUP - 1);  // the whole group (the loop adds the last 2)
+                    continue;
+                }
                 const Box& cg = w.near_boxes[e / 2];
                 if (!boxes_meet(sg, cg)) continue;
                 i64 u = w.near[e], z = w.near[e + 1];

@@ -56,6 +56,7 @@ struct ClipScratch::Arrays {
     std::vector<CleanCrossing> crossings;
     std::vector<i64> by_subject, by_clip;  // crossing indices ordered along each shape
     std::vector<Box> subject_boxes, near_boxes;  // edge boxes grown by the clean margin
+    std::vector<Box> group_boxes;  // near_boxes together, a few at a time (clean_crossings)
     std::vector<i64> by_x;  // vertex indices ordered by x (self_clean)
     std::vector<i64> close;  // clip vertices near the subject (clip_edges_clean)
     std::vector<i64> exit;  // per point, the one edge that starts there (trace)
