@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from aaeval.native.weiler_atherton import add_coverage
+from aaeval.native.weiler_atherton import add_coverage, coverage_over
 from aaeval.scenes import Scene
 
 __all__ = ["coverage", "coverage_flat", "box_filter"]
@@ -70,7 +70,7 @@ def box_filter(scene: Scene, pieces) -> np.ndarray:
     # is the background plus (colour - background) * area summed
     background = np.asarray(scene.background, dtype=np.float64)
     colors = np.array([p.color for p in scene.polygons], dtype=np.float64).reshape(-1, 3) - background
-    image = np.empty((scene.height, scene.width, 3))
-    image[:] = background
-    _add_coverage(xs, ys, starts, colors[ring_source].reshape(-1, 3), image)
-    return image
+    return coverage_over(np.ascontiguousarray(xs, dtype=np.float64), np.ascontiguousarray(ys, dtype=np.float64),
+                         np.ascontiguousarray(starts, dtype=np.int64),
+                         np.ascontiguousarray(colors[ring_source].reshape(-1, 3)), background, scene.height,
+                         scene.width)

@@ -274,6 +274,31 @@ void add_coverage(const In& xs, const In& ys, const In& starts, const In& weight
     wa::add_coverage(x, y, st, nst - 1, wt, o, h, w, k);
 }
 
+// A new (h, w, k) image: base (k values) plus the per-pixel sum of weights[ring] * the
+// ring's area over the pixel (add_coverage on an image filled with base, without the fill).
+nb::ndarray<nb::numpy, double> coverage_over(const In& xs, const In& ys, const In& starts, const In& weights,
+                                             const In& base, i64 h, i64 w) {
+    const double* x = checked<const double>(xs, "xs", 1);
+    i64 n = (i64)xs.shape(0), nst;
+    const double* y = checked<const double>(ys, "ys", 1, {n});
+    const i64* st = checked_starts(starts, "starts", n, nst, 0);
+    if (nst == 0) refuse("starts must hold one entry more than there are contours");
+    const double* b = checked<const double>(base, "base", 1);
+    const i64 k = (i64)base.shape(0);
+    const double* wt = checked<const double>(weights, "weights", 2, {nst - 1, k});
+    if (h < 0 || w < 0 || k < 1 || h > (i64(1) << 20) || w > (i64(1) << 20) || h * w > (i64(1) << 34) / k)
+        refuse("image size must be between 0 and 2^20 a side and base hold at least one channel");
+    check_finite(x, n, "xs");
+    check_finite(y, n, "ys");
+    double* o = nullptr;
+    auto image = aaeval::results::new_array<double>({(size_t)h, (size_t)w, (size_t)k}, o, false);
+    {
+        nb::gil_scoped_release release;
+        wa::coverage_over(x, y, st, nst - 1, wt, b, o, h, w, k);
+    }
+    return image;
+}
+
 // Connected components of the graph on n nodes with edges a[i] - b[i]: each node's label
 // is the smallest node of its component (union-find).
 nb::object components(i64 n, const In& a_, const In& b_) {
@@ -408,6 +433,8 @@ NB_MODULE(weiler_atherton, m) {
           "[(source, xs, ys, labels, starts), ...] for the regions of positive area.");
     m.def("add_coverage", &add_coverage, "xs"_a, "ys"_a, "starts"_a, "weights"_a, "out"_a,
           "out (h, w, k) += per-pixel sum of weights[ring] * the ring's area over the pixel.");
+    m.def("coverage_over", &coverage_over, "xs"_a, "ys"_a, "starts"_a, "weights"_a, "base"_a, "h"_a, "w"_a,
+          "A new (h, w, k) image: base plus the per-pixel sum of weights[ring] * the ring's area over the pixel.");
     m.def("components", &components, "n"_a, "a"_a, "b"_a,
           "Connected components of the graph with edges a[i] - b[i]: each node's smallest node of its component.");
     m.def("split_convex", &split_convex, "xs"_a, "ys"_a, "labels"_a, "n"_a, "d"_a, "tol"_a, "line_label"_a, "lx"_a,

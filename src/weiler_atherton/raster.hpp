@@ -11,4 +11,9 @@ namespace wa {
 void add_coverage(const double* xs, const double* ys, const i64* starts, i64 nrings, const double* weights,
                   double* out, i64 h, i64 w, i64 k);
 
+// out (h, w, k), C order, written whole: base (k values) plus the same sum, with the bits
+// of add_coverage on an out filled with base.
+void coverage_over(const double* xs, const double* ys, const i64* starts, i64 nrings, const double* weights,
+                   const double* base, double* out, i64 h, i64 w, i64 k);
+
 }  // namespace wa

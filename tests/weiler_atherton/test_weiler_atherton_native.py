@@ -80,6 +80,29 @@ def test_add_coverage_refuses_mismatched_weights_and_output():
     assert out[..., 0].sum() == 4.0 and out[0, 0, 1] == 1.0
 
 
+def test_coverage_over_is_add_coverage_on_an_image_filled_with_its_base():
+    """Bit for bit, on random rings reaching past every side of the image (and holes: rings
+    wound negative), with the refusals of add_coverage and its own for the base."""
+    rng = np.random.default_rng(5)
+    for _ in range(40):
+        h, w, k = int(rng.integers(1, 12)), int(rng.integers(1, 12)), int(rng.integers(1, 4))
+        lengths = rng.integers(3, 9, int(rng.integers(1, 6)))
+        starts = np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64)
+        xs, ys = rng.uniform(-3, w + 3, starts[-1]), rng.uniform(-3, h + 3, starts[-1])
+        weights, base = rng.normal(size=(len(lengths), k)), rng.normal(size=k)
+        filled = np.empty((h, w, k))
+        filled[:] = base
+        wa.add_coverage(xs, ys, starts, weights, filled)
+        image = wa.coverage_over(xs, ys, starts, weights, base, h, w)
+        assert image.shape == (h, w, k) and image.tobytes() == filled.tobytes()
+    xs, ys, _, starts = SQ
+    refused(lambda: wa.coverage_over(xs, ys, starts, np.ones((1, 3)), np.zeros(2), 3, 3), "axis 1")
+    refused(lambda: wa.coverage_over(xs, ys, starts, np.ones((1, 2)), np.zeros((1, 2)), 3, 3), "dimension")
+    refused(lambda: wa.coverage_over(xs, ys, starts, np.ones((1, 0)), np.zeros(0), 3, 3), "one channel")
+    refused(lambda: wa.coverage_over(xs, ys, starts, np.ones((1, 2)), np.zeros(2), -1, 3), "image size")
+    refused(lambda: wa.coverage_over(xs, ys, np.array([0, 2]), np.ones((1, 2)), np.zeros(2), 3, 3), "must end at")
+
+
 def test_split_convex_refuses_rows_too_short():
     xs, ys, labels, _ = SQ
     d = np.array([-1.0, 1.0, 1.0, -1.0])
@@ -167,7 +190,13 @@ def hostile_calls(seed: int, count: int):
             nr, k = max(len(s[3]) - 1, 0), int(rng.integers(0, 4))
             weights = rng.normal(size=(nr + (rng.random() < 0.05), k))
             out = np.zeros((int(rng.integers(0, 6)), int(rng.integers(0, 6)), k))
-            yield lambda s=s, weights=weights, out=out: wa.add_coverage(s[0], s[1], s[3], weights, out)
+            if rng.random() < 0.5:
+                yield lambda s=s, weights=weights, out=out: wa.add_coverage(s[0], s[1], s[3], weights, out)
+            else:
+                base = rng.normal(size=k + (rng.random() < 0.05))
+                h, w = out.shape[0] - int(rng.random() < 0.05), out.shape[1]
+                yield lambda s=s, weights=weights, base=base, h=h, w=w: wa.coverage_over(
+                    s[0], s[1], s[3], weights, base, h, w)
         else:
             n = int(rng.integers(0, 8))
             m = int(rng.integers(0, 2 * n + 3))
