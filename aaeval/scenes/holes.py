@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 from itertools import chain
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 
