@@ -71,6 +71,13 @@ Box union_of(const std::vector<Box>& boxes) {
     return all;
 }
 
+// What crossing edge q0-q1 at a proper crossing adds to the winding number about it of a
+// point walking to e (the walk's end beyond the crossing): +1 onto its left (the sign is
+// proper_crossing's own test of that end, which holds it more than eps from the line).
+int turn(double q0x, double q0y, double q1x, double q1y, double ex, double ey) {
+    return (q1x - q0x) * (ey - q0y) - (q1y - q0y) * (ex - q0x) > 0.0 ? 1 : -1;
+}
+
 constexpr size_t NEAR_GROUP = 4;  // near clip edges a group box holds (clean_crossings)
 
 // Whether every clip vertex stays apart from every clip edge near the subject (its
@@ -139,7 +146,9 @@ bool clean_crossings(const ShapeView& s, const ShapeView& c, double eps, double 
                 double ts = on_segment(k.x, k.y, p0x, p0y, p1x, p1y, eps);
                 double tc = on_segment(k.x, k.y, q0x, q0y, q1x, q1y, eps);
                 if (ts < 0.0 || tc < 0.0) return false;
-                w.crossings.push_back(CleanCrossing{v, u, ts, tc, (i64)w.px.size()});
+                w.crossings.push_back(CleanCrossing{v, u, ts, tc, (i64)w.px.size(),
+                                                    turn(q0x, q0y, q1x, q1y, p1x, p1y),
+                                                    turn(p0x, p0y, p1x, p1y, q1x, q1y)});
                 w.px.push_back(k.x);
                 w.py.push_back(k.y);
             }
@@ -208,32 +217,35 @@ void with_crossings(const ShapeView& s, i64 base, const std::vector<CleanCrossin
 }
 
 // The general road's classify for a clean pair: the side of an edge changes only at a
-// crossing, so the winding number is taken once per run of edges that starts at a
-// contour's first vertex or at a crossing. want_inside false: the inside part's edges are
-// not gathered (it is not traced).
+// crossing, where the winding number about the other shape moves by the crossing's turn
+// (a clean crossing is proper, far from every other edge), so it is taken once per
+// contour, at its first edge, and carried along. want_inside false: the inside part's
+// edges are not gathered (it is not traced).
 void classify_runs(const ShapeView& s, const ShapeView& c, const Box& sb, bool want_inside, ClipScratch::Arrays& w) {
     const std::vector<double>&px = w.px, &py = w.py;
     i64 first_crossing = s.n + c.n;
     for (size_t r = 0; r + 1 < w.s2.st.size(); ++r) {
         i64 ra = w.s2.st[r], rb = w.s2.st[r + 1];
-        bool inside = false;
+        i64 wn = 0;
         for (i64 v = ra; v < rb; ++v) {
             i64 a = w.s2.ids[v], b = w.s2.ids[next_in_ring(v, ra, rb)];
-            if (v == ra || a >= first_crossing)
-                inside = winding(0.5 * (px[a] + px[b]), 0.5 * (py[a] + py[b]), c.x, c.y, c.st, c.nst) > 0;
-            if (!inside) w.outs.add(a, b, w.s2.lab[v]);
+            if (v == ra) wn = winding(0.5 * (px[a] + px[b]), 0.5 * (py[a] + py[b]), c.x, c.y, c.st, c.nst);
+            else if (a >= first_crossing) wn += w.crossings[a - first_crossing].subject_turn;
+            if (wn <= 0) w.outs.add(a, b, w.s2.lab[v]);
             else if (want_inside) w.ins.add(a, b, w.s2.lab[v]);
         }
     }
     for (size_t r = 0; r + 1 < w.c2.st.size(); ++r) {
         i64 ra = w.c2.st[r], rb = w.c2.st[r + 1];
-        bool inside = false;
+        i64 wn = 0;
         for (i64 v = ra; v < rb; ++v) {
             i64 a = w.c2.ids[v], b = w.c2.ids[next_in_ring(v, ra, rb)];
             double mx = 0.5 * (px[a] + px[b]), my = 0.5 * (py[a] + py[b]);
             bool in_sb = !(mx < sb.x0 || mx > sb.x1 || my < sb.y0 || my > sb.y1);
-            if (v == ra || a >= first_crossing) inside = in_sb && winding(mx, my, s.x, s.y, s.st, s.nst) > 0;
-            if (inside && in_sb) {
+            // a point outside the subject's box winds 0 about it
+            if (v == ra) wn = in_sb ? winding(mx, my, s.x, s.y, s.st, s.nst) : 0;
+            else if (a >= first_crossing) wn += w.crossings[a - first_crossing].clip_turn;
+            if (wn > 0 && in_sb) {
                 if (want_inside) w.ins.add(a, b, w.c2.lab[v]);
                 w.outs.add(b, a, w.c2.lab[v]);  // walked backwards: it bounds the outside part
             }

@@ -34,11 +34,14 @@ struct Keyed {
 };
 
 // A crossing of the clean road: its subject edge (start vertex v), its clip edge (start
-// vertex u), its parameters along both (on_segment's) and its point's index.
+// vertex u), its parameters along both (on_segment's), its point's index, and what
+// crossing there adds to the winding number about the other shape of a point walking
+// along the subject (subject_turn) and along the clip (clip_turn): +1 or -1.
 struct CleanCrossing {
     i64 v, u;
     double ts, tc;
     i64 id;
+    int subject_turn, clip_turn;
 };
 
 // Every working array of one clip, kept between calls so that a clip allocates nothing
