@@ -142,7 +142,7 @@ bool local_outline(const Outline& o, const Box& b, Outline& local) {
             local.st.push_back((i64)local.x.size());
         } else if (o.st.size() > 2) {  // a single ring away from b: no outline near b at all
             double qx = 0.5 * (b.x0 + b.x1), qy = 0.5 * (b.y0 + b.y1);
-            far_winding += winding(qx, qy, o.x.data(), o.y.data(), o.st.data() + r, 2);
+            far_winding += ring_winding(qx, qy, o, (i64)r);
         }
     }
     if (!near) return false;
@@ -168,22 +168,25 @@ bool contour_inside(const ShapeView& s, i64 r, const Outline& o) {
     return outline_winding(0.5 * (s.x[a] + s.x[c]), 0.5 * (s.y[a] + s.y[c]), o) > 0;
 }
 
-// winding(px, py) about outline o, its chunks (when indexed) passed whole where their
-// box lies above py or at or below it: none of their edges spans py, so none adds to
-// the sum (winds), which is an integer, the same in any order.
-i64 outline_winding(double px, double py, const Outline& o) {
-    if (o.chunk.empty()) return winding(px, py, o.x.data(), o.y.data(), o.st.data(), (i64)o.st.size());
-    i64 w = 0;
-    for (size_t r = 0; r + 1 < o.st.size(); ++r) {
-        i64 a = o.st[r], e = o.st[r + 1];
-        for (i64 v = a, k = o.chunk_first[r]; v < e; v += CHUNK, ++k) {
-            if (o.chunk[k].y0 > py || o.chunk[k].y1 <= py) continue;
-            for (i64 i = v; i < v + CHUNK && i < e; ++i) {
-                i64 j = i + 1 < e ? i + 1 : a;
-                w += winds(px, py, o.x[i], o.y[i], o.x[j], o.y[j]);
-            }
+// winding(px, py) about ring r of outline o, its chunks (when indexed) passed whole where
+// their box lies above py or at or below it: none of their edges spans py, so none adds
+// to the sum (winds), which is an integer, the same in any order.
+i64 ring_winding(double px, double py, const Outline& o, i64 r) {
+    if (o.chunk.empty()) return winding(px, py, o.x.data(), o.y.data(), o.st.data() + r, 2);
+    i64 a = o.st[r], e = o.st[r + 1], w = 0;
+    for (i64 v = a, k = o.chunk_first[r]; v < e; v += CHUNK, ++k) {
+        if (o.chunk[k].y0 > py || o.chunk[k].y1 <= py) continue;
+        for (i64 i = v; i < v + CHUNK && i < e; ++i) {
+            i64 j = i + 1 < e ? i + 1 : a;
+            w += winds(px, py, o.x[i], o.y[i], o.x[j], o.y[j]);
         }
     }
+    return w;
+}
+
+i64 outline_winding(double px, double py, const Outline& o) {
+    i64 w = 0;
+    for (size_t r = 0; r + 1 < o.st.size(); ++r) w += ring_winding(px, py, o, (i64)r);
     return w;
 }
 

@@ -45,6 +45,9 @@ bool local_outline(const Outline& o, const Box& b, Outline& local);
 // The winding number of point (px, py) about outline o (as winding gives it).
 i64 outline_winding(double px, double py, const Outline& o);
 
+// The winding number of point (px, py) about ring r of outline o.
+i64 ring_winding(double px, double py, const Outline& o, i64 r);
+
 // Whether contour r of shape s lies inside outline o (for a contour whose boundary and
 // o's are apart).
 bool contour_inside(const ShapeView& s, i64 r, const Outline& o);
