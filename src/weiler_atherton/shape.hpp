@@ -113,26 +113,21 @@ inline i64 winding(double px, double py, const double* xs, const double* ys, con
     return w;
 }
 
-// numpy's a.min() / a.max() of a float64 array (the first extreme; n > 0).
-inline double arr_min(const double* a, i64 n) {
-    double m = a[0];
-    for (i64 i = 1; i < n; ++i)
-        if (a[i] < m) m = a[i];
-    return m;
-}
-inline double arr_max(const double* a, i64 n) {
-    double m = a[0];
-    for (i64 i = 1; i < n; ++i)
-        if (a[i] > m) m = a[i];
-    return m;
-}
-
 struct Box {
     double x0, y0, x1, y1;
 };
 
+// numpy's xs.min(), ys.min(), xs.max(), ys.max() (each the first extreme; n > 0), in one
+// pass: each bound sees the same values in the same order as a pass of its own.
 inline Box shape_bbox(const double* xs, const double* ys, i64 n) {
-    return Box{arr_min(xs, n), arr_min(ys, n), arr_max(xs, n), arr_max(ys, n)};
+    Box b{xs[0], ys[0], xs[0], ys[0]};
+    for (i64 i = 1; i < n; ++i) {
+        if (xs[i] < b.x0) b.x0 = xs[i];
+        if (ys[i] < b.y0) b.y0 = ys[i];
+        if (xs[i] > b.x1) b.x1 = xs[i];
+        if (ys[i] > b.y1) b.y1 = ys[i];
+    }
+    return b;
 }
 
 // The vertex after v in the contour of vertices a..b-1.
