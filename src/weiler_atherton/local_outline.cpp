@@ -72,8 +72,9 @@ bool local_ring(const Outline& o, i64 r, const Box& b, Outline& local) {
         local.x.push_back(o.x[i]);
         local.y.push_back(o.y[i]);
         ++k;
-        local.own.push_back(near(i));
-        if (near(i)) continue;
+        bool edge_near = near(i);
+        local.own.push_back(edge_near);
+        if (edge_near) continue;
         // a run of edges away from b, from vertex i to the next vertex whose edge is near:
         // edge by edge, or a chunk at a time (its inner vertices' edges are far, so the
         // run cannot end inside it; nor can it reach `first`, whose edge is near)
