@@ -47,18 +47,6 @@ bool apart(double qx, double qy, const Box& grown, double p0x, double p0y, doubl
     return !in_box(qx, qy, grown) || distance2(qx, qy, p0x, p0y, p1x, p1y) > tol * tol;
 }
 
-// The box of every edge of s (by its start vertex), grown by g.
-void edge_boxes(const ShapeView& s, double g, std::vector<Box>& boxes) {
-    boxes.resize(s.n);
-    for (i64 r = 0; r + 1 < s.nst; ++r) {
-        i64 a = s.st[r], b = s.st[r + 1];
-        for (i64 v = a; v < b; ++v) {
-            i64 t = next_in_ring(v, a, b);
-            boxes[v] = segment_box(s.x[v], s.y[v], s.x[t], s.y[t], g);
-        }
-    }
-}
-
 // The box holding boxes a and b.
 Box join(const Box& a, const Box& b) {
     return Box{pmin(a.x0, b.x0), pmin(a.y0, b.y0), pmax(a.x1, b.x1), pmax(a.y1, b.y1)};
@@ -110,7 +98,8 @@ bool clip_edges_clean(const ShapeView& c, const std::vector<i64>& near, const st
 // order), or false where a subject vertex comes near a clip edge, a clip vertex near a
 // subject edge, or a crossing lies where the general road would not split both edges
 // at it. all: the union of the near clip edges' grown boxes (a subject edge whose box
-// misses it meets none of them).
+// misses it meets none of them); the subject edges whose grown boxes meet it are
+// appended to w.meeting (start and end vertex) and w.subject_boxes (the box).
 bool clean_crossings(const ShapeView& s, const ShapeView& c, double eps, double tol, const Box& all,
                      ClipScratch::Arrays& w) {
     // the near edges in groups of NEAR_GROUP consecutive ones (mostly neighbours along the
@@ -128,8 +117,11 @@ bool clean_crossings(const ShapeView& s, const ShapeView& c, double eps, double 
         for (i64 v = a; v < b; ++v) {
             i64 t = next_in_ring(v, a, b);
             double p0x = s.x[v], p0y = s.y[v], p1x = s.x[t], p1y = s.y[t];
-            const Box& sg = w.subject_boxes[v];
+            Box sg = segment_box(p0x, p0y, p1x, p1y, tol);
             if (!boxes_meet(sg, all)) continue;
+            w.meeting.push_back(v);
+            w.meeting.push_back(t);
+            w.subject_boxes.push_back(sg);
             for (size_t e = 0; e < w.near.size(); e += 2) {
                 if ((e / 2) % NEAR_GROUP == 0 && !boxes_meet(sg, w.group_boxes[(e / 2) / NEAR_GROUP])) {
                     e += 2 * (NEAR_GROUP - 1);  // the whole group (the loop adds the last 2)
@@ -157,17 +149,16 @@ bool clean_crossings(const ShapeView& s, const ShapeView& c, double eps, double 
     return true;
 }
 
-// Whether every crossing stays apart from every edge but its own two.
+// Whether every crossing stays apart from every edge but its own two. A crossing lies on a
+// near clip edge, inside its grown box, so inside `all` (clean_crossings): apart from
+// every subject edge whose grown box misses `all`, so only those of w.meeting are tried.
 bool crossings_apart(const ShapeView& s, const ShapeView& c, double tol, const ClipScratch::Arrays& w) {
     for (const CleanCrossing& k : w.crossings) {
         double x = w.px[k.id], y = w.py[k.id];
-        for (i64 r = 0; r + 1 < s.nst; ++r) {
-            i64 a = s.st[r], b = s.st[r + 1];
-            for (i64 v = a; v < b; ++v) {
-                i64 t = next_in_ring(v, a, b);
-                if (v == k.v) continue;
-                if (!apart(x, y, w.subject_boxes[v], s.x[v], s.y[v], s.x[t], s.y[t], tol)) return false;
-            }
+        for (size_t e = 0; e < w.meeting.size(); e += 2) {
+            i64 v = w.meeting[e], t = w.meeting[e + 1];
+            if (v == k.v) continue;
+            if (!apart(x, y, w.subject_boxes[e / 2], s.x[v], s.y[v], s.x[t], s.y[t], tol)) return false;
         }
         for (size_t e = 0; e < w.near.size(); e += 2) {
             i64 u = w.near[e], z = w.near[e + 1];
@@ -298,12 +289,13 @@ bool clip_clean(const ShapeView& s, const ShapeView& c, double eps, const Box& s
     }
     Box all = w.near_boxes.empty() ? Box{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL} : union_of(w.near_boxes);
     if (!clip_edges_clean(c, w.near, w.near_boxes, all, tol, clip_own, w.close)) return false;
-    edge_boxes(s, tol, w.subject_boxes);
     w.px.assign(s.x, s.x + s.n);
     w.py.assign(s.y, s.y + s.n);
     w.px.insert(w.px.end(), c.x, c.x + c.n);
     w.py.insert(w.py.end(), c.y, c.y + c.n);
     w.crossings.clear();
+    w.meeting.clear();
+    w.subject_boxes.clear();
     if (!clean_crossings(s, c, eps, tol, all, w) || !crossings_apart(s, c, tol, w)) return false;
     if (w.crossings.empty()) {  // boundaries apart: the paper's step 2
         holding_lists(s, c.x, c.y, c, in, out);

@@ -58,8 +58,10 @@ struct ClipScratch::Arrays {
     Edges ins, outs;
     std::vector<CleanCrossing> crossings;
     std::vector<i64> by_subject, by_clip;  // crossing indices ordered along each shape
-    std::vector<Box> subject_boxes, near_boxes;  // edge boxes grown by the clean margin
+    // edge boxes grown by the clean margin: of the subject edges in `meeting`, of the near clip edges
+    std::vector<Box> subject_boxes, near_boxes;
     std::vector<Box> group_boxes;  // near_boxes together, a few at a time (clean_crossings)
+    std::vector<i64> meeting;  // subject edges (start, end) near the near clip edges (clean_crossings)
     std::vector<i64> by_x;  // vertex indices ordered by x (self_clean)
     std::vector<i64> close;  // clip vertices near the subject (clip_edges_clean)
     std::vector<i64> exit;  // per point, the one edge that starts there (trace)
