@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from aaeval.native.weiler_atherton import add_coverage, coverage_over
+from aaeval.native.weiler_atherton import coverage_over
 from aaeval.scenes import Scene
 
 __all__ = ["coverage", "coverage_flat", "box_filter"]
@@ -41,15 +41,17 @@ def coverage_flat(xs, ys, starts, weights, width: int, height: int) -> np.ndarra
     """:func:`coverage` of contours given flat: contour k is vertices ``starts[k]:starts[k + 1]``."""
     weights = np.asarray(weights, dtype=np.float64)
     wk = weights.reshape(len(starts) - 1, weights.shape[1] if weights.ndim > 1 else 1)
-    area = np.zeros((height, width, wk.shape[1]))
-    _add_coverage(xs, ys, starts, wk, area)
+    area = _coverage_over(xs, ys, starts, wk, np.zeros(wk.shape[1]), width, height)
     return area if weights.ndim > 1 else area[:, :, 0]
 
 
-def _add_coverage(xs, ys, starts, weights, out: np.ndarray) -> None:
-    """out (H, W, k) += per-pixel sum of ``weights[ring] * area of ring over the pixel``."""
-    add_coverage(np.ascontiguousarray(xs, dtype=np.float64), np.ascontiguousarray(ys, dtype=np.float64),
-                 np.ascontiguousarray(starts, dtype=np.int64), np.ascontiguousarray(weights, dtype=np.float64), out)
+def _coverage_over(xs, ys, starts, weights, base, width: int, height: int) -> np.ndarray:
+    """A new (H, W, k) image: ``base`` plus the per-pixel sum of ``weights[ring] * area of
+    ring over the pixel`` (the native ``add_coverage`` on an image filled with ``base``,
+    bit for bit)."""
+    return coverage_over(np.ascontiguousarray(xs, dtype=np.float64), np.ascontiguousarray(ys, dtype=np.float64),
+                         np.ascontiguousarray(starts, dtype=np.int64), np.ascontiguousarray(weights, dtype=np.float64),
+                         np.ascontiguousarray(base, dtype=np.float64), height, width)
 
 
 def box_filter(scene: Scene, pieces) -> np.ndarray:
@@ -70,7 +72,4 @@ def box_filter(scene: Scene, pieces) -> np.ndarray:
     # is the background plus (colour - background) * area summed
     background = np.asarray(scene.background, dtype=np.float64)
     colors = np.array([p.color for p in scene.polygons], dtype=np.float64).reshape(-1, 3) - background
-    return coverage_over(np.ascontiguousarray(xs, dtype=np.float64), np.ascontiguousarray(ys, dtype=np.float64),
-                         np.ascontiguousarray(starts, dtype=np.int64),
-                         np.ascontiguousarray(colors[ring_source].reshape(-1, 3)), background, scene.height,
-                         scene.width)
+    return _coverage_over(xs, ys, starts, colors[ring_source].reshape(-1, 3), background, scene.width, scene.height)

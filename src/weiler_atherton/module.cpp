@@ -259,42 +259,50 @@ nb::list solve_by_rule(const In& oxs, const In& oys, const In& osts, const In& o
     return out;
 }
 
-void add_coverage(const In& xs, const In& ys, const In& starts, const In& weights, Out& out) {
-    const double* x = checked<const double>(xs, "xs", 1);
+// Contours given flat for the box filter: vertices xs, ys; contour r is starts[r]..starts[r + 1].
+struct Rings {
+    const double *x, *y;
+    const i64* st;
+    i64 n;  // contours
+};
+
+Rings checked_rings(const In& xs, const In& ys, const In& starts) {
+    Rings r;
+    r.x = checked<const double>(xs, "xs", 1);
     i64 n = (i64)xs.shape(0), nst;
-    const double* y = checked<const double>(ys, "ys", 1, {n});
-    const i64* st = checked_starts(starts, "starts", n, nst, 0);
+    r.y = checked<const double>(ys, "ys", 1, {n});
+    r.st = checked_starts(starts, "starts", n, nst, 0);
     if (nst == 0) refuse("starts must hold one entry more than there are contours");
+    check_finite(r.x, n, "xs");
+    check_finite(r.y, n, "ys");
+    r.n = nst - 1;
+    return r;
+}
+
+void add_coverage(const In& xs, const In& ys, const In& starts, const In& weights, Out& out) {
+    const Rings r = checked_rings(xs, ys, starts);
     double* o = checked<double>(out, "out", 3);
     i64 h = (i64)out.shape(0), w = (i64)out.shape(1), k = (i64)out.shape(2);
-    const double* wt = checked<const double>(weights, "weights", 2, {nst - 1, k});
-    check_finite(x, n, "xs");
-    check_finite(y, n, "ys");
+    const double* wt = checked<const double>(weights, "weights", 2, {r.n, k});
     nb::gil_scoped_release release;
-    wa::add_coverage(x, y, st, nst - 1, wt, o, h, w, k);
+    wa::add_coverage(r.x, r.y, r.st, r.n, wt, o, h, w, k);
 }
 
 // A new (h, w, k) image: base (k values) plus the per-pixel sum of weights[ring] * the
 // ring's area over the pixel (add_coverage on an image filled with base, without the fill).
 nb::ndarray<nb::numpy, double> coverage_over(const In& xs, const In& ys, const In& starts, const In& weights,
                                              const In& base, i64 h, i64 w) {
-    const double* x = checked<const double>(xs, "xs", 1);
-    i64 n = (i64)xs.shape(0), nst;
-    const double* y = checked<const double>(ys, "ys", 1, {n});
-    const i64* st = checked_starts(starts, "starts", n, nst, 0);
-    if (nst == 0) refuse("starts must hold one entry more than there are contours");
+    const Rings r = checked_rings(xs, ys, starts);
     const double* b = checked<const double>(base, "base", 1);
     const i64 k = (i64)base.shape(0);
-    const double* wt = checked<const double>(weights, "weights", 2, {nst - 1, k});
+    const double* wt = checked<const double>(weights, "weights", 2, {r.n, k});
     if (h < 0 || w < 0 || k < 1 || h > (i64(1) << 20) || w > (i64(1) << 20) || h * w > (i64(1) << 34) / k)
         refuse("image size must be between 0 and 2^20 a side and base hold at least one channel");
-    check_finite(x, n, "xs");
-    check_finite(y, n, "ys");
     double* o = nullptr;
     auto image = aaeval::results::new_array<double>({(size_t)h, (size_t)w, (size_t)k}, o, false);
     {
         nb::gil_scoped_release release;
-        wa::coverage_over(x, y, st, nst - 1, wt, b, o, h, w, k);
+        wa::coverage_over(r.x, r.y, r.st, r.n, wt, b, o, h, w, k);
     }
     return image;
 }

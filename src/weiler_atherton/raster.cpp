@@ -103,34 +103,29 @@ void coverage_rows(const double* xs, const double* ys, const i64* starts, i64 nr
     // one row of differences instead of a whole image of them (6 MB at 512 x 512, each
     // render's pages newly mapped, zeroed and read back).
     const i64 n_vertices = nrings > 0 ? starts[nrings] : 0;
+    std::vector<Edge> edges((size_t)n_vertices);
     std::vector<i64> row_start((size_t)(h + 1), 0), ring_of((size_t)n_vertices);
     for (i64 ring = 0; ring < nrings; ++ring) {
         const i64 s = starts[ring], n = starts[ring + 1] - s;
         for (i64 i = 0; i < n; ++i) {
             ring_of[(size_t)(s + i)] = ring;
-            const Edge e = ring_edge(xs, ys, s, n, i, h);
+            const Edge& e = edges[(size_t)(s + i)] = ring_edge(xs, ys, s, n, i, h);
             for (i64 r = e.r0; r <= e.r1; ++r) ++row_start[(size_t)(r + 1)];
         }
     }
     for (i64 r = 0; r < h; ++r) row_start[(size_t)(r + 1)] += row_start[(size_t)r];
     std::vector<i64> row_edges((size_t)row_start[(size_t)h]);
     std::vector<i64> fill(row_start.begin(), row_start.end() - 1);
-    for (i64 ring = 0; ring < nrings; ++ring) {
-        const i64 s = starts[ring], n = starts[ring + 1] - s;
-        for (i64 i = 0; i < n; ++i) {
-            const Edge e = ring_edge(xs, ys, s, n, i, h);
-            for (i64 r = e.r0; r <= e.r1; ++r) row_edges[(size_t)fill[(size_t)r]++] = s + i;
-        }
-    }
+    for (i64 v = 0; v < n_vertices; ++v)
+        for (i64 r = edges[(size_t)v].r0; r <= edges[(size_t)v].r1; ++r) row_edges[(size_t)fill[(size_t)r]++] = v;
     RowDiff diff{std::vector<double>((size_t)((w + 1) * k)), k};
     std::vector<double> run(k), sums((size_t)(w * k));
     for (i64 r = 0; r < h; ++r) {
         std::fill(diff.d.begin(), diff.d.end(), 0.0);
         for (i64 t = row_start[(size_t)r]; t < row_start[(size_t)(r + 1)]; ++t) {
             const i64 v = row_edges[(size_t)t];
+            const Edge& e = edges[(size_t)v];
             const i64 ring = ring_of[(size_t)v];
-            const i64 s = starts[ring];
-            const Edge e = ring_edge(xs, ys, s, starts[ring + 1] - s, v - s, h);
             double ya = pmax(e.ylo, (double)r), yb = pmin(e.yhi, (double)(r + 1));
             double xa = e.x0 + (ya - e.y0) * e.dxdy, xb = e.x0 + (yb - e.y0) * e.dxdy;
             row_segment(xa, xb, e.sign * (yb - ya), w, weights + ring * k, diff);
