@@ -40,8 +40,6 @@ Box segment_box(double p0x, double p0y, double p1x, double p1y, double g) {
 
 bool in_box(double x, double y, const Box& b) { return x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1; }
 
-bool boxes_meet(const Box& a, const Box& b) { return !(a.x0 > b.x1 || a.x1 < b.x0 || a.y0 > b.y1 || a.y1 < b.y0); }
-
 // Whether point q is farther than tol from segment p0-p1 (box grown by tol given).
 bool apart(double qx, double qy, const Box& grown, double p0x, double p0y, double p1x, double p1y, double tol) {
     return !in_box(qx, qy, grown) || distance2(qx, qy, p0x, p0y, p1x, p1y) > tol * tol;

@@ -43,10 +43,15 @@ struct Work {
         if (clean[pid] < 0) clean[pid] = self_clean(arena.piece(pid), eps, clip);
         return clean[pid] > 0;
     }
-    // piece pid is known to be self_clean (clip_into said so of the parts it came from)
-    void known_clean(const Arena& arena, i64 pid) {
-        if ((i64)clean.size() < arena.size()) clean.resize(arena.size(), -1);
-        clean[pid] = 1;
+    // Shape s stored as a piece of polygon source; its index. known_clean: s is self_clean
+    // for certain (clip_into said so of the parts it made), so is_clean need not check it.
+    i64 store(Arena& arena, const Shape& s, i64 source, bool known_clean) {
+        i64 pid = arena.add(s, source);
+        if (known_clean) {
+            if ((i64)clean.size() < arena.size()) clean.resize(arena.size(), -1);
+            clean[pid] = 1;
+        }
+        return pid;
     }
     i64 load(const ShapeView& s) {
         ensure(s.n);

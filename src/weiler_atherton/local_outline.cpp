@@ -32,7 +32,7 @@ void rim_corner(const Box& b, int k, double& x, double& y) {
 i64 far_chunk(const Outline& o, i64 c0, i64 a, i64 e, i64 v, const Box& b) {
     if (o.chunk.empty() || (v - a) % CHUNK != 0) return 0;
     const Box& c = o.chunk[c0 + (v - a) / CHUNK];
-    if (!(c.x0 > b.x1 || c.x1 < b.x0 || c.y0 > b.y1 || c.y1 < b.y0)) return 0;
+    if (boxes_meet(c, b)) return 0;
     return std::min(CHUNK, e - v);
 }
 

@@ -117,6 +117,9 @@ struct Box {
     double x0, y0, x1, y1;
 };
 
+// Whether two closed boxes share a point.
+inline bool boxes_meet(const Box& a, const Box& b) { return !(a.x0 > b.x1 || a.x1 < b.x0 || a.y0 > b.y1 || a.y1 < b.y0); }
+
 // numpy's xs.min(), ys.min(), xs.max(), ys.max() (each the first extreme; n > 0), in one
 // pass: each bound sees the same values in the same order as a pass of its own.
 inline Box shape_bbox(const double* xs, const double* ys, i64 n) {

@@ -89,14 +89,8 @@ void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps
             return;
         }
     }
-    if (w.in.st.size() > 1 && keep_inside) {
-        inside.push_back(arena.add(w.in, source));
-        if (parts_clean) w.known_clean(arena, inside.back());
-    }
-    if (w.out.st.size() > 1) {
-        outside.push_back(arena.add(w.out, source));
-        if (parts_clean) w.known_clean(arena, outside.back());
-    }
+    if (w.in.st.size() > 1 && keep_inside) inside.push_back(w.store(arena, w.in, source, parts_clean));
+    if (w.out.st.size() > 1) outside.push_back(w.store(arena, w.out, source, parts_clean));
 }
 
 Outline outline_of(const double* ox, const double* oy, const i64* ost, i64 src) {
@@ -296,11 +290,7 @@ struct Solver {
                                      work.is_clean(arena, pid, eps), true, nullptr, &b);
         i64 source = arena.source(pid);
         if (a.st.size() < 2 || c.st.size() < 2) return out.push_back(pid);  // the line missed it
-        i64 ka = arena.add(a, source), kc = arena.add(c, source);
-        if (parts_clean) {
-            work.known_clean(arena, ka);
-            work.known_clean(arena, kc);
-        }
+        i64 ka = work.store(arena, a, source, parts_clean), kc = work.store(arena, c, source, parts_clean);
         halve(ka, out);
         halve(kc, out);
     }
@@ -481,10 +471,7 @@ Visible solve_window(const double* ox, const double* oy, const i64* ost, i64 npo
                 piece = clip_arrays(piece.view(), window, eps).first;
             }
         }
-        if (piece.st.size() > 1) {
-            first.push_back(S.arena.add(piece, s));
-            if (clean) S.work.known_clean(S.arena, first.back());
-        }
+        if (piece.st.size() > 1) first.push_back(S.work.store(S.arena, piece, s, clean));
     }
     if (indexed) S.solve_indexed(first, order, norder, npoly, win, group);
     else S.solve(first, order, norder, npoly);
