@@ -50,9 +50,9 @@ Box join(const Box& a, const Box& b) {
     return Box{pmin(a.x0, b.x0), pmin(a.y0, b.y0), pmax(a.x1, b.x1), pmax(a.y1, b.y1)};
 }
 
-// The union of the boxes (boxes not empty).
+// The union of the boxes (an empty box, meeting none, for no boxes).
 Box union_of(const std::vector<Box>& boxes) {
-    Box all = boxes[0];
+    Box all{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     for (const Box& b : boxes) all = join(all, b);
     return all;
 }
@@ -285,7 +285,7 @@ bool clip_clean(const ShapeView& s, const ShapeView& c, double eps, const Box& s
             w.near_boxes.push_back(segment_box(c.x[u], c.y[u], c.x[z], c.y[z], tol));
         }
     }
-    Box all = w.near_boxes.empty() ? Box{HUGE_VAL, HUGE_VAL, -HUGE_VAL, -HUGE_VAL} : union_of(w.near_boxes);
+    Box all = union_of(w.near_boxes);
     if (!clip_edges_clean(c, w.near, w.near_boxes, all, tol, clip_own, w.close)) return false;
     w.px.assign(s.x, s.x + s.n);
     w.py.assign(s.y, s.y + s.n);
