@@ -14,6 +14,7 @@
 
 #include "common/geometry.hpp"
 #include "catmull/buffers.hpp"
+#include "catmull/clip.hpp"
 #include "catmull/strips.hpp"
 
 namespace aaeval::catmull {
@@ -102,6 +103,7 @@ struct PixelWork {
     Rows<int64_t, 2> lists{1024};
     std::vector<int64_t> stack = std::vector<int64_t>(1024);
     std::vector<int64_t> visible = std::vector<int64_t>(256);
+    std::vector<double> dist = std::vector<double>(256);  // one polygon's distances to a line
 
     void grow_all() {
         v.grow_to(2 * v.size());
@@ -215,20 +217,28 @@ inline Line first_clip_edge(const double* wx, const double* wy, const uint8_t* w
 // raised here, in place: the polygon's record then stands for the copy, with the same
 // vertices and so the same area, bit for bit.
 inline int whole_side(const double* wx, const double* wy, uint8_t* wf, int64_t start, int64_t n, double a, double b,
-                      double c) {
-    const auto [lo, hi] = linear_range(wx, wy, start, n, a, b, c);
+                      double c, double* d) {
+    // the distances (kept in d for split_by_distances) and their range, as linear_range
+    Range r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    for (int64_t k = 0; k < n; ++k) {
+        const double dk = a * wx[start + k] + b * wy[start + k] + c;
+        d[k] = dk;
+        r.lo = pymin(r.lo, dk);
+        r.hi = pymax(r.hi, dk);
+    }
+    const double lo = r.lo, hi = r.hi;
     if (hi < -EPS_LINE) return -1;
     if (lo > EPS_LINE) return 1;
     const int keep = hi <= EPS_LINE ? -1 : (lo >= -EPS_LINE ? 1 : 0);
     if (keep == 0) return 0;
     // on the line: geometry::side 0
-    auto on = [&](int64_t v) { return std::fabs(a * wx[v] + b * wy[v] + c) <= EPS_LINE; };
+    auto on = [&](int64_t k) { return std::fabs(d[k]) <= EPS_LINE; };
     int64_t on_line = 0;
-    for (int64_t v = start; v < start + n; ++v) on_line += on(v);
+    for (int64_t k = 0; k < n; ++k) on_line += on(k);
     if (on_line >= 3) return 0;
     if (on_line == 2)
-        for (int64_t v = start; v < start + n; ++v)
-            if (on(v) && on(v + 1 < start + n ? v + 1 : start)) wf[v] = 1;  // an edge on the line
+        for (int64_t k = 0; k < n; ++k)
+            if (on(k) && on(k + 1 < n ? k + 1 : 0)) wf[start + k] = 1;  // an edge on the line
     return keep;
 }
 
@@ -342,7 +352,9 @@ inline int64_t integrate_pixel(PixelWork& W, int64_t n_init, int64_t n_vert, con
             const int64_t n = recs[p][1];
             // a polygon on one side goes to that list as it is (whole_side raises the flags
             // clip_split would give its copy)
-            const int one_side = whole_side(wx, wy, wf, recs[p][0], n, a, b, c);
+            if (n > int64_t(W.dist.size())) grow(W.dist, n);
+            double* dist = W.dist.data();
+            const int one_side = whole_side(wx, wy, wf, recs[p][0], n, a, b, c, dist);
             if (one_side != 0) {
                 if (W.areas[size_t(p)] > AREA_EMPTY) {
                     if (one_side < 0)
@@ -354,8 +366,9 @@ inline int64_t integrate_pixel(PixelWork& W, int64_t n_init, int64_t n_vert, con
             }
             const int64_t at_b = n_vert + 2 * n + 2;  // a half-plane clip at most doubles the vertices
             if (at_b + 2 * n + 2 > wcap) return -1;
-            const geometry::SplitCounts m = geometry::clip_split(wx, wy, wf, recs[p][0], n, a, b, c, true, true, wx, wy,
-                                                                 wf, n_vert, wx, wy, wf, at_b);
+            // (the distances whole_side computed: clip_split's own, so its outputs bit for bit)
+            const geometry::SplitCounts m =
+                split_by_distances(wx, wy, wf, recs[p][0], n, dist, a, b, c, wx, wy, wf, n_vert, at_b);
             const int64_t src_p = recs[p][2];
             double area_a = 0.0;
             if (m.a > 0) area_a = geometry::signed_area(wx, wy, n_vert, m.a);

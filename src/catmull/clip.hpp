@@ -1,0 +1,75 @@
+// Catmull-only forms of geometry::clip_split (common/geometry.hpp) for the two places the
+// kernel clips most: the integrator's split of a polygon that whole_side found straddling
+// (its distances to the line already computed there) and the clip of a strip piece to a
+// pixel column (a vertical line, a = 1, b = 0). Each gives clip_split's outputs bit for bit:
+// the same distances in the same rounding, the same side tests, the same intersections in
+// the same order of operations.
+#pragma once
+
+#include <cstdint>
+
+#include "common/geometry.hpp"
+
+namespace aaeval::catmull {
+
+using geometry::settle_flags;
+using geometry::side;
+using geometry::SplitCounts;
+
+// geometry::clip_split(..., a, b, c, true, true, ...) with d[k] = a * xs[start + k] +
+// b * ys[start + k] + c given (the expression clip_split evaluates, so the same doubles).
+AAEVAL_INLINE SplitCounts split_by_distances(const double* xs, const double* ys, const uint8_t* fs, int64_t start,
+                                             int64_t n, const double* d, double a, double b, double c, double* oxs,
+                                             double* oys, uint8_t* ofs, int64_t astart, int64_t bstart) {
+    int64_t ma = 0, mb = 0;
+    if (n > 0) {
+        int64_t prev = start + n - 1;
+        double dp = d[n - 1];
+        int sp = side(dp);
+        for (int64_t k = 0; k < n; ++k) {
+            const int64_t i = start + k;
+            const double di = d[k];
+            const int s = side(di);
+            if (sp * s < 0) {
+                const double t = dp / (dp - di);
+                double x = xs[prev] + t * (xs[i] - xs[prev]);
+                double y = ys[prev] + t * (ys[i] - ys[prev]);
+                if (b == 0.0) {
+                    x = -c / a;
+                } else if (a == 0.0) {
+                    y = -c / b;
+                }
+                const uint8_t fl = uint8_t(2 + fs[prev]);
+                oxs[astart + ma] = x;
+                oys[astart + ma] = y;
+                ofs[astart + ma] = fl;
+                ++ma;
+                oxs[bstart + mb] = x;
+                oys[bstart + mb] = y;
+                ofs[bstart + mb] = fl;
+                ++mb;
+            }
+            const int on = s == 0 ? 2 : 0;
+            if (s <= 0) {
+                oxs[astart + ma] = xs[i];
+                oys[astart + ma] = ys[i];
+                ofs[astart + ma] = uint8_t(on + fs[i]);
+                ++ma;
+            }
+            if (s >= 0) {
+                oxs[bstart + mb] = xs[i];
+                oys[bstart + mb] = ys[i];
+                ofs[bstart + mb] = uint8_t(on + fs[i]);
+                ++mb;
+            }
+            prev = i;
+            dp = di;
+            sp = s;
+        }
+    }
+    const int64_t ra = settle_flags(ofs, astart, ma);
+    const int64_t rb = settle_flags(ofs, bstart, mb);
+    return {ra, rb};
+}
+
+}  // namespace aaeval::catmull
