@@ -12,9 +12,11 @@
 
 namespace aaeval::catmull {
 
+using geometry::EPS_LINE;
 using geometry::settle_flags;
-using geometry::side;
 using geometry::SplitCounts;
+
+using geometry::side;
 
 // geometry::clip_split(..., a, b, c, true, true, ...) with d[k] = a * xs[start + k] +
 // b * ys[start + k] + c given (the expression clip_split evaluates, so the same doubles).
@@ -70,6 +72,52 @@ AAEVAL_INLINE SplitCounts split_by_distances(const double* xs, const double* ys,
     const int64_t ra = settle_flags(ofs, astart, ma);
     const int64_t rb = settle_flags(ofs, bstart, mb);
     return {ra, rb};
+}
+
+// geometry::clip_side(xs, ys, fs, start, n, 1.0, 0.0, c, KEEP, ...): the part of a polygon
+// on side KEEP of the vertical line x + c = 0. clip_split's distance there is
+// (1.0 * x + 0.0 * y) + c; for finite y it is x + c exactly, but for the sign of a zero
+// (x = -0 or c = -0 alone), and a zero classifies as side 0 either way and never enters an
+// intersection (only strict crossings do). The crossing's x is clip_split's -c / a = -c.
+template <int KEEP>
+AAEVAL_INLINE int64_t clip_vertical(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
+                                    double c, double* oxs, double* oys, uint8_t* ofs, int64_t ostart) {
+    int64_t m = 0;
+    if (n > 0) {
+        int64_t prev = start + n - 1;
+        double dp = xs[prev] + c;
+        int sp = side(dp);
+        const double xc = -c;
+        for (int64_t i = start; i < start + n; ++i) {
+            const double d = xs[i] + c;
+            const int s = side(d);
+            if (sp * s < 0) {
+                const double t = dp / (dp - d);
+                oxs[ostart + m] = xc;
+                oys[ostart + m] = ys[prev] + t * (ys[i] - ys[prev]);
+                ofs[ostart + m] = uint8_t(2 + fs[prev]);
+                ++m;
+            }
+            if (KEEP < 0 ? s <= 0 : s >= 0) {
+                oxs[ostart + m] = xs[i];
+                oys[ostart + m] = ys[i];
+                ofs[ostart + m] = uint8_t((s == 0 ? 2 : 0) + fs[i]);
+                ++m;
+            }
+            prev = i;
+            dp = d;
+            sp = s;
+        }
+    }
+    return settle_flags(ofs, ostart, m);
+}
+
+// geometry::clip_to_column through clip_vertical: the part of a polygon in the pixel column
+// x0 <= x <= x0 + 1, written at `at`, the first clip going to `tmp` (2 n + 4 entries each).
+AAEVAL_INLINE int64_t column_clip(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
+                                  double x0, double* oxs, double* oys, uint8_t* ofs, int64_t at, int64_t tmp) {
+    const int64_t m1 = clip_vertical<1>(xs, ys, fs, start, n, -x0, oxs, oys, ofs, tmp);
+    return clip_vertical<-1>(oxs, oys, ofs, tmp, m1, -(x0 + 1.0), oxs, oys, ofs, at);
 }
 
 }  // namespace aaeval::catmull

@@ -143,7 +143,7 @@ inline PolygonsUsed pixel_polygons(const Strip& S, const int64_t* plist, int64_t
             if (tmp + 2 * n + 4 > wcap) {
                 used = -1;
             } else {
-                const int64_t m = geometry::clip_to_column(S.v.x.data(), S.v.y.data(), S.v.f.data(), S.pieces[k][0], n,
+                const int64_t m = column_clip(S.v.x.data(), S.v.y.data(), S.v.f.data(), S.pieces[k][0], n,
                                                            x0, wx, wy, wf, used, tmp);
                 if (m > 0) {
                     W.areas[size_t(n_rec)] = geometry::signed_area(wx, wy, used, m);
