@@ -13,10 +13,34 @@
 namespace aaeval::catmull {
 
 using geometry::EPS_LINE;
-using geometry::settle_flags;
+using geometry::side;
 using geometry::SplitCounts;
 
-using geometry::side;
+// geometry::settle_flags done as the part is written, instead of in a second pass over it:
+// each vertex's flag is settled when the next vertex's raw flag is known, the last one's
+// against the first's, with settle_flags' own expression. Only the flags of a part of 3 or
+// more vertices are settled (its count is 0 otherwise and no one reads them, as there).
+struct Settler {
+    uint8_t* f;  // the part's flags
+    int64_t m = 0;
+    uint8_t first = 0, prev = 0;
+    AAEVAL_INLINE static uint8_t settled(uint8_t cur, uint8_t next) {
+        return (cur >= 2 && next >= 2) ? uint8_t(1) : uint8_t(cur & 1);
+    }
+    AAEVAL_INLINE void push(uint8_t raw) {
+        if (m > 0)
+            f[m - 1] = settled(prev, raw);
+        else
+            first = raw;
+        prev = raw;
+        ++m;
+    }
+    AAEVAL_INLINE int64_t finish() {
+        if (m < 3) return 0;
+        f[m - 1] = settled(prev, first);
+        return m;
+    }
+};
 
 // geometry::clip_split(..., a, b, c, true, true, ...) with d[k] = a * xs[start + k] +
 // b * ys[start + k] + c given (the expression clip_split evaluates, so the same doubles).
@@ -24,6 +48,7 @@ AAEVAL_INLINE SplitCounts split_by_distances(const double* xs, const double* ys,
                                              int64_t n, const double* d, double a, double b, double c, double* oxs,
                                              double* oys, uint8_t* ofs, int64_t astart, int64_t bstart) {
     int64_t ma = 0, mb = 0;
+    Settler sa{ofs + astart}, sb{ofs + bstart};
     if (n > 0) {
         int64_t prev = start + n - 1;
         double dp = d[n - 1];
@@ -44,24 +69,24 @@ AAEVAL_INLINE SplitCounts split_by_distances(const double* xs, const double* ys,
                 const uint8_t fl = uint8_t(2 + fs[prev]);
                 oxs[astart + ma] = x;
                 oys[astart + ma] = y;
-                ofs[astart + ma] = fl;
+                sa.push(fl);
                 ++ma;
                 oxs[bstart + mb] = x;
                 oys[bstart + mb] = y;
-                ofs[bstart + mb] = fl;
+                sb.push(fl);
                 ++mb;
             }
             const int on = s == 0 ? 2 : 0;
             if (s <= 0) {
                 oxs[astart + ma] = xs[i];
                 oys[astart + ma] = ys[i];
-                ofs[astart + ma] = uint8_t(on + fs[i]);
+                sa.push(uint8_t(on + fs[i]));
                 ++ma;
             }
             if (s >= 0) {
                 oxs[bstart + mb] = xs[i];
                 oys[bstart + mb] = ys[i];
-                ofs[bstart + mb] = uint8_t(on + fs[i]);
+                sb.push(uint8_t(on + fs[i]));
                 ++mb;
             }
             prev = i;
@@ -69,8 +94,8 @@ AAEVAL_INLINE SplitCounts split_by_distances(const double* xs, const double* ys,
             sp = s;
         }
     }
-    const int64_t ra = settle_flags(ofs, astart, ma);
-    const int64_t rb = settle_flags(ofs, bstart, mb);
+    const int64_t ra = sa.finish();
+    const int64_t rb = sb.finish();
     return {ra, rb};
 }
 
@@ -83,6 +108,7 @@ template <int KEEP>
 AAEVAL_INLINE int64_t clip_vertical(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
                                     double c, double* oxs, double* oys, uint8_t* ofs, int64_t ostart) {
     int64_t m = 0;
+    Settler st{ofs + ostart};
     if (n > 0) {
         int64_t prev = start + n - 1;
         double dp = xs[prev] + c;
@@ -95,13 +121,13 @@ AAEVAL_INLINE int64_t clip_vertical(const double* xs, const double* ys, const ui
                 const double t = dp / (dp - d);
                 oxs[ostart + m] = xc;
                 oys[ostart + m] = ys[prev] + t * (ys[i] - ys[prev]);
-                ofs[ostart + m] = uint8_t(2 + fs[prev]);
+                st.push(uint8_t(2 + fs[prev]));
                 ++m;
             }
             if (KEEP < 0 ? s <= 0 : s >= 0) {
                 oxs[ostart + m] = xs[i];
                 oys[ostart + m] = ys[i];
-                ofs[ostart + m] = uint8_t((s == 0 ? 2 : 0) + fs[i]);
+                st.push(uint8_t((s == 0 ? 2 : 0) + fs[i]));
                 ++m;
             }
             prev = i;
@@ -109,7 +135,7 @@ AAEVAL_INLINE int64_t clip_vertical(const double* xs, const double* ys, const ui
             sp = s;
         }
     }
-    return settle_flags(ofs, ostart, m);
+    return st.finish();
 }
 
 // geometry::clip_to_column through clip_vertical: the part of a polygon in the pixel column
