@@ -211,7 +211,8 @@ inline Line first_clip_edge(const double* wx, const double* wy, const uint8_t* w
 
 // Which side of the line a polygon lies on as a whole: -1 (+1) if clip_split would leave it
 // all on side A (B), its vertices copied in order, the flags of edges lying on the line
-// raised (settle_flags) and nothing on the other side; 0 if clip_split must cut it. That is
+// raised (as clip_split settles them) and nothing on the other side; 0 if clip_split must
+// cut it. That is
 // every vertex on that side or within EPS_LINE of the line (geometry::side), and fewer than
 // three on the line (three would make the other side a part of their own). The flags are
 // raised here, in place: the polygon's record then stands for the copy, with the same

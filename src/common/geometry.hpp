@@ -48,18 +48,32 @@ AAEVAL_INLINE int side(double d) {
     return 0;
 }
 
-// An output edge lies on the line when both its ends do; else it keeps its flag.
-// Returns m, or 0 when fewer than 3 vertices are left.
-AAEVAL_INLINE int64_t settle_flags(uint8_t* ofs, int64_t ostart, int64_t m) {
-    if (m < 3) return 0;
-    const bool first_on = ofs[ostart] >= 2;
-    for (int64_t k = 0; k < m; ++k) {
-        const uint8_t cur = ofs[ostart + k];
-        const bool nxt_on = k == m - 1 ? first_on : ofs[ostart + k + 1] >= 2;
-        ofs[ostart + k] = (cur >= 2 && nxt_on) ? uint8_t(1) : uint8_t(cur & 1);
+// An output edge lies on the line when both its ends do; else it keeps its flag. The flags
+// are settled as a part is written: a vertex's raw flag (2 marks "on the line" until then)
+// when the next one's is known, the last one's against the first's. finish() returns the
+// vertex count, or 0 when fewer than 3 are left (their flags are then left unsettled: no
+// one reads a part of count 0).
+struct FlagSettler {
+    uint8_t* f;  // the part's flags, from its first vertex
+    int64_t m = 0;
+    uint8_t first = 0, prev = 0;
+    AAEVAL_INLINE static uint8_t settled(uint8_t cur, uint8_t next) {
+        return (cur >= 2 && next >= 2) ? uint8_t(1) : uint8_t(cur & 1);
     }
-    return m;
-}
+    AAEVAL_INLINE void push(uint8_t raw) {
+        if (m > 0)
+            f[m - 1] = settled(prev, raw);
+        else
+            first = raw;
+        prev = raw;
+        ++m;
+    }
+    AAEVAL_INLINE int64_t finish() {
+        if (m < 3) return 0;
+        f[m - 1] = settled(prev, first);
+        return m;
+    }
+};
 
 struct SplitCounts {
     int64_t a, b;
@@ -69,18 +83,22 @@ struct SplitCounts {
 // parts at astart / bstart and returns their vertex counts (0 for a part not wanted or with
 // fewer than 3 vertices; the caller checks the area, since a part may also degenerate to a
 // line). Edges lying on the line get flag 1; the others keep the flag of the edge they are
-// part of. The outputs must not overlap the input (they may share its buffers).
-AAEVAL_INLINE SplitCounts clip_split(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
-                                     double a, double b, double c, bool want_a, bool want_b, double* axs, double* ays,
-                                     uint8_t* afs, int64_t astart, double* bxs, double* bys, uint8_t* bfs,
-                                     int64_t bstart) {
+// part of. The outputs must not overlap the input (they may share its buffers). dist(i) is
+// vertex i's signed distance a * xs[i] + b * ys[i] + c (clip_split), or a caller's own
+// equal value (the Catmull kernel's: already computed, or exact on a vertical line).
+template <class Dist>
+AAEVAL_INLINE SplitCounts split_by(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
+                                   Dist dist, double a, double b, double c, bool want_a, bool want_b, double* axs,
+                                   double* ays, uint8_t* afs, int64_t astart, double* bxs, double* bys, uint8_t* bfs,
+                                   int64_t bstart) {
     int64_t ma = 0, mb = 0;
+    FlagSettler sa{afs + astart}, sb{bfs + bstart};
     if (n > 0) {
         int64_t prev = start + n - 1;
-        double dp = a * xs[prev] + b * ys[prev] + c;
+        double dp = dist(prev);
         int sp = side(dp);
         for (int64_t i = start; i < start + n; ++i) {
-            const double d = a * xs[i] + b * ys[i] + c;
+            const double d = dist(i);
             const int s = side(d);
             if (sp * s < 0) {
                 // strict crossing: the intersection belongs to both parts; the edge leaving it
@@ -96,13 +114,13 @@ AAEVAL_INLINE SplitCounts clip_split(const double* xs, const double* ys, const u
                 if (want_a) {
                     axs[astart + ma] = x;
                     ays[astart + ma] = y;
-                    afs[astart + ma] = uint8_t(2 + fs[prev]);
+                    sa.push(uint8_t(2 + fs[prev]));
                     ++ma;
                 }
                 if (want_b) {
                     bxs[bstart + mb] = x;
                     bys[bstart + mb] = y;
-                    bfs[bstart + mb] = uint8_t(2 + fs[prev]);
+                    sb.push(uint8_t(2 + fs[prev]));
                     ++mb;
                 }
             }
@@ -110,13 +128,13 @@ AAEVAL_INLINE SplitCounts clip_split(const double* xs, const double* ys, const u
             if (want_a && s <= 0) {
                 axs[astart + ma] = xs[i];
                 ays[astart + ma] = ys[i];
-                afs[astart + ma] = uint8_t(on + fs[i]);
+                sa.push(uint8_t(on + fs[i]));
                 ++ma;
             }
             if (want_b && s >= 0) {
                 bxs[bstart + mb] = xs[i];
                 bys[bstart + mb] = ys[i];
-                bfs[bstart + mb] = uint8_t(on + fs[i]);
+                sb.push(uint8_t(on + fs[i]));
                 ++mb;
             }
             prev = i;
@@ -125,9 +143,18 @@ AAEVAL_INLINE SplitCounts clip_split(const double* xs, const double* ys, const u
         }
     }
     // (both parts settled, in this order; with one part unwanted its count is 0)
-    const int64_t ra = settle_flags(afs, astart, ma);
-    const int64_t rb = settle_flags(bfs, bstart, mb);
+    const int64_t ra = sa.finish();
+    const int64_t rb = sb.finish();
     return {ra, rb};
+}
+
+AAEVAL_INLINE SplitCounts clip_split(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
+                                     double a, double b, double c, bool want_a, bool want_b, double* axs, double* ays,
+                                     uint8_t* afs, int64_t astart, double* bxs, double* bys, uint8_t* bfs,
+                                     int64_t bstart) {
+    return split_by(
+        xs, ys, fs, start, n, [&](int64_t i) { return a * xs[i] + b * ys[i] + c; }, a, b, c, want_a, want_b, axs, ays,
+        afs, astart, bxs, bys, bfs, bstart);
 }
 
 // The part of a polygon on side keep (-1: A, +1: B) of a line, at ostart; its vertex count.
