@@ -14,7 +14,6 @@
 
 #include "common/geometry.hpp"
 #include "catmull/buffers.hpp"
-#include "catmull/clip.hpp"
 #include "catmull/strips.hpp"
 
 namespace aaeval::catmull {
@@ -58,16 +57,30 @@ struct Range {
     double lo, hi;
 };
 
-// The smallest and largest value of a x + b y + c over a polygon's vertices.
+// The smallest and largest value of a x + b y + c over a polygon's vertices; with `keep`,
+// each vertex's value too (keep[k] for vertex start + k).
 AAEVAL_INLINE Range linear_range(const double* xs, const double* ys, int64_t start, int64_t n, double a, double b,
-                                 double c) {
+                                 double c, double* keep = nullptr) {
     Range r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-    for (int64_t v = start; v < start + n; ++v) {
-        const double d = a * xs[v] + b * ys[v] + c;
+    for (int64_t k = 0; k < n; ++k) {
+        const double d = a * xs[start + k] + b * ys[start + k] + c;
+        if (keep) keep[k] = d;
         r.lo = pymin(r.lo, d);
         r.hi = pymax(r.hi, d);
     }
     return r;
+}
+
+// geometry::clip_split(..., a, b, c, true, true, ...) given d[k] = a * xs[start + k] +
+// b * ys[start + k] + c (linear_range's values: the expression clip_split evaluates, so the
+// same doubles and the same outputs bit for bit).
+AAEVAL_INLINE geometry::SplitCounts split_by_distances(const double* xs, const double* ys, const uint8_t* fs,
+                                                       int64_t start, int64_t n, const double* d, double a, double b,
+                                                       double c, double* oxs, double* oys, uint8_t* ofs,
+                                                       int64_t astart, int64_t bstart) {
+    return geometry::split_by(
+        xs, ys, fs, start, n, [d, start](int64_t i) { return d[i - start]; }, a, b, c, true, true, oxs, oys, ofs,
+        astart, oxs, oys, ofs, bstart);
 }
 
 // Where polygon q (the outline at start) lies in depth against polygon f's plane. 0: behind
@@ -143,7 +156,7 @@ inline PolygonsUsed pixel_polygons(const Strip& S, const int64_t* plist, int64_t
             if (tmp + 2 * n + 4 > wcap) {
                 used = -1;
             } else {
-                const int64_t m = column_clip(S.v.x.data(), S.v.y.data(), S.v.f.data(), S.pieces[k][0], n,
+                const int64_t m = geometry::clip_to_column(S.v.x.data(), S.v.y.data(), S.v.f.data(), S.pieces[k][0], n,
                                                            x0, wx, wy, wf, used, tmp);
                 if (m > 0) {
                     W.areas[size_t(n_rec)] = geometry::signed_area(wx, wy, used, m);
@@ -212,22 +225,13 @@ inline Line first_clip_edge(const double* wx, const double* wy, const uint8_t* w
 // Which side of the line a polygon lies on as a whole: -1 (+1) if clip_split would leave it
 // all on side A (B), its vertices copied in order, the flags of edges lying on the line
 // raised (as clip_split settles them) and nothing on the other side; 0 if clip_split must
-// cut it. That is
-// every vertex on that side or within EPS_LINE of the line (geometry::side), and fewer than
-// three on the line (three would make the other side a part of their own). The flags are
-// raised here, in place: the polygon's record then stands for the copy, with the same
-// vertices and so the same area, bit for bit.
+// cut it. That is every vertex on that side or within EPS_LINE of the line (geometry::side),
+// and fewer than three on the line (three would make the other side a part of their own).
+// The flags are raised here, in place: the polygon's record then stands for the copy, with
+// the same vertices and so the same area, bit for bit.
 inline int whole_side(const double* wx, const double* wy, uint8_t* wf, int64_t start, int64_t n, double a, double b,
                       double c, double* d) {
-    // the distances (kept in d for split_by_distances) and their range, as linear_range
-    Range r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-    for (int64_t k = 0; k < n; ++k) {
-        const double dk = a * wx[start + k] + b * wy[start + k] + c;
-        d[k] = dk;
-        r.lo = pymin(r.lo, dk);
-        r.hi = pymax(r.hi, dk);
-    }
-    const double lo = r.lo, hi = r.hi;
+    const auto [lo, hi] = linear_range(wx, wy, start, n, a, b, c, d);  // d: kept for split_by_distances
     if (hi < -EPS_LINE) return -1;
     if (lo > EPS_LINE) return 1;
     const int keep = hi <= EPS_LINE ? -1 : (lo >= -EPS_LINE ? 1 : 0);

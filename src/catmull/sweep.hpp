@@ -101,7 +101,7 @@ inline void emit_front_piece(const Strip& S, int64_t k, int64_t pix, int64_t col
     const int64_t n = S.pieces[k][1];
     if constexpr (Sink::COLUMN_PARTS)
         if (out.emit_column_part(pix, src, S.v.x.data(), S.v.y.data(), S.pieces[k][0], n, col)) return;
-    const int64_t m = column_clip(S.v.x.data(), S.v.y.data(), S.v.f.data(), S.pieces[k][0], n, double(col),
+    const int64_t m = geometry::clip_to_column(S.v.x.data(), S.v.y.data(), S.v.f.data(), S.pieces[k][0], n, double(col),
                                                W.v.x.data(), W.v.y.data(), W.v.f.data(), 0, 4 * n + 8);
     if (m > 0)
         out.emit_strip_piece(pix, src, cv, W.v.x.data(), W.v.y.data(), 0, m);
@@ -204,8 +204,8 @@ inline TwoLayer two_layer_parts(const Strip& S, int64_t ka, int64_t kb, double x
     const int64_t cap = 2 * nb + 2 * na + 8;
     TwoLayer t{-1.0, 0, at_b, 0, at_b, 0};
     if (tmp + 2 * cap + 2 * nb + 8 <= cap_w) {
-        int64_t ma = column_clip(sx, sy, sf, S.pieces[ka][0], na, x0, wx, wy, wf, 0, tmp);
-        int64_t mb = column_clip(sx, sy, sf, S.pieces[kb][0], nb, x0, wx, wy, wf, at_b, tmp);
+        int64_t ma = geometry::clip_to_column(sx, sy, sf, S.pieces[ka][0], na, x0, wx, wy, wf, 0, tmp);
+        int64_t mb = geometry::clip_to_column(sx, sy, sf, S.pieces[kb][0], nb, x0, wx, wy, wf, at_b, tmp);
         bool convex = true;
         if (ma < 3 || mb < 3) {
             ma = 0;

@@ -167,13 +167,25 @@ AAEVAL_INLINE int64_t clip_side(const double* xs, const double* ys, const uint8_
     return keep < 0 ? m.a : m.b;
 }
 
+// clip_side for the vertical line x + c = 0 (a = 1, b = 0). The distance is x + c: clip_side's
+// (1.0 x + 0.0 y) + c differs from it only in the sign of a zero (finite y), which side()
+// classes alike and no intersection uses (only strict crossings do), so the outputs are
+// clip_side's bit for bit.
+AAEVAL_INLINE int64_t clip_vertical(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
+                                    double c, int keep, double* oxs, double* oys, uint8_t* ofs, int64_t ostart) {
+    const SplitCounts m = split_by(
+        xs, ys, fs, start, n, [xs, c](int64_t i) { return xs[i] + c; }, 1.0, 0.0, c, keep < 0, keep > 0, oxs, oys,
+        ofs, ostart, oxs, oys, ofs, ostart);
+    return keep < 0 ? m.a : m.b;
+}
+
 // The part of a polygon inside the pixel column x0 <= x <= x0 + 1, written at `at`. The first
 // clip goes to the scratch space at `tmp`, which must not overlap the result: leave 2 n + 4
 // entries from each. Returns the vertex count (0 if nothing is left).
 inline int64_t clip_to_column(const double* xs, const double* ys, const uint8_t* fs, int64_t start, int64_t n,
                               double x0, double* oxs, double* oys, uint8_t* ofs, int64_t at, int64_t tmp) {
-    const int64_t m1 = clip_side(xs, ys, fs, start, n, 1.0, 0.0, -x0, 1, oxs, oys, ofs, tmp);
-    return clip_side(oxs, oys, ofs, tmp, m1, 1.0, 0.0, -(x0 + 1.0), -1, oxs, oys, ofs, at);
+    const int64_t m1 = clip_vertical(xs, ys, fs, start, n, -x0, 1, oxs, oys, ofs, tmp);
+    return clip_vertical(oxs, oys, ofs, tmp, m1, -(x0 + 1.0), -1, oxs, oys, ofs, at);
 }
 
 // Shoelace area (fan from the first vertex); positive for the orientation every polygon is
