@@ -53,7 +53,7 @@ def add_parser(sub) -> None:
 
 def run(args) -> int:
     from aaeval.experiments.compare import plan_comparison, run_comparison
-    from aaeval.experiments.record import dumps
+    from aaeval.experiments.typed_json import dumps
     from aaeval.imageio import atomic_write
 
     from aaeval.imageio import check_outputs

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 
@@ -28,6 +27,7 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
+    from aaeval.experiments.typed_json import dumps
     from aaeval.imageio import SUFFIXES, atomic_write, check_outputs, save_image
     from aaeval.renderers import MethodSpec, render_timed
     from aaeval.scenes import load_scene
@@ -59,7 +59,7 @@ def run(args) -> int:
             "height": scene.height,
             "render_s": seconds,
         }
-        atomic_write(args.stats, lambda tmp: Path(tmp).write_text(json.dumps(stats, indent=2) + "\n"))
+        atomic_write(args.stats, lambda tmp: Path(tmp).write_text(dumps(stats, indent=2) + "\n"))
     size = f"{scene.width}x{scene.height}" + (f" shown {args.scale}x" if args.scale > 1 else "")
     print(f"wrote {out} ({size}, {spec.name}, frame {args.frame}, {seconds * 1e3:.1f} ms)")
     return 0

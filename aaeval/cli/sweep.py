@@ -68,7 +68,28 @@ def run(args) -> int:
           f"results in {args.out}/results.parquet")
     for line in summary.lost:
         print(f"  not run (will be retried): {line}")
-    return 1 if summary.lost else 0
+    print_errors(summary, args.out)
+    if summary.lost:
+        return NOT_RUN
+    return CELLS_FAILED if summary.errors else 0
+
+
+#: Exit codes of ``aaeval sweep`` beside 0 (done) and 2 (input error): cells left not run
+#: (rerun to finish them), and every cell ran but some failed (their errors are recorded).
+NOT_RUN, CELLS_FAILED = 1, 3
+
+
+def print_errors(summary, out) -> None:
+    """Each distinct error of the failed cells once, with its count and one cell that had it."""
+    if not summary.errors:
+        return
+    cells = sum(len(v) for v in summary.errors.values())
+    earlier = f", {summary.failed_before} kept from earlier runs (--retry-failed runs them again)" \
+        if summary.failed_before else ""
+    print(f"aaeval sweep: {cells} cell(s) failed{earlier}; the errors (full tracebacks in {out}/cells/):",
+          file=sys.stderr)
+    for error, where in sorted(summary.errors.items(), key=lambda item: -len(item[1])):
+        print(f"  {len(where)} x {error}\n      e.g. {where[0]}", file=sys.stderr)
 
 
 def dry_run(experiment, out) -> int:

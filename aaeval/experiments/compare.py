@@ -3,7 +3,7 @@
 :func:`plan_comparison` checks everything (scene, method specs, frames, metrics) before any
 rendering; :func:`run_comparison` measures through the same engine as a sweep cell
 (:mod:`aaeval.experiments.measure`) and returns a JSON-ready document (write it with
-:func:`aaeval.experiments.record.dumps`: NaN and infinities become ``null``).
+:func:`aaeval.experiments.typed_json.dumps`: strict JSON, NaN and infinities as their tags).
 """
 
 from __future__ import annotations

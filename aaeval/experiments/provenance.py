@@ -56,7 +56,7 @@ def provenance(executor: str, workers: int) -> dict:
 
 
 def write_provenance(root: str | Path, executor: str, workers: int) -> dict:
-    from aaeval.experiments.record import dumps
+    from aaeval.experiments.typed_json import dumps
     from aaeval.imageio import atomic_write
 
     info = provenance(executor, workers)

@@ -7,8 +7,10 @@ field, never a silent column of None. The results table (``results.parquet``) ha
 column per field (``options`` and ``metric_errors`` as JSON text) and one per metric
 (:data:`aaeval.metrics.METRICS`), and carries :data:`SCHEMA_VERSION` in its metadata.
 
-JSON written here is strict JSON: NaN and infinities are written as ``null`` (see
-:func:`json_safe`) and read back as NaN for float fields and metric values.
+JSON written here is typed strict JSON (:mod:`aaeval.experiments.typed_json`): NaN and
+the infinities are written as ``"NaN"``, ``"Infinity"`` and ``"-Infinity"`` and read back
+as themselves, ``null`` as ``None`` (in a float field that always has a value, a ``null``
+that an older aaeval wrote for a value that was not finite reads as NaN).
 
 Timing fields: ``render_s`` is the median of ``repeats`` timed renders (after an untimed
 warm-up), ``render_s_min``/``render_s_max`` their spread, ``megapixels`` the image size
@@ -23,8 +25,10 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
+from aaeval.experiments.typed_json import decode_float, encode, is_float_value
+
 __all__ = ["SCHEMA_VERSION", "CellRecord", "RecordError", "RECORD_FIELDS", "TABLE_FIELDS", "TIMING_FIELDS",
-           "json_safe", "dumps", "noise_column", "agreement_column"]
+           "noise_column", "agreement_column"]
 
 #: Bump when a field is added, removed or changes meaning.
 SCHEMA_VERSION = 3
@@ -90,8 +94,8 @@ class CellRecord:
     schema_version: int = field(default=SCHEMA_VERSION)
 
     def to_json(self) -> dict:
-        """A strict-JSON-ready dict (NaN and infinities as None)."""
-        return json_safe(dataclasses.asdict(self))
+        """A typed-JSON-ready dict (NaN and infinities as their tags)."""
+        return encode(dataclasses.asdict(self))
 
     @classmethod
     def from_json(cls, data: Mapping[str, Any], *, where: str = "record") -> "CellRecord":
@@ -110,8 +114,8 @@ class CellRecord:
         if problem:
             raise RecordError(f"{where}: {problem}")
         values = dict(data)
-        for name in _FLOAT_FIELDS:
-            values[name] = _float(values[name])
+        for name in _NUMBER:
+            values[name] = _float(values[name], optional=name not in _FLOAT_FIELDS)
         values["metrics"] = {k: _float(v) for k, v in values["metrics"].items()}
         for name in ("reference_noise", "agreement"):  # null: nothing was measured
             values[name] = {k: _float(v) for k, v in (values[name] or {}).items()}
@@ -170,7 +174,14 @@ def _is_int(value) -> bool:
 
 
 def _is_number(value) -> bool:
-    return (_is_int(value) or isinstance(value, float)) and math.isfinite(value)
+    """A stored float that is a number or NaN (not measured); an infinite time, size or sum
+    is damage."""
+    return is_float_value(value) and not math.isinf(decode_float(value))
+
+
+def _is_metric_value(value) -> bool:
+    """A stored metric value: any float (a perfect PSNR is infinite)."""
+    return is_float_value(value)
 
 
 def field_problem(data: Mapping[str, Any]) -> str | None:
@@ -189,7 +200,7 @@ def field_problem(data: Mapping[str, Any]) -> str | None:
             return f"field {name!r} must be a whole number or null, got {_kind(data[name])}"
     for name in _NUMBER:
         if data[name] is not None and not _is_number(data[name]):
-            return f"field {name!r} must be a finite number or null, got {_kind(data[name])}"
+            return f"field {name!r} must be a finite number, 'NaN' or null, got {_kind(data[name])}"
     if data["frame"] < 0 or data["repeats"] < 1 or data["workers"] < 1:
         return "fields 'frame' (>= 0), 'repeats' and 'workers' (>= 1) are out of range"
     if not (1 <= data["width"] and 1 <= data["height"] and data["width"] * data["height"] <= MAX_RECORD_PIXELS):
@@ -199,8 +210,12 @@ def field_problem(data: Mapping[str, Any]) -> str | None:
             for k, v in data["options"].items()):
         return f"field 'options' must be a table of option = value, got {_kind(data['options'])}"
     if not isinstance(data["metrics"], dict) or not all(
-            isinstance(k, str) and (v is None or _is_number(v)) for k, v in data["metrics"].items()):
-        return "field 'metrics' must be a table of metric = number or null"
+            isinstance(k, str) and (v is None or _is_metric_value(v)) for k, v in data["metrics"].items()):
+        return "field 'metrics' must be a table of metric = number, 'NaN', 'Infinity', '-Infinity' or null"
+    for name in ("reference_noise", "agreement"):
+        if data[name] is not None and (not isinstance(data[name], dict) or not all(
+                isinstance(k, str) and (v is None or _is_number(v)) for k, v in data[name].items())):
+            return f"field {name!r} must be a table of metric = number or null"
     if not isinstance(data["metric_errors"], dict) or not all(
             isinstance(k, str) and isinstance(v, str) for k, v in data["metric_errors"].items()):
         return "field 'metric_errors' must be a table of metric = text"
@@ -212,31 +227,9 @@ def _kind(value) -> str:
     return f"{type(value).__name__} {text[:40]}{'...' if len(text) > 40 else ''}"
 
 
-def _float(value) -> float:
-    return math.nan if value is None else float(value)
-
-
-def json_safe(obj: Any) -> Any:
-    """``obj`` with every NaN or infinite float replaced by None and numpy scalars made plain.
-
-    JSON has no NaN or Infinity (Python's ``json`` writes them, strict parsers refuse them):
-    aaeval writes ``null`` for a value that is not a finite number.
-    """
-    import numpy as np
-
-    if isinstance(obj, Mapping):
-        return {str(k): json_safe(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [json_safe(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return json_safe(obj.tolist())
-    if isinstance(obj, np.generic):
-        obj = obj.item()
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    return obj
-
-
-def dumps(obj: Any, **kwargs) -> str:
-    """Strict JSON text of ``obj`` (NaN and infinities as null)."""
-    return json.dumps(json_safe(obj), allow_nan=False, **kwargs)
+def _float(value, optional: bool = False) -> float | None:
+    """A stored float (:func:`aaeval.experiments.typed_json.decode_float`); ``null`` is
+    ``None`` where the field is optional, else NaN (what older records wrote for it)."""
+    if value is None:
+        return None if optional else math.nan
+    return decode_float(value)

@@ -19,8 +19,9 @@ from aaeval.experiments.config import Cell, ConfigError, Experiment
 from aaeval.experiments.executors import TaskTimedOut, WorkerDied, make_executor, retried_error
 from aaeval.experiments.measure import reference_kind
 from aaeval.experiments.provenance import write_provenance
-from aaeval.experiments.record import SCHEMA_VERSION, json_safe
-from aaeval.experiments.store import ReferenceCache, SweepStore, cell_key, code_version, reference_key
+from aaeval.experiments.record import SCHEMA_VERSION
+from aaeval.experiments.reference_cache import ReferenceCache, ReferenceInfo, cache_folder_problem
+from aaeval.experiments.store import SweepStore, cell_key, code_version, reference_key
 from aaeval.experiments.tasks import failed_record, run_cell, run_reference
 from aaeval.plugins import cell_plugins
 
@@ -112,6 +113,14 @@ class SweepSummary:
     references_rendered: int = 0
     references_cached: int = 0
     executor: str = ""
+    #: every failed cell of the config (this run's and earlier runs' that were kept), by the
+    #: first line of its error: the cells' descriptions (group, scene, spec, frame)
+    errors: dict[str, list[str]] = field(default_factory=dict)
+    #: failed cells recorded by earlier runs and kept (rerun them with retry_failed)
+    failed_before: int = 0
+
+    def add_error(self, error: str, cell: str) -> None:
+        self.errors.setdefault(error.strip().splitlines()[0] if error.strip() else "error", []).append(cell)
 
 
 class _LineProgress:
@@ -202,6 +211,9 @@ def run_sweep(experiment: Experiment, out: str | Path, *, workers: int | None = 
     The folder is locked for the run (a second sweep into it is refused), and a folder of
     another experiment is refused unless ``force``: nothing in it is replaced before then.
     """
+    problem = cache_folder_problem(cache_dir)
+    if problem:  # before any work: every reference would fail with it
+        raise ValueError(problem)
     store = SweepStore(out)
     planned = plan(experiment)
     with store.lock():
@@ -242,6 +254,10 @@ def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_
                 if not retried_error(r.get("error")) and not (retry_failed and r.get("error"))}
     todo = [p for k, p in unique.items() if k not in finished]
     summary = SweepSummary(total=len(unique), skipped=len(unique) - len(todo))
+    for key in finished:
+        if key in unique and sound[key].get("error"):
+            summary.failed_before += 1
+            summary.add_error(sound[key]["error"], describe(unique[key]))
     if not todo:
         write_manifest()
         write_results(store)
@@ -262,6 +278,12 @@ def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_
     return summary
 
 
+def describe(p: PlannedCell) -> str:
+    """A cell as a reader finds it in the config: group, scene, spec and frame."""
+    c = p.cell
+    return f"{c.group} / {c.scene_source.name} / {c.spec} / frame {c.frame}"
+
+
 def _disagrees(record: dict, p: PlannedCell) -> bool:
     c = p.cell
     return (record.get("group") != c.group or record.get("scene") != c.scene_source.name
@@ -277,13 +299,13 @@ def _references(experiment, todo, store, cache, executor, progress, summary) -> 
     missing = []
     for key, p in wanted.items():
         hit = cache.get(key, (p.cell.scene_source.parsed.height, p.cell.scene_source.parsed.width, 3))
-        if (hit is not None and experiment.noise_estimate and "noise_by_metric" not in hit[1]
+        if (hit is not None and experiment.noise_estimate and hit[1].noise_by_metric is None
                 and reference_kind(p.cell.reference) != "deterministic"):  # a deterministic one has no noise
-            hit = None  # cached before the noise was measured per metric: render it again
+            hit = None  # cached by a sweep that did not measure its noise: render it again
         if hit is not None:
             image, info = hit
             store.write_reference(key, image)
-            meta[key] = info
+            meta[key] = info.as_meta()
             summary.references_cached += 1
         else:
             missing.append(p)
@@ -297,13 +319,10 @@ def _references(experiment, todo, store, cache, executor, progress, summary) -> 
         elif "error" in result:
             meta[key] = {"error": result["error"]}
         else:
-            info = {"spec": missing[i].cell.reference, "render_s": result["render_s"],
-                    "noise_rmse": result["noise_rmse"], "noise_spec": result["noise_spec"],
-                    "noise_by_metric": result.get("noise_by_metric"),
-                    "intensity_sum": result["intensity_sum"], "host": result["host"]}
-            cache.put(key, result["image"], json_safe(info))  # strict JSON: an unmeasured noise is null
+            info = ReferenceInfo.of(missing[i].cell.reference, result)
+            cache.put(key, result["image"], info)
             store.write_reference(key, result["image"])
-            meta[key] = info
+            meta[key] = info.as_meta()
             summary.references_rendered += 1
         if task is not None:
             progress.advance(task)
@@ -337,6 +356,7 @@ def _cells(todo, refs, store, executor, progress, summary) -> None:
             store.write_cell(failed_record(work[i][0], str(exc)), None)
             summary.ran += 1
             summary.failed += 1
+            summary.add_error(str(exc), describe(todo[i]))
         elif exc is not None:
             summary.lost.append(f"{todo[i].key}: {type(exc).__name__}: {exc}")
         else:
@@ -345,6 +365,8 @@ def _cells(todo, refs, store, executor, progress, summary) -> None:
                 record.update(executor.current())
             store.write_cell(record, image, flip)
             summary.ran += 1
-            summary.failed += bool(record.get("error"))
+            if record.get("error"):
+                summary.failed += 1
+                summary.add_error(record["error"], describe(todo[i]))
         if task is not None:
             progress.advance(task)

@@ -52,9 +52,10 @@ from typing import Any, Callable, Iterable, Iterator
 import numpy as np
 
 import aaeval
+from aaeval.experiments.typed_json import dumps
 from aaeval.fileio import atomic_write
 
-__all__ = ["code_version", "read_table", "SCHEMA_KEY", "cell_key", "reference_key", "SweepStore", "ReferenceCache", "default_cache_dir",
+__all__ = ["code_version", "read_table", "SCHEMA_KEY", "cell_key", "reference_key", "SweepStore",
            "StoreError", "FolderInUse", "npy_problem"]
 
 #: The key of ``results.parquet``'s and ``temporal.parquet``'s metadata naming their schema version.
@@ -116,12 +117,6 @@ def cell_key(identity: dict, version: str | None = None) -> str:
 
 def reference_key(scene_digest: str, frame: int, spec: str, version: str | None = None) -> str:
     return _digest({"scene": scene_digest, "frame": frame, "reference": spec, "code": version or code_version()})
-
-
-def default_cache_dir() -> Path:
-    """Shared reference cache: ``$AAEVAL_CACHE_DIR`` or ``~/.cache/aaeval``."""
-    env = os.environ.get("AAEVAL_CACHE_DIR")
-    return Path(env) if env else Path.home() / ".cache" / "aaeval"
 
 
 class StoreError(ValueError):
@@ -229,45 +224,6 @@ def _stamp() -> str:
 
 def _save_npy(path: Path, array: np.ndarray, dtype) -> None:
     atomic_write(path, lambda tmp: np.save(tmp, np.asarray(array, dtype=dtype)))
-
-
-def _reference_meta_ok(info) -> bool:
-    """A cached reference's metadata has the fields a cell record copies, of their types
-    (``noise_rmse`` Infinity would reach every cell that uses it)."""
-    def number(v, optional=True):
-        return (v is None and optional) or (isinstance(v, (int, float)) and not isinstance(v, bool)
-                                            and math.isfinite(v))
-
-    return (isinstance(info, dict) and number(info.get("render_s"), optional=False)
-            and number(info.get("noise_rmse")) and number(info.get("intensity_sum"))
-            and isinstance(info.get("host", ""), str))
-
-
-class ReferenceCache:
-    """Reference images on disk, shared by every cell and every sweep of this machine."""
-
-    def __init__(self, root: str | Path | None = None):
-        self.root = Path(root) if root is not None else default_cache_dir() / "references"
-
-    def path(self, key: str) -> Path:
-        return self.root / f"{key}.npy"
-
-    def get(self, key: str, shape: tuple[int, ...] | None = None) -> tuple[np.ndarray, dict] | None:
-        """The cached image (of ``shape``, when given) and its metadata, or None: missing,
-        damaged or of another shape, it is rendered again (and replaces the cached one)."""
-        p, meta = self.path(key), self.root / f"{key}.json"
-        if not (p.is_file() and meta.is_file()) or npy_problem(p, shape):
-            return None  # missing or damaged: render it again
-        try:
-            info = json.loads(meta.read_text())
-            image = np.load(p, allow_pickle=False)
-        except (OSError, ValueError):
-            return None  # unreadable: render it again
-        return (image, info) if _reference_meta_ok(info) else None
-
-    def put(self, key: str, image: np.ndarray, meta: dict) -> None:
-        _save_npy(self.path(key), image, np.float64)
-        atomic_write(self.root / f"{key}.json", lambda tmp: Path(tmp).write_text(json.dumps(meta)))
 
 
 def manifest_problem(manifest: dict) -> str | None:
@@ -518,7 +474,7 @@ class SweepStore:
             _save_npy(self.image_path(record["key"]), image, np.float64)
         if flip is not None:
             self.write_flip(record["key"], flip)
-        text = json.dumps(record, indent=1, default=_jsonable) + "\n"
+        text = dumps(record, indent=1) + "\n"
         self._folder(self.cells_dir)
         atomic_write(self.cell_path(record["key"]), lambda tmp: Path(tmp).write_text(text))
 
@@ -546,7 +502,7 @@ class SweepStore:
                     os.replace(self.root / name, kept / name)  # a link moves as a link
             self.log(f"the earlier config of {self.root} is kept in {kept}")
         atomic_write(self.root / "experiment.toml", lambda tmp: Path(tmp).write_text(experiment_text))
-        text = json.dumps(manifest, indent=1, default=_jsonable) + "\n"
+        text = dumps(manifest, indent=1) + "\n"
         atomic_write(self.root / "manifest.json", lambda tmp: Path(tmp).write_text(text))
 
     # --- one folder, one experiment, one writer ----------------------------------------
@@ -645,11 +601,3 @@ def _lock_owner(fd: int) -> dict:
     except (OSError, ValueError):
         return {}
     return owner if isinstance(owner, dict) else {}
-
-
-def _jsonable(obj: Any) -> Any:
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    raise TypeError(f"cannot store {type(obj).__name__} in a cell record")

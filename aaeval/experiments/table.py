@@ -43,6 +43,7 @@ from aaeval.experiments.record import (SCHEMA_VERSION, TABLE_FIELDS, CellRecord,
                                        noise_column)
 from aaeval.experiments.store import SCHEMA_KEY, SweepStore, read_table
 from aaeval.experiments.summaries import SUMMARY_FOLDER, summarize
+from aaeval.experiments.typed_json import dumps
 from aaeval.imageio import atomic_write
 
 __all__ = ["results_frame", "temporal_frame", "write_results", "rebuild_results", "read_table", "short_label",
@@ -238,7 +239,7 @@ def temporal_frame(store: SweepStore, results: pd.DataFrame) -> pd.DataFrame:
 
 
 def _write_json(path: Path, data) -> None:
-    text = json.dumps(data, sort_keys=True, indent=1, allow_nan=True)
+    text = dumps(data, sort_keys=True, indent=1)
     atomic_write(path, lambda tmp: Path(tmp).write_text(text + "\n"))
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 import html
 import math
 
+from aaeval.experiments.typed_json import decode_float
 from aaeval.report.html_tables import Stored, shown
 from aaeval.report.sweep_data import METRICS
 
@@ -35,7 +36,7 @@ def controls_html(stored: dict) -> str:
         cells = []
         for control in CONTROLS:
             i, r = by_control[control]
-            score, expected = r["score"], r["expected"]
+            score, expected = decode_float(r["score"]), decode_float(r["expected"])
             text = shown(score, Stored("controls.json", i, "score", metric.fmt)) if math.isfinite(score) else "n/a"
             if math.isfinite(expected):
                 met = math.isfinite(score) and abs(score - expected) <= TOLERANCE

@@ -72,7 +72,7 @@ def test_compare_writes_rows_and_temporal_summaries(scene_file, tmp_path, capsys
         assert row["render_s_min"] <= row["render_s"] <= row["render_s_max"]
         assert row["ms_per_mpix"] == pytest.approx(row["render_s"] * 1e3 / row["megapixels"])
         if row["method"] == "catmull":  # the exact method against itself
-            assert row["rmse"] == 0 and row["psnr"] is None and row["ssim"] == 1  # PSNR inf: null in JSON
+            assert row["rmse"] == 0 and row["psnr"] == "Infinity" and row["ssim"] == 1  # PSNR inf, kept as such
             assert row["ciede2000_mean"] == row["ciede2000_p95"] == row["flip"] == row["edge_rmse"] == 0
         else:
             assert row["rmse"] > 0.01 and row["edge_rmse"] > row["rmse"] and row["psnr"] < 40
@@ -192,7 +192,7 @@ def test_every_format_holds_every_metric_and_the_table_fits_100_columns(scene_fi
     doc = _strict(capsys.readouterr().out)
     assert doc == _strict((tmp_path / "c.json").read_text())
     exact = next(r for r in doc["rows"] if r["method"] == "catmull")
-    assert exact["psnr"] is None  # inf is not JSON
+    assert exact["psnr"] == "Infinity"  # strict JSON has no inf: its tag
     assert compare(*args, "--format", "csv") == 0
     import csv
     import io

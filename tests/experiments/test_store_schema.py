@@ -132,14 +132,3 @@ def test_a_manifest_of_the_wrong_shape_is_refused_in_one_line(finished, tmp_path
     err = capsys.readouterr().err
     assert code == 2 and "Traceback" not in err and len(err.strip().splitlines()) == 1, err
     assert "manifest.json" in err and "not a sweep manifest" in err, err
-
-
-def test_a_cached_reference_of_another_shape_or_bad_metadata_is_rendered_again(tmp_path):
-    from aaeval.experiments.store import ReferenceCache
-
-    cache = ReferenceCache(tmp_path)
-    cache.put("k", np.zeros((4, 4, 3)), {"render_s": 0.1, "noise_rmse": None, "intensity_sum": 0.0, "host": "h"})
-    assert cache.get("k", (4, 4, 3)) is not None
-    assert cache.get("k", (5, 4, 3)) is None
-    (tmp_path / "k.json").write_text('{"render_s": 0.1, "noise_rmse": Infinity, "intensity_sum": 0, "host": "h"}')
-    assert cache.get("k", (4, 4, 3)) is None

@@ -108,6 +108,32 @@ def test_failing_cell_is_recorded_and_the_sweep_goes_on(tmp_path, test_methods):
     assert retried.ran == 2 and retried.failed == 2
 
 
+def test_a_sweep_with_failed_cells_exits_3_and_names_each_error_once(tmp_path, test_methods, capsys):
+    from aaeval.cli import main
+
+    text = SMALL.replace('methods = ["catmull-jagged"]', 'methods = ["catmull-jagged", "test-fails-on-fans"]')
+    config = write_config(tmp_path, text)
+    argv = ["sweep", str(config), "--out", str(tmp_path / "out"), "--workers", "1", "-q", "--cache", str(tmp_path / "c")]
+    assert main(argv) == 3
+    err = capsys.readouterr().err
+    assert "2 cell(s) failed" in err and err.count("too many polygons") == 1, err
+    assert "2 x MethodFailure: method 'test-fails-on-fans' failed: RuntimeError: too many polygons" in err, err
+    assert "e.g. stability / fan@6 / test-fails-on-fans / frame 0" in err, err
+    # a rerun keeps the failures as results, and still says so
+    assert main(argv) == 3
+    assert "2 kept from earlier runs" in capsys.readouterr().err
+
+
+def test_a_cache_that_is_not_a_folder_is_refused_before_any_work(tmp_path, capsys, monkeypatch):
+    from tests.helpers.cli_util import refused
+
+    (tmp_path / "file").write_text("")
+    monkeypatch.setenv("AAEVAL_CACHE_DIR", str(tmp_path / "file"))
+    refused(["sweep", str(write_config(tmp_path)), "--out", str(tmp_path / "out"), "--workers", "1", "-q"],
+            capsys, tmp_path / "file", "not a folder")
+    assert not (tmp_path / "out").exists()
+
+
 SLOW_SWEEP = """
 import sys, time
 from aaeval.renderers import register_method, render
