@@ -31,6 +31,7 @@ import hashlib
 import importlib
 import json
 import os
+import stat
 import warnings
 import zipfile
 from pathlib import Path
@@ -227,22 +228,48 @@ def _render_phong(scene: Scene, **options) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _read(path: Path, scene: Scene) -> tuple[np.ndarray, np.ndarray | None] | None:
-    if not path.exists():
+    """The cached arrays of ``scene``, or None (missing, or damaged: named, rendered again).
+
+    The entry is read as untrusted input: a regular file only (a FIFO would block the read),
+    each member's shape and dtype taken from its header before its data is inflated (a few
+    MB can claim gigabytes), and pixels that are not finite refused."""
+    if not os.path.lexists(path):
         return None
+    wanted = {"image": scene.shape}
+    if has_shaded(scene):
+        wanted["specular"] = scene.shape[:2]
     try:
-        with np.load(path, allow_pickle=False) as data:
-            image = data["image"]
-            specular = data["specular"] if "specular" in data.files else None
+        if not stat.S_ISREG(os.lstat(path).st_mode):
+            raise ValueError("not a regular file")
+        with zipfile.ZipFile(path) as archive:
+            members = {name.removesuffix(".npy"): name for name in archive.namelist()}
+            if set(members) != set(wanted):
+                raise ValueError(f"holds {sorted(members)}, this scene needs {sorted(wanted)}")
+            arrays = {name: _member(archive, members[name], shape) for name, shape in wanted.items()}
     except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as exc:
         warnings.warn(f"damaged ground-truth cache entry {path} ({exc}); rendering it again", stacklevel=3)
         return None
-    wanted_specular = has_shaded(scene)
-    if (image.shape != scene.shape or image.dtype != np.float64 or (specular is not None) != wanted_specular
-            or (specular is not None and specular.shape != scene.shape[:2])):
-        warnings.warn(f"ground-truth cache entry {path} does not hold this scene's image; rendering it again",
-                      stacklevel=3)
-        return None
-    return image, specular
+    return arrays["image"], arrays.get("specular")
+
+
+def _member(archive: zipfile.ZipFile, name: str, shape: tuple[int, ...]) -> np.ndarray:
+    """One ``.npy`` member of an entry, of ``shape`` and float64, finite; checked from its
+    header before its data is read."""
+    with archive.open(name) as f:
+        readers = {(1, 0): np.lib.format.read_array_header_1_0, (2, 0): np.lib.format.read_array_header_2_0}
+        version = np.lib.format.read_magic(f)
+        if version not in readers:
+            raise ValueError(f"{name}: unsupported .npy version {version}")
+        stored, fortran, dtype = readers[version](f)
+        if tuple(stored) != tuple(shape) or dtype != np.float64 or fortran:
+            raise ValueError(f"{name} is {dtype} of shape {tuple(stored)}, not this scene's float64 {tuple(shape)}")
+        data = np.frombuffer(f.read(np.dtype(dtype).itemsize * int(np.prod(shape)) + 1), dtype=np.uint8)
+    if data.size != np.dtype(dtype).itemsize * int(np.prod(shape)):
+        raise ValueError(f"{name} holds {data.size} bytes where its header promises more or fewer")
+    array = data.view(dtype).reshape(shape).copy()
+    if not np.isfinite(array).all():
+        raise ValueError(f"{name} has pixels that are not finite")
+    return array
 
 
 def _write_note(path: Path, scene: Scene, **options) -> None:

@@ -199,3 +199,45 @@ def test_a_sweep_from_the_cache_gives_the_table_of_one_that_rendered(tmp_path):
     for folder in ("one", "two"):  # every JSON file of a sweep folder is strict JSON
         for path in (tmp_path / folder).rglob("*.json"):
             json.loads(path.read_text(), parse_constant=lambda c, p=path: pytest.fail(f"{p} holds {c}"))
+
+
+def _gt_entry(tmp_path, monkeypatch):
+    from aaeval.groundtruth import cache as gt
+    from aaeval.scenes import load_scene
+
+    monkeypatch.setenv("AAEVAL_CACHE_DIR", str(tmp_path))
+    scene = load_scene("configs/scenes/fan.toml")
+    path = gt.groundtruth_path(scene, spp=4, sampler="independent", seed=0)
+    path.parent.mkdir(parents=True)
+    return gt, scene, path
+
+
+@pytest.mark.parametrize("damage", ["nan pixels", "huge header", "fifo", "wrong member"])
+def test_a_damaged_ground_truth_entry_is_named_and_not_read_whole(tmp_path, monkeypatch, damage):
+    gt, scene, path = _gt_entry(tmp_path, monkeypatch)
+    if damage == "nan pixels":
+        np.savez(path, image=np.full(scene.shape, np.nan))
+    elif damage == "huge header":  # a few bytes claiming 12000 x 12000 x 3 float64
+        import io
+        import zipfile
+
+        head = io.BytesIO()
+        np.lib.format.write_array_header_1_0(head, {"descr": "<f8", "fortran_order": False,
+                                                    "shape": (12000, 12000, 3)})
+        with zipfile.ZipFile(path, "w") as z:
+            z.writestr("image.npy", head.getvalue() + b"\0" * 64)
+    elif damage == "fifo":
+        os.mkfifo(path)
+    else:
+        np.savez(path, picture=np.zeros(scene.shape))
+    with pytest.warns(UserWarning, match=f"damaged ground-truth cache entry {path}"):
+        assert gt._read(path, scene) is None
+
+
+def test_a_sound_ground_truth_entry_reads_back_exactly(tmp_path, monkeypatch):
+    gt, scene, path = _gt_entry(tmp_path, monkeypatch)
+    image = np.random.default_rng(0).random(scene.shape)
+    np.savez(path, image=image)
+    got, specular = gt._read(path, scene)
+    np.testing.assert_array_equal(got, image)
+    assert specular is None
