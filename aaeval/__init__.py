@@ -2,12 +2,12 @@
 
 The library functions (:mod:`aaeval.api`) are loaded on first use (PEP 562), so
 ``import aaeval`` stays cheap: ``aaeval.load_scene``, ``aaeval.render``,
-``aaeval.compare``, ``aaeval.sweep``, ``aaeval.open_sweep``. See ``docs/python.md``.
+``aaeval.compare``, ``aaeval.sweep``, ``aaeval.open_sweep``, ``aaeval.show``. See ``docs/python.md``.
 """
 
 __version__ = "0.1.0"
 
-_API = ("load_scene", "render", "compare", "sweep", "open_sweep", "Sweep")
+_API = ("load_scene", "render", "compare", "sweep", "open_sweep", "Sweep", "show")
 
 __all__ = ["__version__", *_API]
 

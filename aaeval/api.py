@@ -10,7 +10,6 @@ loads the registries first (:func:`aaeval.registries.load`, once per process). S
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping, Sequence
@@ -24,7 +23,7 @@ if TYPE_CHECKING:
 
     from aaeval.scenes import Scene
 
-__all__ = ["load_scene", "render", "compare", "sweep", "open_sweep", "Sweep"]
+__all__ = ["load_scene", "render", "compare", "sweep", "open_sweep", "Sweep", "show", "show_scenes_in"]
 
 
 def load_scene(scene: str | Path | Mapping[str, Any] | "Scene") -> "Scene":
@@ -186,41 +185,6 @@ def open_sweep(folder: str | Path) -> Sweep:
 
 # --- display in notebooks ----------------------------------------------------------
 
-#: The method a Scene's preview is rendered with: exact and fast on small scenes.
-PREVIEW_METHOD = "catmull"
+from aaeval.preview import show, show_scenes_in, show_scenes_in_a_running_notebook  # noqa: E402
 
-
-def png_bytes(image: np.ndarray) -> bytes:
-    """An (H, W, 3) linear RGB image as sRGB PNG bytes (what a notebook shows)."""
-    import io
-
-    from PIL import Image
-
-    from aaeval.imageio import linear_to_srgb8
-
-    buffer = io.BytesIO()
-    Image.fromarray(linear_to_srgb8(np.asarray(image)), "RGB").save(buffer, format="PNG")
-    return buffer.getvalue()
-
-
-def scene_png(scene) -> bytes:
-    """The scene at its frame rendered with :data:`PREVIEW_METHOD`, as PNG bytes."""
-    return png_bytes(render(scene, PREVIEW_METHOD, frame=scene.frame))
-
-
-def show_scenes_in(shell) -> None:
-    """Make the IPython ``shell`` draw a :class:`~aaeval.scenes.Scene` as its preview
-    (:func:`scene_png`). A Scene is data and renders nothing itself; this module, above
-    the renderers, lends it the picture."""
-    formatter = shell.display_formatter.formatters["image/png"]
-    formatter.for_type_by_name("aaeval.scenes.format", "Scene", scene_png)
-
-
-def _show_scenes_in_a_running_notebook() -> None:
-    ipython = sys.modules.get("IPython")  # a notebook has it imported; a script need not
-    shell = ipython.get_ipython() if ipython is not None else None
-    if shell is not None:
-        show_scenes_in(shell)
-
-
-_show_scenes_in_a_running_notebook()
+show_scenes_in_a_running_notebook()

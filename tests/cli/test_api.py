@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from PIL import Image
 
 import aaeval
 from tests.helpers.sweep_util import write_config
@@ -84,14 +85,53 @@ def test_compare_frames_give_a_row_per_method_and_frame():
 
 
 def test_scene_displays_and_has_a_short_repr():
-    from PIL import Image
-
     scene = aaeval.load_scene(FAN)
     assert len(repr(scene)) < 300 and "24 polygons" in repr(scene)
     long = aaeval.load_scene({**SQUARE, "polygons": SQUARE["polygons"] * 200})
     assert len(repr(long)) < 300
     picture = Image.open(io.BytesIO(_notebook_png(scene)))
-    assert picture.size == (32, 32) and picture.mode == "RGB"
+    assert picture.size == (256, 256) and picture.mode == "RGB"  # 32 x 32 enlarged 8x
+    pixels = np.asarray(picture)
+    assert (pixels[::8, ::8] == pixels[7::8, 7::8]).all()  # nearest neighbour: each pixel a square
+
+
+def test_show_draws_a_scene_or_an_image_at_the_size_asked():
+    scene = aaeval.load_scene(SQUARE)
+    image = aaeval.render(scene, "point")
+    shown = Image.open(io.BytesIO(aaeval.show(image, size=512)._repr_png_()))
+    assert shown.size == (512, 384)  # 8 x 6 enlarged 64x
+    np.testing.assert_array_equal(np.asarray(shown)[::16, ::16], np.asarray(Image.open(io.BytesIO(
+        aaeval.show(image, size=32)._repr_png_()))))  # the same pixels, each 16x larger
+    assert Image.open(io.BytesIO(aaeval.show(scene)._repr_png_())).size == (256, 192)
+    for bad in (0, 2.5, "big", 10**6):
+        with pytest.raises(ValueError, match="size must be a whole number"):
+            aaeval.show(image, size=bad)
+    with pytest.raises(ValueError, match="a Scene or an"):
+        aaeval.show(np.zeros((4, 4)))
+
+
+NOTEBOOK_CELLS = [
+    "import aaeval",
+    "scene = aaeval.load_scene({'image': {'width': 32, 'height': 24}, 'polygons': [{'color': [1, 0.5, 0], "
+    "'vertices': [[2.5, 2.5, 0], [28.3, 4.1, 0], [9.7, 21.2, 0]]}]})\nscene",
+    "aaeval.show(aaeval.render(scene, 'point'), size=640)",
+]
+
+
+@pytest.mark.slow
+def test_a_scene_in_jupyter_shows_at_a_readable_size(tmp_path):
+    import base64
+
+    import nbformat
+    from nbclient import NotebookClient
+
+    notebook = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(c) for c in NOTEBOOK_CELLS])
+    NotebookClient(notebook, timeout=120, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}).execute()
+    sizes = []
+    for cell in notebook.cells[1:]:
+        png = next(o["data"]["image/png"] for o in cell.outputs if "image/png" in o.get("data", {}))
+        sizes.append(Image.open(io.BytesIO(base64.b64decode(png))).size)
+    assert sizes == [(256, 192), (640, 480)]  # 32 x 24 enlarged 8x; 20x when asked for 640
 
 
 def _notebook_png(scene) -> bytes:

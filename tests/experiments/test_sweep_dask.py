@@ -8,7 +8,7 @@ import pytest
 from aaeval.experiments import SweepStore, load_experiment, run_sweep
 from tests.helpers.sweep_util import write_config
 
-distributed = pytest.importorskip("distributed", reason="dask[distributed] is a dependency; install it to run this")
+import distributed
 
 
 @pytest.fixture(scope="module")

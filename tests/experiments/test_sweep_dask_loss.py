@@ -13,7 +13,7 @@ import pytest
 from aaeval.cli import main
 from tests.helpers.sweep_util import write_config
 
-distributed = pytest.importorskip("distributed", reason="dask[distributed] is a dependency; install it to run this")
+import distributed
 import dask  # noqa: E402  (installed with distributed)
 
 MANY = """
