@@ -8,13 +8,13 @@ def add_parser(sub) -> None:
         "report",
         help="write DIR/index.html: charts and tables of a sweep's results",
         description="Rebuild DIR/results.parquet from the cell files and write DIR/index.html with its "
-        "figures (PNG files beside it; --paper adds SVG and PDF twins): speed against accuracy, intensity sum per frame, flicker, "
+        "figures (PNG files beside it, each with its SVG and PDF for papers): speed against accuracy, intensity sum per frame, flicker, "
         "stability as difficulty grows, an image grid with crops and error maps, and the tables.",
     )
     p.add_argument("dir", metavar="DIR", help="sweep folder written by 'aaeval sweep'")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
-    p.add_argument("--paper", action="store_true",
-                   help="also write every figure as SVG and PDF, for papers (drawing takes about three times as long)")
+    p.add_argument("--png-only", action="store_true",
+                   help="a quicker draft: figures as PNG only, without their SVG and PDF twins")
     p.set_defaults(run=run)
 
 
@@ -30,6 +30,6 @@ def run(args) -> int:
             if (Path(args.dir) / name).is_symlink():
                 raise ValueError(f"{Path(args.dir) / name} is a symbolic link; the report writes only inside "
                                  f"{args.dir} (remove the link)")
-    index = write_report(args.dir, quiet=args.quiet, formats=("png", "svg", "pdf") if args.paper else ("png",))
+    index = write_report(args.dir, quiet=args.quiet, formats=("png",) if args.png_only else ("png", "svg", "pdf"))
     print(f"report: {index}")
     return 0

@@ -217,10 +217,10 @@ def _figure(draw):
 
 
 @contextlib.contextmanager
-def drawing(formats=("png",)):
+def drawing(formats=FORMATS):
     """Within this block the figure functions and :func:`save_figure` write ``formats``
-    (PNG always; SVG and PDF for papers cost most of the drawing time: PDF subsets its
-    fonts) in worker processes, as many as the cores this process may use (none where
+    (PNG always, for the page; SVG and PDF, for papers, cost most of the drawing time: PDF
+    subsets its fonts) in worker processes, as many as the cores this process may use (none where
     ``os.fork`` is missing); leaving it waits for them all and raises if one failed."""
     unknown = set(formats) - set(FORMATS)
     if unknown:

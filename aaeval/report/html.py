@@ -545,9 +545,9 @@ def _timing_note(results: pd.DataFrame) -> str:
     return (f"Rendered on {len(hosts)} host(s): {html.escape(', '.join(map(str, hosts)))}. " if len(hosts) else "")
 
 
-def write_report(directory: str | Path, *, quiet: bool = True, formats=("png",)) -> Path:
+def write_report(directory: str | Path, *, quiet: bool = True, formats=figures.FORMATS) -> Path:
     """Write ``DIR/index.html`` with ``DIR/figures/``, ``DIR/tables/`` and ``DIR/viewer/``;
-    ``formats``: of the figures (``"svg"`` and ``"pdf"`` beside the PNG, for papers)."""
+    ``formats``: of the figures (``"svg"`` and ``"pdf"`` beside every PNG unless left out)."""
     data = read_sweep(directory)
     with figures.drawing(formats):  # the page is written once every figure is
         page_text = _page_text(data, quiet)

@@ -36,14 +36,14 @@ def test_a_report_output_replaced_by_a_link_is_replaced_not_written_through(worl
     tmp_path, outside, config = world
     out = tmp_path / "out"
     assert sweep(tmp_path, config) == 0
-    assert main(["report", str(out), "--quiet", "--paper"]) == 0
+    assert main(["report", str(out), "--quiet"]) == 0
     outputs = [p for d in ("figures", "tables", "viewer") for p in (out / d).iterdir()] + [out / "index.html"]
     assert any(p.suffix == ".svg" for p in outputs)
     for p in outputs:
         p.unlink()
         os.symlink(outside / "victim.txt", p)
     before = snapshot(outside)
-    assert main(["report", str(out), "--quiet", "--paper"]) == 0, capsys.readouterr().err
+    assert main(["report", str(out), "--quiet"]) == 0, capsys.readouterr().err
     assert snapshot(outside) == before
     for p in outputs:
         assert p.is_file() and not p.is_symlink(), p

@@ -100,6 +100,7 @@ def test_catmull_is_judged_against_mitsuba_at_its_noise_level(report):
 
 
 def test_figures_and_tables_come_in_paper_formats(report):
+    """Every figure of a report written as 'aaeval report' writes it has its SVG and PDF."""
     root = report.parent
     pngs = {p.stem for p in (root / "figures").glob("*.png")}
     edges, stability = figure_stem("edges"), figure_stem("stability")  # group files: slug + hash of the name
