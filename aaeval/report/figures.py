@@ -13,15 +13,8 @@ an exact reference) is drawn on a marked "exact" strip under the axis' data rang
 
 from __future__ import annotations
 
-import contextlib
-import functools
-import inspect
 import math
-import multiprocessing
-import os
 import textwrap
-import traceback
-from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 
 import matplotlib
@@ -31,35 +24,23 @@ from aaeval.report.names import MATHTEXT_OFF
 matplotlib.use("Agg")
 matplotlib.rcParams.update(MATHTEXT_OFF)  # group names and labels are text: "$5" is no mathtext
 import matplotlib.pyplot as plt  # noqa: E402
-import matplotlib.image  # noqa: E402
-from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
-from matplotlib.transforms import Bbox  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from aaeval.fileio import atomic_write, linear_to_srgb8  # noqa: E402
+from aaeval.report import chart_parts, figure_files  # noqa: E402
+from aaeval.report.figure_files import FORMATS, drawing, twin_formats  # noqa: E402,F401 - the figures' API
 from aaeval.report.style import Styles, ground_truth_style  # noqa: E402
 
 __all__ = ["EXACT_BELOW", "UNIT", "FORMATS", "drawing", "twin_formats", "metric_label", "temporal_bars", "save_figure", "pareto_front", "speed_accuracy", "accuracy_dots", "error_per_frame",
-           "intensity_sums", "phase_figure", "space_time", "stability", "image_grid", "validation"]
+           "intensity_sums", "phase_figure", "stability", "validation"]
 
 # An error this small is float64 rounding of an exact render against an exact reference.
 EXACT_BELOW = 1e-10
 #: The one unit of every error on the page, stated in every caption.
 UNIT = ("unit: linear RGB per channel (error maps: the mean of the R, G, B errors; RMSE and flicker: root mean square "
         "over pixels and channels)")
-#: The formats a figure can be written in: the page shows the PNG; SVG and PDF are for papers.
-FORMATS = ("png", "svg", "pdf")
-_DPI = 100
 plt.rcParams.update({"svg.fonttype": "none", "pdf.fonttype": 42, "font.size": 9, "legend.fontsize": 7.5,
                      "axes.titlesize": 9.5})
-
-
-def _suptitle(fig, text: str, fontsize: float = 10) -> None:
-    """A figure title just above the top row's titles (figures use no layout engine:
-    constrained layout cost most of the report's time; the tight bounding box keeps it)."""
-    top = max((ax.get_position().y1 for ax in fig.axes), default=1.0)
-    fig.suptitle(text, y=top + 0.42 / fig.get_figheight(), va="bottom", fontsize=fontsize)
 
 
 def metric_label(name: str) -> str:
@@ -71,195 +52,10 @@ def metric_label(name: str) -> str:
 
 
 def save_figure(fig, path: Path) -> Path:
-    """Write the figure as ``path`` with suffix ``.png`` (what the page shows), and its twins
-    in the other formats of :func:`drawing`; close it; return the PNG path. Inside
-    :func:`drawing` a worker process writes the files."""
-    path = Path(path).with_suffix(".png")
+    """Write the figure (:func:`aaeval.report.figure_files.save`) with its log axes' ticks
+    in plain numbers; return the PNG path."""
     _plain_log_axes(fig)
-    if _workers.executor is not None:
-        _workers.submit(path, _write_files, fig, path)
-    else:
-        _write_files(fig, path)
-    plt.close(fig)
-    return path
-
-
-def twin_formats() -> tuple[str, ...]:
-    """The formats besides PNG that :func:`save_figure` writes now (for the page's links)."""
-    return tuple(f for f in _workers.formats if f != "png")
-
-
-def _write_files(fig, path: Path) -> None:
-    box = _write_png(fig, path)
-    for fmt in _workers.formats:
-        if fmt != "png":
-            # a temporary file moved into place: a link planted at the name is replaced, never written through
-            atomic_write(path.with_suffix(f".{fmt}"),
-                         lambda tmp, fmt=fmt: fig.savefig(tmp, format=fmt, dpi=_DPI, bbox_inches=box,
-                                                          metadata=_metadata(fmt)))
-
-
-#: Room drawn beside and above/below a figure (inches, whole pixels at :data:`_DPI`) for what
-#: lies outside it: legends beside the axes, long tick labels, titles above.
-_ROOM = (4.0, 2.0)
-
-
-def _write_png(fig, path: Path):
-    """Write ``path``, the PNG of ``fig``'s tight box, drawing the figure once; return the box
-    (inches, with savefig's pad), for the other formats.
-
-    ``savefig(bbox_inches=box)`` lays every text out twice: once to find the box, once more
-    for the canvas of the box's size. Here the figure is drawn once on a canvas with
-    :data:`_ROOM` around it, the box is measured with the renderer that drew it (its text
-    extents cached), widened to whole pixels, and cut out: the same pixels savefig draws
-    for the widened box (hatching aside: its pattern starts at the canvas' corner). Where
-    the figure reaches beyond the room, savefig draws the box."""
-    # a figure sent to a worker comes without pyplot's canvas
-    canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
-    fig.set_dpi(_DPI)
-    width, height = fig.get_size_inches()
-    across, up = _ROOM
-    fig.savefig(os.devnull, format="raw", dpi=_DPI,  # the pixels are read from the renderer that drew
-                bbox_inches=Bbox.from_extents(-across, -up, width + across, height + up))
-    renderer = canvas.renderer
-    box = fig.get_tightbbox(renderer).padded(plt.rcParams["savefig.pad_inches"])
-    x0, y0 = math.floor(box.x0 * _DPI), math.floor(box.y0 * _DPI)
-    x1, y1 = math.ceil(box.x1 * _DPI), math.ceil(box.y1 * _DPI)
-    top, left = renderer.height - round(up * _DPI) - y1, round(across * _DPI) + x0  # Agg's rows run downwards
-    if min(top, left) >= 0 and left + x1 - x0 <= renderer.width and top + y1 - y0 <= renderer.height:
-        cut = np.asarray(renderer.buffer_rgba())[top:top + y1 - y0, left:left + x1 - x0]
-        atomic_write(path, lambda tmp: matplotlib.image.imsave(tmp, cut, format="png", origin="upper", dpi=_DPI,
-                                                                metadata=_metadata("png")))
-    else:
-        widened = Bbox.from_extents(x0 / _DPI, y0 / _DPI, x1 / _DPI, y1 / _DPI)
-        atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=_DPI, bbox_inches=widened,
-                                                   metadata=_metadata("png")))
-    return box
-
-
-def _metadata(fmt: str) -> dict:
-    # no creation dates: the same data gives the same files
-    return {"png": {"Software": None}, "svg": {"Date": None}, "pdf": {"CreationDate": None}}[fmt]
-
-
-class _Workers:
-    """Processes forked once per report that build and write the figures while the parent
-    reads the sweep and writes the page: building and drawing are most of the report's time.
-    They live for the whole report, so matplotlib's caches (fonts, text extents) serve
-    every figure, and the parent's memory is not copied again for each one. Each file is
-    written by one process, so the output is the same as drawing them in turn."""
-
-    def __init__(self):
-        self.executor: ProcessPoolExecutor | None = None
-        self.formats: tuple[str, ...] = ("png",)
-        self.jobs: list[tuple[Path, Future]] = []
-
-    def open(self, count: int, formats: tuple[str, ...]) -> None:
-        self.formats = formats
-        if count:  # forked at the first job, with what the parent holds then
-            self.executor = ProcessPoolExecutor(count, mp_context=multiprocessing.get_context("fork"),
-                                                initializer=_in_worker)
-
-    def submit(self, path: Path, work, *args, **kwargs) -> None:
-        self.jobs.append((path, self.executor.submit(_job, work, args, kwargs)))
-
-    def close(self, check: bool = True) -> None:
-        """Wait for the jobs (``check=False``: for the running ones only, the queued ones are
-        dropped) and raise if one failed."""
-        executor, jobs = self.executor, self.jobs
-        self.executor, self.formats, self.jobs = None, ("png",), []
-        if executor is not None:
-            executor.shutdown(wait=True, cancel_futures=not check)
-        failed = []
-        for path, job in jobs:
-            if job.cancelled():
-                continue
-            if job.exception() is not None:  # never ran: its arguments would not pickle, or a worker died
-                traceback.print_exception(job.exception())
-            if job.exception() is not None or not job.result():
-                failed.append(path)
-        if failed and check:
-            raise RuntimeError(f"drawing {', '.join(p.name for p in failed)} failed (its error is printed above)")
-
-
-def _in_worker() -> None:
-    _workers.executor = None  # a worker draws its figures itself
-
-
-def _job(work, args, kwargs) -> bool:
-    """Run one figure's work in a worker; its error is printed there (the parent names the figure)."""
-    try:
-        work(*args, **kwargs)
-    except BaseException:  # noqa: BLE001 - reported to the parent as a failed figure
-        traceback.print_exc()
-        return False
-    return True
-
-
-_workers = _Workers()
-
-
-def _figure(draw):
-    """A figure function ``draw(..., path, ...)``: inside :func:`drawing` the whole call,
-    building the figure as well as writing it, runs in a worker process (its arguments
-    are sent there), and the PNG's path is returned at once."""
-    signature = inspect.signature(draw)
-
-    @functools.wraps(draw)
-    def call(*args, **kwargs):
-        if _workers.executor is None:
-            return draw(*args, **kwargs)
-        path = Path(signature.bind(*args, **kwargs).arguments["path"]).with_suffix(".png")
-        _workers.submit(path, call, *args, **kwargs)  # by its module name: the worker runs it itself
-        return path
-
-    return call
-
-
-@contextlib.contextmanager
-def drawing(formats=FORMATS):
-    """Within this block the figure functions and :func:`save_figure` write ``formats``
-    (PNG always, for the page; SVG and PDF, for papers, cost most of the drawing time: PDF
-    subsets its fonts) in worker processes, as many as the cores this process may use (none where
-    ``os.fork`` is missing); leaving it waits for them all and raises if one failed."""
-    unknown = set(formats) - set(FORMATS)
-    if unknown:
-        raise ValueError(f"unknown figure format(s) {', '.join(sorted(unknown))}; known: {', '.join(FORMATS)}")
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    _workers.open(cores if hasattr(os, "fork") and cores > 1 else 0,
-                  tuple(f for f in FORMATS if f in formats or f == "png"))
-    try:
-        yield
-    except BaseException:
-        _workers.close(check=False)  # the body's error is the one to see
-        raise
-    _workers.close()
-
-
-def _placed_title(ax, text: str, **kw) -> None:
-    """An axes title at its usual place, for an axes whose y axis is log, categorical or
-    hidden. Matplotlib's automatic placement lays the y axis out once more per title, at
-    every draw, to dodge an offset text above it; such an axis never shows one."""
-    ax.set_title(text, y=1.0, **kw)
-
-
-def _opaque_rgba(srgb8: np.ndarray) -> np.ndarray:
-    """uint8 sRGB as the float32 RGBA matplotlib turns it into (the same pixels): given
-    uint8 RGB it resamples a float64 copy, a fifth of an image grid's drawing time."""
-    rgba = np.empty(srgb8.shape[:2] + (4,), np.float32)
-    np.divide(srgb8, np.float32(255), out=rgba[..., :3], dtype=np.float32)
-    rgba[..., 3] = 1.0
-    return rgba
-
-
-def _legend(ax, *, outside: bool = True, **kw) -> None:
-    handles, labels = ax.get_legend_handles_labels()
-    if not handles:
-        return
-    if outside:
-        ax.legend(handles, labels, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0, **kw)
-    else:
-        ax.legend(handles, labels, **kw)
+    return figure_files.save(fig, path)
 
 
 def _sorted_specs(rows: pd.DataFrame, styles: Styles) -> list[tuple[str, pd.DataFrame]]:
@@ -377,7 +173,7 @@ def pareto_front(times: np.ndarray, errors: np.ndarray) -> np.ndarray:
     return np.array(front, dtype=int)
 
 
-@_figure
+@figure_files.figure
 def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles,
                    noise=()) -> Path:
     """Time per megapixel (median, bars from the fastest to the slowest repeat) against mean
@@ -422,13 +218,13 @@ def speed_accuracy(summary: pd.DataFrame, path: Path, *, metric: str, title: str
     ax.set_xlabel("render time per megapixel (ms; speed pass, one worker: median of the rounds, bar: fastest to "
                   "slowest)")
     ax.set_ylabel(f"{metric_label(metric)} against the ground truth (mean over cells)")
-    _placed_title(ax, title)
+    chart_parts.placed_title(ax, title)
     ax.grid(True, which="major", alpha=0.3)
-    _legend(ax, ncols=1 if len(summary) <= 22 else 2)
+    chart_parts.legend(ax, ncols=1 if len(summary) <= 22 else 2)
     return save_figure(fig, path)
 
 
-@_figure
+@figure_files.figure
 def accuracy_dots(summary: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles,
                   noise=()) -> Path:
     """Mean error per spec (dot, bar from the best to the worst cell) on a log axis, with the
@@ -453,7 +249,7 @@ def accuracy_dots(summary: pd.DataFrame, path: Path, *, metric: str, title: str,
     ax.set_xlim(lo, hi)
     _log_ticks(ax.xaxis)
     ax.set_xlabel(f"{metric_label(metric)} against the ground truth (dot: mean over cells; bar: best to worst cell)")
-    _placed_title(ax, title)
+    chart_parts.placed_title(ax, title)
     ax.grid(True, axis="x", which="major", alpha=0.3)
     if ax.get_legend_handles_labels()[0]:  # below the axis, never over a point
         ax.legend(loc="upper right", bbox_to_anchor=(1.0, -0.5 / fig.get_figheight() - 0.05), fontsize=7,
@@ -490,7 +286,7 @@ def _error_panel(ax, rows: pd.DataFrame, x: str, metric: str, styles: Styles, *,
     ax.grid(True, alpha=0.3)
 
 
-@_figure
+@figure_files.figure
 def error_per_frame(results: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles) -> Path:
     """The error of every frame, one curve per spec, one panel per animated scene; the
     ground truth's noise of each frame as a grey curve."""
@@ -499,14 +295,14 @@ def error_per_frame(results: pd.DataFrame, path: Path, *, metric: str, title: st
     for ax, scene in zip(axes, scenes):
         _error_panel(ax, results[results["scene"] == scene], "frame", metric, styles)
         _frame_ticks(ax)
-        _placed_title(ax, scene)
+        chart_parts.placed_title(ax, scene)
         ax.set_xlabel("frame")
-        _legend(ax)
-    _suptitle(fig, title)
+        chart_parts.legend(ax)
+    chart_parts.suptitle(fig, title)
     return save_figure(fig, path)
 
 
-@_figure
+@figure_files.figure
 def intensity_sums(results: pd.DataFrame, path: Path, *, title: str, styles: Styles) -> Path:
     """Intensity sum per frame relative to the ground truth's sum of the same frame, on a
     linear axis: 1 is right, and area sampling stays at 1 while the scene moves."""
@@ -528,12 +324,12 @@ def intensity_sums(results: pd.DataFrame, path: Path, *, title: str, styles: Sty
         ax.set_xlabel("frame")
         ax.set_ylabel("intensity sum over ground-truth sum")
         ax.grid(True, alpha=0.3)
-        _legend(ax)
-    _suptitle(fig, title)
+        chart_parts.legend(ax)
+    chart_parts.suptitle(fig, title)
     return save_figure(fig, path)
 
 
-@_figure
+@figure_files.figure
 def phase_figure(results: pd.DataFrame, path: Path, *, metric: str, title: str, styles: Styles) -> Path:
     """Each method's error and intensity sum against the sub-pixel phase of the frame.
 
@@ -561,14 +357,14 @@ def phase_figure(results: pd.DataFrame, path: Path, *, metric: str, title: str, 
         for ax in (ax_error, ax_sum):
             ax.set_xlim(0.0, 1.0)
             ax.set_xlabel("sub-pixel phase of the frame along x (px)")
-        _placed_title(ax_error, scene)
+        chart_parts.placed_title(ax_error, scene)
         ax_sum.set_title(scene)  # linear: its y axis may show an offset text to dodge
-        _legend(ax_sum)
-    _suptitle(fig, title)
+        chart_parts.legend(ax_sum)
+    chart_parts.suptitle(fig, title)
     return save_figure(fig, path)
 
 
-@_figure
+@figure_files.figure
 def temporal_bars(temporal: pd.DataFrame, path: Path, *, group: str, metrics: list[str], title: str,
                   styles: Styles) -> Path:
     """One panel per temporal metric (registered, from temporal.parquet): a bar per spec, mean over
@@ -601,7 +397,7 @@ def temporal_bars(temporal: pd.DataFrame, path: Path, *, group: str, metrics: li
         ax.grid(True, axis="x", alpha=0.3)
     axes[0, 0].set_yticks(range(len(order)), [r.label for r in order], fontsize=7.5)
     axes[0, 0].invert_yaxis()
-    _suptitle(fig, title)
+    chart_parts.suptitle(fig, title)
     return save_figure(fig, path)
 
 
@@ -612,29 +408,7 @@ def _bar_edge(st) -> str:
     return "black"
 
 
-@_figure
-def space_time(reference: np.ndarray, series: list[tuple[str, np.ndarray]], path: Path, *, row: int,
-               title: str) -> Path:
-    """Space-time slices: image row ``row`` of every frame stacked downwards (x: column,
-    y: frame), the ground truth first. ``reference`` and each series: (F, H, W, 3)."""
-    panels = [("ground truth", reference)] + series
-    f, _, w, _ = reference.shape
-    cols = min(4, len(panels))
-    nrows = math.ceil(len(panels) / cols)
-    cell_w = 2.4
-    cell_h = max(0.5, cell_w * f / w) + 0.35
-    fig, axes = plt.subplots(nrows, cols, figsize=(cell_w * cols, cell_h * nrows), squeeze=False,
-                             gridspec_kw={"hspace": 0.35, "wspace": 0.05})
-    for ax in axes.ravel():
-        ax.axis("off")
-    for ax, (name, frames) in zip(axes.ravel(), panels):
-        ax.imshow(_opaque_rgba(linear_to_srgb8(frames[:, row])), interpolation="nearest", aspect="auto")
-        _placed_title(ax, name, fontsize=7)
-    _suptitle(fig, f"{title} (row {row}; x: column, y: frame downwards)")
-    return save_figure(fig, path)
-
-
-@_figure
+@figure_files.figure
 def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: str, styles: Styles,
               definition: str) -> Path:
     """Error (left) and fraction of failed cells (right) against difficulty, one line per spec.
@@ -668,12 +442,12 @@ def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: 
     bx.text(0.5, -0.16, textwrap.fill(definition, 85), transform=bx.transAxes, ha="center", va="top", fontsize=7)
     bx.set_ylim(-0.05, 1.05)
     bx.grid(True, alpha=0.3)
-    _legend(bx)
-    _suptitle(fig, title)
+    chart_parts.legend(bx)
+    chart_parts.suptitle(fig, title)
     return save_figure(fig, path)
 
 
-@_figure
+@figure_files.figure
 def validation(table: pd.DataFrame, path: Path, *, title: str, styles: Styles) -> Path:
     """Exact method against the ground truth (y) over the ground truth's own noise (x), one
     point per scene frame: on the diagonal, the exact method agrees within the noise."""
@@ -693,81 +467,9 @@ def validation(table: pd.DataFrame, path: Path, *, title: str, styles: Styles) -
     ax.set_ylim(lo, hi)
     ax.set_xlabel("ground truth's noise RMS (seed-to-seed RMSE / sqrt 2)")
     ax.set_ylabel("exact method's RMSE against the ground truth")
-    _placed_title(ax, title)
+    chart_parts.placed_title(ax, title)
     ax.grid(True, alpha=0.3)
-    _legend(ax)
+    chart_parts.legend(ax)
     return save_figure(fig, path)
 
 
-def _crop_box(error: np.ndarray, size: int) -> tuple[int, int, int, int]:
-    """A square of ``size`` pixels around the largest error, inside the image."""
-    h, w = error.shape
-    r, c = np.unravel_index(int(np.argmax(error)), error.shape)
-    size = min(size, h, w)
-    r0 = int(np.clip(r - size // 2, 0, h - size))
-    c0 = int(np.clip(c - size // 2, 0, w - size))
-    return r0, r0 + size, c0, c0 + size
-
-
-@_figure
-def image_grid(reference: np.ndarray, images: list[tuple[str, np.ndarray]], path: Path, *, title: str,
-               shared: bool = True) -> Path:
-    """Rows: the ground truth, then each method; columns: image, zoomed crop, signed error
-    (the mean of the R, G, B errors, the page's one unit; red: too bright, blue: too dark) on
-    one symmetric scale for the whole figure (``shared=False``: each row its own), stated per row.
-
-    The crop is the same square for every row (around the largest error of any method). The
-    panels are laid into one raster shown by one axes (an axes per panel cost most of the
-    report's drawing time); names and scales are text beside them.
-    """
-    errors = [(img - reference).mean(axis=2) for _, img in images]
-    common = max((float(np.abs(e).max()) for e in errors), default=0.0)
-    worst = np.max(np.abs(np.stack(errors)), axis=0) if errors else np.zeros(reference.shape[:2])
-    r0, r1, c0, c1 = _crop_box(worst, max(4, min(reference.shape[:2]) // 3))
-    rows = [("ground truth", reference, None)] + [(n, img, err) for (n, img), err in zip(images, errors)]
-    h, w = reference.shape[:2]
-    # columns: the image, the crop enlarged to a square as tall as the image, the error map
-    crop_side = max(h, r1 - r0)
-    gap = max(3, max(h, w) // 12)
-    lefts = (0, w + gap, w + crop_side + 2 * gap)
-    row_height = max(h, crop_side)
-    canvas = np.full((len(rows) * (row_height + gap) - gap, lefts[2] + w, 3), 255, np.uint8)
-    # the canvas fitted into 10 x 18 in (a long grid is read by scrolling, a wide one is not),
-    # an image at most 3 in across
-    inches = min(10.0 / canvas.shape[1], 18.0 / canvas.shape[0], 3.0 / max(h, w))
-    fig, ax = plt.subplots(figsize=(canvas.shape[1] * inches, canvas.shape[0] * inches))
-    ax.set_position([0.0, 0.0, 1.0, 1.0])
-    upright = row_height * inches >= 1.3
-    for i, (name, img, err) in enumerate(rows):
-        top = i * (row_height + gap)
-        srgb = linear_to_srgb8(img)
-        _put(canvas, top, lefts[0], srgb, h, w)
-        _put(canvas, top, lefts[1], srgb[r0:r1, c0:c1], crop_side, crop_side)
-        ax.add_patch(plt.Rectangle((c0 - 0.5, top + r0 - 0.5), c1 - c0, r1 - r0, fill=False, ec="red", lw=1))
-        # a name reads along a row tall enough for it, across a short one (wide scenes, text)
-        ax.text(-gap / 2, top + row_height / 2, name.replace(":", ":\n").replace(",", ",\n"),
-                rotation=90 if upright else 0, ha="right", va="center", fontsize=7 if upright else 6)
-        if err is not None:
-            scale = max(common if shared else float(np.abs(err).max()), np.finfo(float).tiny)
-            coloured = plt.get_cmap("RdBu_r")((err / scale + 1) / 2)[..., :3]
-            _put(canvas, top, lefts[2], np.round(coloured * 255).astype(np.uint8), h, w)
-            ax.text(lefts[2] + w / 2, top - gap / 8,
-                    f"signed error, scale ±{scale:.2g}; mean |err| {np.abs(err).mean():.2g}"
-                    if np.abs(err).max() > 0 else "no error: identical to the ground truth",
-                    ha="center", va="bottom", fontsize=7)
-    ax.imshow(_opaque_rgba(canvas), interpolation="nearest")
-    ax.text(w / 2, -gap / 8, "image", ha="center", va="bottom", fontsize=8)
-    ax.text(lefts[1] + crop_side / 2, -gap / 8, f"crop rows {r0}-{r1 - 1}, cols {c0}-{c1 - 1}", ha="center",
-            va="bottom", fontsize=8)
-    ax.axis("off")
-    fig.suptitle(title, y=1.0 + 0.5 / fig.get_figheight(), va="bottom", fontsize=9)
-    return save_figure(fig, path)
-
-
-def _put(canvas: np.ndarray, top: int, left: int, panel: np.ndarray, height: int, width: int) -> None:
-    """``panel`` (uint8 RGB) enlarged by whole pixels (nearest) to fit a ``height`` x ``width``
-    box at (top, left)."""
-    ph, pw = panel.shape[:2]
-    k = max(1, min(height // ph, width // pw))
-    big = np.repeat(np.repeat(panel, k, axis=0), k, axis=1)[:height, :width]
-    canvas[top:top + big.shape[0], left:left + big.shape[1]] = big

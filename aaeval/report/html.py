@@ -24,7 +24,7 @@ import pandas as pd
 from aaeval.experiments.aggregate import failed_cells, failure_definition
 from aaeval.experiments.summaries import frame_noise, validation_rows
 from aaeval.fileio import atomic_write
-from aaeval.report import figures
+from aaeval.report import figures, image_figures
 from aaeval.report.names import figure_stem
 from aaeval.report.filters_section import filters_section
 from aaeval.report.specular_section import specular_section
@@ -207,7 +207,7 @@ def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp
     scene, row = slices.at[at, "scene"], int(slices.at[at, "row"])
     reference, series, frames = scene_series(animated, page.store, scene, page.styles)
     if reference is not None and series:
-        p = figures.space_time(reference, [(r["label"].iloc[0], imgs) for r, imgs in series[:15]],
+        p = image_figures.space_time(reference, [(r["label"].iloc[0], imgs) for r, imgs in series[:15]],
                                page.figdir / f"{slug}_space_time", row=row, title=f"{group}: {scene}")
         where = shown(row, Stored("summaries/space_time.parquet", at, "row"))
         out.append(figure_html(p, page.root, f"Space-time slices of {html.escape(scene)}: row {where} (the row that "
@@ -439,7 +439,7 @@ def _grid(page: _Page, ok: pd.DataFrame, slug: str, group: str, ref: str) -> str
     images = [(s, im) for s, im in images if im is not None]
     if reference is None or not images:
         return ""
-    p = figures.image_grid(reference, images, page.figdir / f"{slug}_images", title=f"{group}: {scene}, frame {frame}")
+    p = image_figures.image_grid(reference, images, page.figdir / f"{slug}_images", title=f"{group}: {scene}, frame {frame}")
     frame_html = shown(frame, Stored("results.parquet", cells.index[0], "frame"))
     return figure_html(p, page.root, f"{html.escape(scene)}, frame {frame_html}: each method (a ladder at its largest k or "
                    "spp; the viewer below has every option) with its image, the same zoomed crop "

@@ -1,4 +1,4 @@
-"""The page's PNGs are drawn once (:func:`aaeval.report.figures._write_png`): the figure on a
+"""The page's PNGs are drawn once (:func:`aaeval.report.figure_files.write_png`): the figure on a
 canvas with room around it, its tight box measured there and cut out. That must be the image
 matplotlib's own ``savefig`` draws for the same box widened to whole pixels."""
 
@@ -14,7 +14,7 @@ import numpy as np  # noqa: E402
 from matplotlib.transforms import Bbox  # noqa: E402
 from PIL import Image  # noqa: E402
 
-from aaeval.report import figures  # noqa: E402
+from aaeval.report import figure_files  # noqa: E402
 
 
 def _figure():
@@ -34,9 +34,9 @@ def _figure():
 
 def test_the_png_drawn_once_is_savefigs_image_of_the_widened_box(tmp_path):
     fig = _figure()
-    box = figures._write_png(fig, tmp_path / "once.png")
+    box = figure_files.write_png(fig, tmp_path / "once.png")
     plt.close(fig)
-    dpi = figures._DPI
+    dpi = figure_files.DPI
     widened = Bbox.from_extents(math.floor(box.x0 * dpi) / dpi, math.floor(box.y0 * dpi) / dpi,
                                 math.ceil(box.x1 * dpi) / dpi, math.ceil(box.y1 * dpi) / dpi)
     fig = _figure()
