@@ -187,7 +187,7 @@ def test_cli_regenerates_without_running(tmp_path, capsys):
     assert main(["study", str(folder), "-j", "1", "-q", "--cache", str(tmp_path / "cache")]) == 0
     assert "Generated " in (folder / "README.md").read_text()
     # a config edited since the sweep: its README is not rewritten from the old results
-    (folder / "config.toml").write_text(CONFIG.replace('"point", ', ""))
+    (folder / "config.toml").write_text(CONFIG.replace('name = "tiny-study"', 'name = "tiny-study-2"'))
     before = (folder / "README.md").read_text()
     assert main(["study", str(folder), "--no-run"]) == 2
     assert "another version" in capsys.readouterr().err
