@@ -91,6 +91,11 @@ class Study:
     results: Path
     summaries: tuple[Mapping[str, Any], ...] = field(default_factory=tuple)
     experiment: Any = field(default=None, compare=False, repr=False)  # the config, read once
+    drawings: Path | None = None  # where hidden-lines/ and figures/ are written (default: the study folder)
+
+    @property
+    def output(self) -> Path:
+        return self.drawings if self.drawings is not None else self.folder
 
 
 _STUDY_KEYS = {"paper", "seed", "config", "results"}
@@ -385,7 +390,7 @@ def run_study(study: Study, *, run: bool = True, workers: int | None = None, qui
     from aaeval.imageio import atomic_write
 
     for name in OUTPUT_FOLDERS:  # again: the folder may have been swapped for a link since load_study
-        _refuse_link(study.folder / name)
+        _refuse_link(study.output / name)
 
     experiment = study.experiment or load_experiment(study.config)
     if run:
@@ -825,7 +830,7 @@ def _hidden_lines(sweep, item: Mapping, study: Study, where: str, checks: list[b
     from aaeval.scenes import SceneError, load_scene
     from aaeval.weiler_atherton.lines import hidden_line_svg, visible_edges
 
-    folder = study.folder / "hidden-lines"
+    folder = study.output / "hidden-lines"
     table = []
     for rel in item["scenes"]:  # checked by _check_hidden_lines
         try:
@@ -846,6 +851,25 @@ def _hidden_lines(sweep, item: Mapping, study: Study, where: str, checks: list[b
                    "all outlines (px)"], table) + [""]
 
 
+def _figure(sweep, item: Mapping, study: Study, where: str, checks: list[bool]) -> list[str]:
+    """One of the paper's figures made again (:data:`aaeval.studies.figures.FIGURES`), drawn into
+    ``figures/`` of the study folder."""
+    from aaeval.studies.figures import FIGURES
+
+    folder = study.output / "figures"
+    _refuse_link(folder)  # at the write: the folder may have become a link since the study was loaded
+    folder.mkdir(parents=True, exist_ok=True)
+    return FIGURES[item["figure"]].draw(folder) + [""]
+
+
+def _check_figure(item: Mapping, group, where: str, folder: Path) -> None:
+    from aaeval.studies.figures import FIGURES
+
+    name = item.get("figure")
+    if not isinstance(name, str) or name not in FIGURES:
+        raise StudyError(f"{where}.figure: {_brief(name)} is not a study figure; figures: {', '.join(sorted(FIGURES))}")
+
+
 #: Summary kinds a study.toml may name: title, keys, writer.
 SUMMARIES: dict[str, Summary] = {
     "sums": Summary("Intensity sum per frame", {"group", "tolerance"}, _sums, {"steady", "unsteady"}),
@@ -857,4 +881,5 @@ SUMMARIES: dict[str, Summary] = {
     "pixel": Summary("One pixel", {"group", "pixel", "frame", "tolerance"}, _pixel, {"agree", "disagree"},
                      _check_pixel),
     "hidden_lines": Summary("Hidden lines", {"scenes"}, _hidden_lines, check=_check_hidden_lines),
+    "figure": Summary("Figure", {"figure"}, _figure, check=_check_figure),
 }
