@@ -230,18 +230,24 @@ _NAME_LISTS = {"steady", "unsteady", "agree", "disagree", "within_noise"}
 
 def _config_method(group, name: str, where: str) -> None:
     """``name`` is one of ``group``'s methods: a spec as the config writes it, or its label."""
-    from aaeval.renderers import MethodError, MethodSpec
-
-    try:
-        canonical = str(MethodSpec.parse(name))
-    except MethodError:
-        canonical = name
+    canonical = _canonical(name)
     options = {k for spec in group.specs for k in spec.options}
     varying = {k for k in options if len({repr(s.options.get(k)) for s in group.specs}) > 1}
     known = {str(s) for s in group.specs} | {s.label() for s in group.specs} | {s.label(varying) for s in group.specs}
     if name not in known and canonical not in known:
         raise StudyError(f"{where}: {_brief(name)} is not a method of the group {group.name!r} "
                          f"(specs: {[str(s) for s in group.specs]})")
+
+
+def _canonical(name: str) -> str:
+    """A method as the sweep writes its spec ("convex=false" is written "convex=False"); the name
+    itself where it does not parse."""
+    from aaeval.renderers import MethodError, MethodSpec
+
+    try:
+        return str(MethodSpec.parse(name))
+    except MethodError:
+        return name
 
 
 def _method_pair(group, value: Any, where: str) -> None:
@@ -515,14 +521,15 @@ def _group(frame, item: Mapping, where: str):
 def _number(item: Mapping, key: str, default: float, where: str) -> float:
     value = item.get(key, default)
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
-        raise StudyError(f"{where}.{key}: expected a finite number >= 0, got {value!r}")
+        raise StudyError(f"{where}.{key}: expected a finite number >= 0, got {_brief(value)}")
     return float(value)
 
 
 def _names(item: Mapping, key: str, where: str, default: list[str] | None = None) -> list[str]:
     value = item.get(key, default)
-    if not isinstance(value, list) or not value or not all(isinstance(m, str) for m in value):
-        raise StudyError(f"{where}.{key}: expected a non-empty list of names, got {value!r}")
+    if (not isinstance(value, list) or not value or len(value) > MAX_ITEMS
+            or not all(isinstance(m, str) for m in value)):
+        raise StudyError(f"{where}.{key}: expected a list of 1 to {MAX_ITEMS} names, got {_brief(value)}")
     return value
 
 
@@ -579,12 +586,7 @@ def _labels(rows) -> list[str]:
 def _method(rows, name: str, where: str):
     """The rows of the method ``name``: its label in the tables or its spec as the sweep wrote
     it (``weiler-atherton:window=8``), so a study names methods as its config does."""
-    from aaeval.renderers import MethodError, MethodSpec
-
-    try:  # the canonical spec: "convex=false" is written "convex=False"
-        canonical = str(MethodSpec.parse(name))
-    except MethodError:
-        canonical = name
+    canonical = _canonical(name)
     picked = rows[(rows["label"] == name) | (rows["spec"].astype(str).isin({name, canonical}))]
     if picked.empty:
         raise StudyError(f"{where}: {name!r} is not a method of the group (labels: {_labels(rows)}; "
@@ -670,12 +672,8 @@ def _temporal(sweep, item: Mapping, study: Study, where: str, checks: list[bool]
             table.append([f"{_code(scene)}", f"{_code(label)}", str(int(r["frames"].iloc[0])),
                           *(_fmt(r[m].iloc[0], ".3e") for m in metrics)])
     out = _table(["scene", "method", "frames", *titles], table)
-    ratio = item.get("ratio")
-    if ratio is None and {"ratio_above", "ratio_below"} & set(item):
-        raise StudyError(f"{where}: ratio_above / ratio_below bound a ratio: give ratio = [method, method]")
+    ratio = item.get("ratio")  # checked by _check_temporal
     if ratio is not None:
-        if not (isinstance(ratio, list) and len(ratio) == 2 and all(isinstance(r, str) for r in ratio)):
-            raise StudyError(f"{where}.ratio: expected two of the group's methods, got {ratio!r}")
         m = metrics[0]
         first, second = (_method(rows, r, f"{where}.ratio") for r in ratio)
         parts, values = [], []
@@ -760,9 +758,7 @@ def _pairs(sweep, item: Mapping, study: Study, where: str, checks: list[bool]) -
     """The largest absolute difference between two methods' stored images, frame by frame."""
     from aaeval.experiments.store import SweepStore
 
-    pairs = item.get("pairs")
-    if not isinstance(pairs, list) or not pairs or not all(isinstance(p, list) and len(p) == 2 for p in pairs):
-        raise StudyError(f"{where}.pairs: expected a list of [method, method] label pairs")
+    pairs = item["pairs"]  # checked by _check_pairs
     rows = _group(sweep.results, item, where)
     store = SweepStore(study.results)
     table, largest = [], 0.0
@@ -787,12 +783,7 @@ def _pixel(sweep, item: Mapping, study: Study, where: str, checks: list[bool]) -
     """One pixel of one frame, every method's stored value against the reference's."""
     from aaeval.experiments.store import SweepStore
 
-    pixel = item.get("pixel")
-    if not (isinstance(pixel, list) and len(pixel) == 2 and all(isinstance(v, int) for v in pixel)):
-        raise StudyError(f"{where}.pixel: expected [row, column]")
-    frame = item.get("frame", 0)
-    if isinstance(frame, bool) or not isinstance(frame, int):
-        raise StudyError(f"{where}.frame: expected a frame number, got {frame!r}")
+    pixel, frame = item["pixel"], item.get("frame", 0)  # checked by _check_pixel
     tol = _number(item, "tolerance", 0.01, where)
     rows = _group(sweep.results, item, where)
     if not (rows["frame"] == frame).any():
@@ -801,8 +792,6 @@ def _pixel(sweep, item: Mapping, study: Study, where: str, checks: list[bool]) -
     store = SweepStore(study.results)
     r, c = pixel
     reference = store.load_reference(rows["reference_key"].iloc[0])
-    if not (0 <= r < reference.shape[0] and 0 <= c < reference.shape[1]):
-        raise StudyError(f"{where}.pixel: {pixel} is outside the {reference.shape[0]}x{reference.shape[1]} image")
     truth = reference[r, c]
     table = [[f"{_code(rows['reference'].iloc[0])} (reference)", *(_fmt(v, ".4f") for v in truth), "0"]]
     agree, off = [], []

@@ -70,7 +70,7 @@ def _refused(tmp_path, capsys, folder: Path, message: str) -> None:
 
 @pytest.mark.parametrize("edit, message", [
     (lambda s: s.replace('group = "fence"\nsteady', 'group = "nowhere"\nsteady'), "is not a group of the config"),
-    (lambda s: s.replace('steady = ["catmull"]', 'steady = "catmull"'), "steady: expected a non-empty list"),
+    (lambda s: s.replace('steady = ["catmull"]', 'steady = "catmull"'), "steady: expected a list of 1 to 64 names"),
     (lambda s: s.replace('steady = ["catmull"]', 'steady = ["catmull"]\ntolerance = "small"'), "tolerance"),
     (lambda s: s.replace('kind = "sums"', 'kind = ["sums"]'), "is not a summary kind"),
     (lambda s: s.replace('pixel = [1, 2]', 'pixel = [true, true]'), "pixel: expected [row, column]"),
@@ -86,6 +86,14 @@ def _refused(tmp_path, capsys, folder: Path, message: str) -> None:
     (lambda s: s.replace('scenes = ["SCENE"]', 'scenes = ["missing.toml"]'), "scenes:"),
     (lambda s: s.replace('scenes = ["SCENE"]', 'scenes = ["SCENE", "SCENE"]'), "share a file name"),
     (lambda s: s.replace('seed = "000_test.txt"', 'seed = "000_test.txt"\nconfig = 7'), "[study].config"),
+    (lambda s: s.replace('kind = "sums"', 'kind = "averages"'), "not a summary kind"),
+    (lambda s: s.replace('steady = ["catmull"]', 'steady = ' + repr(["catmull"] * 100)),
+     "steady: expected a list of 1 to 64 names"),
+    (lambda s: s.replace('steady = ["catmull"]', 'steady = ["catmull"]\ncolour = "red"'), "unknown key"),
+    (lambda s: s.replace('paper = "E. Catmull, test"\n', ""), "paper"),
+    (lambda s: s + '\n[[summaries]]\nkind = "figure"\nfigure = "nowhere"\n', "is not a study figure"),
+    (lambda s: s + '\n[[summaries]]\nkind = "temporal"\ngroup = "fence"\nmetrics = ["sum_variation"]\n'
+               'ratio_above = 2.0\n', "give ratio = [method, method]"),
 ])
 def test_every_field_is_checked_before_the_sweep(tmp_path, capsys, edit, message):
     folder = _study(tmp_path, edit(STUDY))
