@@ -37,7 +37,8 @@ from aaeval.metrics.info import MetricInfo
 
 __all__ = ["SUMMARIES", "SUMMARY_FOLDER", "Question", "QUESTIONS", "summarize", "cross_check",
            "agreement_text", "FILTER_GROUP_PREFIX", "FILTER_ORDER", "SPECULAR_COLUMNS", "VALIDATION_RATIO",
-           "speed_groups", "shaded_groups", "changing_row", "per_scene_values", "frame_noise", "group_truth"]
+           "speed_groups", "shaded_groups", "changing_row", "per_scene_values", "frame_noise", "group_truth",
+           "measured_noise"]
 
 SUMMARY_FOLDER = "summaries"
 SUMMARIES = ("specs", "references", "validation", "speed", "specular", "filters", "findings", "findings_questions",
@@ -107,6 +108,17 @@ def agreement_text(fraction: float) -> str:
 def frame_noise(rows: pd.DataFrame) -> pd.Series:
     """The ground truth's measured noise of each scene frame of ``rows`` (once per frame)."""
     return rows.drop_duplicates(["scene", "frame"])["reference_noise_rmse"].astype(float)
+
+
+def measured_noise(rows: pd.DataFrame) -> pd.Series:
+    """Each row's reference noise where its reference is a seeded truth, NaN where it is
+    noise-free (:func:`aaeval.metrics.agreement.truth_of`): an exact truth's error bound is no
+    noise to draw as a band or to set an axis by."""
+    level = rows["reference_noise_rmse"].astype(float)
+    if "reference_kind" not in rows:
+        return level
+    seeded = [truth_of(str(k), v).kind == "seeded" for k, v in zip(rows["reference_kind"], level)]
+    return level.where(pd.Series(seeded, index=rows.index, dtype=bool))
 
 
 def cross_check(rows: pd.DataFrame) -> str | None:

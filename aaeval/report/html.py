@@ -22,7 +22,7 @@ import numpy as np
 import pandas as pd
 
 from aaeval.experiments.aggregate import failed_cells, failure_definition
-from aaeval.experiments.summaries import frame_noise, validation_rows
+from aaeval.experiments.summaries import measured_noise, validation_rows
 from aaeval.metrics.agreement import truth_of
 from aaeval.fileio import atomic_write
 from aaeval.report import figures
@@ -145,8 +145,9 @@ class _Page:
 
 
 def _noise(rows: pd.DataFrame) -> np.ndarray:
-    """The ground truth's noise of each scene frame of ``rows``: the grey band of a chart."""
-    return frame_noise(rows).to_numpy(float)
+    """The ground truth's measured noise of each scene frame of ``rows``: the grey band of a
+    chart (none for a noise-free truth)."""
+    return measured_noise(rows.drop_duplicates(["scene", "frame"])).to_numpy(float)
 
 
 def _accuracy_block(page: _Page, group: str, slug: str, summary: pd.DataFrame, rows: pd.DataFrame,

@@ -76,3 +76,15 @@ def test_a_study_against_exact_shading_divides_nothing_by_its_bound(tmp_path):
     assert "`catmull:shading=exact`" in line and "`catmull`" not in line.split(":", 1)[1].replace(
         "`catmull:shading=exact`", "")
     assert "**Holds**" in text
+
+
+def test_charts_draw_no_noise_band_for_a_noise_free_truth():
+    import pandas as pd
+
+    from aaeval.experiments.summaries import measured_noise
+
+    rows = pd.DataFrame({"reference_kind": ["stochastic", "exact", "exact", "deterministic"],
+                         "reference_noise_rmse": [3e-3, 2.7e-14, 0.0, 0.0]})
+    noise = measured_noise(rows)
+    assert noise.iloc[0] == 3e-3
+    assert noise.iloc[1:].isna().all()  # the quadrature's bound is not drawn as noise
