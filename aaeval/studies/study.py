@@ -167,6 +167,11 @@ def load_study(folder: str | Path, results: str | Path | None = None) -> Study:
     groups = {g.name: g for g in experiment.groups}
     for i, item in enumerate(summaries):
         _check_summary(item, f"{path}: summaries[{i}]", groups, folder)
+    if results is None:  # the file's own choice stays inside the study folder; --results is the user's
+        inside = Path(head.get("results", "results"))
+        if inside.is_absolute() or ".." in inside.parts:
+            raise StudyError(f"{path}: [study].results must be a folder inside the study folder, got {_brief(str(inside))}")
+        _refuse_link(folder / inside)
     out = Path(results) if results is not None else folder / head.get("results", "results")
     return Study(folder, head["paper"].strip(), head["seed"].strip(), config, readme, out, tuple(summaries),
                  experiment)

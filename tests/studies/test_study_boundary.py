@@ -86,6 +86,8 @@ def _refused(tmp_path, capsys, folder: Path, message: str) -> None:
     (lambda s: s.replace('scenes = ["SCENE"]', 'scenes = ["missing.toml"]'), "scenes:"),
     (lambda s: s.replace('scenes = ["SCENE"]', 'scenes = ["SCENE", "SCENE"]'), "share a file name"),
     (lambda s: s.replace('seed = "000_test.txt"', 'seed = "000_test.txt"\nconfig = 7'), "[study].config"),
+    (lambda s: s.replace('seed = "000_test.txt"', 'seed = "000_test.txt"\nresults = "../../elsewhere"'),
+     "[study].results must be a folder inside the study folder"),
     (lambda s: s.replace('kind = "sums"', 'kind = "averages"'), "not a summary kind"),
     (lambda s: s.replace('steady = ["catmull"]', 'steady = ' + repr(["catmull"] * 100)),
      "steady: expected a list of 1 to 64 names"),
