@@ -112,12 +112,21 @@ def amanatides_plates(folder: Path) -> list[str]:
     ratio = [e / light[0] for e in light]
     fig, axes = plt.subplots(len(PLATES), len(STRIP_FRAMES) + 1, figsize=(12, 8.4),
                              gridspec_kw={"width_ratios": [1] * len(STRIP_FRAMES) + [3.0]})
+    from matplotlib.colors import PowerNorm
     from matplotlib.patches import Rectangle
 
-    for r, (frames, (_, title)) in enumerate(zip(rows, PLATES)):
+    # the highlight alone (the image less the render without it), on one square-root scale for
+    # every panel: a thin bright line and a dim broken one both show
+    highlights = [(frames - dull)[:, STRIP[0], STRIP[1]].mean(axis=-1) for frames in rows]
+    norm = PowerNorm(0.5, vmin=0.0, vmax=max(float(h[list(STRIP_FRAMES)].max()) for h in highlights))
+    for r, (frames, (_, title)) in enumerate(zip(highlights, PLATES)):
         for k in STRIP_FRAMES:
             ax = axes[r, k]
-            _show(ax, frames[k][STRIP], f"frame {k}" if r == 0 else "")
+            ax.imshow(np.clip(frames[k], 0.0, None), cmap="magma", norm=norm, interpolation="nearest")
+            ax.set_xticks([])
+            ax.set_yticks([])
+            if r == 0:
+                ax.set_title(f"frame {k}", fontsize=8)
             ax.add_patch(Rectangle((PROBE[1].start - STRIP[1].start - 0.5, PROBE[0].start - STRIP[0].start - 0.5),
                                    PROBE[1].stop - PROBE[1].start, PROBE[0].stop - PROBE[0].start, fill=False,
                                    edgecolor="yellow", lw=0.8))
@@ -129,6 +138,7 @@ def amanatides_plates(folder: Path) -> list[str]:
         ax.set_title("highlight light in the yellow box / truth's" if r == 0 else "", fontsize=8)
         ax.set_xlabel("frame" if r == len(PLATES) - 1 else "", fontsize=8)
         ax.tick_params(labelsize=7)
+        ax.yaxis.tick_right()  # clear of the last frame's panel
     strip = _save(fig, folder, "highlight_strip")
     spread = ", ".join(f"{title.split(':')[0]} {float(r.min()):.3f} to {float(r.max()):.3f}"
                        for r, (_, title) in zip(ratio[1:], PLATES[1:]))
@@ -139,8 +149,9 @@ def amanatides_plates(folder: Path) -> list[str]:
             f"![The thin upper-right cylinder's highlight over frames]({strip})", "",
             f"The very thin upper-right cylinder (rows {STRIP[0].start}-{STRIP[0].stop - 1}, columns "
             f"{STRIP[1].start}-{STRIP[1].stop - 1}) in frames {STRIP_FRAMES[0]}-{STRIP_FRAMES[-1]}, one row per "
-            "method; right: the highlight's light in the yellow box (the image less the exact render with the "
-            f"specular term off) over the truth's, frames {CURVE_FRAMES[0]}-{CURVE_FRAMES[-1]}. A steady method draws "
+            "method, the highlight alone (each image less the exact render with the specular term off, on one "
+            "square-root colour scale); right: the highlight's light in the yellow box over the truth's, "
+            f"frames {CURVE_FRAMES[0]}-{CURVE_FRAMES[-1]}. A steady method draws "
             "a flat line (at 1 if unbiased); popping is a line that jumps. Its range over the frames: "
             f"{spread}."]
 
