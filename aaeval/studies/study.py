@@ -26,9 +26,14 @@ Expectations (``steady``/``unsteady``, ``agree``/``disagree``, ``within_noise``,
 written by hand; whether each holds, and the number it turns on, is read from the results.
 
 Every number written between the markers is read from the results folder (``results.parquet``,
-``temporal.parquet``, the stored images) or, for ``hidden_lines``, from the drawings the
-summary writes into the study folder; none is typed into the study. The hand-written text
-around the markers is kept byte for byte.
+``temporal.parquet``, the stored images) or, for ``hidden_lines`` and ``figure``, from the
+drawings and figures the summary makes into ``hidden-lines/`` and ``figures/`` of the study
+folder (:mod:`aaeval.studies.figures`); none is typed into the study. The hand-written text
+around the markers is kept byte for byte; names and text from the files are escaped.
+
+Against a noise-free truth (``catmull``, ``catmull:shading=exact``) nothing is divided by the
+truth's error bound, and "within" it means within the bound plus float rounding
+(:func:`aaeval.metrics.agreement.truth_of`, the rule the report follows too).
 
 It computes none of a cell's results: the sweep's code version leaves ``aaeval/studies`` out
 (as it does the report), so editing a summary never reruns a cell.
@@ -118,8 +123,10 @@ def load_study(folder: str | Path, results: str | Path | None = None) -> Study:
     Raises
     ------
     StudyError
-        A file is missing, ``study.toml`` has an unknown key or summary kind, or the README
-        lacks the markers (each once, BEGIN before END).
+        A file is missing or is a link, the README is too large or lacks the markers (each
+        once, BEGIN before END), the config does not load, or a field of ``study.toml`` breaks
+        its rule: every field is checked here, against the config's groups, methods, metrics,
+        frames and image sizes, so that nothing is refused after the sweep has run.
     """
     from aaeval.experiments import ConfigError, load_experiment
 
