@@ -15,7 +15,8 @@ and draws; each number on its page names the stored table, row and column it sho
 - ``speed``: one row per (pass, scene, spec) of the speed pass.
 - ``specular`` and ``filters``: the tables of those two studies, one row per (group, spec).
 - ``findings``, ``findings_questions``, ``findings_per_scene``: the ranked table of each
-  question of :data:`QUESTIONS`, which group answers it, and its values per scene.
+  question of :data:`QUESTIONS` in every group that measured it (with the truth it is judged
+  against), which groups answer it, and its values per scene.
 - ``space_time``: the image row each animated group's space-time figure slices.
 """
 
@@ -31,12 +32,13 @@ import pandas as pd
 from aaeval.experiments.aggregate import (failed_cells, is_ground_truth, per_spec, ranked, spec_summary,
                                           speed_summary)
 from aaeval.experiments.record import agreement_column, noise_column
-from aaeval.metrics.agreement import agrees
+from aaeval.metrics.agreement import agrees, truth_of
 from aaeval.metrics.info import MetricInfo
 
 __all__ = ["SUMMARIES", "SUMMARY_FOLDER", "Question", "QUESTIONS", "summarize", "cross_check",
            "agreement_text", "FILTER_GROUP_PREFIX", "FILTER_ORDER", "SPECULAR_COLUMNS", "VALIDATION_RATIO",
-           "speed_groups", "shaded_groups", "changing_row", "per_scene_values", "frame_noise"]
+           "speed_groups", "shaded_groups", "changing_row", "per_scene_values", "frame_noise", "group_truth",
+           "measured_noise"]
 
 SUMMARY_FOLDER = "summaries"
 SUMMARIES = ("specs", "references", "validation", "speed", "specular", "filters", "findings", "findings_questions",
@@ -106,6 +108,17 @@ def agreement_text(fraction: float) -> str:
 def frame_noise(rows: pd.DataFrame) -> pd.Series:
     """The ground truth's measured noise of each scene frame of ``rows`` (once per frame)."""
     return rows.drop_duplicates(["scene", "frame"])["reference_noise_rmse"].astype(float)
+
+
+def measured_noise(rows: pd.DataFrame) -> pd.Series:
+    """Each row's reference noise where its reference is a seeded truth, NaN where it is
+    noise-free (:func:`aaeval.metrics.agreement.truth_of`): an exact truth's error bound is no
+    noise to draw as a band or to set an axis by."""
+    level = rows["reference_noise_rmse"].astype(float)
+    if "reference_kind" not in rows:
+        return level
+    seeded = [truth_of(str(k), v).kind == "seeded" for k, v in zip(rows["reference_kind"], level)]
+    return level.where(pd.Series(seeded, index=rows.index, dtype=bool))
 
 
 def cross_check(rows: pd.DataFrame) -> str | None:
@@ -263,36 +276,57 @@ def _answering_groups(question: Question, frame: pd.DataFrame | None) -> list[st
     return [g for g in question.groups if g in measured] + [g for g in measured if g not in question.groups]
 
 
+def group_truth(results: pd.DataFrame, group: str) -> dict:
+    """The truth ``group``'s cells are judged against: its reference's label, what kind of truth
+    it is (:func:`aaeval.metrics.agreement.truth_of`: seeded, bounded, exact, unknown) and its
+    noise or error bound (mean RMS over the group's scene frames). Empty values for a group
+    that renders no accuracy cell (a speed pass)."""
+    rows = results[results["group"] == group] if "group" in results else results.iloc[:0]
+    if rows.empty:
+        return {"reference": "", "truth_kind": "", "truth_level": math.nan}
+    truth = truth_of(str(rows["reference_kind"].iloc[0]), frame_noise(rows).mean())
+    return {"reference": str(rows["reference_label"].iloc[0]), "truth_kind": truth.kind, "truth_level": truth.level}
+
+
 def _findings(tables: dict[str, pd.DataFrame], infos) -> tuple[pd.DataFrame, pd.DataFrame, pd.DataFrame]:
-    """Per question: which groups answer it, its ranked table in the first, its values per scene."""
+    """Per question: which groups answer it, a ranked table for each of them (each group's own
+    ranking: groups measure unlike scenes, and no one of them speaks for the rest), and their
+    values per scene."""
     questions, ranks, scenes = [], [], []
     for q in QUESTIONS:
         groups = _answering_groups(q, tables.get(q.table))
         questions.append({"question": q.key, "group": groups[0] if groups else None, "also": json.dumps(groups[1:])})
-        if not groups:
-            continue
-        group, frame = groups[0], tables[q.table]
-        how = "median" if q.table == "speed" else "mean"
-        # an RMS metric's noise is the truth's on that metric's own pixels, with the same reduction
-        own = noise_column(q.column)
-        noise = own if q.table == "results" and own in tables["results"] else q.noise
-        table = ranked(frame, group, q.column, infos, how=how, noise=noise)
-        extras = [(t, c) for t, c in q.extra if t in tables and c in tables[t]]
-        for t, c in extras:
-            table[c] = table["spec"].map(per_spec(tables[t], group, c).set_index("spec")["value"])
-        if q.table == "speed":
-            times = frame[frame["group"] == group]
-            times = times.assign(ms=pd.to_numeric(times["ms_per_mpix"], errors="coerce")).dropna(subset=["ms"])
-            spread = times.groupby("spec")["ms"].agg(["min", "max"])
-            table["spread_min"], table["spread_max"] = table["spec"].map(spread["min"]), table["spec"].map(spread["max"])
-        table["agreement_text"] = [agreement_text(a) for a in table["agreement"]]
-        ranks.append(table.assign(question=q.key, group=group, rank=np.arange(1, len(table) + 1), table=q.table,
-                                  how=how, noise_column=noise))
-        if q.per_scene:
-            scenes.append(per_scene_values(q, frame, group, list(table["spec"])))
+        for group in groups:
+            table = _ranked_answer(q, group, tables, infos)
+            ranks.append(table)
+            if q.per_scene:
+                scenes.append(per_scene_values(q, tables[q.table], group, list(table["spec"])))
     found = pd.concat(ranks, ignore_index=True) if ranks else pd.DataFrame()
     per_scene = pd.concat(scenes, ignore_index=True) if scenes else pd.DataFrame()
     return pd.DataFrame(questions), found, per_scene
+
+
+def _ranked_answer(q: Question, group: str, tables: dict[str, pd.DataFrame], infos) -> pd.DataFrame:
+    """``q``'s ranked table in ``group``, with the extras, the truth it is judged against and
+    (for the speed pass) the spread of the rounds."""
+    frame = tables[q.table]
+    how = "median" if q.table == "speed" else "mean"
+    # an RMS metric's noise is the truth's on that metric's own pixels, with the same reduction
+    own = noise_column(q.column)
+    noise = own if q.table == "results" and own in tables["results"] else q.noise
+    table = ranked(frame, group, q.column, infos, how=how, noise=noise)
+    extras = [(t, c) for t, c in q.extra if t in tables and c in tables[t]]
+    for t, c in extras:
+        table[c] = table["spec"].map(per_spec(tables[t], group, c).set_index("spec")["value"])
+    if q.table == "speed":
+        times = frame[frame["group"] == group]
+        times = times.assign(ms=pd.to_numeric(times["ms_per_mpix"], errors="coerce")).dropna(subset=["ms"])
+        spread = times.groupby("spec")["ms"].agg(["min", "max"])
+        table["spread_min"], table["spread_max"] = table["spec"].map(spread["min"]), table["spec"].map(spread["max"])
+    table["agreement_text"] = [agreement_text(a) for a in table["agreement"]]
+    truth = group_truth(tables["results"], group) if q.table != "speed" else group_truth(tables["results"].iloc[:0], group)
+    return table.assign(question=q.key, group=group, rank=np.arange(1, len(table) + 1), table=q.table, how=how,
+                        noise_column=noise, **truth)
 
 
 def per_scene_values(question: Question, frame: pd.DataFrame, group: str, order: list[str]) -> pd.DataFrame:

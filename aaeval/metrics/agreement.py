@@ -25,10 +25,12 @@ high-contrast edge is under-stated, and an exact method failed there (Khan's tri
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["SIGNIFICANCE", "PASS_FRACTION", "ROUNDING", "sidak_level", "sidak_threshold", "noise_strata", "z_test_pass_fraction", "agrees"]
+__all__ = ["SIGNIFICANCE", "PASS_FRACTION", "ROUNDING", "EXACT_ROUNDING", "Truth", "truth_of", "within_truth",
+           "sidak_level", "sidak_threshold", "noise_strata", "z_test_pass_fraction", "agrees"]
 
 #: Family-wise significance of the per-pixel z-test (Mitsuba's render tests use 0.01).
 SIGNIFICANCE = 0.01
@@ -38,6 +40,75 @@ PASS_FRACTION = 0.9975
 #: renders exactly (one flat colour) still differs from a float64 method by its rounding
 #: (2.1e-6 seen at 4096 spp on a colour of 0.95; the same in both seeds, so no noise shows).
 ROUNDING = 1e-5
+#: Float64 rounding of an exact image: two exact algorithms (Catmull, Weiler-Atherton) agree to
+#: about 1e-15 per value; sums over many pieces stay far below this.
+EXACT_ROUNDING = 1e-12
+
+
+class Truth(NamedTuple):
+    """What a reference is as a truth, and its own uncertainty (:func:`truth_of`).
+
+    ``kind`` is ``seeded`` (a Monte Carlo render: ``level`` is its measured noise RMS),
+    ``bounded`` (noise-free, with an error bound: ``level`` is the bound's RMS, e.g. exact
+    shading's quadrature), ``exact`` (noise-free, ``level`` 0) or ``unknown`` (deterministic but
+    not exact, or a seeded truth whose noise was not measured: ``level`` NaN).
+    """
+
+    kind: str
+    level: float
+
+    @property
+    def noise_free(self) -> bool:
+        return self.kind in ("bounded", "exact")
+
+    def words(self, fmt: str = ".2e") -> str:
+        """The truth and its uncertainty in a few words, for tables and sentences."""
+        if self.kind == "seeded":
+            return f"seeded, noise RMS {format(self.level, fmt)}"
+        if self.kind == "bounded":
+            return f"exact, no noise; error bound RMS {format(self.level, fmt)}"
+        if self.kind == "exact":
+            return "exact, no noise"
+        return "deterministic, its own error unknown"
+
+
+def truth_of(reference_kind: str, level: float) -> Truth:
+    """The one rule for what a reference is as a truth.
+
+    Parameters
+    ----------
+    reference_kind : str
+        ``exact``, ``stochastic`` or ``deterministic`` (the sweep's ``reference_kind``).
+    level : float
+        The sweep's ``reference_noise_rmse``: a seeded truth's measured noise, a noise-free
+        truth's error bound (0 when it has none).
+
+    Returns
+    -------
+    Truth
+        A noise-free truth is never ``seeded``, whatever its level: an error bound is not noise.
+    """
+    level = float(level) if level is not None else math.nan
+    if reference_kind == "exact":
+        return Truth("bounded", level) if math.isfinite(level) and level > 0 else Truth("exact", 0.0)
+    if reference_kind == "stochastic" and math.isfinite(level) and level > 0:
+        return Truth("seeded", level)
+    return Truth("unknown", math.nan)
+
+
+def within_truth(error: float, truth: Truth, factor: float = 1.0) -> bool | None:
+    """Whether an RMS ``error`` against ``truth`` is within what the truth can resolve.
+
+    Against a seeded truth: within ``factor`` times its noise. Against a noise-free truth:
+    within its error bound plus :data:`EXACT_ROUNDING` (``factor`` does not apply: a bound is
+    not a spread to be a multiple of). None where the truth's uncertainty is unknown or the
+    error is not finite.
+    """
+    if truth.kind == "unknown" or error is None or not math.isfinite(error):
+        return None
+    if truth.kind == "seeded":
+        return bool(error <= factor * truth.level)
+    return bool(error <= truth.level + EXACT_ROUNDING)
 
 
 def sidak_level(n: int, alpha: float = SIGNIFICANCE) -> float:

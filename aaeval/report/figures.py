@@ -267,11 +267,14 @@ def _scene_axes(scenes: list[str], entries: int, width: float = 7.6):
 def _error_panel(ax, rows: pd.DataFrame, x: str, metric: str, styles: Styles, *, lw: float | None = None) -> None:
     """One scene's ``metric`` against the column ``x`` (frame or phase) on a log axis, one
     curve per spec, the ground truth's noise of each frame as a grey curve."""
+    from aaeval.experiments.summaries import measured_noise
+
     ref = rows.drop_duplicates("frame").sort_values(x)
-    lo, hi, exact = _log_limits(rows[metric], ref["reference_noise_rmse"])
+    noise = measured_noise(ref)  # a noise-free truth's error bound is no noise
+    lo, hi, exact = _log_limits(rows[metric], noise)
     at = _exact_strip(ax, lo, hi) if exact else None
-    if ref["reference_noise_rmse"].fillna(0).gt(0).any():
-        ax.plot(ref[x], ref["reference_noise_rmse"], label="ground-truth noise", **ground_truth_style())
+    if noise.fillna(0).gt(0).any():
+        ax.plot(ref[x], noise, label="ground-truth noise", **ground_truth_style())
     for label, series in _sorted_specs(rows, styles):
         series = series.sort_values(x)
         style = _spec_style(series, styles).line()
@@ -416,9 +419,12 @@ def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: 
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, max(4.2, 0.17 * results["spec"].nunique())),
                                  gridspec_kw={"wspace": 0.25})
     label = results["difficulty_label"].dropna().iloc[0] if results["difficulty_label"].notna().any() else "difficulty"
-    lo, hi, exact = _log_limits(results[metric], results["reference_noise_rmse"])
+    from aaeval.experiments.summaries import measured_noise
+
+    lo, hi, exact = _log_limits(results[metric], measured_noise(results))
     at = _exact_strip(ax, lo, hi) if exact else None
-    noise = results.drop_duplicates(["scene", "frame"]).groupby("difficulty")["reference_noise_rmse"].mean()
+    frames = results.drop_duplicates(["scene", "frame"])
+    noise = measured_noise(frames).groupby(frames["difficulty"]).mean()
     if noise.fillna(0).gt(0).any():
         ax.plot(noise.index, noise.to_numpy(float), label="ground-truth noise", **ground_truth_style())
     for spec_label, rows in _sorted_specs(results, styles):

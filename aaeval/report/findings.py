@@ -26,7 +26,7 @@ from aaeval.experiments.summaries import QUESTIONS, Question
 from aaeval.metrics.info import format_value
 from aaeval.report.html_tables import Stored
 from aaeval.report.sweep_data import METRICS, SweepData
-from aaeval.metrics.agreement import PASS_FRACTION, SIGNIFICANCE, agrees
+from aaeval.metrics.agreement import EXACT_ROUNDING, PASS_FRACTION, SIGNIFICANCE, Truth, agrees
 from aaeval.report.names import figure_stem
 
 __all__ = ["Question", "QUESTIONS", "findings_section", "leader_sentence"]
@@ -49,7 +49,8 @@ def leader_sentence(question: Question, table: pd.DataFrame, group: str) -> str:
     leads the next method (another method, not the leader's own ladder), or that the two are
     tied. Where the column is an RMS metric with a z-test against the truth
     (:mod:`aaeval.metrics.agreement`), the two tie when both pass it: the truth cannot tell
-    either from itself, nor so the two apart; otherwise within the ground truth's noise."""
+    either from itself, nor so the two apart; otherwise, against a seeded truth, within its
+    noise (a noise-free truth's error bound is no noise: there only float rounding ties)."""
     if table.empty:
         return f"{question.title}: no cell of this sweep answers it."
     first = table.iloc[0]
@@ -63,13 +64,14 @@ def leader_sentence(question: Question, table: pd.DataFrame, group: str) -> str:
     a, b = float(first["value"]), float(second["value"])
     metric = METRICS.get(question.column)
     noise = first.get("noise", math.nan)
+    seeded = _truth(first).kind == "seeded"
     resolvable = (question.table != "speed" and metric is not None and metric.target is None
                   and question.noise == "reference_noise_rmse" and question.column != "highlight_profile_flicker"
-                  and math.isfinite(noise) and noise > 0)
+                  and seeded and math.isfinite(noise) and noise > 0)
     verdicts = (agrees(first.get("agreement", math.nan)), agrees(second.get("agreement", math.nan)))
     tested = None not in verdicts
     # values that differ by float rounding only (two exact methods' sums, 6e-15 apart) are equal
-    rounding = abs(a - b) <= _ROUNDING * max(1.0, abs(a), abs(b))
+    rounding = abs(a - b) <= EXACT_ROUNDING * max(1.0, abs(a), abs(b))
     if rounding or (tested and all(verdicts)) or (not tested and resolvable and abs(b - a) < noise):
         why = "equal up to float rounding" if rounding else (
             f"both agree with the ground truth by its per-pixel z-test ({_z_test_words()})" if tested
@@ -93,7 +95,19 @@ def leader_sentence(question: Question, table: pd.DataFrame, group: str) -> str:
     return head + tail + "."
 
 
-_ROUNDING = 1e-12
+def _truth(row) -> Truth:
+    """The truth a findings row was judged against, as the sweep stored it."""
+    kind = row.get("truth_kind", "") if hasattr(row, "get") else ""
+    return Truth(kind if isinstance(kind, str) and kind else "unknown", float(row.get("truth_level", math.nan)))
+
+
+def truth_html(table: pd.DataFrame) -> str:
+    """The sentence under a findings table naming the truth it was judged against."""
+    if table.empty or not str(table["reference"].iloc[0] if "reference" in table else ""):
+        return ""
+    truth = _truth(table.iloc[0])
+    return (f"<p class='dl truth'>Judged against <code>{html.escape(str(table['reference'].iloc[0]))}</code> "
+            f"({html.escape(truth.words('.3g'))}).</p>")
 
 
 FINDINGS, PER_SCENE = "summaries/findings.parquet", "summaries/findings_per_scene.parquet"
@@ -153,25 +167,49 @@ def _origin(source: str, group: str, spec: str, column: str, how: str) -> str:
 _SOURCES = {"results": "results.parquet", "temporal": "temporal.parquet", "speed": "speed.parquet"}
 
 
-def _question_html(q: Question, group: str | None, also: list[str], table: pd.DataFrame, per_scene: pd.DataFrame,
+def _question_html(q: Question, groups: list[str], found: pd.DataFrame, per_scene: pd.DataFrame,
                    speed_note: str) -> list[str]:
+    """A question's block: for each group that measured it, its leader sentence, the truth it
+    was judged against and its ranked table (``found``: the question's stored rows)."""
     parts = [f"<h3 id='finding-{q.key}'>{html.escape(q.title)}</h3>"]
-    if group is None:
+    if not groups:
         return parts + [f"<p>Not measured in this sweep ({html.escape(q.what)}).</p>"]
-    parts.append(f"<p>{leader_sentence(q, table, group)}</p>")
     parts.append(f"<p class='dl'>{html.escape(q.what)}. {speed_note if q.table == 'speed' else ''}</p>")
-    if also and q.table != "speed":
-        links = ", ".join(f"<a href='#{figure_stem(g)}'>{html.escape(g)}</a>" for g in also)
-        parts.append(f"<p class='dl'>Also measured in group(s) {links}: their tables rank the same column.</p>")
+    if len(groups) > 1 and q.table != "speed":
+        links = ", ".join(f"<a href='#{figure_stem(g)}'>{html.escape(g)}</a>" for g in groups)
+        parts.append(f"<p class='dl'>Measured in {len(groups)} groups ({links}): each group's own ranking follows, "
+                     "each against its own truth.</p>")
+    for group in groups:
+        table = found[found["group"] == group] if not found.empty else found
+        scenes = per_scene[per_scene["group"] == group] if not per_scene.empty else per_scene
+        parts += _group_answer(q, group, table, scenes)
+    return parts
+
+
+def _noise_heading(q: Question, table: pd.DataFrame, noise: str) -> str:
+    """The heading of the column beside each number: the truth's own value of that kind."""
+    if q.table == "speed":
+        return "spread over scenes and rounds (fastest-slowest)"
+    if q.noise == "reference_sum_variation":
+        return "ground truth's own sum variation"
+    truth = _truth(table.iloc[0]) if len(table) else Truth("unknown", math.nan)
+    pixels = f" ({_title(q.column)} pixels)" if noise == noise_column(q.column) else ""
+    if truth.kind == "bounded" and noise == "reference_noise_rmse":
+        return "exact truth's error bound RMS"
+    if truth.noise_free:
+        return f"ground truth noise RMS{pixels} (exact: none)"
+    return f"ground truth noise RMS{pixels}"
+
+
+def _group_answer(q: Question, group: str, table: pd.DataFrame, per_scene: pd.DataFrame) -> list[str]:
+    parts = [f"<p>{leader_sentence(q, table, group)}</p>"]
+    parts.append(truth_html(table))
     href = "#speed" if q.table == "speed" else f"#{figure_stem(group)}"
     extras = [(t, c) for t, c in q.extra if c in table]
     noise = table["noise_column"].iloc[0] if len(table) else q.noise
     tested = table["agreement_text"].astype(bool).any() if len(table) else False
     head = ["rank", "method (options)", _title(q.column)] + [_title(c) for _, c in extras]
-    head.append("spread over scenes and rounds (fastest-slowest)" if q.table == "speed" else
-                "ground truth's own sum variation" if q.noise == "reference_sum_variation" else
-                f"ground truth noise RMS ({_title(q.column)} pixels)" if noise == noise_column(q.column) else
-                "ground truth noise RMS")
+    head.append(_noise_heading(q, table, noise))
     if tested:
         head.append("against the truth: per-pixel z-test")
     rows = []
@@ -195,11 +233,11 @@ def _question_html(q: Question, group: str | None, also: list[str], table: pd.Da
             cells.append(f"<td class='num' {Stored(FINDINGS, i, 'agreement_text').attributes()}>{html.escape(text)}</td>"
                          if text else "<td></td>")
         rows.append("<tr>" + "".join(cells) + "</tr>")
-    parts.append("<table class='findings'><tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in head) + "</tr>"
-                 + "".join(rows) + "</table>")
+    parts.append(f"<table class='findings' data-group='{html.escape(group)}'><tr>"
+                 + "".join(f"<th>{html.escape(h)}</th>" for h in head) + "</tr>" + "".join(rows) + "</table>")
     if q.per_scene and not per_scene.empty:
         parts.append(per_scene_html(q, per_scene))
-    return parts
+    return [p for p in parts if p]
 
 
 def _spread(i: int, r) -> str:
@@ -220,21 +258,23 @@ def findings_section(data: SweepData, *, speed_note: str = "") -> str:
              + (" and <a href='speed.parquet'>speed.parquet</a>" if not data.speed.empty else "") + ": every "
              "number is the mean of one group's cells (or animations) of one method and option, the same value the "
              "group's charts and tables show; it links to that group. Rows are methods with their options (a ladder "
-             "is several rows), best first. The ground truth's own noise (RMS per pixel and channel, measured seed to "
-             "seed, on the metric's own pixels where the metric is an RMS over some of them) stands beside each. "
+             "is several rows), best first. Where several groups measured a question, each group's own ranking is "
+             "shown. Each table names the truth it was judged against, its group's reference: a seeded render (Mitsuba "
+             "at high spp) with its noise, RMS per pixel and channel measured seed to seed on the metric's own pixels "
+             "where the metric is an RMS over some of them, beside each number; or a noise-free exact render, whose "
+             "only uncertainty is float rounding and, for exact shading, the quadrature's error bound (a bound, not "
+             "noise: no error is divided by it, and agreeing with it means being within the bound plus rounding). "
              "Whether a method agrees with the truth, and so whether two methods tie, is a per-pixel z-test where "
              f"the table shows one ({_z_test_words()}; on a pixel an edge crosses, the noise is one scale pooled over "
              "the metric's edge pixels times the range of the colours meeting there, per channel; elsewhere the "
-             "noise of the other pixels). Against a noise-free truth (an exact reference: its noise is 0, or the "
-             "quadrature's bound) a seeded method, Mitsuba's cross-check row among them, is tested within its own "
+             "noise of the other pixels). Against a noise-free truth a seeded method, Mitsuba's cross-check row among them, is tested within its own "
              "noise, measured as the truth's would be (a second render with the next seed). Where no test applies, "
              "differences smaller than the noise are not resolved.</p>"]
     answered = questions.set_index("question") if not questions.empty else questions
     for q in QUESTIONS:
         group = answered.at[q.key, "group"] if q.key in answered.index else None
-        group = group if isinstance(group, str) else None
-        also = json.loads(answered.at[q.key, "also"]) if group is not None else []
+        groups = [group, *json.loads(answered.at[q.key, "also"])] if isinstance(group, str) else []
         table = found[found["question"] == q.key] if not found.empty else found
         scenes = per_scene[per_scene["question"] == q.key] if not per_scene.empty else per_scene
-        parts.extend(_question_html(q, group, also, table, scenes, speed_note))
+        parts.extend(_question_html(q, groups, table, scenes, speed_note))
     return "\n".join(parts)

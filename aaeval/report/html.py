@@ -22,7 +22,8 @@ import numpy as np
 import pandas as pd
 
 from aaeval.experiments.aggregate import failed_cells, failure_definition
-from aaeval.experiments.summaries import frame_noise, validation_rows
+from aaeval.experiments.summaries import measured_noise, validation_rows
+from aaeval.metrics.agreement import truth_of
 from aaeval.fileio import atomic_write
 from aaeval.report import figures, image_figures
 from aaeval.report.names import figure_stem
@@ -76,11 +77,12 @@ def reference_statement(refs: pd.DataFrame) -> str:
     for i, r in refs.iterrows():
         at = lambda column, f="": Stored(REFS, i, column, f)  # noqa: E731
         frames = shown(r["noise_frames"], at("noise_frames"))
-        if r["kind"] == "exact" and r["noise_positive"]:
+        truth = truth_of(str(r["kind"]), r["noise_mean"])
+        if truth.kind == "bounded":
             level = (f"no sampling noise; its quadrature error bound, RMS {shown(r['noise_mean'], at('noise_mean', '.3g'))} "
-                     f"per pixel (max {shown(r['noise_max'], at('noise_max', '.3g'))} over {frames} frames), stands as "
-                     "its noise")
-        elif r["kind"] == "exact":
+                     f"per pixel (max {shown(r['noise_max'], at('noise_max', '.3g'))} over {frames} frames): a bound, "
+                     "not noise")
+        elif truth.kind == "exact":
             level = "noise 0"
         elif r["noise_frames"] > 0:
             level = (f"measured noise RMS {shown(r['noise_mean'], at('noise_mean', '.3g'))} per pixel channel, range "
@@ -143,8 +145,9 @@ class _Page:
 
 
 def _noise(rows: pd.DataFrame) -> np.ndarray:
-    """The ground truth's noise of each scene frame of ``rows``: the grey band of a chart."""
-    return frame_noise(rows).to_numpy(float)
+    """The ground truth's measured noise of each scene frame of ``rows``: the grey band of a
+    chart (none for a noise-free truth)."""
+    return measured_noise(rows.drop_duplicates(["scene", "frame"])).to_numpy(float)
 
 
 def _accuracy_block(page: _Page, group: str, slug: str, summary: pd.DataFrame, rows: pd.DataFrame,
@@ -220,13 +223,16 @@ def _temporal_block(page: _Page, group: str, slug: str, rows: pd.DataFrame, temp
 def _policy_section(page: _Page, results: pd.DataFrame) -> str:
     """Which ground truth every group uses, and the check that exact renderers agree with it."""
     out = ["<h2 id='ground-truth'>Ground truth</h2>",
-           "<p>Policy: every method is judged against the <b>Mitsuba 3</b> render of the same scene frame at "
+           "<p>Policy: each group names its truth (the table below). By default a method is judged against the "
+           "<b>Mitsuba 3</b> render of the same scene frame at "
            "high spp through the method's own pixel filter (the box, which converges to the exact area average, "
            "unless the method renders through another filter F: then Mitsuba with filter F), whose own noise is "
            "measured "
            "by rendering it a second time with the next seed (noise RMS = RMSE between the two / sqrt 2). An "
            "exact renderer may stand in for it only where the check below shows that, on that group's scenes, "
-           "it agrees with the Mitsuba ground truth within the ground truth's noise.</p>"]
+           "it agrees with the Mitsuba ground truth within the ground truth's noise. A noise-free truth's error "
+           "bound (exact shading's quadrature) is not noise: agreeing with it means being within the bound plus "
+           "float rounding.</p>"]
     refs = page.data.summary("references")
     per_group = refs[["group", "reference_label", "Mitsuba ground truth", "spp", "seed", "noise_mean", "noise_max"]]
     out.append(page.stored_table(per_group, REFS, "ground_truth_per_group", "Ground truth of every group",
@@ -238,7 +244,7 @@ def _policy_section(page: _Page, results: pd.DataFrame) -> str:
     crossed = [g["group"] for g, ok in zip(per_group, checked) if ok and g["Mitsuba ground truth"] != "yes"]
     if crossed:
         out.append(f"<p>Groups {html.escape(', '.join(dict.fromkeys(crossed)))} are judged against an exact truth "
-                   "(no sampling noise; its quadrature bound stands as its noise), and their Mitsuba row of the most "
+                   "(no sampling noise; its quadrature error bound is a bound, not noise), and their Mitsuba row of the most "
                    "samples agrees with it on the highlight pixels within that row's own noise by the per-pixel z-test "
                    "(see Findings): there the exact truth is the Mitsuba ground truth without its noise. Over the whole "
                    "image a few silhouette values fall outside the two-render noise model; the 16-seed t-test of "

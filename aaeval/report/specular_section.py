@@ -57,7 +57,7 @@ def _reference(refs: pd.DataFrame) -> str:
             # error bound (RMS per pixel) is what the sweep recorded as its noise
             parts.append(f"<code>{html.escape(r['reference'])}</code> (the Phong model integrated exactly over every "
                          f"visible piece: no sampling noise; its quadrature error bound, RMS {noise} per "
-                         "pixel, stands as its noise)")
+                         "pixel: a bound, not noise)")
             continue
         spp = "" if pd.isna(r["spp"]) else f"{shown(r['spp'], at('spp', '.0f'))} spp, "
         seed = "" if pd.isna(r["seed"]) else f"seed {shown(r['seed'], at('seed', '.0f'))}; "

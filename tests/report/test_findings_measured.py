@@ -75,7 +75,7 @@ def test_a_users_experiment_with_its_own_group_names_gets_every_findings_table(t
     assert set(sections) == {q.key for q in QUESTIONS}
     for key, section in sections.items():
         assert "Not measured" not in section, key
-        assert "<table class='findings'>" in section, key
+        assert "<table class='findings' data-group=" in section, key
     # each question answered by the group that measured it
     assert re.search(r"Edge aliasing \(edge RMSE, group my-moving-bars\)", findings)
     assert re.search(r"Highlight aliasing \(hl RMSE, group my-shiny-tube\)", findings)
