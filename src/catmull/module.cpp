@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "common/arrays.hpp"
+#include "common/polygon_arrays.hpp"
 #include "common/results.hpp"
 #include "catmull/bands.hpp"
 #include "catmull/moments.hpp"
@@ -35,8 +36,7 @@ namespace {
 using In = nb::ndarray<nb::ro, nb::device::cpu>;
 using Out = nb::ndarray<nb::device::cpu>;
 
-// coordinates and depth planes beyond this are refused: products of two stay finite
-constexpr double MAX_MAGNITUDE = 1e100;
+using aaeval::arrays::MAX_MAGNITUDE;
 // pixels (times channels, times basis functions) an image may have
 constexpr int64_t MAX_ENTRIES = int64_t(1) << 34;
 
@@ -62,29 +62,9 @@ void check_threads(int64_t threads) {
     if (threads < 1 || threads > 4096) fail("threads must be between 1 and 4096");
 }
 
-// The kernel polygons, checked: records inside the vertex arrays, finite coordinates.
-Polygons polygons(In& start, In& length, In& x, In& y, In& planes) {
-    Polygons P;
-    const int64_t* st = data_of<const int64_t>(start, "start", {-1});
-    P.n = int64_t(start.shape(0));
-    const int64_t* ln = data_of<const int64_t>(length, "length", {P.n});
-    const double* xs = data_of<const double>(x, "x", {-1});
-    const int64_t nv = int64_t(x.shape(0));
-    const double* ys = data_of<const double>(y, "y", {nv});
-    const double* pl = data_of<const double>(planes, "planes", {P.n, 3});
-    for (int64_t p = 0; p < P.n; ++p)
-        if (st[p] < 0 || ln[p] < 1 || st[p] > nv || ln[p] > nv - st[p])
-            fail("polygon " + std::to_string(p) + " (start " + std::to_string(st[p]) + ", length " +
-                 std::to_string(ln[p]) + ") is not inside the " + std::to_string(nv) + " vertices");
-    check_finite(xs, size_t(nv), "x");
-    check_finite(ys, size_t(nv), "y");
-    check_finite(pl, size_t(3 * P.n), "planes");
-    P.start = st;
-    P.length = ln;
-    P.x = xs;
-    P.y = ys;
-    P.planes = pl;
-    return P;
+// The kernel polygons, checked (common/polygon_arrays.hpp), to be sorted on their first row.
+SortedPolygons polygons(In& start, In& length, In& x, In& y, In& planes) {
+    return SortedPolygons{aaeval::arrays::checked_polygons("catmull", start, length, x, y, planes)};
 }
 
 double check_eps(double eps_z) {
@@ -132,7 +112,7 @@ std::vector<T> concat(std::vector<FragmentSink>& sinks, std::vector<T> FragmentS
 
 nb::tuple fragments(In start, In length, In x, In y, In planes, double eps_z, int64_t width, int64_t height,
                     bool jagged, bool centroids, int64_t threads) {
-    Polygons P = polygons(start, length, x, y, planes);
+    SortedPolygons P = polygons(start, length, x, y, planes);
     check_eps(eps_z);
     check_size(width, height, 8);
     check_threads(threads);
@@ -165,7 +145,7 @@ nb::tuple fragments(In start, In length, In x, In y, In planes, double eps_z, in
 
 nb::ndarray<nb::numpy, double> render_flat(In start, In length, In x, In y, In planes, In colors, double eps_z,
                                            int64_t width, int64_t height, bool jagged, int64_t threads) {
-    Polygons P = polygons(start, length, x, y, planes);
+    SortedPolygons P = polygons(start, length, x, y, planes);
     const double* c = colors_of(colors, P.n);
     check_eps(eps_z);
     check_size(width, height, 3);
@@ -191,7 +171,7 @@ nb::ndarray<nb::numpy, double> render_flat(In start, In length, In x, In y, In p
 nb::ndarray<nb::numpy, double> knot_grid_sums(In start, In length, In x, In y, In planes, double eps_z, In colors,
                                               int64_t width, int64_t height, int64_t kind, int64_t radius, int64_t k,
                                               double alpha, double bias, int64_t threads) {
-    Polygons P = polygons(start, length, x, y, planes);
+    SortedPolygons P = polygons(start, length, x, y, planes);
     const double* c = colors_of(colors, P.n);
     check_eps(eps_z);
     const Filter F = render_filter(filter_of(kind, radius, k, alpha, bias));
@@ -231,7 +211,7 @@ nb::ndarray<nb::numpy, double> filter_sums(In start, In length, In x, In y, In p
                                            int64_t width, int64_t height, int64_t kind, int64_t radius, int64_t k,
                                            double alpha, double bias, In e, int64_t threads,
                                            std::optional<In> weights_x, std::optional<In> weights_y) {
-    Polygons P = polygons(start, length, x, y, planes);
+    SortedPolygons P = polygons(start, length, x, y, planes);
     const double* c = colors_of(colors, P.n);
     check_eps(eps_z);
     const Filter F = render_filter(filter_of(kind, radius, k, alpha, bias));

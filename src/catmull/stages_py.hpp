@@ -9,12 +9,12 @@ namespace {
 struct StageScan {
     std::vector<int64_t> start, length;
     std::vector<double> x, y, planes;
-    Polygons P;
+    SortedPolygons P;
     int64_t width;
     Scan sc;
     int64_t n_zl = 0;
 
-    StageScan(Polygons p, int64_t width_) : width(width_), sc(width_) {
+    StageScan(const aaeval::Polygons& p, int64_t width_) : width(width_), sc(width_) {
         start.assign(p.start, p.start + p.n);
         length.assign(p.length, p.length + p.n);
         int64_t nv = 0;

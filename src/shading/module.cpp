@@ -13,6 +13,7 @@
 
 #include "catmull/bands.hpp"
 #include "catmull/sweep.hpp"
+#include "common/polygon_arrays.hpp"
 #include "common/results.hpp"
 #include "shading/sink.hpp"
 
@@ -46,20 +47,7 @@ void check_finite(const double* v, size_t n, const char* name) {
 nb::tuple render_exact(In start, In length, In x, In y, In planes, double eps_z, int64_t width, int64_t height,
                        In G, In colors, In ka, In kd, In shaded, bool point_light, In light, In frag_offset,
                        In frag_src, In frag_n, In frag_ks, double tol, int64_t threads) {
-    catmull::Polygons P;
-    P.n = int64_t(start.shape(0));
-    P.start = data_of<int64_t>(start, "start", {-1});
-    P.length = data_of<int64_t>(length, "length", {P.n});
-    P.x = data_of<double>(x, "x", {-1});
-    const int64_t nv = int64_t(x.shape(0));
-    P.y = data_of<double>(y, "y", {nv});
-    P.planes = data_of<double>(planes, "planes", {P.n, 3});
-    for (int64_t p = 0; p < P.n; ++p)
-        if (P.start[p] < 0 || P.length[p] < 1 || P.start[p] > nv || P.length[p] > nv - P.start[p])
-            fail("polygon " + std::to_string(p) + " is not inside the vertex arrays");
-    check_finite(P.x, size_t(nv), "x");
-    check_finite(P.y, size_t(nv), "y");
-    check_finite(P.planes, size_t(3 * P.n), "planes");
+    catmull::SortedPolygons P{arrays::checked_polygons("shading", start, length, x, y, planes)};
     if (width < 0 || height < 0 || width > (1 << 16) || height > (1 << 16)) fail("image size out of range");
     if (threads < 1 || threads > 4096) fail("threads must be between 1 and 4096");
     if (!(eps_z >= 0.0) || !(tol > 0.0)) fail("eps_z must be >= 0 and tol > 0");
