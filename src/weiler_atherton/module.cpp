@@ -229,14 +229,13 @@ Outlines checked_outlines(const In& oxs, const In& oys, const In& osts, const In
 
 nb::tuple solve_window(const In& oxs, const In& oys, const In& osts, const In& obbs, const In& planes_,
                        const In& order_, const std::array<double, 4>& win, double eps, double eps_z,
-                       bool convex_road, bool indexed, std::optional<In> group_) {
+                       bool convex_road, std::optional<In> group_) {
     const Outlines o = checked_outlines(oxs, oys, osts, obbs, planes_, order_, "order", win, eps, eps_z);
     const i64* group = group_ ? checked<const i64>(*group_, "group", 1, {o.npoly}) : nullptr;
     wa::Visible v;
     {
         nb::gil_scoped_release release;
-        v = wa::solve_window(o.ox, o.oy, o.ost, o.npoly, o.obb, o.planes, o.listed, o.nlisted, win, eps, eps_z, convex_road, indexed,
-                              group);
+        v = wa::solve_window(o.ox, o.oy, o.ost, o.npoly, o.obb, o.planes, o.listed, o.nlisted, win, eps, eps_z, convex_road, group);
     }
     return nb::make_tuple(numpy_of(std::move(v.xs)), numpy_of(std::move(v.ys)), numpy_of(std::move(v.labels)),
                           numpy_of(std::move(v.starts)), numpy_of(std::move(v.piece_rings)),
@@ -432,7 +431,7 @@ NB_MODULE(weiler_atherton, m) {
     m.def("originals", &originals, "vertices"_a, "start"_a, "length"_a, "planes"_a,
           "Every polygon's outline as the solver takes it: (xs, ys, starts, boxes, nearest depth, scale, zmax).");
     m.def("solve_window", &solve_window, "ox"_a, "oy"_a, "ost"_a, "obb"_a, "planes"_a, "order"_a, "win"_a, "eps"_a,
-          "eps_z"_a, "convex_road"_a = true, "indexed"_a = false, "group"_a = nb::none(),
+          "eps_z"_a, "convex_road"_a = true, "group"_a = nb::none(),
           "Visible pieces of the depth-sorted polygons inside the window, flattened: (xs, ys, labels, starts, "
           "piece_rings, sources).");
     m.def("solve_by_rule", &solve_by_rule, "ox"_a, "oy"_a, "ost"_a, "obb"_a, "planes"_a, "sources"_a, "win"_a,
