@@ -153,7 +153,7 @@ OutArray py_profile_array(int64_t fkind, double fradius, const Array& fpieces, d
     OutArray out = owned<double>({n}, data);
     {
         nb::gil_scoped_release release;
-        for (size_t i = 0; i < n; ++i) data[i] = profile_at(filter, tv[i]);
+        profile_values(filter, tv, n, data);
     }
     return out;
 }
@@ -206,7 +206,7 @@ std::pair<int64_t, int64_t> py_first_meeting_pair(const Array& pts, const Array&
 }  // namespace
 
 NB_MODULE(samplers, m) {
-    m.doc() = "Point samplers, A-buffer, depth tie rule and simplicity sweep of aaeval (C++17, issue 20).";
+    m.doc() = "Point samplers, A-buffer, depth tie rule and simplicity sweep of aaeval (C++17).";
     m.def("sample_image", &py_sample_image, nb::arg("width"), nb::arg("height"), nb::arg("starts"), nb::arg("lengths"),
           nb::arg("xs"), nb::arg("ys"), nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"), nb::arg("background"),
           nb::arg("k"), nb::arg("jitter"), nb::arg("seed"), nb::arg("fkind"), nb::arg("fradius"), nb::arg("fpieces"),
@@ -226,6 +226,4 @@ NB_MODULE(samplers, m) {
     m.def("profile_array", &py_profile_array, nb::arg("fkind"), nb::arg("fradius"), nb::arg("fpieces"),
           nb::arg("falpha"), nb::arg("fbias"), nb::arg("t"),
           "k(t) of a filter profile (the samplers' splat weight) at every t of a flat float64 array.");
-    m.def("jitter_uniform", &jitter_uniform, nb::arg("seed"), nb::arg("row"), nb::arg("col"), nb::arg("sample"),
-          nb::arg("axis"), "A uniform number in [0, 1) fixed by (seed, row, col, sample, axis).");
 }

@@ -186,6 +186,11 @@ inline double profile_at(const Profile& f, double t) {
     return value;
 }
 
+// k(t) of the profile at each of t[0 .. n), into out.
+inline void profile_values(const Profile& f, const double* t, size_t n, double* out) {
+    for (size_t i = 0; i < n; ++i) out[i] = profile_at(f, t[i]);
+}
+
 // The filtered image (height, width, 3) from k x k point samples per pixel into image
 // (zeroed by the caller); returns false when a pixel's collected filter weight is zero
 // (the binding raises ZeroDivisionError: a pixel without weight has no value).

@@ -98,7 +98,8 @@ def _pairs(seed: int, first_crossing):
 
 def kernels() -> dict:
     """The functions the digests are taken of, as the package has them now."""
-    from aaeval.native.weiler_atherton import clip_arrays, first_crossing, half_plane, later_neighbours
+    from aaeval.native.weiler_atherton import clip_arrays, first_crossing, later_neighbours
+    from aaeval.native.weiler_atherton_testing import half_plane
     from aaeval.weiler_atherton import visible_arrays
     from aaeval.weiler_atherton.near_ties import resolve_flat_arrays
     from aaeval.weiler_atherton.raster import coverage_flat

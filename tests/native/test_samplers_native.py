@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from aaeval.native import samplers as _samplers
+from aaeval.native import samplers_testing
 from aaeval.filters import get_filter
 from aaeval.filters.registry import profile_args
 from aaeval.renderers.registry import render
@@ -109,7 +110,7 @@ def test_jitter_is_splitmix64_of_seed_row_column_sample_axis():
         h = splitmix(seed)
         for v in (row, col, 2 * s + axis):
             h = splitmix(h ^ v)
-        assert _samplers.jitter_uniform(seed, row, col, s, axis) == (h >> 11) / 2.0**53
+        assert samplers_testing.jitter_uniform(seed, row, col, s, axis) == (h >> 11) / 2.0**53
 
 
 def test_tied_latest_first_puts_the_latest_of_a_run_first():
