@@ -1,6 +1,6 @@
 // Polygon geometry shared by the native kernels: half-plane clipping with Catmull's clip
-// flags, the shoelace area and the area centroid (first moments). Written once here; the
-// Catmull kernel and its filter sink include it, the other ports may.
+// flags, the shoelace area and the area centroid (first moments), one definition for the
+// Catmull kernel and its sinks.
 //
 // A polygon is a run of vertices xs[start .. start+n), ys[...] with a flag per vertex:
 // flags[i] = 1 when the edge from vertex i to the next lies on a clipping line (or a pixel
@@ -10,8 +10,8 @@
 // near-duplicate vertices are made.
 //
 // Every floating-point operation runs in a fixed order, with no contraction into FMAs
-// (build with -ffp-contract=off), so the images' bits are the same on every machine and
-// the recorded digests (tests/helpers/same_bits.py) hold.
+// (build with -ffp-contract=off), so the images' bits are the same on every machine (what
+// the same-bits digests of tests/helpers/same_bits.py check).
 #pragma once
 
 #include <cmath>

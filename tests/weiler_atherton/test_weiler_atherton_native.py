@@ -1,5 +1,5 @@
 """The native Weiler-Atherton kernels (aaeval.native.weiler_atherton) refuse bad inputs at the
-binding with a one-line ValueError instead of reading out of bounds (issue 20)."""
+binding with a one-line ValueError instead of reading out of bounds."""
 
 from __future__ import annotations
 
