@@ -13,6 +13,7 @@
 #include <string>
 
 #include "bindings.hpp"
+#include "common/polygon_arrays.hpp"
 #include "clipper.hpp"
 #include "components.hpp"
 #include "near_ties.hpp"
@@ -102,10 +103,7 @@ nb::tuple originals(const In& vertices, const In& start, const In& length, const
     const i64* ln = checked<const i64>(length, "length", 1, {n});
     const double* pl = checked<const double>(planes, "planes", 2, {n, 3});
     check_finite(v, 3 * nv, "vertices");
-    for (i64 p = 0; p < n; ++p)
-        if (st[p] < 0 || ln[p] < 1 || st[p] > nv - ln[p])
-            refuse("polygon " + std::to_string(p) + ": vertices " + std::to_string(st[p]) + " + " +
-                   std::to_string(ln[p]) + " are not a non-empty range of the " + std::to_string(nv) + " vertices");
+    aaeval::arrays::check_records("", st, ln, n, nv);
     wa::Originals o;
     {
         nb::gil_scoped_release release;
