@@ -35,7 +35,7 @@ from smoke import SMOKE, smallest
 registries.load()  # a program fills the registries once, before it renders
 
 CONTENT = Path(__file__).resolve().parents[1] / "configs" / "scenes" / "content"
-METHODS = ["catmull:threads=1", "weiler-atherton", "weiler-atherton:indexed=false", "skia", "blend2d"]
+METHODS = ["catmull:threads=1", "weiler-atherton", "skia", "blend2d"]
 
 
 def enlarged(name: str, side: int = 512):

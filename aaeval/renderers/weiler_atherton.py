@@ -21,10 +21,6 @@ __all__ = ["render_weiler_atherton"]
         "window": Option(int, 0, "screen subdivision: most polygons per window (0: none)", minimum=0),
         "convex": Option(bool, True, "clip convex pieces by convex outlines edge line by edge line "
                                      "(false: the paper's clipper for every pair)"),
-        "indexed": Option(str, "auto", "find the pieces a clip polygon meets through a grid and halve growing "
-                                       "pieces: true, false (each polygon's chain: the recorded bits), or auto "
-                                       "(true when an outline has more than 64 vertices)",
-                          choices=("auto", "true", "false")),
     },
     exact=True,
     # the clipper holds and clips a piece per overlapping pair (1e4 identical triangles in
@@ -33,7 +29,5 @@ __all__ = ["render_weiler_atherton"]
     memory=lambda scene, o: 28 * scene_load(scene).pairs,
     seconds=lambda scene, o: 0.1e-6 * scene_load(scene).pairs,
 )
-def render_weiler_atherton(scene: Scene, window: int = 0, convex: bool = True,
-                           indexed: str = "auto") -> "np.ndarray":  # noqa: F821
-    route = None if indexed == "auto" else indexed == "true"
-    return box_filter(scene, visible_arrays(scene, window=window, convex=convex, indexed=route))
+def render_weiler_atherton(scene: Scene, window: int = 0, convex: bool = True) -> "np.ndarray":  # noqa: F821
+    return box_filter(scene, visible_arrays(scene, window=window, convex=convex))

@@ -135,30 +135,24 @@ class _Problem:
         self.eps_z = depth_tolerance(vertices[:, 2])
         self.eps = 2e-14 * max(1.0 + max(scene.width, scene.height), scale)
         # the file's polygon each one stands for (a polygon with holes stands as abutting
-        # pieces, which the indexed solver need not clip against each other)
+        # pieces, which the solver need not clip against each other)
         self.group = np.arange(len(self.planes), dtype=np.int64)
         for h in scene.holed:
             self.group[h.first : h.first + h.count] = h.first
-        # the chain loop's convex road takes pairs of up to 64 vertices together; a scene
-        # with longer outlines has its clips done by the paper's clipper on pieces that
-        # grow (a background gathering a hole per polygon in front of it): the indexed
-        # loop is what scales there (see indexed_by_default)
-        self.longest = int(np.diff(self.starts).max()) if len(self.starts) > 1 else 0
 
     def depth_order(self, sources) -> np.ndarray:
         """A rough depth sort: nearest z first, the later polygon first on a tie."""
         sources = np.asarray(sources, dtype=np.int64)
         return sources[np.lexsort((-sources, self.zmin[sources]))]
 
-    def solve(self, window, sources=None, convex: bool = True, indexed: bool = False) -> VisibleArrays:
+    def solve(self, window, sources=None, convex: bool = True) -> VisibleArrays:
         """Visible pieces inside ``window``: near-coplanar groups by the tie rule
         (:mod:`.near_ties`), the rest by the area sort."""
         tied, rest = tie_groups(self.bboxes, self.planes, self.sources if sources is None else sources, self.eps_z)
         order = self.depth_order(rest)
         win = tuple(float(v) for v in window)
         sorted_ = VisibleArrays(*solve_window(self.xs, self.ys, self.starts, self.bboxes, self.planes, order, win,
-                                              self.eps, self.eps_z, bool(convex), bool(indexed),
-                                              self.group if indexed else None))
+                                              self.eps, self.eps_z, bool(convex), self.group))
         if len(tied):
             regions = solve_by_rule(self.xs, self.ys, self.starts, self.bboxes, self.planes, win, tied, self.eps,
                                     self.eps_z)
@@ -171,7 +165,7 @@ def hidden_surface(scene: Scene, window: tuple[float, float, float, float] | Non
     return _Problem(scene).solve(window or (0.0, 0.0, float(scene.width), float(scene.height)), sources).pieces()
 
 
-def visible_pieces(scene: Scene, *, window: int = 0, convex: bool = True, indexed: bool | None = None) -> list[Piece]:
+def visible_pieces(scene: Scene, *, window: int = 0, convex: bool = True) -> list[Piece]:
     """Non-overlapping visible pieces of every polygon inside the image.
 
     Parameters
@@ -185,26 +179,19 @@ def visible_pieces(scene: Scene, *, window: int = 0, convex: bool = True, indexe
         Clip a convex piece by a convex outline edge line by edge line, the outside then
         coming as convex pieces (``src/weiler_atherton/convex.hpp``; the same regions, faster); False
         clips every pair with the paper's clipper.
-    indexed : bool or None
-        True: the solver finds the pieces each clip polygon meets through a grid of buckets
-        and halves a piece that grows past 64 vertices (``Solver::solve_indexed``); False:
-        it walks each overlapping polygon's chain of pieces (the recorded bits); None: True
-        when some outline has more than :data:`INDEXED_ABOVE` vertices.
     """
-    return visible_arrays(scene, window=window, convex=convex, indexed=indexed).pieces()
+    return visible_arrays(scene, window=window, convex=convex).pieces()
 
 
-def visible_arrays(scene: Scene, *, window: int = 0, convex: bool = True, indexed: bool | None = None) -> VisibleArrays:
+def visible_arrays(scene: Scene, *, window: int = 0, convex: bool = True) -> VisibleArrays:
     """:func:`visible_pieces` as flat arrays (what the renderer needs, without building
     Python contours)."""
     if window < 0:
         raise ValueError(f"window must be >= 0, got {window}")
     problem = _Problem(scene)
-    if indexed is None:
-        indexed = problem.longest > INDEXED_ABOVE
     full = (0, 0, scene.width, scene.height)
     if window == 0:
-        return problem.solve(full, convex=convex, indexed=indexed)
+        return problem.solve(full, convex=convex)
     out = []
     boxes = problem.bboxes
     todo = [(full, [s for s in problem.sources if _overlaps(boxes[s], full)])]
@@ -214,20 +201,10 @@ def visible_arrays(scene: Scene, *, window: int = 0, convex: bool = True, indexe
         parts = [(w, [s for s in here if _overlaps(boxes[s], w)]) for w in children]
         crowded = sum(len(c) for _, c in parts) > SPLIT_GAIN * len(children) * len(here)
         if len(here) <= window or len(children) == 1 or crowded:
-            out.append(problem.solve(win, here, convex, indexed))
+            out.append(problem.solve(win, here, convex))
             continue
         todo.extend((w, c) for w, c in parts if c)
-    return VisibleArrays.concatenate(out) if out else problem.solve(full, [], convex, indexed)
-
-
-#: ``indexed=None`` (the method's default) takes the indexed loop when some outline has
-#: more vertices than this. The chain loop (``indexed=False``) keeps the recorded bits of
-#: every scene with shorter outlines (the same-bits digests; its pieces are cut
-#: differently, so its images differ from the indexed loop's by rounding); on a 512 x 512
-#: tiger-like illustration (benchmarks/art.py, outlines of up to 160 vertices) the indexed
-#: loop took 0.4 s where the chain loop took 1.0 s, and on random triangles, where every
-#: pair takes the convex road, the two are within 10-20% (the chain loop faster).
-INDEXED_ABOVE = 64
+    return VisibleArrays.concatenate(out) if out else problem.solve(full, [], convex)
 
 
 # a window is split only while that separates its polygons: when its quarters would still

@@ -14,9 +14,9 @@ namespace aaeval::catmull {
 // p = m - i - 1 (p = -R .. R-1) of the filter from cell m; separable, x contracted first
 // (contract_x_row: a row of cells (W + 1, k, k, nch) into t (k, W, nch)), then y
 // (contract_y_rows: rows of t into pixel rows (W, nch)). e: (2R, k), the cell-local
-// coefficients. The sums run in the order numpy's einsum took them in (each term's basis sum
-// from 0, then the pieces in turn from 0), so the bits are numpy's; cells outside the image
-// add nothing (numpy added zeros, which change no sum).
+// coefficients. The sums run in one fixed order (each term's basis sum from 0, then the
+// pieces in turn from 0), so the bits do not depend on the band or the thread; cells
+// outside the image are skipped (they would add zeros, which change no sum).
 // s[b, ch] = sum over a, in order from 0, of cell[a, b, ch] * ep[a] (ep: row pr of e): one
 // cell's term for one pixel. identity (e = I, the Gaussian): 0 + the one term times 1 (the
 // zeros change nothing). The a loop runs outside, so that the inner one runs along memory.

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/geometry.hpp"
+#include "common/polygons.hpp"
 #include "catmull/buffers.hpp"
 
 namespace aaeval::catmull {
@@ -23,20 +24,14 @@ inline constexpr double COV_SOLID = 1.0 - 1e-12;
 inline constexpr double COV_EMPTY = 1e-15;
 inline constexpr int64_t BACKGROUND = -1;
 
-// The input polygons: x, y[start[p] .. start[p] + length[p]), depth planes[p] (z = a x + b y
-// + c), their y range and `order`: indices sorted (stably) on ymin. Borrowed arrays.
-struct Polygons {
-    int64_t n = 0;
-    const int64_t* start = nullptr;
-    const int64_t* length = nullptr;
-    const double* x = nullptr;
-    const double* y = nullptr;
-    const double* planes = nullptr;  // n x 3
+// The input polygons (common/polygons.hpp) with their y ranges and `order`: indices sorted
+// (stably) on ymin, the order in which they join the active list.
+struct SortedPolygons : Polygons {
     std::vector<double> ymin, ymax;
     std::vector<int64_t> order;
 };
 
-inline void sort_polygons(Polygons& P) {
+inline void sort_polygons(SortedPolygons& P) {
     P.ymin.resize(size_t(P.n));
     P.ymax.resize(size_t(P.n));
     for (int64_t p = 0; p < P.n; ++p) {
@@ -57,7 +52,7 @@ inline void sort_polygons(Polygons& P) {
 
 // The active polygons' remaining parts: recs[:n] are records (start, length, source) into
 // the vertex buffer `v` (`used` entries taken); `spare` is the buffer the next remainders go
-// to. next_in counts the polygons of Polygons::order that have entered.
+// to. next_in counts the polygons of SortedPolygons::order that have entered.
 struct ActiveList {
     Verts v{1024}, spare{1024};
     Rows<int64_t, 3> recs{256};
@@ -108,7 +103,7 @@ inline int64_t below(const double* vx0, const double* vy0, int64_t start, int64_
 }
 
 // Polygons whose first scanline is `row` join the active list (their part y >= row).
-inline void enter_polygons(const Polygons& P, ActiveList& A, int64_t row, std::vector<uint8_t>& flags) {
+inline void enter_polygons(const SortedPolygons& P, ActiveList& A, int64_t row, std::vector<uint8_t>& flags) {
     const double y_top = double(row);
     const double y_bot = y_top + 1.0;
     int64_t next_in = A.next_in;

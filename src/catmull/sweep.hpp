@@ -373,7 +373,7 @@ inline void sweep_row(Scan& sc, Sink& out, const double* planes, int64_t row, in
 // Rows row0 .. row1-1 into the sink, from the band's own first row (the polygons reaching into
 // it cut at its top).
 template <class Sink>
-inline void scan_rows(const Polygons& P, int64_t width, int64_t row0, int64_t row1, double eps_z, bool jagged,
+inline void scan_rows(const SortedPolygons& P, int64_t width, int64_t row0, int64_t row1, double eps_z, bool jagged,
                       bool centroids, Sink& out) {
     Scan sc(width);
     for (int64_t row = row0; row < row1; ++row) {

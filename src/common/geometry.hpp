@@ -1,6 +1,6 @@
 // Polygon geometry shared by the native kernels: half-plane clipping with Catmull's clip
-// flags, the shoelace area and the area centroid (first moments). Written once here; the
-// Catmull kernel and its filter sink include it, the other ports may.
+// flags, the shoelace area and the area centroid (first moments), one definition for the
+// Catmull kernel and its sinks.
 //
 // A polygon is a run of vertices xs[start .. start+n), ys[...] with a flag per vertex:
 // flags[i] = 1 when the edge from vertex i to the next lies on a clipping line (or a pixel
@@ -10,12 +10,13 @@
 // near-duplicate vertices are made.
 //
 // Every floating-point operation runs in a fixed order, with no contraction into FMAs
-// (build with -ffp-contract=off), so the images' bits are the same on every machine and
-// the recorded digests (tests/helpers/same_bits.py) hold.
+// (build with -ffp-contract=off), so the images' bits are the same on every machine (what
+// the same-bits digests of tests/helpers/same_bits.py check).
 #pragma once
 
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "common/numeric.hpp"
 #if defined(__SSE2__)
@@ -221,6 +222,33 @@ inline AreaCentroid area_centroid(const double* xs, const double* ys, int64_t st
     }
     if (s == 0.0) return {0.0, x0, y0};
     return {0.5 * s, x0 + sx / (3.0 * s), y0 + sy / (3.0 * s)};
+}
+
+// The part of polygon (x, y)[0 .. n) inside the window [x0, x1] x [y0, y1]: clip_side
+// against its four sides in turn (inside: side A of -x + x0, x - x1, -y + y0, y - y1), as
+// interleaved x, y; empty when nothing is left.
+inline std::vector<double> clip_to_window(const double* x, const double* y, int64_t n, double x0, double y0,
+                                          double x1, double y1) {
+    const double lines[4][3] = {{-1.0, 0.0, x0}, {1.0, 0.0, -x1}, {0.0, -1.0, y0}, {0.0, 1.0, -y1}};
+    std::vector<double> cx(x, x + n), cy(y, y + n);
+    std::vector<uint8_t> cf(size_t(n), 0);
+    int64_t m = n;
+    for (const auto& l : lines) {
+        const int64_t size = 2 * m + 4;
+        std::vector<double> ox(static_cast<size_t>(size)), oy(static_cast<size_t>(size));
+        std::vector<uint8_t> of(static_cast<size_t>(size));
+        m = clip_side(cx.data(), cy.data(), cf.data(), 0, m, l[0], l[1], l[2], -1, ox.data(), oy.data(), of.data(), 0);
+        if (m == 0) return {};
+        cx.swap(ox);
+        cy.swap(oy);
+        cf.swap(of);
+    }
+    std::vector<double> out(size_t(2 * m));
+    for (int64_t i = 0; i < m; ++i) {
+        out[size_t(2 * i)] = cx[size_t(i)];
+        out[size_t(2 * i + 1)] = cy[size_t(i)];
+    }
+    return out;
 }
 
 }  // namespace aaeval::geometry

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common/arrays.hpp"
+#include "common/polygon_arrays.hpp"
 #include "common/results.hpp"
 #include "samplers/depth.hpp"
 #include "samplers/sampling.hpp"
@@ -52,25 +53,13 @@ struct Scene {
 
 Scene checked_scene(const Array& starts, const Array& lengths, const Array& xs, const Array& ys, const Array& planes,
                     double eps_z, const Array& colors, const Array& background) {
-    const int64_t* s = checked<int64_t>(starts, "starts", {-1});
-    const int64_t n = static_cast<int64_t>(starts.shape(0));
-    const int64_t* l = checked<int64_t>(lengths, "lengths", {n});
-    const double* x = checked<double>(xs, "xs", {-1});
-    const int64_t nv = static_cast<int64_t>(xs.shape(0));
-    const double* y = checked<double>(ys, "ys", {nv});
-    const double* pl = checked<double>(planes, "planes", {n, 3});
-    const double* c = checked<double>(colors, "colors", {n, 3});
+    const Polygons P = aaeval::arrays::checked_polygons("", starts, lengths, xs, ys, planes);
+    const double* c = checked<double>(colors, "colors", {P.n, 3});
     const double* bg = checked<double>(background, "background", {3});
-    for (int64_t p = 0; p < n; ++p)
-        if (s[p] < 0 || l[p] < 0 || s[p] > nv || l[p] > nv - s[p])
-            fail("polygon " + std::to_string(p) + ": vertices out of range");
-    check_finite(x, nv, "xs");
-    check_finite(y, nv, "ys");
-    check_finite(pl, 3 * n, "planes");
-    check_finite(c, 3 * n, "colors");
+    check_finite(c, 3 * P.n, "colors");
     check_finite(bg, 3, "background");
     if (!std::isfinite(eps_z)) fail("eps_z: expected a finite value");
-    return {{n, s, l, x, y, pl}, c, bg};
+    return {P, c, bg};
 }
 
 // A new zeroed numpy array of `shape`; `data` points at it (common/results.hpp).
@@ -164,7 +153,7 @@ OutArray py_profile_array(int64_t fkind, double fradius, const Array& fpieces, d
     OutArray out = owned<double>({n}, data);
     {
         nb::gil_scoped_release release;
-        for (size_t i = 0; i < n; ++i) data[i] = profile_at(filter, tv[i]);
+        profile_values(filter, tv, n, data);
     }
     return out;
 }
@@ -217,7 +206,7 @@ std::pair<int64_t, int64_t> py_first_meeting_pair(const Array& pts, const Array&
 }  // namespace
 
 NB_MODULE(samplers, m) {
-    m.doc() = "Point samplers, A-buffer, depth tie rule and simplicity sweep of aaeval (C++17, issue 20).";
+    m.doc() = "Point samplers, A-buffer, depth tie rule and simplicity sweep of aaeval (C++17).";
     m.def("sample_image", &py_sample_image, nb::arg("width"), nb::arg("height"), nb::arg("starts"), nb::arg("lengths"),
           nb::arg("xs"), nb::arg("ys"), nb::arg("planes"), nb::arg("eps_z"), nb::arg("colors"), nb::arg("background"),
           nb::arg("k"), nb::arg("jitter"), nb::arg("seed"), nb::arg("fkind"), nb::arg("fradius"), nb::arg("fpieces"),
@@ -237,6 +226,4 @@ NB_MODULE(samplers, m) {
     m.def("profile_array", &py_profile_array, nb::arg("fkind"), nb::arg("fradius"), nb::arg("fpieces"),
           nb::arg("falpha"), nb::arg("fbias"), nb::arg("t"),
           "k(t) of a filter profile (the samplers' splat weight) at every t of a flat float64 array.");
-    m.def("jitter_uniform", &jitter_uniform, nb::arg("seed"), nb::arg("row"), nb::arg("col"), nb::arg("sample"),
-          nb::arg("axis"), "A uniform number in [0, 1) fixed by (seed, row, col, sample, axis).");
 }

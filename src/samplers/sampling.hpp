@@ -20,9 +20,11 @@
 #include <vector>
 
 #include "common/numeric.hpp"
+#include "common/polygons.hpp"
 
 namespace aaeval::samplers {
 
+using aaeval::Polygons;
 using numeric::pymax;
 using numeric::pymin;
 using numeric::to_i64;
@@ -30,17 +32,6 @@ using numeric::wrap_add;
 
 constexpr int64_t NO_POLYGON = -1;
 constexpr double INF = std::numeric_limits<double>::infinity();
-
-// The polygons of the scene as flat arrays (file order); polygon p has the vertices
-// start[p] .. start[p] + length[p] - 1 of xs, ys, and the depth plane planes[3p..3p+2].
-struct Polygons {
-    int64_t n;
-    const int64_t* start;
-    const int64_t* length;
-    const double* xs;
-    const double* ys;
-    const double* planes;
-};
 
 // Polygons per pixel row as CSR (row_start[height + 1], polys): polygon p is listed on rows
 // floor(ymin) .. ceil(ymax) - 1 clipped to the image (it covers [ymin, ymax)).
@@ -51,8 +42,8 @@ inline void row_buckets(int64_t height, const Polygons& P, std::vector<int64_t>&
     for (int64_t p = 0; p < P.n; ++p) {
         double ymin = INF, ymax = -INF;
         for (int64_t i = P.start[p]; i < P.start[p] + P.length[p]; ++i) {
-            ymin = pymin(ymin, P.ys[i]);
-            ymax = pymax(ymax, P.ys[i]);
+            ymin = pymin(ymin, P.y[i]);
+            ymax = pymax(ymax, P.y[i]);
         }
         int64_t a = pymax(int64_t(0), to_i64(std::floor(ymin)));
         int64_t b = pymin(height - 1, wrap_add(to_i64(std::ceil(ymax)), -1));
@@ -92,7 +83,7 @@ inline int64_t strip_edges(const Polygons& P, int64_t p, double ya, double yb, E
     const int64_t start = P.start[p], n = P.length[p];
     int64_t prev = start + n - 1;
     for (int64_t i = start; i < start + n; ++i) {
-        double x0 = P.xs[prev], y0 = P.ys[prev], x1 = P.xs[i], y1 = P.ys[i];
+        double x0 = P.x[prev], y0 = P.y[prev], x1 = P.x[i], y1 = P.y[i];
         prev = i;
         if (y1 < y0) {
             std::swap(x0, x1);
@@ -193,6 +184,11 @@ inline double profile_at(const Profile& f, double t) {
     double value = 0.0;
     for (int64_t a = f.cols - 1; a >= 0; --a) value = value * s + f.pieces[row * f.cols + a];
     return value;
+}
+
+// k(t) of the profile at each of t[0 .. n), into out.
+inline void profile_values(const Profile& f, const double* t, size_t n, double* out) {
+    for (size_t i = 0; i < n; ++i) out[i] = profile_at(f, t[i]);
 }
 
 // The filtered image (height, width, 3) from k x k point samples per pixel into image

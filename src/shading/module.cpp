@@ -1,7 +1,6 @@
-// aaeval.native.shading: the Phong shade integrated exactly over Catmull's visible pieces.
-// The Catmull kernel (src/catmull: strips, sweep, pixel integrator) runs unchanged with
-// ShadeSink (sink.hpp) as its sink; the quadrature is quadrature.hpp. Inputs are checked here
-// before any kernel runs: a bad input is a ValueError.
+// aaeval.native.shading: the binding of the Phong shade integrated exactly over Catmull's
+// visible pieces (render.hpp runs it; the model is phong.hpp, the quadrature quadrature.hpp).
+// Inputs are checked here before any kernel runs: a bad input is a ValueError.
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
@@ -11,10 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "catmull/bands.hpp"
-#include "catmull/sweep.hpp"
+#include "common/polygon_arrays.hpp"
 #include "common/results.hpp"
-#include "shading/sink.hpp"
+#include "shading/render.hpp"
 
 namespace nb = nanobind;
 namespace results = aaeval::results;
@@ -43,23 +41,10 @@ void check_finite(const double* v, size_t n, const char* name) {
         if (!std::isfinite(v[i]) || std::fabs(v[i]) > 1e100) fail(std::string(name) + " must be finite");
 }
 
-nb::tuple render_exact(In start, In length, In x, In y, In planes, double eps_z, int64_t width, int64_t height,
+nb::tuple render_exact_py(In start, In length, In x, In y, In planes, double eps_z, int64_t width, int64_t height,
                        In G, In colors, In ka, In kd, In shaded, bool point_light, In light, In frag_offset,
                        In frag_src, In frag_n, In frag_ks, double tol, int64_t threads) {
-    catmull::Polygons P;
-    P.n = int64_t(start.shape(0));
-    P.start = data_of<int64_t>(start, "start", {-1});
-    P.length = data_of<int64_t>(length, "length", {P.n});
-    P.x = data_of<double>(x, "x", {-1});
-    const int64_t nv = int64_t(x.shape(0));
-    P.y = data_of<double>(y, "y", {nv});
-    P.planes = data_of<double>(planes, "planes", {P.n, 3});
-    for (int64_t p = 0; p < P.n; ++p)
-        if (P.start[p] < 0 || P.length[p] < 1 || P.start[p] > nv || P.length[p] > nv - P.start[p])
-            fail("polygon " + std::to_string(p) + " is not inside the vertex arrays");
-    check_finite(P.x, size_t(nv), "x");
-    check_finite(P.y, size_t(nv), "y");
-    check_finite(P.planes, size_t(3 * P.n), "planes");
+    catmull::SortedPolygons P{arrays::checked_polygons("shading", start, length, x, y, planes)};
     if (width < 0 || height < 0 || width > (1 << 16) || height > (1 << 16)) fail("image size out of range");
     if (threads < 1 || threads > 4096) fail("threads must be between 1 and 4096");
     if (!(eps_z >= 0.0) || !(tol > 0.0)) fail("eps_z must be >= 0 and tol > 0");
@@ -91,11 +76,7 @@ nb::tuple render_exact(In start, In length, In x, In y, In planes, double eps_z,
         evals(size_t(size), 0.0);
     {
         nb::gil_scoped_release release;
-        catmull::sort_polygons(P);
-        catmull::run_bands(height, threads, [&](int64_t, int64_t r0, int64_t r1) {
-            shading::ShadeSink out(M, {rgb.data(), spec.data(), bound.data(), evals.data()});
-            catmull::scan_rows(P, width, r0, r1, eps_z, false, true, out);
-        });
+        shading::render_exact(P, M, eps_z, width, height, threads, {rgb.data(), spec.data(), bound.data(), evals.data()});
     }
     const size_t H = size_t(height), W = size_t(width);
     return nb::make_tuple(results::from_vector(std::move(rgb), {H, W, 3}), results::from_vector(std::move(spec), {H, W}),
@@ -106,7 +87,7 @@ nb::tuple render_exact(In start, In length, In x, In y, In planes, double eps_z,
 
 NB_MODULE(shading, m) {
     m.doc() = "The Phong shade integrated over Catmull's visible pieces (adaptive Gauss-Legendre), native";
-    m.def("render_exact", &render_exact, nb::arg("start"), nb::arg("length"), nb::arg("x"), nb::arg("y"),
+    m.def("render_exact", &render_exact_py, nb::arg("start"), nb::arg("length"), nb::arg("x"), nb::arg("y"),
           nb::arg("planes"), nb::arg("eps_z"), nb::arg("width"), nb::arg("height"), nb::arg("G"), nb::arg("colors"),
           nb::arg("ka"), nb::arg("kd"), nb::arg("shaded"), nb::arg("point_light"), nb::arg("light"),
           nb::arg("frag_offset"), nb::arg("frag_src"), nb::arg("frag_n"), nb::arg("frag_ks"), nb::arg("tol"),

@@ -16,33 +16,12 @@ namespace wa {
 
 namespace {
 
-constexpr double TWO_PI = 2.0 * 3.141592653589793;
-
 using Scratch = ClipScratch::Arrays;
 
-i64 lower_bound(const std::vector<double>& a, double v) {
-    i64 lo = 0, hi = (i64)a.size();
-    while (lo < hi) {
-        i64 mid = (lo + hi) >> 1;
-        if (a[mid] < v) lo = mid + 1;
-        else hi = mid;
-    }
-    return lo;
-}
-
-i64 upper_bound(const std::vector<double>& a, double v) {
-    i64 lo = 0, hi = (i64)a.size();
-    while (lo < hi) {
-        i64 mid = (lo + hi) >> 1;
-        if (a[mid] <= v) lo = mid + 1;
-        else hi = mid;
-    }
-    return lo;
-}
-
-bool contains(const std::vector<i64>& sorted, i64 key) {
-    auto it = std::lower_bound(sorted.begin(), sorted.end(), key);
-    return it != sorted.end() && *it == key;
+// The positions [first, end) of the sorted values within [lo, hi].
+std::pair<i64, i64> positions_within(const std::vector<double>& sorted, double lo, double hi) {
+    return {std::lower_bound(sorted.begin(), sorted.end(), lo) - sorted.begin(),
+            std::upper_bound(sorted.begin(), sorted.end(), hi) - sorted.begin()};
 }
 
 // -- step 1: snapping, crossings, point ids
@@ -165,7 +144,7 @@ bool snap_crossings(i64 nv, const std::vector<i64>& edges, std::vector<double>& 
         double y1 = pmin(pmax(py[e[0]], py[e[1]]), pmax(py[e[2]], py[e[3]])) + eps;
         i64 best = -1;
         double best_d2 = 0.0;
-        for (i64 j = lower_bound(ux, x0), hi = upper_bound(ux, x1); j < hi; ++j) {
+        for (auto [j, hi] = positions_within(ux, x0, x1); j < hi; ++j) {
             if (!is_vertex[j] || uy[j] < y0 || uy[j] > y1) continue;
             if (on_segment(ux[j], uy[j], px[e[0]], py[e[0]], px[e[1]], py[e[1]], eps) < 0.0) continue;
             if (on_segment(ux[j], uy[j], px[e[2]], py[e[2]], px[e[3]], py[e[3]], eps) < 0.0) continue;
@@ -207,7 +186,7 @@ i64 split(const i64* vid, const i64* labels, const i64* starts, i64 nst, const s
                 out.lab.push_back(labels[v]);
                 continue;
             }
-            i64 lo = lower_bound(ux, x0 - eps), hi = upper_bound(ux, x1 + eps);
+            auto [lo, hi] = positions_within(ux, x0 - eps, x1 + eps);
             ts.clear();
             qs.clear();
             for (i64 j = lo; j < std::min(hi, nu); ++j) {
@@ -246,94 +225,6 @@ i64 split(const i64* vid, const i64* labels, const i64* starts, i64 nst, const s
     out.st[nst - 1] = (i64)out.ids.size();
     return inserted;
 }
-
-// -- steps 3-4: tracing the inside and outside contours
-
-double turn(double back, i64 f, const std::vector<i64>& eb, const std::vector<double>& ux,
-            const std::vector<double>& uy, i64 v) {
-    double t = pmod(back - std::atan2(uy[eb[f]] - uy[v], ux[eb[f]] - ux[v]), TWO_PI);
-    return t == 0.0 ? TWO_PI : t;
-}
-
-}  // namespace
-
-// Link directed edges into closed contours, turning at shared vertices onto the first
-// edge clockwise from the way the walk came (keeps contours free of crossings); drop the
-// zero-area leftovers of degenerate contact.
-void trace(const Edges& edges, const std::vector<double>& ux, const std::vector<double>& uy, double eps, Scratch& w,
-           Shape& out) {
-    const std::vector<i64>& ea = edges.from;
-    const std::vector<i64>& eb = edges.to;
-    i64 m = (i64)ea.size(), nu = (i64)ux.size();
-    std::vector<i64>& head = w.head;
-    std::vector<i64>& out_edges = w.out_edges;
-    // where every point starts one edge at most (as on the clean road), the walk's next
-    // edge is that one, found in one array; else the edges are grouped by start
-    std::vector<i64>& exit = w.exit;
-    exit.assign(nu, -1);
-    bool single = true;
-    for (i64 e = 0; e < m && single; ++e) {
-        single = exit[ea[e]] < 0;
-        exit[ea[e]] = e;
-    }
-    if (!single) grouped(ea.data(), m, nu, head, out_edges);
-    std::vector<char>& used = w.used;
-    used.assign(m, 0);
-    out.x.resize(m);
-    out.y.resize(m);
-    out.lab.resize(m);
-    out.st.clear();
-    i64 n = 0;
-    for (i64 e0 = 0; e0 < m; ++e0) {
-        if (used[e0]) continue;
-        i64 first = n, e = e0;
-        while (true) {
-            used[e] = 1;
-            out.x[n] = ux[ea[e]];
-            out.y[n] = uy[ea[e]];
-            out.lab[n] = edges.lab[e];
-            ++n;
-            i64 v = eb[e], best = -1, count = 0;
-            double best_turn = 0.0, back = 0.0;
-            if (single) {
-                best = exit[v] >= 0 && !used[exit[v]] ? exit[v] : -1;
-                if (best < 0) break;
-                e = best;
-                continue;
-            }
-            for (i64 k = head[v]; k < head[v + 1]; ++k) {
-                i64 f = out_edges[k];
-                if (used[f]) continue;
-                ++count;
-                if (count == 1) {
-                    best = f;
-                    continue;
-                }
-                if (count == 2) {
-                    back = std::atan2(uy[ea[e]] - uy[v], ux[ea[e]] - ux[v]);
-                    best_turn = turn(back, best, eb, ux, uy, v);
-                }
-                double t = turn(back, f, eb, ux, uy, v);
-                if (t < best_turn) {
-                    best_turn = t;
-                    best = f;
-                }
-            }
-            if (best < 0) break;
-            e = best;
-        }
-        if (n - first >= 3 && std::fabs(ring_area_of(out.x.data(), out.y.data(), first, n)) > eps * eps)
-            out.st.push_back(first);
-        else
-            n = first;  // too short or zero area: dropped
-    }
-    out.st.push_back(n);
-    out.x.resize(n);
-    out.y.resize(n);
-    out.lab.resize(n);
-}
-
-namespace {
 
 // -- the edges classified
 
@@ -440,14 +331,16 @@ void classify(const IdShape& s, const IdShape& c, const std::vector<double>& ux,
     edge_keys(c, nu, c_keys);
     const WindingIndex s_index(s, ux, uy, w.band_head[0], w.band_edges[0]);
     const WindingIndex c_index(c, ux, uy, w.band_head[1], w.band_edges[1]);
+    auto subject_edge = [&](i64 key) { return std::binary_search(s_keys.begin(), s_keys.end(), key); };
+    auto clip_edge = [&](i64 key) { return std::binary_search(c_keys.begin(), c_keys.end(), key); };
     for (size_t r = 0; r + 1 < s.st.size(); ++r) {
         i64 ra = s.st[r], rb = s.st[r + 1];
         for (i64 v = ra; v < rb; ++v) {
             i64 a = s.ids[v], b = s.ids[next_in_ring(v, ra, rb)];
             if (a == b) continue;
             bool inside;
-            if (contains(c_keys, a * nu + b)) inside = true;  // shared, same side
-            else if (contains(c_keys, b * nu + a)) inside = false;  // shared, opposite sides
+            if (clip_edge(a * nu + b)) inside = true;  // shared, same side
+            else if (clip_edge(b * nu + a)) inside = false;  // shared, opposite sides
             else inside = c_index.winding(0.5 * (ux[a] + ux[b]), 0.5 * (uy[a] + uy[b])) > 0;
             (inside ? ins : outs).add(a, b, s.lab[v]);
         }
@@ -456,7 +349,7 @@ void classify(const IdShape& s, const IdShape& c, const std::vector<double>& ux,
         i64 ra = c.st[r], rb = c.st[r + 1];
         for (i64 v = ra; v < rb; ++v) {
             i64 a = c.ids[v], b = c.ids[next_in_ring(v, ra, rb)];
-            if (a == b || contains(s_keys, a * nu + b) || contains(s_keys, b * nu + a)) continue;
+            if (a == b || subject_edge(a * nu + b) || subject_edge(b * nu + a)) continue;
             double mx = 0.5 * (ux[a] + ux[b]), my = 0.5 * (uy[a] + uy[b]);
             if (mx < sb.x0 || mx > sb.x1 || my < sb.y0 || my > sb.y1) continue;  // outside the subject's box: winding 0
             if (s_index.winding(mx, my) > 0) {

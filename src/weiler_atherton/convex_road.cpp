@@ -13,9 +13,9 @@ bool is_convex(const double* xs, const double* ys, i64 n) {
     return true;
 }
 
-bool takes_convex_road(const ShapeView& s, i64 extra, i64 limit) {
-    return s.nst == 2 && s.n + extra + 2 <= limit && is_convex(s.x, s.y, s.n);
-}
+bool is_convex_piece(const ShapeView& s) { return s.nst == 2 && is_convex(s.x, s.y, s.n); }
+
+bool takes_convex_road(const ShapeView& s) { return s.nst == 2 && s.n + 2 <= WORK_VERTICES && is_convex(s.x, s.y, s.n); }
 
 void cut_by_outline(Arena& arena, i64 pid, i64 source, const Outline& o, double eps, Work& w,
                     std::vector<i64>& inside, std::vector<i64>& outside) {

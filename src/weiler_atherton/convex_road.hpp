@@ -13,13 +13,13 @@
 
 namespace wa {
 
-constexpr i64 WORK_VERTICES = 64;  // a convex piece and outline with more vertices together take the paper's road
-// The indexed loop (solve_indexed) takes the convex road for convex pairs of any size:
-// cutting by m edge lines costs O(n m), no more than the paper's clipper on such a pair,
-// and its outside stays convex pieces instead of one growing polygon with holes. (The
-// chain loop keeps the limit above, so its images keep their recorded bits.)
-constexpr i64 INDEXED_WORK_VERTICES = i64(1) << 40;
-constexpr i64 SPLIT_VERTICES = 64;  // the indexed loop halves pieces with more vertices (Solver::halve)
+// A convex piece that crosses a polygon's plane is cut along the crossing line by the convex
+// road while it has at most this many vertices (with the two the cut adds), by the paper's
+// clipper beyond. A convex piece clipped by a convex outline takes the convex road at any
+// size: cutting by m edge lines costs O(n m), no more than the paper's clipper on such a
+// pair, and its outside stays convex pieces instead of one growing polygon with holes.
+constexpr i64 WORK_VERTICES = 64;
+constexpr i64 SPLIT_VERTICES = 64;  // the solver halves pieces with more vertices (Solver::halve)
 
 // The solver's working arrays. Scratch rows for cutting one convex piece: current x, y;
 // left part x, y; right part x, y; line values; labels current, left, right. Rows grow
@@ -77,9 +77,12 @@ struct Work {
 // Whether the contour (positive area) turns left or goes straight at every vertex.
 bool is_convex(const double* xs, const double* ys, i64 n);
 
-// Whether a piece is one convex contour small enough for the scratch rows, with `extra`
-// vertices (those of the outline) added by the cuts.
-bool takes_convex_road(const ShapeView& s, i64 extra, i64 limit = WORK_VERTICES);
+// Whether a piece is one convex contour.
+bool is_convex_piece(const ShapeView& s);
+
+// Whether a piece is one convex contour of at most WORK_VERTICES vertices with the two a
+// cut along a line adds.
+bool takes_convex_road(const ShapeView& s);
 
 // Piece pid (one convex contour) clipped by a convex outline, edge line by edge line:
 // the part beyond each line goes to the outside list, what is left at the end to the

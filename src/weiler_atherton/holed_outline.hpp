@@ -1,5 +1,5 @@
 // The whole outline of a polygon with holes, which the scene holds as convex parts that
-// abut (aaeval.scenes.holes): the indexed loop clips a piece wholly behind such a polygon
+// abut (aaeval.scenes.holes): the solver clips a piece wholly behind such a polygon
 // by all of it at once. Clipped part by part instead, a piece is cut along each part's
 // edges, and the next part's clip finds the piece's vertices on its own shared edges, the
 // general road's slow case, over and over; the convex parts' wedges multiply the pieces

@@ -10,7 +10,7 @@ namespace wa {
 
 namespace {
 
-// -- the outline as a piece's box sees it (the indexed loop)
+// -- the outline as a piece's box sees it
 
 
 // The side of box b by which the ray from its centre to a point outside it leaves (0
@@ -169,7 +169,7 @@ bool contour_inside(const ShapeView& s, i64 r, const Outline& o) {
     return outline_winding(0.5 * (s.x[a] + s.x[c]), 0.5 * (s.y[a] + s.y[c]), o) > 0;
 }
 
-// winding(px, py) about ring r of outline o, its chunks (when indexed) passed whole where
+// winding(px, py) about ring r of outline o, its chunks (when it has them) passed whole where
 // their box lies above py or at or below it: none of their edges spans py, so none adds
 // to the sum (winds), which is an integer, the same in any order.
 i64 ring_winding(double px, double py, const Outline& o, i64 r) {

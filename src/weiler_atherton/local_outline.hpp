@@ -1,4 +1,4 @@
-// An outline as seen from a piece's box (the indexed loop of solver.cpp): the edges near
+// An outline as seen from a piece's box (solver.cpp): the edges near
 // the box as they are, runs of far edges replaced by walks round the box, so that a clip
 // of a piece inside the box sees a few vertices instead of the whole outline.
 #pragma once

@@ -12,84 +12,19 @@
 #include <cmath>
 #include <string>
 
-#include "common/arrays.hpp"
-#include "common/results.hpp"
+#include "bindings.hpp"
+#include "common/polygon_arrays.hpp"
 #include "clipper.hpp"
-#include "convex.hpp"
+#include "components.hpp"
 #include "near_ties.hpp"
 #include "raster.hpp"
 #include "solver.hpp"
 
-namespace nb = nanobind;
 using namespace nb::literals;
+using namespace wa::bindings;
 using wa::i64;
 
 namespace {
-
-using In = nb::ndarray<nb::ro, nb::device::cpu>;
-using Out = nb::ndarray<nb::device::cpu>;
-
-[[noreturn]] void refuse(const std::string& msg) { throw nb::value_error(msg.c_str()); }
-
-// The array's data as T*, after checking its dtype, dimensions and C order; shape[d] must
-// equal dims[d] where that is >= 0 (common/arrays.hpp).
-template <class T, class A>
-T* checked(A& a, const char* name, size_t ndim, std::initializer_list<i64> dims = {}) {
-    return aaeval::arrays::checked<T>("", a, name, ndim, dims);
-}
-
-void check_finite(const double* p, i64 n, const char* name) { aaeval::arrays::check_finite("", p, size_t(n), name); }
-
-// a tolerance: a number >= 0 (not NaN; infinite is allowed, as the kernels never index by it)
-void check_scalar(double v, const char* name) {
-    if (!(v >= 0)) refuse(std::string(name) + " must be a number >= 0");
-}
-
-// Contour starts into n vertices: 0 first, non-decreasing, n last; every contour holds at
-// least `min_len` vertices. An empty array stands for no contours (n must be 0).
-const i64* checked_starts(const In& a, const char* name, i64 n, i64& nst, i64 min_len = 1) {
-    const i64* st = checked<const i64>(a, name, 1);
-    nst = (i64)a.shape(0);
-    if (nst == 0) {
-        if (n != 0) refuse(std::string(name) + " is empty but there are vertices");
-        return st;
-    }
-    if (st[0] != 0) refuse(std::string(name) + " must start at 0");
-    for (i64 r = 0; r + 1 < nst; ++r)
-        if (st[r + 1] - st[r] < min_len)
-            refuse(std::string(name) + ": contour " + std::to_string(r) + " has " + std::to_string(st[r + 1] - st[r]) +
-                   " vertices (at least " + std::to_string(min_len) + " needed; starts must not decrease)");
-    if (st[nst - 1] != n)
-        refuse(std::string(name) + " must end at the number of vertices (" + std::to_string(n) + "), not " +
-               std::to_string(st[nst - 1]));
-    return st;
-}
-
-// A shape's four arrays, checked.
-wa::ShapeView shape(const In& xs, const In& ys, const In& labels, const In& starts, const char* name) {
-    std::string nm(name);
-    wa::ShapeView s;
-    s.x = checked<const double>(xs, (nm + " xs").c_str(), 1);
-    s.n = (i64)xs.shape(0);
-    s.y = checked<const double>(ys, (nm + " ys").c_str(), 1, {s.n});
-    s.lab = checked<const i64>(labels, (nm + " labels").c_str(), 1, {s.n});
-    s.st = checked_starts(starts, (nm + " starts").c_str(), s.n, s.nst, s.n > 0 ? 1 : 0);
-    check_finite(s.x, s.n, (nm + " xs").c_str());
-    check_finite(s.y, s.n, (nm + " ys").c_str());
-    return s;
-}
-
-// A new numpy array owning the vector's data (one dimension unless a shape is given).
-template <class T>
-nb::object numpy_of(std::vector<T>&& v, std::initializer_list<size_t> shape = {}) {
-    const std::vector<size_t> dims = shape.size() ? std::vector<size_t>(shape) : std::vector<size_t>{v.size()};
-    return nb::cast(aaeval::results::from_vector(std::move(v), dims));
-}
-
-nb::tuple shape_tuple(wa::Shape&& s) {
-    return nb::make_tuple(numpy_of(std::move(s.x)), numpy_of(std::move(s.y)), numpy_of(std::move(s.lab)),
-                          numpy_of(std::move(s.st)));
-}
 
 nb::tuple clip_arrays(const In& sx, const In& sy, const In& sl, const In& ss, const In& cx, const In& cy,
                       const In& cl, const In& cs, double eps) {
@@ -138,10 +73,6 @@ i64 winding(double px, double py, const In& xs, const In& ys, const In& starts) 
     return wa::winding(px, py, x, y, st, nst);
 }
 
-nb::tuple half_plane(double a, double b, double c, const std::array<double, 4>& bbox) {
-    return shape_tuple(wa::half_plane(a, b, c, wa::Box{bbox[0], bbox[1], bbox[2], bbox[3]}));
-}
-
 // boxes (m, 4) and an order of indices into them
 const i64* checked_order(const In& order, const char* name, i64 m, i64& n) {
     const i64* o = checked<const i64>(order, name, 1);
@@ -172,10 +103,7 @@ nb::tuple originals(const In& vertices, const In& start, const In& length, const
     const i64* ln = checked<const i64>(length, "length", 1, {n});
     const double* pl = checked<const double>(planes, "planes", 2, {n, 3});
     check_finite(v, 3 * nv, "vertices");
-    for (i64 p = 0; p < n; ++p)
-        if (st[p] < 0 || ln[p] < 1 || st[p] > nv - ln[p])
-            refuse("polygon " + std::to_string(p) + ": vertices " + std::to_string(st[p]) + " + " +
-                   std::to_string(ln[p]) + " are not a non-empty range of the " + std::to_string(nv) + " vertices");
+    aaeval::arrays::check_records("", st, ln, n, nv);
     wa::Originals o;
     {
         nb::gil_scoped_release release;
@@ -229,14 +157,13 @@ Outlines checked_outlines(const In& oxs, const In& oys, const In& osts, const In
 
 nb::tuple solve_window(const In& oxs, const In& oys, const In& osts, const In& obbs, const In& planes_,
                        const In& order_, const std::array<double, 4>& win, double eps, double eps_z,
-                       bool convex_road, bool indexed, std::optional<In> group_) {
+                       bool convex_road, std::optional<In> group_) {
     const Outlines o = checked_outlines(oxs, oys, osts, obbs, planes_, order_, "order", win, eps, eps_z);
     const i64* group = group_ ? checked<const i64>(*group_, "group", 1, {o.npoly}) : nullptr;
     wa::Visible v;
     {
         nb::gil_scoped_release release;
-        v = wa::solve_window(o.ox, o.oy, o.ost, o.npoly, o.obb, o.planes, o.listed, o.nlisted, win, eps, eps_z, convex_road, indexed,
-                              group);
+        v = wa::solve_window(o.ox, o.oy, o.ost, o.npoly, o.obb, o.planes, o.listed, o.nlisted, win, eps, eps_z, convex_road, group);
     }
     return nb::make_tuple(numpy_of(std::move(v.xs)), numpy_of(std::move(v.ys)), numpy_of(std::move(v.labels)),
                           numpy_of(std::move(v.starts)), numpy_of(std::move(v.piece_rings)),
@@ -308,7 +235,7 @@ nb::ndarray<nb::numpy, double> coverage_over(const In& xs, const In& ys, const I
 }
 
 // Connected components of the graph on n nodes with edges a[i] - b[i]: each node's label
-// is the smallest node of its component (union-find).
+// is the smallest node of its component.
 nb::object components(i64 n, const In& a_, const In& b_) {
     if (n < 0) refuse("n must be >= 0");
     i64 m;
@@ -316,95 +243,12 @@ nb::object components(i64 n, const In& a_, const In& b_) {
     i64 mb;
     const i64* b = checked_order(b_, "b", n, mb);
     if (mb != m) refuse("a and b must have the same length");
-    std::vector<i64> parent(n);
+    std::vector<i64> labels;
     {
         nb::gil_scoped_release release;
-        for (i64 i = 0; i < n; ++i) parent[i] = i;
-        auto find = [&](i64 x) {
-            while (parent[x] != x) {
-                parent[x] = parent[parent[x]];
-                x = parent[x];
-            }
-            return x;
-        };
-        for (i64 e = 0; e < m; ++e) {
-            i64 ra = find(a[e]), rb = find(b[e]);
-            if (ra < rb) parent[rb] = ra;
-            else if (rb < ra) parent[ra] = rb;
-        }
-        for (i64 i = 0; i < n; ++i) parent[i] = find(i);
+        labels = wa::components(n, a, b, m);
     }
-    return numpy_of(std::move(parent));
-}
-
-// -- the convex road's pieces, exposed for the tests
-
-const double* first_n(const In& a, const char* name, i64 n) {
-    const double* p = checked<const double>(a, name, 1);
-    if ((i64)a.shape(0) < n) refuse(std::string(name) + " holds fewer than n entries");
-    return p;
-}
-
-nb::tuple split_convex(const In& xs, const In& ys, const In& labels, i64 n, const In& d, double tol, i64 line_label,
-                       Out& lx, Out& ly, Out& ll, Out& rx, Out& ry, Out& rl) {
-    if (n < 0) refuse("n must be >= 0");
-    const double* x = first_n(xs, "xs", n);
-    const double* y = first_n(ys, "ys", n);
-    const i64* lab = checked<const i64>(labels, "labels", 1);
-    if ((i64)labels.shape(0) < n) refuse("labels holds fewer than n entries");
-    const double* dd = first_n(d, "d", n);
-    std::vector<double> bx(2 * n + 2), by(2 * n + 2), cx(2 * n + 2), cy(2 * n + 2);
-    std::vector<i64> bl(2 * n + 2), cl(2 * n + 2);
-    auto [nl, nr] = wa::split_convex(x, y, lab, n, dd, tol, line_label, bx.data(), by.data(), bl.data(), cx.data(),
-                                     cy.data(), cl.data());
-    double* outs_f[4] = {checked<double>(lx, "lx", 1), checked<double>(ly, "ly", 1), checked<double>(rx, "rx", 1),
-                         checked<double>(ry, "ry", 1)};
-    i64* outs_i[2] = {checked<i64>(ll, "ll", 1), checked<i64>(rl, "rl", 1)};
-    if ((i64)lx.shape(0) < nl || (i64)ly.shape(0) < nl || (i64)ll.shape(0) < nl || (i64)rx.shape(0) < nr ||
-        (i64)ry.shape(0) < nr || (i64)rl.shape(0) < nr)
-        refuse("the output rows are too short for the parts (" + std::to_string(nl) + " and " + std::to_string(nr) +
-               " vertices)");
-    std::copy(bx.begin(), bx.begin() + nl, outs_f[0]);
-    std::copy(by.begin(), by.begin() + nl, outs_f[1]);
-    std::copy(bl.begin(), bl.begin() + nl, outs_i[0]);
-    std::copy(cx.begin(), cx.begin() + nr, outs_f[2]);
-    std::copy(cy.begin(), cy.begin() + nr, outs_f[3]);
-    std::copy(cl.begin(), cl.begin() + nr, outs_i[1]);
-    return nb::make_tuple(nl, nr);
-}
-
-double edge_line_values(const In& xs, const In& ys, i64 n, double ax, double ay, double bx, double by, Out& d) {
-    if (n < 0) refuse("n must be >= 0");
-    const double* x = first_n(xs, "xs", n);
-    const double* y = first_n(ys, "ys", n);
-    double* dd = checked<double>(d, "d", 1);
-    if ((i64)d.shape(0) < n) refuse("d holds fewer than n entries");
-    return wa::edge_line_values(x, y, n, ax, ay, bx, by, dd);
-}
-
-double plane_line_values(const In& xs, const In& ys, i64 n, double a, double b, double c, Out& d) {
-    if (n < 0) refuse("n must be >= 0");
-    const double* x = first_n(xs, "xs", n);
-    const double* y = first_n(ys, "ys", n);
-    double* dd = checked<double>(d, "d", 1);
-    if ((i64)d.shape(0) < n) refuse("d holds fewer than n entries");
-    return wa::plane_line_values(x, y, n, a, b, c, dd);
-}
-
-nb::tuple vertex_sides(const In& d, i64 n, double tol) {
-    if (n < 0) refuse("n must be >= 0");
-    auto [below, above] = wa::vertex_sides(first_n(d, "d", n), n, tol);
-    return nb::make_tuple(below, above);
-}
-
-int separation(const In& sxs, const In& sys, const In& cxs, const In& cys, double eps) {
-    const double* sx = checked<const double>(sxs, "subject xs", 1);
-    i64 ns = (i64)sxs.shape(0);
-    const double* sy = checked<const double>(sys, "subject ys", 1, {ns});
-    const double* cx = checked<const double>(cxs, "clip xs", 1);
-    i64 nc = (i64)cxs.shape(0);
-    const double* cy = checked<const double>(cys, "clip ys", 1, {nc});
-    return wa::separation(sx, sy, ns, cx, cy, nc, eps);
+    return numpy_of(std::move(labels));
 }
 
 }  // namespace
@@ -425,14 +269,12 @@ NB_MODULE(weiler_atherton, m) {
           "Shoelace area of the contour of vertices a..b-1 (positive: main contour).");
     m.def("winding", &winding, "px"_a, "py"_a, "xs"_a, "ys"_a, "starts"_a,
           "Winding number of the point about the oriented contours.");
-    m.def("half_plane", &half_plane, "a"_a, "b"_a, "c"_a, "bbox"_a,
-          "The part a x + b y + c <= 0 of the box grown by one unit, its edge along the line labelled EDGE_CROSSING.");
     m.def("later_neighbours", &later_neighbours, "boxes"_a, "order"_a,
           "For each position of the order, the later positions whose boxes overlap: (row starts, positions).");
     m.def("originals", &originals, "vertices"_a, "start"_a, "length"_a, "planes"_a,
           "Every polygon's outline as the solver takes it: (xs, ys, starts, boxes, nearest depth, scale, zmax).");
     m.def("solve_window", &solve_window, "ox"_a, "oy"_a, "ost"_a, "obb"_a, "planes"_a, "order"_a, "win"_a, "eps"_a,
-          "eps_z"_a, "convex_road"_a = true, "indexed"_a = false, "group"_a = nb::none(),
+          "eps_z"_a, "convex_road"_a = true, "group"_a = nb::none(),
           "Visible pieces of the depth-sorted polygons inside the window, flattened: (xs, ys, labels, starts, "
           "piece_rings, sources).");
     m.def("solve_by_rule", &solve_by_rule, "ox"_a, "oy"_a, "ost"_a, "obb"_a, "planes"_a, "sources"_a, "win"_a,
@@ -445,11 +287,4 @@ NB_MODULE(weiler_atherton, m) {
           "A new (h, w, k) image: base plus the per-pixel sum of weights[ring] * the ring's area over the pixel.");
     m.def("components", &components, "n"_a, "a"_a, "b"_a,
           "Connected components of the graph with edges a[i] - b[i]: each node's smallest node of its component.");
-    m.def("split_convex", &split_convex, "xs"_a, "ys"_a, "labels"_a, "n"_a, "d"_a, "tol"_a, "line_label"_a, "lx"_a,
-          "ly"_a, "ll"_a, "rx"_a, "ry"_a, "rl"_a, "Split a convex contour by a line (for the tests).");
-    m.def("edge_line_values", &edge_line_values, "xs"_a, "ys"_a, "n"_a, "ax"_a, "ay"_a, "bx"_a, "by"_a, "d"_a);
-    m.def("plane_line_values", &plane_line_values, "xs"_a, "ys"_a, "n"_a, "a"_a, "b"_a, "c"_a, "d"_a);
-    m.def("vertex_sides", &vertex_sides, "d"_a, "n"_a, "tol"_a);
-    m.def("separation", &separation, "sx"_a, "sy"_a, "cx"_a, "cy"_a, "eps"_a,
-          "OUTSIDE, INSIDE or 0: a piece's place against a convex clip contour, decided without clipping.");
 }

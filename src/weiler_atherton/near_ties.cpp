@@ -1,5 +1,6 @@
-// The near-tie rule's regions, clip by clip in the order of the Python loop it replaced
-// (so the regions are the same bits).
+// The near-tie rule's regions, clip by clip in one fixed order (later polygons first, each
+// cut by the nearer parts of the others in the order given, then by what earlier ones
+// claimed), so a region's bits depend on the scene alone.
 #include "near_ties.hpp"
 
 #include <algorithm>

@@ -38,50 +38,37 @@ bool same_shape(const Shape& a, const ShapeView& b) {
 // keep_inside false: the part inside is not stored (a piece wholly behind the outline's
 // polygon, whose inside part step c would drop), only the outside part.
 void clip_piece(Arena& arena, i64 pid, bool convex, const Outline& o, double eps, bool convex_road, Work& w,
-                std::vector<i64>& inside, std::vector<i64>& outside, i64 limit = WORK_VERTICES,
-                bool keep_inside = true) {
+                std::vector<i64>& inside, std::vector<i64>& outside, bool keep_inside = true) {
     i64 source = arena.source(pid);
     ShapeView s = arena.piece(pid);
-    bool indexed = limit > WORK_VERTICES;
-    if (indexed) {
-        // No clip edge near the piece's box: the outline's boundary does not pass through
-        // the box, so the piece lies wholly inside or wholly outside it, as the winding
-        // number of any one of its points says. The clipper would find the same (its
-        // step 2) after sorting every vertex of both. (Asked first: it costs a look at
-        // the outline's chunks, where separation tests every edge.)
-        const Box& sb = arena.box[pid];
-        Box grown{sb.x0 - RIM * eps, sb.y0 - RIM * eps, sb.x1 + RIM * eps, sb.y1 + RIM * eps};
-        if (!local_outline(o, grown, w.local)) {
-            (contour_inside(s, 0, o) ? inside : outside).push_back(pid);
-            return;
-        }
+    // No clip edge near the piece's box: the outline's boundary does not pass through
+    // the box, so the piece lies wholly inside or wholly outside it, as the winding
+    // number of any one of its points says. The clipper would find the same (its
+    // step 2) after sorting every vertex of both. (Asked first: it costs a look at
+    // the outline's chunks, where separation tests every edge.)
+    const Box& sb = arena.box[pid];
+    Box grown{sb.x0 - RIM * eps, sb.y0 - RIM * eps, sb.x1 + RIM * eps, sb.y1 + RIM * eps};
+    if (!local_outline(o, grown, w.local)) {
+        (contour_inside(s, 0, o) ? inside : outside).push_back(pid);
+        return;
     }
-    // (the indexed loop asks separation only of a piece the convex road would cut: any
-    // other piece the clip below hands on whole when it lies to one side, and pieces with
-    // an outline edge near them mostly straddle it, so the test of every edge was spent)
-    bool road = convex && convex_road && takes_convex_road(s, (i64)o.x.size(), limit);
-    if (convex && (road || !indexed)) {
+    // Separation is asked only of a piece the convex road would cut: any other piece the
+    // clip below hands on whole when it lies to one side, and pieces with an outline edge
+    // near them mostly straddle it, so a test of every edge would mostly be spent for nothing.
+    if (convex && convex_road && is_convex_piece(s)) {
         int side =
             separation(s.x, s.y, s.n, o.x.data(), o.y.data(), (i64)o.x.size(), eps, o.len.data(), &arena.box[pid]);
-        if (side == OUTSIDE) {
-            outside.push_back(pid);
-            return;
-        }
-        if (side == INSIDE) {
-            inside.push_back(pid);
-            return;
-        }
-        if (road) {
-            cut_by_outline(arena, pid, source, o, eps, w, inside, outside);
-            return;
-        }
+        if (side == OUTSIDE) outside.push_back(pid);
+        else if (side == INSIDE) inside.push_back(pid);
+        else cut_by_outline(arena, pid, source, o, eps, w, inside, outside);
+        return;
     }
-    const Outline* clip = indexed ? &w.local : &o;
-    bool parts_clean = clip_into(s, clip->view(), eps, w.in, w.out, w.clip, indexed && w.is_clean(arena, pid, eps),
-                                 keep_inside, indexed && clip->clean ? clip->own.data() : nullptr, &arena.box[pid]);
+    const Outline& clip = w.local;
+    bool parts_clean = clip_into(s, clip.view(), eps, w.in, w.out, w.clip, w.is_clean(arena, pid, eps), keep_inside,
+                                 clip.clean ? clip.own.data() : nullptr, &arena.box[pid]);
     // A clip that holds the piece whole on one side (the boundaries apart: the clipper's
     // step 2) hands on the piece itself, not a copy.
-    if (indexed && (w.in.st.size() <= 1 || w.out.st.size() <= 1)) {
+    if (w.in.st.size() <= 1 || w.out.st.size() <= 1) {
         bool in = w.in.st.size() > 1;
         if (same_shape(in ? w.in : w.out, s)) {
             if (in && keep_inside) inside.push_back(pid);
@@ -150,7 +137,7 @@ struct Solver {
             if (rel == FRONT) {
                 kept.push_back(pid);
                 offenders.push_back(pid);
-            } else if (rel == 0 && convex_road && takes_convex_road(s, 0)) {
+            } else if (rel == 0 && convex_road && takes_convex_road(s)) {
                 i64 f = cut_by_plane_line(arena, pid, source, a, b, c, eps, work);
                 if (f >= 0) {
                     kept.push_back(f);
@@ -215,59 +202,6 @@ struct Solver {
         }
     }
 
-    // Indices of the visible pieces (they do not overlap). The first list (every
-    // polygon's piece in depth order) is kept as one chain of pieces per polygon, so that
-    // a clip polygon meets only the polygons whose boxes overlap its own.
-    void solve(const std::vector<i64>& first, const i64* order, i64 n, i64 npoly) {
-        std::vector<i64> position(npoly, 0);
-        for (i64 p = 0; p < n; ++p) position[order[p]] = p;
-        std::vector<i64> head(n, -1), link(2 * first.size() + 16, -1);
-        for (i64 i = (i64)first.size() - 1; i >= 0; --i) {
-            i64 pid = first[i], p = position[arena.source(pid)];
-            link[pid] = head[p];
-            head[p] = pid;
-        }
-        std::vector<i64> starts, rows;
-        later_neighbours(obb, order, n, starts, rows);
-        std::vector<i64> inside, parts;
-        const std::vector<i64> empty;
-        for (i64 p = 0; p < n; ++p) {
-            if (head[p] < 0) continue;
-            i64 src = order[p];
-            Outline o = outline_of(ox, oy, ost, src);
-            Box box = box_of(obb, src);
-            bool convex = is_convex(o.x.data(), o.y.data(), (i64)o.x.size());
-            inside.clear();
-            for (i64 pid = head[p]; pid >= 0; pid = link[pid]) inside.push_back(pid);
-            head[p] = -1;
-            for (i64 r = starts[p]; r < starts[p + 1]; ++r) {
-                i64 q = rows[r], prev = -1, pid = head[q];
-                while (pid >= 0) {
-                    i64 after = link[pid];
-                    if (disjoint(arena.box[pid], box)) {
-                        prev = pid;
-                        pid = after;
-                        continue;
-                    }
-                    parts.clear();
-                    clip_piece(arena, pid, convex, o, eps, convex_road, work, inside, parts);
-                    // the piece's outside parts take its place in its polygon's chain
-                    if ((i64)link.size() < arena.size() + 1) link.resize(arena.size() + 1, -1);
-                    for (i64 k : parts) {
-                        if (prev < 0) head[q] = k;
-                        else link[prev] = k;
-                        prev = k;
-                    }
-                    if (prev < 0) head[q] = after;
-                    else link[prev] = after;
-                    pid = after;
-                }
-            }
-            settle(src, inside, empty);
-            run_tasks();
-        }
-    }
-
     // Piece pid, or if it has over SPLIT_VERTICES vertices its halves across the middle
     // of its box's longer side, and so on (appended to out). Behind many small polygons a
     // large piece (a background) becomes one polygon with a hole for each, and every later
@@ -295,15 +229,15 @@ struct Solver {
         halve(kc, out);
     }
 
-    // The same loop with the live pieces of later polygons found through a grid of
-    // buckets over the window instead of walking each later polygon's chain: a clip
-    // polygon meets only the pieces in the buckets its box covers. Walking the chains
-    // costs every clip a look at every piece of every overlapping polygon, and a large
-    // polygon behind many small ones (a background) ends up in thousands of pieces, so
-    // that walk grew with the square of the scene. The pieces a clip polygon meets are
-    // taken in depth order of their polygons, then in the order they were made (arena
-    // index): a deterministic order that does not depend on the grid.
-    void solve_indexed(const std::vector<i64>& first, const i64* order, i64 n, i64 npoly,
+    // Indices of the visible pieces (they do not overlap), appended to `visible`. The live
+    // pieces of later polygons are found through a grid of buckets over the window: a clip
+    // polygon meets only the pieces in the buckets its box covers, where walking every
+    // overlapping polygon's pieces would cost each clip a look at all of them (a large
+    // polygon behind many small ones, a background, ends up in thousands of pieces: a walk
+    // that grows with the square of the scene). The pieces a clip polygon meets are taken
+    // in depth order of their polygons, then in the order they were made (arena index): a
+    // deterministic order that does not depend on the grid.
+    void solve(const std::vector<i64>& first, const i64* order, i64 n, i64 npoly,
                        const std::array<double, 4>& win, const i64* group) {
         std::vector<i64> position(npoly, -1);
         for (i64 p = 0; p < n; ++p) position[order[p]] = p;
@@ -407,7 +341,7 @@ struct Solver {
                 if (whole && cleared[pid] == g) continue;
                 dropped.clear();
                 clip_piece(arena, pid, convex && !whole, whole ? holed.of(g) : o, eps, convex_road, work,
-                           behind ? dropped : inside, parts, INDEXED_WORK_VERTICES, !behind);
+                           behind ? dropped : inside, parts, !behind);
                 i64 mark = whole ? g : cleared[pid];
                 if (parts.size() == 1 && parts[0] == pid) {  // wholly outside: it stays
                     cleared[pid] = mark;
@@ -433,12 +367,12 @@ struct Solver {
 
 Visible solve_window(const double* ox, const double* oy, const i64* ost, i64 npoly, const double* obb,
                      const double* planes, const i64* order, i64 norder, const std::array<double, 4>& win,
-                     double eps, double eps_z, bool convex_road, bool indexed, const i64* group) {
+                     double eps, double eps_z, bool convex_road, const i64* group) {
     Solver S;
-    // the indexed loop's pieces on a tiger-like illustration hold about ten times the
-    // input's vertices, in about six pieces a polygon: pools that grew by doubling were
-    // copied a dozen times over, onto fresh pages each time
-    if (indexed) S.arena.reserve(16 * ost[npoly] + 1024, 8 * norder + 128);
+    // the pieces of a tiger-like illustration hold about ten times the input's vertices,
+    // in about six pieces a polygon: reserved at once, the pools are not copied a dozen
+    // times over while they grow by doubling, onto fresh pages each time
+    S.arena.reserve(16 * ost[npoly] + 1024, 8 * norder + 128);
     S.ox = ox;
     S.oy = oy;
     S.ost = ost;
@@ -451,8 +385,7 @@ Visible solve_window(const double* ox, const double* oy, const i64* ost, i64 npo
     const double wxs[4] = {win[0], win[2], win[2], win[0]}, wys[4] = {win[1], win[1], win[3], win[3]};
     const i64 wl[4] = {EDGE_CUT, EDGE_CUT, EDGE_CUT, EDGE_CUT}, ws[2] = {0, 4};
     ShapeView window{wxs, wys, wl, ws, 4, 2};
-    // (the indexed loop lets a self-clean polygon take the clipper's clean road, the same
-    // bits sooner; the chain loop keeps the call its recorded bits were made with)
+    // (a self-clean polygon takes the clipper's clean road: the same bits, sooner)
     std::vector<i64> first;
     Shape piece, outside;
     for (i64 k = 0; k < norder; ++k) {
@@ -463,18 +396,13 @@ Visible solve_window(const double* ox, const double* oy, const i64* ost, i64 npo
         piece.st = {0, b - a};
         bool clean = false;
         if (!within(box_of(obb, s), win)) {
-            if (indexed) {
-                Shape whole = piece;
-                clean = clip_into(whole.view(), window, eps, piece, outside, S.work.clip,
-                                  self_clean(whole.view(), eps, S.work.clip));
-            } else {
-                piece = clip_arrays(piece.view(), window, eps).first;
-            }
+            Shape whole = piece;
+            clean = clip_into(whole.view(), window, eps, piece, outside, S.work.clip,
+                              self_clean(whole.view(), eps, S.work.clip));
         }
         if (piece.st.size() > 1) first.push_back(S.work.store(S.arena, piece, s, clean));
     }
-    if (indexed) S.solve_indexed(first, order, norder, npoly, win, group);
-    else S.solve(first, order, norder, npoly);
+    S.solve(first, order, norder, npoly, win, group);
     // the visible pieces flattened
     Visible out;
     const Arena& A = S.arena;

@@ -50,11 +50,10 @@ struct Visible {
 
 // Visible pieces of the polygons `order` (depth-sorted) inside window `win`; ox, oy, ost:
 // every polygon's original outline (positive area), obb their boxes (4 a polygon),
-// planes their depth planes (3 a polygon). indexed: find the pieces a clip polygon meets
-// through a grid (solve_indexed); group (indexed only, may be null): per polygon, the
-// polygon it was cut from, parts of one group being known not to overlap.
+// planes their depth planes (3 a polygon); group (may be null): per polygon, the polygon
+// it was cut from, parts of one group being known not to overlap.
 Visible solve_window(const double* ox, const double* oy, const i64* ost, i64 npoly, const double* obb,
                      const double* planes, const i64* order, i64 norder, const std::array<double, 4>& win,
-                     double eps, double eps_z, bool convex_road, bool indexed = false, const i64* group = nullptr);
+                     double eps, double eps_z, bool convex_road, const i64* group = nullptr);
 
 }  // namespace wa

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from aaeval.native import catmull as _catmull
-from aaeval.native.catmull import stages as K
+from aaeval.native import catmull_testing as K
 
 BACKGROUND = _catmull.BACKGROUND
 

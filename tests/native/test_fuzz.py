@@ -105,6 +105,8 @@ CLASSES = (
 
 @pytest.mark.parametrize("name, case", CLASSES, ids=[name for name, _ in CLASSES])
 def test_each_hostile_class_ends_in_an_image_or_a_refusal_touching_nothing_outside(fuzz_dir, name, case):
-    """Each class of issue 21 once, deterministically (the generated cases draw them too)."""
+    """Each hostile class once (a scene or SVG source placed where it could reach outside, a
+    hostile SVG feature, a billion frames, a damaged sweep folder), deterministically (the
+    generated cases draw them too)."""
     outcome = run_case(case, fuzz_dir / "case", BOUND_S)
     assert outcome.ok, (outcome.verdict, outcome.code, outcome.stderr[-2000:])

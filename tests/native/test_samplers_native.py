@@ -1,4 +1,4 @@
-"""The native samplers' bindings (aaeval.native.samplers, issue 20): bad inputs are one-line
+"""The native samplers' bindings (aaeval.native.samplers): bad inputs are one-line
 ValueErrors, never a crash; the jitter hash and the depth rule are the documented ones;
 a deep A-buffer stack is sorted in n log n with the insertion sort's order."""
 
@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from aaeval.native import samplers as _samplers
+from aaeval.native import samplers_testing
 from aaeval.filters import get_filter
 from aaeval.filters.registry import profile_args
 from aaeval.renderers.registry import render
@@ -109,7 +110,7 @@ def test_jitter_is_splitmix64_of_seed_row_column_sample_axis():
         h = splitmix(seed)
         for v in (row, col, 2 * s + axis):
             h = splitmix(h ^ v)
-        assert _samplers.jitter_uniform(seed, row, col, s, axis) == (h >> 11) / 2.0**53
+        assert samplers_testing.jitter_uniform(seed, row, col, s, axis) == (h >> 11) / 2.0**53
 
 
 def test_tied_latest_first_puts_the_latest_of_a_run_first():
@@ -145,9 +146,10 @@ def test_jitter_seeds_are_64_bit():
 
 @pytest.mark.parametrize("seed", range(4))
 def test_random_and_extreme_inputs_give_an_image_or_a_value_error(seed):
-    # pixel-boundary and huge coordinates (1e300: crossings overflow to inf and nan, int()
-    # of them saturates as numba's did), zero-length polygons, ties, eps of 0 and 1e300;
-    # run under scripts/fuzz_native.sh's sanitized build this checks every access
+    # pixel-boundary and huge coordinates (1e15: crossings far outside the image; 1e300 and
+    # zero-length polygons: refused, as every family's polygon check refuses them), ties,
+    # eps of 0 and 1e300; run under scripts/fuzz_native.sh's sanitized build this checks
+    # every access
     rng = np.random.default_rng(seed)
     filters = [BOX, MITCHELL, profile_args(get_filter("gaussian")), profile_args(get_filter("tent"))]
     for case in range(150):
@@ -183,7 +185,7 @@ def test_random_and_extreme_inputs_give_an_image_or_a_value_error(seed):
 
 def test_the_native_profile_is_the_filters_profile():
     # the splat weight the samplers use, bound as profile_array: the same bits as
-    # aaeval.filters.evaluate's (so that module can take it instead of its numba loop)
+    # aaeval.filters.evaluate's, so that module can take it instead of a Python loop
     from aaeval.filters import FILTERS
     from aaeval.filters import evaluate
 

@@ -1,7 +1,6 @@
-"""The native Weiler-Atherton kernels give the numba kernels' arrays (issue 20): clipper
-outputs on random polygon pairs, the solver's visible pieces, the near-tie rule's flat
-arrays and the box filter, against digests the numba code recorded
-(``tests/helpers/same_bits_wa_clipper.py``)."""
+"""The native Weiler-Atherton kernels give the recorded arrays: clipper outputs on random
+polygon pairs, the solver's visible pieces, the near-tie rule's flat arrays and the box
+filter (how they were recorded: ``tests/helpers/same_bits_wa_clipper.py``)."""
 
 from __future__ import annotations
 

@@ -31,7 +31,7 @@ from aaeval.weiler_atherton import (
     visible_pieces,
 )
 from aaeval.native.weiler_atherton import INSIDE, OUTSIDE, clip_arrays, first_crossing
-from aaeval.native.weiler_atherton import separation as _separation
+from aaeval.native.weiler_atherton_testing import separation as _separation
 from aaeval.weiler_atherton.clipper import from_arrays, to_arrays
 from aaeval.weiler_atherton.lines import visible_edges
 from tests.helpers.randomscenes import degenerate_scene, random_scene

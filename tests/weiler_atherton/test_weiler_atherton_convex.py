@@ -14,7 +14,8 @@ from shapely.geometry import Polygon as GeosPolygon
 from aaeval.renderers import render
 from aaeval.scenes import load_scene
 from aaeval.scenes.generate import random_triangles
-from aaeval.native.weiler_atherton import edge_line_values, later_neighbours, plane_line_values, split_convex, vertex_sides
+from aaeval.native.weiler_atherton import later_neighbours
+from aaeval.native.weiler_atherton_testing import edge_line_values, plane_line_values, split_convex, vertex_sides
 from aaeval.weiler_atherton import visible_pieces
 from aaeval.weiler_atherton.lines import visible_edges
 from tests.helpers.randomscenes import degenerate_scene, random_scene

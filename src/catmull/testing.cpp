@@ -1,7 +1,23 @@
-// The kernel's stages one by one, bound for the tests (tests/catmull/test_catmull_stages.py): each
-// stage run on the smallest input it reads, compared with an answer worked out by hand.
-// Included by module.cpp only (it uses that file's argument checks).
-#pragma once
+// aaeval.native.catmull_testing: the kernel's stages one by one, bound for the tests alone
+// (tests/catmull/test_catmull_stages.py): each stage run on the smallest input it reads,
+// compared with an answer worked out by hand. Inputs are checked as the kernel's bindings
+// check them (bindings.hpp).
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/vector.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "common/results.hpp"
+#include "catmull/bindings.hpp"
+#include "catmull/sink.hpp"
+#include "catmull/sweep.hpp"
+
+namespace results = aaeval::results;
+using namespace aaeval::catmull;
+using namespace aaeval::catmull::bindings;
 
 namespace {
 
@@ -9,12 +25,12 @@ namespace {
 struct StageScan {
     std::vector<int64_t> start, length;
     std::vector<double> x, y, planes;
-    Polygons P;
+    SortedPolygons P;
     int64_t width;
     Scan sc;
     int64_t n_zl = 0;
 
-    StageScan(Polygons p, int64_t width_) : width(width_), sc(width_) {
+    StageScan(const aaeval::Polygons& p, int64_t width_) : width(width_), sc(width_) {
         start.assign(p.start, p.start + p.n);
         length.assign(p.length, p.length + p.n);
         int64_t nv = 0;
@@ -71,7 +87,8 @@ void check_run(const Polygon& p, int64_t start, int64_t n) {
 
 }  // namespace
 
-void bind_stages(nb::module_& m) {
+NB_MODULE(catmull_testing, m) {
+    m.doc() = "The Catmull kernel's stages one by one, for the tests (tests/catmull/test_catmull_stages.py).";
     nb::class_<StageScan>(m, "Scan", "Polygons sorted on their first scanline with one band's workspaces.")
         .def("__init__", [](StageScan* self, In start, In length, In x, In y, In planes, int64_t width) {
             check_size(width, 1, 1);
