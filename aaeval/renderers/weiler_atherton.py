@@ -7,6 +7,7 @@ image as ``catmull`` by a completely different road.
 
 from __future__ import annotations
 
+from aaeval.renderers.blending import BLEND, render_blended
 from aaeval.renderers.registry import Option, register_method, scene_load
 from aaeval.scenes import Scene
 from aaeval.weiler_atherton import box_filter, visible_arrays
@@ -25,6 +26,7 @@ __all__ = ["render_weiler_atherton"]
                                        "pieces: true, false (each polygon's chain: the recorded bits), or auto "
                                        "(true when an outline has more than 64 vertices)",
                           choices=("auto", "true", "false")),
+        "blend": BLEND,
     },
     exact=True,
     # the clipper holds and clips a piece per overlapping pair (1e4 identical triangles in
@@ -34,6 +36,8 @@ __all__ = ["render_weiler_atherton"]
     seconds=lambda scene, o: 0.1e-6 * scene_load(scene).pairs,
 )
 def render_weiler_atherton(scene: Scene, window: int = 0, convex: bool = True,
-                           indexed: str = "auto") -> "np.ndarray":  # noqa: F821
+                           indexed: str = "auto", blend: str = "linear") -> "np.ndarray":  # noqa: F821
+    if blend != "linear":
+        return render_blended(scene, blend, lambda s: render_weiler_atherton(s, window, convex, indexed))
     route = None if indexed == "auto" else indexed == "true"
     return box_filter(scene, visible_arrays(scene, window=window, convex=convex, indexed=route))
