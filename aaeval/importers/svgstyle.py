@@ -45,6 +45,9 @@ NOT_APPLIED = {"transform", "transform-origin", "transform-box", "d", "shape-ren
 FONT_KEYWORDS = {"xx-small": 9, "x-small": 10, "small": 13, "medium": 16, "large": 18, "x-large": 24,
                  "xx-large": 32, "xxx-large": 48}
 DEFAULT_FONT_SIZE = 16.0
+# CSS units that need font metrics, a line height or a container: reported, not guessed
+UNRESOLVED_UNITS = {"lh", "rlh", "ic", "ric", "cap", "rcap", "ch", "rch", "vi", "vb", "svw", "svh", "lvw", "lvh",
+                    "dvw", "dvh", "cqw", "cqh", "cqi", "cqb", "cqmin", "cqmax"}
 
 
 class LengthError(ValueError):
@@ -93,7 +96,9 @@ class Lengths:
         viewport_units = {"vw": rw, "vh": rh, "vmin": min(rw, rh), "vmax": max(rw, rh)}
         if unit in viewport_units:
             return value / 100.0 * viewport_units[unit]
-        raise LengthError(f"the unit {unit!r} of {str(text)[:40]!r} is not resolved by aaeval")
+        if unit in UNRESOLVED_UNITS:
+            raise LengthError(f"the unit {unit!r} of {str(text)[:40]!r} is not resolved by aaeval")
+        raise LengthError(f"{str(text)[:40]!r} is not a length")
 
 
 def parse_color(text: str):
@@ -173,7 +178,7 @@ class Styles:
         wrapper = cssselect2.ElementWrapper.from_xml_root(root)
         for item in wrapper.iter_subtree():
             el = item.etree_element
-            normal: dict[str, str] = {k: v for k, v in el.attrib.items() if k in PRESENTATION}
+            normal: dict[str, str] = {k: v for k, v in el.attrib.items() if k in PRESENTATION and _valid(k, v)}
             important: dict[str, str] = {}
             for _, _, pseudo, (_, declarations) in matcher.match(item) if order else ():
                 if pseudo is None:
@@ -199,9 +204,25 @@ def _declarations(content):
             if item.type == "declaration"]
 
 
+def _valid(name: str, value: str) -> bool:
+    """Whether a declaration parses for its property (CSS drops one that does not, so a
+    lower-priority declaration applies); properties aaeval does not parse pass."""
+    if value.strip().lower() in ("inherit", "initial", "unset"):
+        return True
+    try:
+        if name in ("fill", "stroke"):
+            return parse_paint(value) is not None
+        if name == "color":
+            return parse_color(value) is not None
+    except ValueError:
+        return True  # a colour in a space aaeval cannot convert: kept, and reported where painted
+    return True
+
+
 def _apply(declarations, normal: dict, important: dict) -> None:
     for name, value, is_important in declarations:
-        (important if is_important else normal)[name] = value
+        if _valid(name, value):
+            (important if is_important else normal)[name] = value
 
 
 def font_size(value: str, parent: float, root_font: float) -> float | None:
