@@ -81,6 +81,7 @@ CLIPPING = ("svg", "symbol", "marker")
 MAX_USE_DEPTH = 64
 PAINT_PARTS = ("fill", "stroke", "markers")
 PAINT_SERVERS = ("linearGradient", "radialGradient", "pattern", "meshgradient", "hatch")
+ANIMATION = ("animate", "set", "animateTransform", "animateMotion", "animateColor", "discard")
 
 
 class SvgError(ValueError):
@@ -225,7 +226,11 @@ class _Walk:
         self.counts: dict[str, int] = {}
         self.tree_styles: dict[int, dict] = {}
         self.use_depth = 0
+        self.drawn = 0  # elements drawn, markers' contents once per vertex
         self.reported: set[str] = set()
+        for k, el in enumerate(el for el in root.iter() if _svg_tag(el) in ANIMATION):
+            self.note(f"{'#' + el.get('id') if el.get('id') else f'<{_svg_tag(el)}>[{k}]'}: animation not applied "
+                      "(drawn as the document stands before it runs)")
 
     def note(self, text: str) -> None:
         if text not in self.reported:
@@ -326,6 +331,10 @@ class _Walk:
         if tag not in SHAPES and tag not in CONTAINERS and tag not in ("svg", "use", "switch") \
                 and tag not in NOT_IMPORTED:
             return  # definitions, metadata and unknown elements are not rendered, nor their children
+        self.drawn += 1
+        if self.drawn > MAX_ELEMENTS:
+            raise ImportLimitError(f"more than {MAX_ELEMENTS} elements to draw once <use> references and markers "
+                                   "are expanded (the limit)")
         name = self.name(el, tag)
         style = self.style(el, parent, name)
         if style["display"].strip().lower() == "none":

@@ -222,7 +222,10 @@ def _valid(name: str, value: str) -> bool:
 def _apply(declarations, normal: dict, important: dict) -> None:
     for name, value, is_important in declarations:
         if _valid(name, value):
-            (important if is_important else normal)[name] = value
+            target = important if is_important else normal
+            # the CSS shorthand "marker" sets all three markers
+            for prop in ("marker-start", "marker-mid", "marker-end") if name == "marker" else (name,):
+                target[prop] = value
 
 
 def font_size(value: str, parent: float, root_font: float) -> float | None:

@@ -184,3 +184,23 @@ def test_a_bad_segment_draws_what_comes_before_it(tmp_path):
     assert result.ignored == []
     (polygon,) = result.document["polygons"]
     assert sorted(map(tuple, np.array(polygon["vertices"])[:, :2].tolist())) == [(1, 1), (1, 9), (9, 1), (9, 9)]
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_viewport_clip_is_the_intersection_geos_gives(seed):
+    """clip_regions (the clip of nested viewports and markers) against GEOS's intersection:
+    self-crossing outlines resolved under both rules, clipped by a rotated rectangle."""
+    from aaeval.importers.shapes import clip_regions, fill_regions, Subpath
+
+    rng = np.random.default_rng(seed)
+    outline = rng.uniform(0, 20, (12, 2))
+    angle = rng.uniform(0, math.pi)
+    c, s = math.cos(angle), math.sin(angle)
+    box = np.array([[-6, -4], [6, -4], [6, 4], [-6, 4]]) @ np.array([[c, s], [-s, c]]) + 10
+    for rule in ("nonzero", "evenodd"):
+        regions = fill_regions([Subpath(outline, True)], rule)
+        geos = shapely.unary_union([ShapelyPolygon(r.outer, r.holes) for r in regions])
+        got = shapely.unary_union([ShapelyPolygon(r.outer, r.holes) for r in clip_regions(regions, box)])
+        want = geos.intersection(ShapelyPolygon(box))
+        assert got.symmetric_difference(want).area < 1e-9 * max(want.area, 1)
+        assert got.area == pytest.approx(want.area, rel=1e-12)
