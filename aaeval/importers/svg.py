@@ -227,6 +227,7 @@ class _Walk:
         self.tree_styles: dict[int, dict] = {}
         self.use_depth = 0
         self.drawn = 0  # elements drawn, markers' contents once per vertex
+        self.active_markers: set[int] = set()  # a marker drawn inside itself is an error: not drawn
         self.reported: set[str] = set()
         for k, el in enumerate(el for el in root.iter() if _svg_tag(el) in ANIMATION):
             self.note(f"{'#' + el.get('id') if el.get('id') else f'<{_svg_tag(el)}>[{k}]'}: animation not applied "
@@ -296,7 +297,8 @@ class _Walk:
 
     def root_viewport(self):
         style = self.tree_style(self.root)
-        box = _viewbox(self.root.get("viewBox"))
+        box = _viewbox(self.root.get("viewBox"))  # a disabling one was refused before
+        box = None if box is DISABLED else box
         aspect = self.root.get("preserveAspectRatio", "")
         fallback = (box[2], box[3]) if box is not None else (100.0, 100.0)
         lengths = Lengths(fallback, style["font"], fallback, style["root-font"])
@@ -348,6 +350,8 @@ class _Walk:
             return  # draws nothing
         if opacity < 1:
             self.note(f"{name}: opacity {style['opacity']} ignored (drawn opaque)")
+        if tag in SHAPES and style["shape-rendering"].strip().lower() in ("crispedges", "optimizespeed"):
+            self.note(f"{name}: shape-rendering {style['shape-rendering']} ignored (drawn anti-aliased)")
         for prop in ("mix-blend-mode", "isolation"):
             if style[prop].strip().lower() not in (INITIAL[prop], "isolate"):
                 self.note(f"{name}: {prop} {style[prop]} ignored (drawn normal)")
@@ -364,7 +368,11 @@ class _Walk:
             for prop, what in unsupported:
                 self.note(f"{name}: {what} not supported; element not imported")
             if not unsupported:
-                self.shape(el, tag, name, style, ctm, lengths, context, out)
+                try:
+                    self.shape(el, tag, name, style, ctm, lengths, context, out)
+                except (ArithmeticError, TypeError, IndexError, np.linalg.LinAlgError) as exc:
+                    # one element's numbers, not the file: SVG renders the rest
+                    self.note(f"{name}: could not be built ({type(exc).__name__}: {exc}); element not imported")
             return
         for prop, what in unsupported:
             self.note(f"{name}: {what} on a group not applied (its shapes are drawn unclipped, unmasked, unfiltered)")
@@ -398,6 +406,8 @@ class _Walk:
         if not (w > 0 and h > 0):
             return  # a viewport of no area renders nothing
         box = _viewbox(el.get("viewBox"))
+        if box is DISABLED:
+            return
         inner = compose(ctm, translate(x, y))
         if box is not None:
             inner = compose(inner, viewbox_transform(box, el.get("preserveAspectRatio", ""), w, h))
@@ -615,7 +625,7 @@ class _Walk:
                 self.marker(refs[where], where, point, incoming, outgoing, stroke_width, ctm, lengths, paints, out)
 
     def marker(self, el, where, point, incoming, outgoing, stroke_width, ctm, lengths, paints, out) -> None:
-        if self.use_depth >= MAX_USE_DEPTH:
+        if self.use_depth >= MAX_USE_DEPTH or id(el) in self.active_markers:
             return
         style = self.tree_style(el)
         mlengths = lengths.with_font(style["font"])
@@ -627,6 +637,8 @@ class _Walk:
         if not (mw > 0 and mh > 0):
             return
         box = _viewbox(el.get("viewBox"))
+        if box is DISABLED:
+            return
         fit = viewbox_transform(box, el.get("preserveAspectRatio", ""), mw, mh) if box is not None else IDENTITY
         try:
             ref = apply(fit, np.array([[mlengths.resolve(el.get("refX", "0"), "x"),
@@ -648,14 +660,19 @@ class _Walk:
         view = (box[2], box[3]) if box is not None else (mw, mh)
         layers: list[Layer] = []
         self.use_depth += 1
+        self.active_markers.add(id(el))
         try:
             self.children(el, style, compose(place, fit), mlengths.with_viewport(view), paints, layers)
         finally:
             self.use_depth -= 1
+            self.active_markers.discard(id(el))
         if style["overflow"].strip().lower() not in ("visible", "auto"):
             corners = np.array([[0, 0], [mw, 0], [mw, mh], [0, mh]], dtype=np.float64)
             layers = _clip_layers(layers, apply(place, corners))
         out.extend(layers)
+
+
+DISABLED = "disabled"  # a viewBox of no width or height: the element is not rendered (SVG 2, 8.6)
 
 
 def _viewbox(raw):
@@ -665,8 +682,10 @@ def _viewbox(raw):
         numbers = [float(v) for v in re.split(r"[\s,]+", raw.strip())]
     except ValueError:
         return None
-    if len(numbers) != 4 or not all(map(math.isfinite, numbers)) or numbers[2] <= 0 or numbers[3] <= 0:
-        return None
+    if len(numbers) != 4 or not all(map(math.isfinite, numbers)):
+        return None  # not a viewBox: ignored
+    if numbers[2] <= 0 or numbers[3] <= 0:
+        return DISABLED
     return tuple(numbers)
 
 

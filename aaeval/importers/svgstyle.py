@@ -32,16 +32,18 @@ INITIAL = {
     "visibility": "visible", "paint-order": "normal", "marker-start": "none", "marker-mid": "none",
     "marker-end": "none", "clip-path": "none", "clip-rule": "nonzero", "mask": "none", "filter": "none",
     "font-size": "16px", "overflow": "visible", "mix-blend-mode": "normal", "isolation": "auto",
-    "vector-effect": "none",
+    "vector-effect": "none", "shape-rendering": "auto",
 }
 INHERITED = {"fill", "fill-rule", "fill-opacity", "stroke", "stroke-width", "stroke-linecap", "stroke-linejoin",
-             "stroke-miterlimit", "stroke-dasharray", "stroke-dashoffset", "stroke-opacity", "color", "visibility",
+             "stroke-miterlimit", "stroke-dasharray", "stroke-dashoffset", "stroke-opacity", "color", "visibility", "shape-rendering",
              "paint-order", "marker-start", "marker-mid", "marker-end", "clip-rule", "font-size"}
 # geometry properties (SVG 2): set by attribute or by CSS, not inherited
 GEOMETRY = ("x", "y", "width", "height", "cx", "cy", "r", "rx", "ry")
 PRESENTATION = set(INITIAL) | set(GEOMETRY)
+# at-rules that cannot change what shapes draw
+HARMLESS_AT_RULES = {"font-face", "charset", "page", "font-feature-values", "counter-style", "property"}
 # CSS properties that change what is drawn but that aaeval does not apply
-NOT_APPLIED = {"transform", "transform-origin", "transform-box", "d", "shape-rendering", "clip"}
+NOT_APPLIED = {"transform", "transform-origin", "transform-box", "d", "clip"}
 FONT_KEYWORDS = {"xx-small": 9, "x-small": 10, "small": 13, "medium": 16, "large": 18, "x-large": 24,
                  "xx-large": 32, "xxx-large": 48}
 DEFAULT_FONT_SIZE = 16.0
@@ -131,8 +133,7 @@ def parse_paint(text: str):
     if tokens and (tokens[0].type == "url" or (tokens[0].type == "function" and tokens[0].lower_name == "url")):
         ref = tokens[0].value if tokens[0].type == "url" else "".join(
             t.value for t in tokens[0].arguments if t.type == "string")
-        rest = text[text.lower().index("url"):]
-        rest = rest[rest.index(")") + 1:].strip()
+        rest = tinycss2.serialize(tokens[1:]).strip()
         fallback = parse_paint(rest) if rest else None
         if rest and fallback is None:
             return None
@@ -159,6 +160,8 @@ class Styles:
             if kind not in ("", "text/css"):
                 continue  # not CSS: SVG says the user agent does not apply it
             for rule in tinycss2.parse_stylesheet("".join(el.itertext()), skip_comments=True, skip_whitespace=True):
+                if rule.type == "at-rule" and rule.lower_at_keyword in HARMLESS_AT_RULES:
+                    continue
                 if rule.type == "at-rule":
                     self.problems.append(f"<style>: CSS @{rule.lower_at_keyword} rule not applied")
                     continue

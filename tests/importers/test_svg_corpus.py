@@ -204,3 +204,17 @@ def test_viewport_clip_is_the_intersection_geos_gives(seed):
         want = geos.intersection(ShapelyPolygon(box))
         assert got.symmetric_difference(want).area < 1e-9 * max(want.area, 1)
         assert got.area == pytest.approx(want.area, rel=1e-12)
+
+
+@pytest.mark.parametrize("body, polygons", [
+    ('<svg viewBox="0 0 0 10"><rect width="5" height="5"/></svg>', 0),  # a viewBox of no width disables
+    ('<marker id="m" markerWidth="0"><rect width="4" height="4"/></marker>'
+     '<path d="M 1 1 L 5 5" stroke="black" marker-start="url(#m)"/>', 1),  # a marker of no size draws nothing
+    ('<marker id="m" overflow="visible"><path d="M 0 0 L 1 1" stroke="black" marker-end="url(#m)"/></marker>'
+     '<path d="M 1 1 L 5 5" stroke="black" marker-end="url(#m)"/>', 2),  # a marker inside itself is not drawn
+    ('<rect width="5" height="5" fill="url(#nothing"/>', 0),
+    ('<rect width="5" height="5" fill="rgb(1, 2)"/>', 1),  # invalid: the initial black
+])
+def test_error_cases_draw_what_svg_says(tmp_path, body, polygons):
+    result, _ = imported(tmp_path, "errors", f'<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10">{body}</svg>')
+    assert len(result.document["polygons"]) == polygons and result.ignored == []
