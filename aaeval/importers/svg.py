@@ -557,16 +557,17 @@ class _Walk:
         fill = self.paint(style["fill"], style, "fill", name, context) if visible else None
         stroke = self.paint(style["stroke"], style, "stroke", name, context) if visible else None
         tol = self.tol / stretch
+        parts: list[Layer] = []
         for part in paint_order(style["paint-order"]):
             if part == "fill" and fill is not None:
                 rule = "evenodd" if style["fill-rule"].strip() == "evenodd" else "nonzero"
                 subpaths = [Subpath(apply(ctm, s.points), s.closed) for s in flatten_segments(segments, tol)]
-                out.append(Layer(fill, fill_regions(subpaths, rule), name + " fill"))
+                parts.append(Layer(fill, fill_regions(subpaths, rule), name + " fill"))
             elif part == "stroke" and stroke is not None:
-                self.stroke(segments, name, style, ctm, lengths, stroke, tol, stretch, reach, out)
+                self.stroke(segments, name, style, ctm, lengths, stroke, tol, stretch, reach, parts)
             elif part == "markers" and tag in MARKABLE:
-                self.markers(segments, name, style, ctm, lengths, {"fill": fill, "stroke": stroke}, out)
-        out[:] = [layer for layer in out if layer.regions]
+                self.markers(segments, name, style, ctm, lengths, {"fill": fill, "stroke": stroke}, parts)
+        out.extend(layer for layer in parts if layer.regions)
 
     def stroke_width(self, style, lengths) -> float:
         try:
