@@ -81,6 +81,7 @@ CLIPPING = ("svg", "symbol", "marker")
 MAX_USE_DEPTH = 64
 PAINT_PARTS = ("fill", "stroke", "markers")
 PAINT_SERVERS = ("linearGradient", "radialGradient", "pattern", "meshgradient", "hatch")
+GRADIENTS = ("linearGradient", "radialGradient")
 ANIMATION = ("animate", "set", "animateTransform", "animateMotion", "animateColor", "discard")
 
 
@@ -470,8 +471,12 @@ class _Walk:
                     return None  # a reference to nothing, no fallback colour: none
                 paint = fallback
             else:
-                self.note(f"{name}: {what} {raw.strip()} (gradient or pattern) not imported")
-                return None
+                paint = self.solid_gradient(target)
+                if paint is None:
+                    self.note(f"{name}: {what} {raw.strip()} (gradient or pattern) not imported")
+                    return None
+                if paint[0] == "none":
+                    return None
         color = paint[1]
         if color == "currentcolor":
             color = parse_color(style["color"])
@@ -481,6 +486,32 @@ class _Walk:
         if alpha < 1:
             self.note(f"{name}: {what} colour alpha {alpha:.3g} ignored (drawn opaque)")
         return srgb_to_linear(np.array(color[:3], dtype=np.float64))
+
+    def solid_gradient(self, target):
+        """What a gradient paints when it is one colour everywhere: ``("none",)`` without
+        stops, ``("color", rgba)`` when its stops are all alike (one stop: SVG 2, 14.3.4);
+        None for a true gradient or a pattern. Stops come from ``href`` when it has none."""
+        stops, el, seen = [], target, set()
+        while el is not None and id(el) not in seen and _svg_tag(el) in GRADIENTS:
+            seen.add(id(el))
+            stops = [child for child in el if _svg_tag(child) == "stop"]
+            if stops:
+                break
+            href = str(el.get("href") or el.get(XLINK_HREF) or "").strip()
+            el = self.by_id.get(href[1:]) if href.startswith("#") else None
+        if _svg_tag(target) not in GRADIENTS:
+            return None
+        if not stops:
+            return ("none",)
+        colours = set()
+        for stop in stops:
+            style = self.tree_style(stop)
+            color = parse_color(style["stop-color"])
+            if color == "currentcolor":
+                color = parse_color(style["color"])
+            color = color if isinstance(color, tuple) else (0.0, 0.0, 0.0, 1.0)
+            colours.add((*color[:3], color[3] * _opacity(style["stop-opacity"])))
+        return ("color", colours.pop()) if len(colours) == 1 else None
 
     # shapes ---------------------------------------------------------------
     def geometry(self, el, tag, style, lengths: Lengths):

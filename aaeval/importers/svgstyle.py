@@ -32,7 +32,7 @@ INITIAL = {
     "visibility": "visible", "paint-order": "normal", "marker-start": "none", "marker-mid": "none",
     "marker-end": "none", "clip-path": "none", "clip-rule": "nonzero", "mask": "none", "filter": "none",
     "font-size": "16px", "overflow": "visible", "mix-blend-mode": "normal", "isolation": "auto",
-    "vector-effect": "none", "shape-rendering": "auto",
+    "vector-effect": "none", "shape-rendering": "auto", "stop-color": "black", "stop-opacity": "1",
 }
 INHERITED = {"fill", "fill-rule", "fill-opacity", "stroke", "stroke-width", "stroke-linecap", "stroke-linejoin",
              "stroke-miterlimit", "stroke-dasharray", "stroke-dashoffset", "stroke-opacity", "color", "visibility", "shape-rendering",
@@ -215,7 +215,7 @@ def _valid(name: str, value: str) -> bool:
     try:
         if name in ("fill", "stroke"):
             return parse_paint(value) is not None
-        if name == "color":
+        if name in ("color", "stop-color"):
             return parse_color(value) is not None
     except ValueError:
         return True  # a colour in a space aaeval cannot convert: kept, and reported where painted

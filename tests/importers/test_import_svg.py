@@ -161,7 +161,7 @@ def test_fill_rules_give_holes_where_they_should():
 def test_every_ignored_element_is_listed_by_id(tmp_path):
     svg = tmp_path / "mixed.svg"
     svg.write_text("""<svg xmlns="http://www.w3.org/2000/svg" width="20" height="20">
-  <defs><linearGradient id="g"><stop offset="0" stop-color="red"/></linearGradient>
+  <defs><linearGradient id="g"><stop offset="0" stop-color="red"/><stop offset="1" stop-color="blue"/></linearGradient>
         <clipPath id="c"><rect width="5" height="5"/></clipPath></defs>
   <rect id="kept" x="1" y="1" width="5" height="5" fill="blue"/>
   <rect id="gradient" x="1" y="8" width="5" height="5" fill="url(#g)"/>

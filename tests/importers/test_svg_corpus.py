@@ -72,7 +72,7 @@ def test_ink_is_where_the_files_say(tmp_path):
             assert not (p.color[0] > 0.5 and p.color[1] < 0.1 and p.color[2] < 0.1), (name, p.color)
     result, _ = imported(tmp_path, "colours")
     colours = {tuple(np.round(linear_to_srgb(layer["color"]) * 255).astype(int)) for layer in result.document["polygons"]}
-    assert colours == {(0, 128, 0), (0, 0, 255), (0, 128, 255), (128, 0, 128)}  # inherit: the group's blue
+    assert colours == {(0, 128, 0), (0, 0, 255), (0, 128, 255), (128, 0, 128), (0, 0, 128)}  # inherit: the group's blue
 
 
 def px(value: float) -> str:
