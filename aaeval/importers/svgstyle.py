@@ -152,38 +152,21 @@ class Styles:
         self.problems: list[str] = []
         self.declared: dict[int, dict[str, str]] = {}
         matcher = cssselect2.Matcher()
-        order = 0
+        self.order = 0
         for el in root.iter():
             if el.tag not in (f"{svg_ns}style", "style"):
                 continue
             kind = (el.get("type") or "").split(";")[0].strip().lower()
             if kind not in ("", "text/css"):
                 continue  # not CSS: SVG says the user agent does not apply it
-            for rule in tinycss2.parse_stylesheet("".join(el.itertext()), skip_comments=True, skip_whitespace=True):
-                if rule.type == "at-rule" and rule.lower_at_keyword in HARMLESS_AT_RULES:
-                    continue
-                if rule.type == "at-rule":
-                    self.problems.append(f"<style>: CSS @{rule.lower_at_keyword} rule not applied")
-                    continue
-                if rule.type != "qualified-rule":
-                    self.problems.append(f"<style>: CSS that could not be parsed ({rule.message})")
-                    continue
-                declarations = _declarations(rule.content)
-                try:
-                    selectors = cssselect2.compile_selector_list(rule.prelude)
-                except cssselect2.SelectorError as exc:
-                    self.problems.append(f"<style>: CSS selector {tinycss2.serialize(rule.prelude).strip()[:60]!r} "
-                                         f"not applied ({exc})")
-                    continue
-                for selector in selectors:
-                    matcher.add_selector(selector, (order, declarations))
-                order += 1
+            rules = tinycss2.parse_stylesheet("".join(el.itertext()), skip_comments=True, skip_whitespace=True)
+            self._add_rules(rules, matcher)
         wrapper = cssselect2.ElementWrapper.from_xml_root(root)
         for item in wrapper.iter_subtree():
             el = item.etree_element
             normal: dict[str, str] = {k: v for k, v in el.attrib.items() if k in PRESENTATION and _valid(k, v)}
             important: dict[str, str] = {}
-            for _, _, pseudo, (_, declarations) in matcher.match(item) if order else ():
+            for _, _, pseudo, (_, declarations) in matcher.match(item) if self.order else ():
                 if pseudo is None:
                     _apply(declarations, normal, important)
             style = el.get("style")
@@ -194,8 +177,56 @@ class Styles:
             normal.update(important)
             self.declared[id(el)] = normal
 
+    def _add_rules(self, rules, matcher) -> None:
+        import cssselect2
+        import tinycss2
+
+        for rule in rules:
+            if rule.type == "at-rule" and rule.lower_at_keyword in HARMLESS_AT_RULES:
+                continue
+            if rule.type == "at-rule" and rule.lower_at_keyword == "media" and rule.content is not None:
+                applies = _media_applies(tinycss2.serialize(rule.prelude))
+                if applies is None:
+                    self.problems.append(f"<style>: CSS @media {tinycss2.serialize(rule.prelude).strip()[:40]} "
+                                         "(a media feature) not applied")
+                elif applies:
+                    self._add_rules(tinycss2.parse_rule_list(rule.content, skip_comments=True, skip_whitespace=True),
+                                    matcher)
+                continue
+            if rule.type == "at-rule":
+                self.problems.append(f"<style>: CSS @{rule.lower_at_keyword} rule not applied")
+                continue
+            if rule.type != "qualified-rule":
+                self.problems.append(f"<style>: CSS that could not be parsed ({rule.message})")
+                continue
+            declarations = _declarations(rule.content)
+            try:
+                selectors = cssselect2.compile_selector_list(rule.prelude)
+            except cssselect2.SelectorError as exc:
+                self.problems.append(f"<style>: CSS selector {tinycss2.serialize(rule.prelude).strip()[:60]!r} "
+                                     f"not applied ({exc})")
+                continue
+            for selector in selectors:
+                matcher.add_selector(selector, (self.order, declarations))
+            self.order += 1
+
     def of(self, el) -> dict[str, str]:
         return self.declared.get(id(el), {})
+
+
+def _media_applies(prelude: str) -> bool | None:
+    """Whether a media query list of bare media types (``screen``, ``all``, ``not print``)
+    holds for a screen rendering; None when it tests a media feature."""
+    if "(" in prelude:
+        return None
+    for query in prelude.lower().split(","):
+        words = [w for w in query.split() if w != "only"]
+        negate = bool(words) and words[0] == "not"
+        kind = words[1:] if negate else words
+        matches = not kind or kind == ["all"] or kind == ["screen"]
+        if matches != negate:
+            return True
+    return False
 
 
 def _declarations(content):

@@ -166,7 +166,9 @@ def test_srgb_blending_is_the_srgb_average_of_the_exact_coverage():
 
 @pytest.mark.parametrize("body, words", [
     ('<rect width="2lh" height="4" fill="green"/>', ["rect[0]", "'lh'", "not resolved"]),
-    ('<style>@media print { rect { fill: red } }</style><rect width="4" height="4"/>', ["@media", "not applied"]),
+    ('<style>@media (min-width: 5px) { rect { fill: red } }</style><rect width="4" height="4"/>',
+     ["@media", "not applied"]),
+    ('<style>@import url(other.css);</style><rect width="4" height="4"/>', ["@import", "not applied"]),
     ('<style>rect { transform: rotate(45deg) }</style><rect width="4" height="4"/>', ["rect[0]", "transform"]),
     ('<style>svg|rect { fill: red }</style><rect width="4" height="4"/>', ["selector", "not applied"]),
     ('<rect width="4" height="4" fill="lab(50 20 30)"/>', ["rect[0]", "colour space"]),
@@ -214,7 +216,18 @@ def test_viewport_clip_is_the_intersection_geos_gives(seed):
      '<path d="M 1 1 L 5 5" stroke="black" marker-end="url(#m)"/>', 2),  # a marker inside itself is not drawn
     ('<rect width="5" height="5" fill="url(#nothing"/>', 0),
     ('<rect width="5" height="5" fill="rgb(1, 2)"/>', 1),  # invalid: the initial black
+    ('<style>@media print { rect { fill: red } } @media screen, print { circle { fill: none } }'
+     '@font-face { font-family: x }</style><rect width="4" height="4"/><circle r="2"/>', 1),
 ])
 def test_error_cases_draw_what_svg_says(tmp_path, body, polygons):
     result, _ = imported(tmp_path, "errors", f'<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10">{body}</svg>')
     assert len(result.document["polygons"]) == polygons and result.ignored == []
+
+
+def test_media_types_apply_as_on_a_screen(tmp_path):
+    text = ('<svg xmlns="http://www.w3.org/2000/svg" width="4" height="4"><style>@media print { rect { fill: red } }'
+            '@media only screen, print { rect { stroke: green } } @media not print { rect { fill: navy } }</style>'
+            '<rect width="4" height="4"/></svg>')
+    result, _ = imported(tmp_path, "media", text)
+    colours = [np.round(linear_to_srgb(p["color"]) * 255).astype(int).tolist() for p in result.document["polygons"]]
+    assert colours[0] == [0, 0, 128] and [0, 128, 0] in colours and result.ignored == []
