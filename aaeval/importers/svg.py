@@ -136,7 +136,8 @@ def import_svg(
     layers: list[Layer] = []
     try:
         with budget_scope(VertexBudget()):
-            walk.children(root, root_style, ctm, lengths, None, layers)
+            if walk.root_drawn(root_style):
+                walk.children(root, root_style, ctm, lengths, None, layers)
     except SvgError as exc:
         raise SvgError(f"{path}: {exc}") from None
     except ValueError as exc:  # limits, malformed values found on the way
@@ -316,6 +317,20 @@ class _Walk:
             size.append(value)
         view = (box[2], box[3]) if box is not None else tuple(size)
         return size[0], size[1], box, aspect, style, Lengths(view, style["font"], view, style["root-font"])
+
+    def root_drawn(self, style) -> bool:
+        """Whether the root draws anything; what it asks that is not applied is listed."""
+        opacity = _opacity(style["opacity"])
+        if style["display"].strip().lower() == "none" or opacity <= 0:
+            return False
+        if opacity < 1:
+            self.note(f"<svg>: opacity {style['opacity']} ignored (drawn opaque)")
+        for prop, what in UNSUPPORTED.items():
+            if style[prop].strip().lower() not in ("", "none"):
+                self.note(f"<svg>: {what} on the root not applied")
+        if self.root.get("transform"):
+            self.note("<svg>: transform on the root element not applied")
+        return True
 
     def name(self, el, tag: str) -> str:
         n = self.counts.get(tag, 0)

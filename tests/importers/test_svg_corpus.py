@@ -231,3 +231,15 @@ def test_media_types_apply_as_on_a_screen(tmp_path):
     result, _ = imported(tmp_path, "media", text)
     colours = [np.round(linear_to_srgb(p["color"]) * 255).astype(int).tolist() for p in result.document["polygons"]]
     assert colours[0] == [0, 0, 128] and [0, 128, 0] in colours and result.ignored == []
+
+
+def test_what_the_root_asks_is_applied_or_listed(tmp_path):
+    body = '<rect width="4" height="4"/>'
+    for attrs, polygons, listed in [('opacity="0"', 0, []), ('display="none"', 0, []),
+                                    ('opacity="0.5"', 1, ["<svg>: opacity 0.5"]),
+                                    ('filter="url(#f)"', 1, ["<svg>: filter"]),
+                                    ('transform="rotate(3)"', 1, ["<svg>: transform"])]:
+        result, _ = imported(tmp_path, "root", f'<svg xmlns="http://www.w3.org/2000/svg" width="4" height="4" {attrs}>'
+                                               f'{body}</svg>')
+        assert len(result.document["polygons"]) == polygons
+        assert all(any(w in item for item in result.ignored) for w in listed) and bool(listed) == bool(result.ignored)
