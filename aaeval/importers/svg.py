@@ -304,17 +304,25 @@ class _Walk:
         aspect = self.root.get("preserveAspectRatio", "")
         fallback = (box[2], box[3]) if box is not None else (100.0, 100.0)
         lengths = Lengths(fallback, style["font"], fallback, style["root-font"])
-        size = []
+        size, given = [], []
         for prop, axis, base in (("width", "x", fallback[0]), ("height", "y", fallback[1])):
-            raw = style.get(prop)
-            value = base
-            if raw is not None and raw.strip().lower() != "auto":
+            raw = (style.get(prop) or "").strip()
+            value, given_here = base, False
+            if raw and raw.lower() != "auto":
                 try:
-                    value = (float(raw.strip()[:-1]) / 100 * base if raw.strip().endswith("%")
-                             else lengths.resolve(raw, axis))
+                    if raw.endswith("%"):
+                        value, given_here = float(raw[:-1]) / 100 * base, True
+                    else:
+                        value, given_here = lengths.resolve(raw, axis), True
                 except (LengthError, ValueError):
-                    value = base
+                    pass
             size.append(value)
+            given.append(given_here)
+        if box is not None and given[0] != given[1]:  # one side given: the other keeps the viewBox's shape
+            if given[0]:
+                size[1] = size[0] * box[3] / box[2]
+            else:
+                size[0] = size[1] * box[2] / box[3]
         view = (box[2], box[3]) if box is not None else tuple(size)
         return size[0], size[1], box, aspect, style, Lengths(view, style["font"], view, style["root-font"])
 

@@ -243,3 +243,13 @@ def test_what_the_root_asks_is_applied_or_listed(tmp_path):
                                                f'{body}</svg>')
         assert len(result.document["polygons"]) == polygons
         assert all(any(w in item for item in result.ignored) for w in listed) and bool(listed) == bool(result.ignored)
+
+
+@pytest.mark.parametrize("attrs, size", [('width="40" viewBox="0 0 20 10"', (40, 20)),
+                                         ('height="30" viewBox="0 0 20 10"', (60, 30)),
+                                         ('width="50%" height="3em" viewBox="0 0 20 10"', (10, 48)),
+                                         ('viewBox="0 0 20 10"', (20, 10)), ('width="44mmx" height="7"', (100, 7))])
+def test_the_root_size_follows_its_viewbox_where_a_side_is_missing(tmp_path, attrs, size):
+    _, scene = imported(tmp_path, "size", f'<svg xmlns="http://www.w3.org/2000/svg" {attrs}><rect width="4" height="4"/>'
+                                          '</svg>')
+    assert (scene.width, scene.height) == size
