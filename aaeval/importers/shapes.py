@@ -64,27 +64,36 @@ def stroke_regions(
     return [Region(outer, holes) for outer, holes in resolve_fill(pieces, "nonzero")]
 
 
-def clip_regions(regions: list[Region], polygon: np.ndarray) -> list[Region]:
-    """The part of ``regions`` inside a convex ``polygon`` (n, 2), resolved in float64.
+def clip_regions(regions: list[Region], clip: list[Region]) -> list[Region]:
+    """The part of ``regions`` inside ``clip`` (regions too: a viewport's rectangle, a
+    clip path), resolved in float64.
 
-    Regions already inside it come back unchanged. Otherwise the rings are resolved with
-    the polygon (weight 1) and a frame around everything (weight -1) under winding > 0:
-    a point counts 1 for the regions, 1 for the polygon and -1 for the frame, so only the
-    intersection is left.
+    Regions inside a clip that is one convex ring come back unchanged. Otherwise the
+    rings are resolved with the clip's rings and a frame around everything (weight -1)
+    under winding > 0: a point counts 1 inside the regions, 1 inside the clip and -1 for
+    the frame, so only the intersection is left.
     """
-    polygon = np.asarray(polygon, dtype=np.float64)
-    if _signed_area(polygon) < 0:
-        polygon = polygon[::-1]
     rings = [ring for region in regions for ring in (region.outer, *region.holes)]
-    if not rings:
+    clip_rings = [np.asarray(ring, dtype=np.float64) for region in clip for ring in (region.outer, *region.holes)]
+    if not rings or not clip_rings:
         return []
-    if _inside_convex(np.concatenate(rings), polygon):
-        return list(regions)
-    every = np.concatenate([*rings, polygon])
+    if len(clip_rings) == 1:
+        ring = clip_rings[0] if _signed_area(clip_rings[0]) > 0 else clip_rings[0][::-1]
+        clip_rings = [ring]
+        if _convex(ring) and _inside_convex(np.concatenate(rings), ring):
+            return list(regions)
+    every = np.concatenate([*rings, *clip_rings])
     lo, hi = every.min(axis=0) - 1.0, every.max(axis=0) + 1.0
     frame = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]])
-    weights = [1] * len(rings) + [1, -1]
-    return [Region(outer, holes) for outer, holes in resolve_fill([*rings, polygon, frame], "positive", weights)]
+    weights = [1] * (len(rings) + len(clip_rings)) + [-1]
+    return [Region(outer, holes) for outer, holes in resolve_fill([*rings, *clip_rings, frame], "positive", weights)]
+
+
+def _convex(ring: np.ndarray) -> bool:
+    """Whether a positively oriented ring turns left (or goes straight) at every vertex."""
+    a, b, c = ring, np.roll(ring, -1, axis=0), np.roll(ring, -2, axis=0)
+    turn = (b[:, 0] - a[:, 0]) * (c[:, 1] - b[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - b[:, 0])
+    return bool((turn >= 0).all())
 
 
 def _signed_area(ring: np.ndarray) -> float:

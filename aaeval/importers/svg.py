@@ -9,7 +9,9 @@ SVG 2 renders it: ``display: none`` subtrees, definitions, unknown elements and 
 children of shapes are not drawn; ``<use>`` draws its target (the first element with that
 id) with its own style as the parent; nested ``<svg>`` and ``<use>`` of ``<svg>`` or
 ``<symbol>`` establish a viewport (``viewBox``, ``preserveAspectRatio``) and clip to it
-unless ``overflow`` is visible; markers are drawn at the vertices of paths, lines,
+unless ``overflow`` is visible; ``clip-path`` keeps what lies inside the union of its
+``<clipPath>``'s shapes (each under its clip-rule; userSpaceOnUse or objectBoundingBox
+units on shapes); markers are drawn at the vertices of paths, lines,
 polylines and polygons, clipped to their viewport; ``paint-order`` orders fill, stroke
 and markers.
 
@@ -22,7 +24,7 @@ scales stretch the stroke as SVG draws it. Each painted part is a layer in docum
 (later nearer). Colours are sRGB in the file and linear in the scene.
 
 What the scene format cannot hold is never dropped silently: text, images, gradient
-and pattern paints, clip paths, masks, filters, dashes, CSS that cannot be applied, and
+and pattern paints, masks, filters, clip paths it cannot apply, dashes, CSS that cannot be applied, and
 opacity (drawn opaque) are listed by element (``#id``, or ``tag[n]``: the n-th drawn
 element of that tag, 0-based, definitions such as clip-path contents not counted) in the
 result and in the scene's ``[svg].ignored``. So is every malformed element SVG does not
@@ -44,7 +46,8 @@ from aaeval.importers.fill import MAX_EDGES
 from aaeval.importers.limits import (MAX_ELEMENTS, MAX_VERTICES, ImportLimitError, VertexBudget, budget_scope, charge,
                                      check_tolerance)
 from aaeval.importers.scene import ImportResult, Layer, scene_document
-from aaeval.importers.shapes import (STROKE_CAPS, STROKE_JOINS, Subpath, clip_regions, fill_regions,
+from aaeval.importers.fill import resolve_fill
+from aaeval.importers.shapes import (STROKE_CAPS, STROKE_JOINS, Region, Subpath, clip_regions, fill_regions,
                                      stroke_regions)
 from aaeval.importers.svgpath import (IDENTITY, apply, compose, ellipse_outline, max_stretch, parse_path,
                                       parse_points, parse_transform, rect_outline, viewbox_transform)
@@ -69,7 +72,7 @@ NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 NOT_FINITE = re.compile(r"(?<![a-z])(nan|inf(inity)?)(?![a-z])", re.IGNORECASE)
 
 # properties whose effect the scene format cannot hold
-UNSUPPORTED = {"clip-path": "clip path", "mask": "mask", "filter": "filter"}
+UNSUPPORTED = {"mask": "mask", "filter": "filter"}
 SHAPES = ("rect", "circle", "ellipse", "line", "polyline", "polygon", "path")
 MARKABLE = ("path", "line", "polyline", "polygon")
 CONTAINERS = ("g", "a")
@@ -333,7 +336,7 @@ class _Walk:
             return False
         if opacity < 1:
             self.note(f"<svg>: opacity {style['opacity']} ignored (drawn opaque)")
-        for prop, what in UNSUPPORTED.items():
+        for prop, what in {**UNSUPPORTED, "clip-path": "clip path"}.items():
             if style[prop].strip().lower() not in ("", "none"):
                 self.note(f"<svg>: {what} on the root not applied")
         if self.root.get("transform"):
@@ -388,29 +391,104 @@ class _Walk:
                 ctm = compose(ctm, own)
         unsupported = [(prop, what) for prop, what in UNSUPPORTED.items()
                        if style[prop].strip().lower() not in ("", "none")]
+        clipped = style["clip-path"].strip().lower() not in ("", "none")
+        mine: list[Layer] = [] if clipped else out
         if tag in SHAPES:
             for prop, what in unsupported:
                 self.note(f"{name}: {what} not supported; element not imported")
             if not unsupported:
                 try:
-                    self.shape(el, tag, name, style, ctm, lengths, context, out)
+                    self.shape(el, tag, name, style, ctm, lengths, context, mine)
                 except (ArithmeticError, TypeError, IndexError, np.linalg.LinAlgError) as exc:
                     # one element's numbers, not the file: SVG renders the rest
                     self.note(f"{name}: could not be built ({type(exc).__name__}: {exc}); element not imported")
-            return
-        for prop, what in unsupported:
-            self.note(f"{name}: {what} on a group not applied (its shapes are drawn unclipped, unmasked, unfiltered)")
-        if tag in CONTAINERS:
-            self.children(el, style, ctm, lengths, context, out)
-        elif tag == "switch":
-            for child in el:
-                if _svg_tag(child) is not None and _conditions_pass(child):
-                    self.draw(child, style, ctm, lengths, context, out)
-                    break
-        elif tag == "svg":
-            self.viewport(el, el, name, style, ctm, lengths, context, out)
-        elif tag == "use":
-            self.use(el, name, style, ctm, lengths, context, out)
+        else:
+            for prop, what in unsupported:
+                self.note(f"{name}: {what} on a group not applied (its shapes are drawn unmasked, unfiltered)")
+            if tag in CONTAINERS:
+                self.children(el, style, ctm, lengths, context, mine)
+            elif tag == "switch":
+                for child in el:
+                    if _svg_tag(child) is not None and _conditions_pass(child):
+                        self.draw(child, style, ctm, lengths, context, mine)
+                        break
+            elif tag == "svg":
+                self.viewport(el, el, name, style, ctm, lengths, context, mine)
+            elif tag == "use":
+                self.use(el, name, style, ctm, lengths, context, mine)
+        if clipped and mine:
+            box = self.bounding_box(el, tag, style, lengths) if tag in SHAPES else None
+            clip = self.clip_path(style["clip-path"], name, ctm, box, lengths)
+            out.extend(mine if clip is None else _clip_layers(mine, clip))
+
+    def bounding_box(self, el, tag, style, lengths):
+        """A shape's bounding box in its user space (x, y, w, h), from its flattened outline."""
+        try:
+            subpaths = flatten_segments(self.geometry(el, tag, style, lengths), self.tol * 1e-3)
+        except LengthError:
+            return None
+        if not subpaths:
+            return None
+        points = np.concatenate([s.points for s in subpaths])
+        lo, hi = points.min(axis=0), points.max(axis=0)
+        return (float(lo[0]), float(lo[1]), float(hi[0] - lo[0]), float(hi[1] - lo[1]))
+
+    def clip_path(self, value: str, name: str, ctm, box, lengths: Lengths):
+        """The region (device space) a ``clip-path`` keeps, or None where it is not applied
+        (then listed): a union of the clipPath's shapes, each under its clip-rule."""
+        paint = parse_paint(value) if value.strip().lower().startswith("url(") else None
+        target = self.by_id.get(paint[1]) if paint and paint[0] == "url" and paint[1] else None
+        if target is None or _svg_tag(target) != "clipPath":
+            self.note(f"{name}: clip-path {value.strip()[:60]} is not a clipPath in the file; drawn unclipped")
+            return None
+        tstyle = self.tree_style(target)
+        if tstyle["clip-path"].strip().lower() not in ("", "none"):
+            self.note(f"{name}: clip-path #{target.get('id')} has a clip path of its own; drawn unclipped")
+            return None
+        space = compose(ctm, parse_transform(target.get("transform", "")) or IDENTITY)
+        if target.get("clipPathUnits", "").strip() == "objectBoundingBox":
+            if box is None or box[2] <= 0 or box[3] <= 0:
+                if box is None:
+                    self.note(f"{name}: clip-path in objectBoundingBox units on a group not applied; drawn unclipped")
+                    return None
+                return []  # a box of no area: nothing is kept
+            space = compose(space, (box[2], 0.0, 0.0, box[3], box[0], box[1]))
+        rings = []
+        for child in target:
+            shape, tag = child, _svg_tag(child)
+            if tag is None or not _conditions_pass(child):
+                continue
+            placed = space
+            style = self.tree_style(child)
+            if style["display"].strip().lower() == "none" or style["visibility"].strip().lower() != "visible":
+                continue
+            if child.get("transform"):
+                placed = compose(placed, parse_transform(child.get("transform")) or IDENTITY)
+            if tag == "use":
+                href = str(child.get("href") or child.get(XLINK_HREF) or "").strip()
+                shape = self.by_id.get(href[1:]) if href.startswith("#") else None
+                tag = _svg_tag(shape) if shape is not None else None
+                if tag not in SHAPES:
+                    continue
+                style = self.style(shape, style)
+                x, y = _number(child.get("x"), 0.0), _number(child.get("y"), 0.0)
+                placed = compose(compose(placed, translate(x, y)), parse_transform(shape.get("transform", "")) or IDENTITY)
+            if tag not in SHAPES:
+                if tag in NOT_IMPORTED:
+                    self.note(f"{name}: clip-path #{target.get('id')} holds a <{tag}>; drawn unclipped")
+                    return None
+                continue
+            try:
+                segments = self.geometry(shape, tag, style, lengths.with_font(style["font"]))
+            except LengthError:
+                continue
+            stretch = max_stretch(placed)
+            if not segments or not (math.isfinite(stretch) and stretch > 0):
+                continue
+            rule = "evenodd" if style["clip-rule"].strip() == "evenodd" else "nonzero"
+            subpaths = [Subpath(apply(placed, s.points), s.closed) for s in flatten_segments(segments, self.tol / stretch)]
+            rings.extend(ring for region in fill_regions(subpaths, rule) for ring in (region.outer, *region.holes))
+        return [Region(outer, holes) for outer, holes in resolve_fill(rings, "nonzero")] if rings else []
 
     def viewport(self, el, size_from, name, style, ctm, lengths, context, out) -> None:
         """A nested viewport (``<svg>``, or ``<symbol>``/``<svg>`` through ``<use>``):
@@ -776,9 +854,11 @@ def _bisector(incoming, outgoing) -> float:
     return math.degrees(angles[0] + turn / 2)
 
 
-def _clip_layers(layers: list[Layer], polygon: np.ndarray) -> list[Layer]:
-    """Each layer's regions within a convex polygon (a viewport's clip)."""
-    return [Layer(layer.color, clip_regions(layer.regions, polygon), layer.name) for layer in layers]
+def _clip_layers(layers: list[Layer], clip) -> list[Layer]:
+    """Each layer's regions within ``clip``: a convex polygon (a viewport) or regions."""
+    if isinstance(clip, np.ndarray):
+        clip = [Region(clip, [])]
+    return [Layer(layer.color, clip_regions(layer.regions, clip), layer.name) for layer in layers]
 
 
 def _malformed(attrs: dict, kind: str) -> str | None:

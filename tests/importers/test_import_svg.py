@@ -165,14 +165,14 @@ def test_every_ignored_element_is_listed_by_id(tmp_path):
         <clipPath id="c"><rect width="5" height="5"/></clipPath></defs>
   <rect id="kept" x="1" y="1" width="5" height="5" fill="blue"/>
   <rect id="gradient" x="1" y="8" width="5" height="5" fill="url(#g)"/>
-  <rect id="clipped" x="8" y="1" width="5" height="5" fill="red" clip-path="url(#c)"/>
+  <rect id="clipped" x="8" y="1" width="5" height="5" fill="red" clip-path="url(#elsewhere)"/>
   <rect id="faint" x="8" y="8" width="5" height="5" fill="red" opacity="0.5"/>
   <text id="words" x="1" y="19">hi</text>
   <rect x="14" y="14" width="5" height="5" fill="red" filter="url(#f)"/>
 </svg>""")
     result = import_svg(svg)
     listed = "\n".join(result.ignored)
-    for expected in ["#gradient: fill url(#g)", "#clipped: clip path", "#faint: opacity 0.5",
+    for expected in ["#gradient: fill url(#g)", "#clipped: clip-path url(#elsewhere) is not a clipPath", "#faint: opacity 0.5",
                      "#words: text element", "rect[4]: filter"]:
         assert expected in listed, (expected, listed)
     assert parse_scene(result.document).extensions["svg"].ignored == tuple(result.ignored)

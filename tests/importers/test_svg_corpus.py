@@ -33,7 +33,7 @@ from aaeval.renderers import render
 from aaeval.scenes import parse_scene
 
 CORPUS = Path(__file__).parents[1] / "data" / "svg" / "corpus"
-RESVG_CASES = ["colours", "css", "structure", "paths", "markers", "strokes"]
+RESVG_CASES = ["colours", "css", "structure", "paths", "markers", "strokes", "clip"]
 
 
 def imported(tmp_path, name: str, text: str | None = None):
@@ -192,7 +192,7 @@ def test_a_bad_segment_draws_what_comes_before_it(tmp_path):
 def test_viewport_clip_is_the_intersection_geos_gives(seed):
     """clip_regions (the clip of nested viewports and markers) against GEOS's intersection:
     self-crossing outlines resolved under both rules, clipped by a rotated rectangle."""
-    from aaeval.importers.shapes import clip_regions, fill_regions, Subpath
+    from aaeval.importers.shapes import Region, Subpath, clip_regions, fill_regions
 
     rng = np.random.default_rng(seed)
     outline = rng.uniform(0, 20, (12, 2))
@@ -202,7 +202,7 @@ def test_viewport_clip_is_the_intersection_geos_gives(seed):
     for rule in ("nonzero", "evenodd"):
         regions = fill_regions([Subpath(outline, True)], rule)
         geos = shapely.unary_union([ShapelyPolygon(r.outer, r.holes) for r in regions])
-        got = shapely.unary_union([ShapelyPolygon(r.outer, r.holes) for r in clip_regions(regions, box)])
+        got = shapely.unary_union([ShapelyPolygon(r.outer, r.holes) for r in clip_regions(regions, [Region(box, [])])])
         want = geos.intersection(ShapelyPolygon(box))
         assert got.symmetric_difference(want).area < 1e-9 * max(want.area, 1)
         assert got.area == pytest.approx(want.area, rel=1e-12)
@@ -253,3 +253,21 @@ def test_the_root_size_follows_its_viewbox_where_a_side_is_missing(tmp_path, att
     _, scene = imported(tmp_path, "size", f'<svg xmlns="http://www.w3.org/2000/svg" {attrs}><rect width="4" height="4"/>'
                                           '</svg>')
     assert (scene.width, scene.height) == size
+
+
+def test_clip_path_is_the_intersection_geos_gives(tmp_path):
+    """A rotated square clipped by an even-odd frame: the clip path is in the square's own
+    user space (its transform included), so the result is GEOS's intersection of the
+    user-space shapes, rotated."""
+    text = ('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="40"><clipPath id="c">'
+            '<path d="M 0 0 H 40 V 40 H 0 Z M 10 10 H 30 V 30 H 10 Z" clip-rule="evenodd"/></clipPath>'
+            '<rect x="4" y="4" width="32" height="32" transform="rotate(20 20 20)" clip-path="url(#c)"/></svg>')
+    result, _ = imported(tmp_path, "clipped", text)
+    got = shapely.unary_union([ShapelyPolygon([v[:2] for v in p["vertices"]], [[v[:2] for v in h]
+                                                                             for h in p.get("holes", [])])
+                               for p in result.document["polygons"]])
+    square = ShapelyPolygon([(4, 4), (36, 4), (36, 36), (4, 36)])
+    frame = ShapelyPolygon([(0, 0), (40, 0), (40, 40), (0, 40)], [[(10, 10), (30, 10), (30, 30), (10, 30)]])
+    want = shapely.affinity.rotate(square.intersection(frame), 20, origin=(20, 20))
+    assert got.symmetric_difference(want).area < 1e-9
+    assert got.area == pytest.approx(want.area, rel=1e-12)
