@@ -11,7 +11,7 @@ id) with its own style as the parent; nested ``<svg>`` and ``<use>`` of ``<svg>`
 ``<symbol>`` establish a viewport (``viewBox``, ``preserveAspectRatio``) and clip to it
 unless ``overflow`` is visible; ``clip-path`` keeps what lies inside the union of its
 ``<clipPath>``'s shapes (each under its clip-rule; userSpaceOnUse or objectBoundingBox
-units on shapes); markers are drawn at the vertices of paths, lines,
+units on shapes); strokes are dashed (:mod:`aaeval.importers.dash`); markers are drawn at the vertices of paths, lines,
 polylines and polygons, clipped to their viewport; ``paint-order`` orders fill, stroke
 and markers.
 
@@ -24,7 +24,7 @@ scales stretch the stroke as SVG draws it. Each painted part is a layer in docum
 (later nearer). Colours are sRGB in the file and linear in the scene.
 
 What the scene format cannot hold is never dropped silently: text, images, gradient
-and pattern paints, masks, filters, clip paths it cannot apply, dashes, CSS that cannot be applied, and
+and pattern paints, masks, filters, clip paths it cannot apply, CSS that cannot be applied, and
 opacity (drawn opaque) are listed by element (``#id``, or ``tag[n]``: the n-th drawn
 element of that tag, 0-based, definitions such as clip-path contents not counted) in the
 result and in the scene's ``[svg].ignored``. So is every malformed element SVG does not
@@ -46,6 +46,7 @@ from aaeval.importers.fill import MAX_EDGES
 from aaeval.importers.limits import (MAX_ELEMENTS, MAX_VERTICES, ImportLimitError, VertexBudget, budget_scope, charge,
                                      check_tolerance)
 from aaeval.importers.scene import ImportResult, Layer, scene_document
+from aaeval.importers.dash import dash_subpaths, path_length
 from aaeval.importers.fill import resolve_fill
 from aaeval.importers.shapes import (STROKE_CAPS, STROKE_JOINS, Region, Subpath, clip_regions, fill_regions,
                                      stroke_regions)
@@ -696,7 +697,7 @@ class _Walk:
                 subpaths = [Subpath(apply(ctm, s.points), s.closed) for s in flatten_segments(segments, tol)]
                 parts.append(Layer(fill, fill_regions(subpaths, rule), name + " fill"))
             elif part == "stroke" and stroke is not None:
-                self.stroke(segments, name, style, ctm, lengths, stroke, tol, stretch, reach, parts)
+                self.stroke(segments, el, name, style, ctm, lengths, stroke, tol, stretch, reach, parts)
             elif part == "markers" and tag in MARKABLE:
                 self.markers(segments, name, style, ctm, lengths, {"fill": fill, "stroke": stroke}, parts)
         out.extend(layer for layer in parts if layer.regions)
@@ -708,7 +709,7 @@ class _Walk:
             return 1.0
         return width if width >= 0 else 1.0
 
-    def stroke(self, segments, name, style, ctm, lengths, color, tol, stretch, reach, out) -> None:
+    def stroke(self, segments, el, name, style, ctm, lengths, color, tol, stretch, reach, out) -> None:
         raw = style["stroke-width"]
         if not math.isfinite(_number(raw, 1.0)):
             self.note(f"{name}: stroke-width {raw} is not a finite number; stroke not imported")
@@ -720,8 +721,7 @@ class _Walk:
             self.note(f"{name}: stroke width {width * stretch:.3g} px reaches beyond +-{MAX_COORDINATE:g}; "
                       "stroke not imported")
             return
-        if style["stroke-dasharray"].strip().lower() not in ("", "none"):
-            self.note(f"{name}: stroke-dasharray ignored (stroked solid)")
+        segments = self.dashes(segments, el, name, style, lengths)
         if style["vector-effect"].strip().lower() == "non-scaling-stroke":
             self.note(f"{name}: vector-effect non-scaling-stroke ignored (stroke scaled)")
         cap = style["stroke-linecap"].strip()
@@ -739,6 +739,29 @@ class _Walk:
             miter_limit=limit, tol=tol, transform=lambda ring: apply(ctm, ring),
         )
         out.append(Layer(color, regions, name + " stroke"))
+
+    def dashes(self, segments, el, name, style, lengths):
+        """The subpaths the stroke draws: the dashes of stroke-dasharray, or all of them
+        (none, a negative or invalid value, or a pattern summing to zero: solid)."""
+        raw = style["stroke-dasharray"].strip()
+        if raw.lower() in ("", "none"):
+            return segments
+        try:
+            pattern = [lengths.resolve(v, "d") for v in re.split(r"[\s,]+", raw) if v]
+            offset = lengths.resolve(style["stroke-dashoffset"], "d")
+        except LengthError as exc:
+            if "not resolved" in str(exc):
+                self.note(f"{name}: stroke-dasharray: {exc}; stroked solid")
+            return segments
+        if not pattern or min(pattern) < 0 or sum(pattern) <= 0 or not all(map(math.isfinite, pattern + [offset])):
+            return segments
+        declared = _number(el.get("pathLength"), 0.0)
+        if declared > 0 and math.isfinite(declared):  # lengths along the path are in its own units
+            factor = path_length(segments) / declared
+            pattern, offset = [v * factor for v in pattern], offset * factor
+            if sum(pattern) <= 0:
+                return segments
+        return dash_subpaths(segments, pattern, offset, budget=charge)
 
     # markers --------------------------------------------------------------
     def markers(self, segments, name, style, ctm, lengths, paints, out) -> None:

@@ -33,7 +33,7 @@ from aaeval.renderers import render
 from aaeval.scenes import parse_scene
 
 CORPUS = Path(__file__).parents[1] / "data" / "svg" / "corpus"
-RESVG_CASES = ["colours", "css", "structure", "paths", "markers", "strokes", "clip"]
+RESVG_CASES = ["colours", "css", "structure", "paths", "markers", "strokes", "clip", "dashes"]
 
 
 def imported(tmp_path, name: str, text: str | None = None):
@@ -271,3 +271,45 @@ def test_clip_path_is_the_intersection_geos_gives(tmp_path):
     want = shapely.affinity.rotate(square.intersection(frame), 20, origin=(20, 20))
     assert got.symmetric_difference(want).area < 1e-9
     assert got.area == pytest.approx(want.area, rel=1e-12)
+
+
+def dashed_by_geos(points, pattern, offset, width):
+    """GEOS's dashes of a polyline (substrings laid from the offset), buffered with flat caps."""
+    from shapely.ops import substring
+
+    line = LineString(points)
+    pieces, s, k = [], -offset, 0
+    while s < line.length:
+        e = s + pattern[k % len(pattern)]
+        if k % 2 == 0 and e > 0:
+            pieces.append(substring(line, max(s, 0.0), min(e, line.length)).buffer(width / 2, cap_style="flat",
+                                                                                     join_style="mitre"))
+        s, k = e, k + 1
+    return shapely.unary_union(pieces)
+
+
+def test_dashes_are_the_substrings_geos_cuts(tmp_path):
+    points = [(3.0, 4.0), (20.0, 4.0), (26.0, 16.0), (8.0, 20.0)]
+    text = ('<svg xmlns="http://www.w3.org/2000/svg" width="32" height="24"><polyline points="'
+            + " ".join(f"{x} {y}" for x, y in points) + '" fill="none" stroke="black" stroke-width="2" '
+            'stroke-dasharray="7 2.5" stroke-dashoffset="3" stroke-miterlimit="10"/></svg>')
+    result, _ = imported(tmp_path, "dashed", text)
+    got = shapely.unary_union([ShapelyPolygon([v[:2] for v in p["vertices"]], [[v[:2] for v in h]
+                                                                             for h in p.get("holes", [])])
+                               for p in result.document["polygons"]])
+    want = dashed_by_geos(points, [7.0, 2.5], 3.0, 2.0)
+    assert got.symmetric_difference(want).area < 1e-9
+    assert got.area == pytest.approx(want.area, rel=1e-12)
+
+
+@pytest.mark.parametrize("dashed, plain", [
+    ('stroke-dasharray="6 3" pathLength="20"', 'stroke-dasharray="12 6"'),  # 40 px drawn as 20 units
+    ('stroke-dasharray="4 -1"', ""),  # a negative value: solid
+    ('stroke-dasharray="0 0"', ""),  # a pattern of no length: solid
+    ('stroke-dasharray="3" stroke-dashoffset="-3"', 'stroke-dasharray="3 3" stroke-dashoffset="3"'),
+])
+def test_dash_patterns_as_svg_defines_them(tmp_path, dashed, plain):
+    line = '<svg xmlns="http://www.w3.org/2000/svg" width="48" height="8"><path d="M 4 4 H 44" stroke="black" {}/></svg>'
+    _, scene = imported(tmp_path, "dashed", line.format(dashed))
+    _, reference = imported(tmp_path, "plain", line.format(plain))
+    np.testing.assert_allclose(render(scene, "catmull"), render(reference, "catmull"), atol=1e-12)
