@@ -11,9 +11,9 @@ id) with its own style as the parent; nested ``<svg>`` and ``<use>`` of ``<svg>`
 ``<symbol>`` establish a viewport (``viewBox``, ``preserveAspectRatio``) and clip to it
 unless ``overflow`` is visible; ``clip-path`` keeps what lies inside the union of its
 ``<clipPath>``'s shapes (each under its clip-rule; userSpaceOnUse or objectBoundingBox
-units on shapes); strokes are dashed (:mod:`aaeval.importers.dash`); markers are drawn at the vertices of paths, lines,
-polylines and polygons, clipped to their viewport; ``paint-order`` orders fill, stroke
-and markers.
+units on shapes); strokes are dashed (:mod:`aaeval.importers.dash`); markers are drawn
+at the vertices of paths, lines, polylines and polygons, clipped to their viewport;
+``paint-order`` orders fill, stroke and markers.
 
 Each shape's true segments are kept in user space: fills are flattened
 (:mod:`aaeval.importers.flatten`) to the tolerance divided by the transform's largest
@@ -24,8 +24,8 @@ scales stretch the stroke as SVG draws it. Each painted part is a layer in docum
 (later nearer). Colours are sRGB in the file and linear in the scene.
 
 What the scene format cannot hold is never dropped silently: text, images, gradient
-and pattern paints, masks, filters, clip paths it cannot apply, CSS that cannot be applied, and
-opacity (drawn opaque) are listed by element (``#id``, or ``tag[n]``: the n-th drawn
+and pattern paints, masks, filters, clip paths it cannot apply, CSS that cannot be
+applied, and opacity (drawn opaque) are listed by element (``#id``, or ``tag[n]``: the n-th drawn
 element of that tag, 0-based, definitions such as clip-path contents not counted) in the
 result and in the scene's ``[svg].ignored``. So is every malformed element SVG does not
 render (NaN or infinite numbers, negative sizes and radii), geometry beyond
