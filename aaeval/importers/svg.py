@@ -473,7 +473,8 @@ class _Walk:
                     continue
                 style = self.style(shape, style)
                 x, y = _number(child.get("x"), 0.0), _number(child.get("y"), 0.0)
-                placed = compose(compose(placed, translate(x, y)), parse_transform(shape.get("transform", "")) or IDENTITY)
+                own = parse_transform(shape.get("transform", "")) or IDENTITY
+                placed = compose(compose(placed, translate(x, y)), own)
             if tag not in SHAPES:
                 if tag in NOT_IMPORTED:
                     self.note(f"{name}: clip-path #{target.get('id')} holds a <{tag}>; drawn unclipped")
@@ -487,7 +488,8 @@ class _Walk:
             if not segments or not (math.isfinite(stretch) and stretch > 0):
                 continue
             rule = "evenodd" if style["clip-rule"].strip() == "evenodd" else "nonzero"
-            subpaths = [Subpath(apply(placed, s.points), s.closed) for s in flatten_segments(segments, self.tol / stretch)]
+            flat = flatten_segments(segments, self.tol / stretch)
+            subpaths = [Subpath(apply(placed, s.points), s.closed) for s in flat]
             rings.extend(ring for region in fill_regions(subpaths, rule) for ring in (region.outer, *region.holes))
         return [Region(outer, holes) for outer, holes in resolve_fill(rings, "nonzero")] if rings else []
 

@@ -35,7 +35,8 @@ INITIAL = {
     "vector-effect": "none", "shape-rendering": "auto", "stop-color": "black", "stop-opacity": "1",
 }
 INHERITED = {"fill", "fill-rule", "fill-opacity", "stroke", "stroke-width", "stroke-linecap", "stroke-linejoin",
-             "stroke-miterlimit", "stroke-dasharray", "stroke-dashoffset", "stroke-opacity", "color", "visibility", "shape-rendering",
+             "stroke-miterlimit", "stroke-dasharray", "stroke-dashoffset", "stroke-opacity", "color", "visibility",
+             "shape-rendering",
              "paint-order", "marker-start", "marker-mid", "marker-end", "clip-rule", "font-size"}
 # geometry properties (SVG 2): set by attribute or by CSS, not inherited
 GEOMETRY = ("x", "y", "width", "height", "cx", "cy", "r", "rx", "ry")

@@ -33,6 +33,7 @@ from aaeval.renderers import render
 from aaeval.scenes import parse_scene
 
 CORPUS = Path(__file__).parents[1] / "data" / "svg" / "corpus"
+NS = "http://www.w3.org/2000/svg"
 RESVG_CASES = ["colours", "css", "structure", "paths", "markers", "strokes", "clip", "dashes"]
 
 
@@ -71,7 +72,8 @@ def test_ink_is_where_the_files_say(tmp_path):
         for p in scene.polygons:
             assert not (p.color[0] > 0.5 and p.color[1] < 0.1 and p.color[2] < 0.1), (name, p.color)
     result, _ = imported(tmp_path, "colours")
-    colours = {tuple(np.round(linear_to_srgb(layer["color"]) * 255).astype(int)) for layer in result.document["polygons"]}
+    colours = {tuple(np.round(linear_to_srgb(layer["color"]) * 255).astype(int))
+               for layer in result.document["polygons"]}
     assert colours == {(0, 128, 0), (0, 0, 255), (0, 128, 255), (128, 0, 128), (0, 0, 128)}  # inherit: the group's blue
 
 
@@ -175,7 +177,7 @@ def test_srgb_blending_is_the_srgb_average_of_the_exact_coverage():
     ('<rect width="4" height="4" fill="red" style="mix-blend-mode: multiply"/>', ["rect[0]", "mix-blend-mode"]),
 ])
 def test_what_cannot_be_applied_is_listed_by_name(tmp_path, body, words):
-    result, _ = imported(tmp_path, "listed", f'<svg xmlns="http://www.w3.org/2000/svg" width="8" height="8">{body}</svg>')
+    result, _ = imported(tmp_path, "listed", f'<svg xmlns="{NS}" width="8" height="8">{body}</svg>')
     assert any(all(w in item for w in words) for item in result.ignored), result.ignored
 
 
@@ -220,7 +222,7 @@ def test_viewport_clip_is_the_intersection_geos_gives(seed):
      '@font-face { font-family: x }</style><rect width="4" height="4"/><circle r="2"/>', 1),
 ])
 def test_error_cases_draw_what_svg_says(tmp_path, body, polygons):
-    result, _ = imported(tmp_path, "errors", f'<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10">{body}</svg>')
+    result, _ = imported(tmp_path, "errors", f'<svg xmlns="{NS}" width="10" height="10">{body}</svg>')
     assert len(result.document["polygons"]) == polygons and result.ignored == []
 
 
@@ -250,8 +252,7 @@ def test_what_the_root_asks_is_applied_or_listed(tmp_path):
                                          ('width="50%" height="3em" viewBox="0 0 20 10"', (10, 48)),
                                          ('viewBox="0 0 20 10"', (20, 10)), ('width="44mmx" height="7"', (100, 7))])
 def test_the_root_size_follows_its_viewbox_where_a_side_is_missing(tmp_path, attrs, size):
-    _, scene = imported(tmp_path, "size", f'<svg xmlns="http://www.w3.org/2000/svg" {attrs}><rect width="4" height="4"/>'
-                                          '</svg>')
+    _, scene = imported(tmp_path, "size", f'<svg xmlns="{NS}" {attrs}><rect width="4" height="4"/></svg>')
     assert (scene.width, scene.height) == size
 
 
@@ -309,7 +310,7 @@ def test_dashes_are_the_substrings_geos_cuts(tmp_path):
     ('stroke-dasharray="3" stroke-dashoffset="-3"', 'stroke-dasharray="3 3" stroke-dashoffset="3"'),
 ])
 def test_dash_patterns_as_svg_defines_them(tmp_path, dashed, plain):
-    line = '<svg xmlns="http://www.w3.org/2000/svg" width="48" height="8"><path d="M 4 4 H 44" stroke="black" {}/></svg>'
+    line = f'<svg xmlns="{NS}" width="48" height="8">' + '<path d="M 4 4 H 44" stroke="black" {}/></svg>'
     _, scene = imported(tmp_path, "dashed", line.format(dashed))
     _, reference = imported(tmp_path, "plain", line.format(plain))
     np.testing.assert_allclose(render(scene, "catmull"), render(reference, "catmull"), atol=1e-12)
