@@ -403,6 +403,10 @@ class _Walk:
                 except (ArithmeticError, TypeError, IndexError, np.linalg.LinAlgError) as exc:
                     # one element's numbers, not the file: SVG renders the rest
                     self.note(f"{name}: could not be built ({type(exc).__name__}: {exc}); element not imported")
+                except SvgError:
+                    raise
+                except ValueError as exc:  # a stated limit, passed while building this element
+                    raise SvgError(f"{name}: {exc}") from None
         else:
             for prop, what in unsupported:
                 self.note(f"{name}: {what} on a group not applied (its shapes are drawn unmasked, unfiltered)")
