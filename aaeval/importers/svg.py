@@ -508,8 +508,8 @@ class _Walk:
                 return default
 
         full = lengths.viewport
-        x = length("x", "x", 0.0) if size_from is el else 0.0
-        y = length("y", "y", 0.0) if size_from is el else 0.0
+        x = _own_length(style, "x", lengths)  # a <use> moves the viewport by its own x, y
+        y = _own_length(style, "y", lengths)
         w = length("width", "x", full[0])
         h = length("height", "y", full[1])
         if not (w > 0 and h > 0):
@@ -835,6 +835,14 @@ class _Walk:
 
 
 DISABLED = "disabled"  # a viewBox of no width or height: the element is not rendered (SVG 2, 8.6)
+
+
+def _own_length(style, prop: str, lengths: Lengths) -> float:
+    """An element's own x or y (0 when not given or not valid)."""
+    try:
+        return lengths.resolve(style[prop], prop) if style.get(prop) is not None else 0.0
+    except LengthError:
+        return 0.0
 
 
 def _viewbox(raw):

@@ -34,7 +34,7 @@ from aaeval.scenes import parse_scene
 
 CORPUS = Path(__file__).parents[1] / "data" / "svg" / "corpus"
 NS = "http://www.w3.org/2000/svg"
-RESVG_CASES = ["colours", "css", "structure", "paths", "markers", "strokes", "clip", "dashes"]
+RESVG_CASES = ["colours", "css", "structure", "nested", "paths", "markers", "strokes", "clip", "dashes"]
 
 
 def imported(tmp_path, name: str, text: str | None = None):
