@@ -14,7 +14,7 @@ from typing import Iterable, NamedTuple
 
 import numpy as np
 
-from aaeval.importers.fill import resolve_fill
+from aaeval.importers.fill import _area, resolve_fill
 from aaeval.importers.limits import charge
 from aaeval.importers.stroke import Seg, stroke_pieces
 
@@ -78,7 +78,7 @@ def clip_regions(regions: list[Region], clip: list[Region]) -> list[Region]:
     if not rings or not clip_rings:
         return []
     if len(clip_rings) == 1:
-        ring = clip_rings[0] if _signed_area(clip_rings[0]) > 0 else clip_rings[0][::-1]
+        ring = clip_rings[0] if _area(clip_rings[0]) > 0 else clip_rings[0][::-1]
         clip_rings = [ring]
         if _convex(ring) and _inside_convex(np.concatenate(rings), ring):
             return list(regions)
@@ -94,11 +94,6 @@ def _convex(ring: np.ndarray) -> bool:
     a, b, c = ring, np.roll(ring, -1, axis=0), np.roll(ring, -2, axis=0)
     turn = (b[:, 0] - a[:, 0]) * (c[:, 1] - b[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - b[:, 0])
     return bool((turn >= 0).all())
-
-
-def _signed_area(ring: np.ndarray) -> float:
-    x, y = ring[:, 0], ring[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
 
 def _inside_convex(points: np.ndarray, polygon: np.ndarray) -> bool:
