@@ -138,16 +138,24 @@ def import_svg(
     if box is not None:
         ctm = compose(ctm, viewbox_transform(box, aspect, width, height))
     layers: list[Layer] = []
+    import sys
+
+    depth = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(depth, 4 * MAX_ELEMENTS))  # a few frames per nesting level
     try:
         with budget_scope(VertexBudget()):
             if walk.root_drawn(root_style):
                 walk.children(root, root_style, ctm, lengths, None, layers)
+    except RecursionError:
+        raise SvgError(f"{path}: elements are nested too deeply to import") from None
     except SvgError as exc:
         raise SvgError(f"{path}: {exc}") from None
     except ValueError as exc:  # limits, malformed values found on the way
         raise SvgError(f"{path}: {exc}") from None
     except Exception as exc:
         raise SvgError(f"{path}: could not import ({type(exc).__name__}: {exc})") from None
+    finally:
+        sys.setrecursionlimit(depth)
 
     source = {"file": file_ref if file_ref is not None else str(path), "scale": float(scale),
               "tolerance": float(tolerance), "ignored": ignored}

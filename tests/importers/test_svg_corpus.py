@@ -314,3 +314,10 @@ def test_dash_patterns_as_svg_defines_them(tmp_path, dashed, plain):
     _, scene = imported(tmp_path, "dashed", line.format(dashed))
     _, reference = imported(tmp_path, "plain", line.format(plain))
     np.testing.assert_allclose(render(scene, "catmull"), render(reference, "catmull"), atol=1e-12)
+
+
+def test_deeply_nested_groups_import(tmp_path):
+    depth = 3000  # deeper than Python's default recursion limit
+    text = f'<svg xmlns="{NS}" width="8" height="8">' + "<g>" * depth + '<rect width="4" height="4"/>' + "</g>" * depth
+    result, _ = imported(tmp_path, "deep", text + "</svg>")
+    assert len(result.document["polygons"]) == 1
