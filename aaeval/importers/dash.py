@@ -4,7 +4,8 @@ Each subpath is measured along its true segments (an arc-length table of
 :data:`SAMPLES` chords per curved segment: the chords' total is within a relative
 ``1/(24 SAMPLES^2)`` of the arc length for a segment turning by less than a radian per
 chord), the pattern is laid along it from ``stroke-dashoffset`` (restarting at every
-subpath), and every dash becomes an open subpath of sub-segments: lines cut at their
+subpath; on a closed subpath a dash over its start is one dash, joined there), and every
+dash becomes an open subpath of sub-segments: lines cut at their
 points, Béziers by de Casteljau's construction, elliptical arcs at their angles. The
 dashes are then stroked like any open subpath, each with its caps; a dash of length
 zero is a dot (round caps) or a square (square caps), nothing with butt caps.
@@ -89,7 +90,7 @@ def dash_subpaths(subpaths, pattern, offset: float, budget=lambda n: None) -> li
         pattern = pattern * 2
     period = sum(pattern)
     out = []
-    for segs, _ in subpaths:
+    for segs, closed in subpaths:
         tables = [_table(seg) for seg in segs]
         lengths = [cum[-1] for _, cum in tables]
         starts = np.concatenate([[0.0], np.cumsum(lengths)])[:-1]
@@ -104,16 +105,23 @@ def dash_subpaths(subpaths, pattern, offset: float, budget=lambda n: None) -> li
             else:
                 remaining, phase = remaining - phase, 0.0
         s = 0.0
+        dashes: list[tuple[float, float]] = []
         while True:
             e = min(total, s + remaining)
             if k % 2 == 0:
                 budget(4)
-                piece = _piece(segs, tables, starts, s, e)
-                if piece:
-                    out.append((piece, False))
+                dashes.append((s, e))
             if e >= total:
                 break
             s = e
             k = (k + 1) % len(pattern)
             remaining = pattern[k]
+        pieces = [_piece(segs, tables, starts, a, b) for a, b in dashes]
+        if closed and len(dashes) > 1 and dashes[0][0] == 0.0 and dashes[-1][1] == total and total > 0:
+            # a dash over the start of a closed subpath is one dash, joined there (as Skia and browsers dash)
+            pieces = [pieces[-1] + pieces[0]] + pieces[1:-1]
+        elif closed and len(dashes) == 1 and dashes[0] == (0.0, total) and total > 0:
+            out.append((list(segs), True))
+            continue
+        out.extend((piece, False) for piece in pieces if piece)
     return out

@@ -321,3 +321,24 @@ def test_deeply_nested_groups_import(tmp_path):
     text = f'<svg xmlns="{NS}" width="8" height="8">' + "<g>" * depth + '<rect width="4" height="4"/>' + "</g>" * depth
     result, _ = imported(tmp_path, "deep", text + "</svg>")
     assert len(result.document["polygons"]) == 1
+
+
+def test_a_dash_over_the_start_of_a_closed_subpath_is_one_dash(tmp_path):
+    """On a closed square of perimeter 40 with dashes of 7 every 10, the last dash (30 to
+    37) would end at 37; with an offset of 5 the first runs from 0 to 2 and the last from 35
+    to 40: they are one dash turning the corner at the start, mitred there, as GEOS buffers
+    the joined polyline."""
+    text = (f'<svg xmlns="{NS}" width="20" height="20"><path d="M 5 5 H 15 V 15 H 5 Z" fill="none" stroke="black" '
+            'stroke-width="2" stroke-dasharray="7 3" stroke-dashoffset="5"/></svg>')
+    result, _ = imported(tmp_path, "closed", text)
+    got = shapely.unary_union([ShapelyPolygon([v[:2] for v in p["vertices"]], [[v[:2] for v in h]
+                                                                             for h in p.get("holes", [])])
+                               for p in result.document["polygons"]])
+    square = [(5, 5), (15, 5), (15, 15), (5, 15), (5, 5)]
+    from shapely.ops import substring
+
+    ring = LineString(square)
+    joined = LineString(list(substring(ring, 35, 40).coords) + list(substring(ring, 0, 2).coords)[1:])
+    pieces = [joined, substring(ring, 5, 12), substring(ring, 15, 22), substring(ring, 25, 32)]
+    want = shapely.unary_union([p.buffer(1, cap_style="flat", join_style="mitre") for p in pieces])
+    assert got.symmetric_difference(want).area < 1e-9
