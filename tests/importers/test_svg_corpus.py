@@ -7,9 +7,8 @@ hand from the specification's rules.
   aaeval's exact image is taken with ``blend=srgb`` (coverage averaged in sRGB, as resvg
   blends), so the two differ only at edges, where resvg supersamples (up to 1/8 px of an
   edge: a quarter of the 8-bit range at most, never a shape's interior).
-- Where resvg does not follow SVG 2 / CSS Values 4 (geometry properties in CSS; ``Q``,
-  ``vw``, ``in``, ``pt``, ``pc`` lengths), the expected file states the same drawing in
-  plain px, its numbers computed here from the units' definitions (1 in = 96 px =
+- Where resvg does not follow SVG 2 / CSS Values 4 (geometry properties in CSS; ``Q``
+  and ``vw`` lengths), the expected file states the same drawing in plain px, its numbers computed here from the units' definitions (1 in = 96 px =
   2.54 cm, 1 Q = 1/40 cm, 1 pt = 1/72 in, 1 pc = 12 pt; 1 em = 16 px unless set, 1 ex =
   1/2 em).
 - A stroke under a skew is the affine image of the stroke GEOS builds in user space.
@@ -342,3 +341,15 @@ def test_a_dash_over_the_start_of_a_closed_subpath_is_one_dash(tmp_path):
     pieces = [joined, substring(ring, 5, 12), substring(ring, 15, 22), substring(ring, 25, 32)]
     want = shapely.unary_union([p.buffer(1, cap_style="flat", join_style="mitre") for p in pieces])
     assert got.symmetric_difference(want).area < 1e-9
+
+
+def test_absolute_units_match_resvg(tmp_path):
+    """in, cm, mm, pt, pc as resvg resolves them at CSS's 96 px per inch."""
+    text = (f'<svg xmlns="{NS}" width="48" height="36"><rect x="1" y="1" width="0.5in" height="1cm" fill="green"/>'
+            '<rect x="1" y="16" width="30pt" height="1.5pc" fill="navy"/><circle cx="36" cy="18" r="25.4mm" '
+            'fill="none" stroke="black" stroke-width="1.5pt"/></svg>')
+    result, scene = imported(tmp_path, "absolute", text)
+    assert result.ignored == []
+    diff = np.abs(linear_to_srgb8(render(scene, "catmull:blend=srgb")).astype(int)
+                  - linear_to_srgb8(render(scene, "resvg")).astype(int))
+    assert diff.max() <= 64 and diff.mean() <= 1.5
