@@ -876,15 +876,31 @@ def _direction(seg, t: float):
 
 def _marker_vertices(segments):
     """(point, incoming direction, outgoing direction) at every vertex of a path, in
-    order (SVG 2, 13.7.3); a direction is None where there is none."""
+    order (SVG 2, 13.7.3); a direction is None where there is none. Segments of no length
+    give no direction: the nearest one with a length does (on a closed subpath, around
+    its start), as the SVG WG resolved."""
     out = []
     for segs, closed in segments:
-        first_out = _direction(segs[0], 0.0)
-        last_in = _direction(segs[-1], 1.0)
-        out.append([segs[0].start, last_in if closed else None, first_out])
+        ends = [_direction(seg, 1.0) for seg in segs]
+        starts = [_direction(seg, 0.0) for seg in segs]
+        n = len(segs)
+
+        def incoming(k):  # the direction arriving at the end of segment k
+            for j in range(k, k - n if closed else -1, -1):
+                if ends[j % n] is not None:
+                    return ends[j % n]
+            return None
+
+        def outgoing(k):  # the direction leaving at the start of segment k
+            for j in range(k, k + n if closed else n):
+                if starts[j % n] is not None:
+                    return starts[j % n]
+            return None
+
+        out.append([segs[0].start, incoming(n - 1) if closed else None, outgoing(0)])
         for k, seg in enumerate(segs):
-            following = _direction(segs[k + 1], 0.0) if k + 1 < len(segs) else (first_out if closed else None)
-            out.append([seg.end, _direction(seg, 1.0), following])
+            following = outgoing(k + 1) if k + 1 < n or closed else None
+            out.append([seg.end, incoming(k), following])
     return out
 
 

@@ -353,3 +353,15 @@ def test_absolute_units_match_resvg(tmp_path):
     diff = np.abs(linear_to_srgb8(render(scene, "catmull:blend=srgb")).astype(int)
                   - linear_to_srgb8(render(scene, "resvg")).astype(int))
     assert diff.max() <= 64 and diff.mean() <= 1.5
+
+
+def test_segments_of_no_length_give_markers_no_direction(tmp_path):
+    """A repeated point is a vertex of its own, oriented as if the empty segment were not
+    there (SVG WG): its marker lies exactly on the one at the same point."""
+    marker = (f'<svg xmlns="{NS}" width="48" height="36"><marker id="m" markerWidth="6" markerHeight="6" refX="3" '
+              'refY="3" orient="auto" markerUnits="userSpaceOnUse"><path d="M0 0 L6 3 L0 6 Z" fill="navy"/></marker>'
+              '<path d="{}" fill="none" stroke="black" marker-start="url(#m)" marker-mid="url(#m)" '
+              'marker-end="url(#m)"/></svg>')
+    _, doubled = imported(tmp_path, "doubled", marker.replace("{}", "M 5 30 L 20 10 L 20 10 L 40 20 L 40 20"))
+    _, single = imported(tmp_path, "single", marker.replace("{}", "M 5 30 L 20 10 L 40 20"))
+    np.testing.assert_allclose(render(doubled, "catmull"), render(single, "catmull"), atol=1e-12)
