@@ -260,7 +260,7 @@ def test_use_is_placed_and_nested_svg_gets_its_viewport_and_clip(tmp_path):
     layers = imported_layers(import_svg(svg).document)
     np.testing.assert_allclose([g.bounds for g in layers], [(2, 3, 8, 8), (15, 8, 27, 18)], atol=1e-6)
     # the viewBox maps 20 user units onto 10 px at x = 10; the 40-unit square is clipped to it
-    svg.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" width="30" height="20">'
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="30" height="20">'
                    '<svg x="10" width="10" height="10" viewBox="0 0 20 20"><rect x="5" y="-5" width="40" height="40"/>'
                    '</svg></svg>')
     (square,) = imported_layers(import_svg(svg).document)
