@@ -13,14 +13,18 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["linear_to_srgb8", "srgb_to_linear", "atomic_write", "check_outputs", "OutputError"]
+__all__ = ["linear_to_srgb", "linear_to_srgb8", "srgb_to_linear", "atomic_write", "check_outputs", "OutputError"]
+
+
+def linear_to_srgb(image) -> np.ndarray:
+    """Linear RGB, clipped to [0, 1], to sRGB-encoded values in [0, 1] (IEC 61966-2-1)."""
+    x = np.clip(np.asarray(image, dtype=np.float64), 0.0, 1.0)
+    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
 
 
 def linear_to_srgb8(image: np.ndarray) -> np.ndarray:
     """Linear RGB in [0, 1] to 8-bit sRGB (IEC 61966-2-1 transfer function)."""
-    x = np.clip(np.asarray(image, dtype=np.float64), 0.0, 1.0)
-    srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
-    return np.round(srgb * 255.0).astype(np.uint8)
+    return np.round(linear_to_srgb(image) * 255.0).astype(np.uint8)
 
 
 class OutputError(ValueError):

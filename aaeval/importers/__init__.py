@@ -1,6 +1,8 @@
 """Importers: vector content (SVG, text set in a font) to scene documents.
 
-- :mod:`aaeval.importers.svg` and :mod:`aaeval.importers.text` read the source;
+- :mod:`aaeval.importers.svg` and :mod:`aaeval.importers.text` read the source; SVG's
+  cascade, colours and lengths are :mod:`~aaeval.importers.svgstyle` (cssselect2,
+  tinycss2), its path data, shapes and transforms :mod:`~aaeval.importers.svgpath`;
 - :mod:`aaeval.importers.shapes`, :mod:`~aaeval.importers.flatten`,
   :mod:`~aaeval.importers.fill` and :mod:`~aaeval.importers.stroke` turn its paths into
   regions (polygons with holes) under a fill rule or a stroke;

@@ -399,8 +399,9 @@ def _side_windings(pts, ea, eb, w):
         dy = Q[q, 1] - P[q, 1]
         minus = plus + np.sign(dy).astype(np.int64) * w[q]
         plus_is_left = dy < 0
-        if swap:  # a mirror image: its left is our right
+        if swap:  # a mirror image: its left is our right, and its windings turn the other way
             plus_is_left = ~plus_is_left
+            plus, minus = -plus, -minus
         left[q] = np.where(plus_is_left, plus, minus)
         right[q] = np.where(plus_is_left, minus, plus)
     return left, right

@@ -16,6 +16,7 @@ import numpy as np
 from aaeval.catmull import render_flat
 from aaeval.filters.exact import filtered_image
 from aaeval.filters.registry import DEFAULT_FILTER, FILTERS
+from aaeval.renderers.blending import BLEND, render_blended
 from aaeval.renderers.registry import Option, register_method
 from aaeval.scenes import Scene, parse_scene
 from aaeval.scenes.shaded import has_shaded
@@ -76,12 +77,14 @@ THREADS = Option(int, 0, "bands of rows rendered in parallel on this many thread
 @register_method(
     "catmull",
     summary="Catmull 1978: exact box filter (or another filter=), hidden surfaces solved inside each pixel",
-    options={**SPECULAR_OPTIONS, **FILTER_OPTION, "threads": THREADS, "shading": SHADING},
+    options={**SPECULAR_OPTIONS, **FILTER_OPTION, "threads": THREADS, "shading": SHADING, "blend": BLEND},
     exact=True,
     warmup=_warmup,
 )
 def render_catmull(scene: Scene, filter: str = DEFAULT_FILTER, threads: int = 0, shading: str = "piece",
-                   **specular_options) -> np.ndarray:
+                   blend: str = "linear", **specular_options) -> np.ndarray:
+    if blend != "linear":
+        return render_blended(scene, blend, lambda s: render_catmull(s, filter, threads, shading, **specular_options))
     if filter != DEFAULT_FILTER:
         if has_shaded(scene):
             raise ValueError(f"catmull: filter={filter} supports flat-coloured scenes only, not [shaded] objects")

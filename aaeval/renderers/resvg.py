@@ -159,7 +159,10 @@ def render_resvg(scene: Scene) -> np.ndarray:
                           f"{exc.start})") from None
     placed = placed_svg(text, scene.width, scene.height, svg.scale, svg.offset, name=str(path))
     try:
-        png = resvg_py.svg_to_bytes(svg_string=placed, background=_to_hex(scene.background), skip_system_fonts=True)
+        # dpi: CSS's 96 px per inch; resvg-py passes its default 0 through, and every absolute
+        # unit (in, cm, mm, Q, pt, pc) would have no length
+        png = resvg_py.svg_to_bytes(svg_string=placed, background=_to_hex(scene.background), skip_system_fonts=True,
+                                    dpi=96.0)
     except ValueError as exc:  # resvg's own refusals, e.g. "nodes limit reached" on a <use> bomb
         raise SourceError(f"{path}: resvg refuses this SVG ({_one_line(exc)})") from None
     pixels = np.asarray(Image.open(io.BytesIO(bytes(png))).convert("RGB"), dtype=np.float64) / 255.0

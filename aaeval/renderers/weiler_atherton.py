@@ -7,6 +7,7 @@ image as ``catmull`` by a completely different road.
 
 from __future__ import annotations
 
+from aaeval.renderers.blending import BLEND, render_blended
 from aaeval.renderers.registry import Option, register_method, scene_load
 from aaeval.scenes import Scene
 from aaeval.weiler_atherton import box_filter, visible_arrays
@@ -21,6 +22,7 @@ __all__ = ["render_weiler_atherton"]
         "window": Option(int, 0, "screen subdivision: most polygons per window (0: none)", minimum=0),
         "convex": Option(bool, True, "clip convex pieces by convex outlines edge line by edge line "
                                      "(false: the paper's clipper for every pair)"),
+        "blend": BLEND,
     },
     exact=True,
     # the clipper holds and clips a piece per overlapping pair (1e4 identical triangles in
@@ -29,5 +31,8 @@ __all__ = ["render_weiler_atherton"]
     memory=lambda scene, o: 28 * scene_load(scene).pairs,
     seconds=lambda scene, o: 0.1e-6 * scene_load(scene).pairs,
 )
-def render_weiler_atherton(scene: Scene, window: int = 0, convex: bool = True) -> "np.ndarray":  # noqa: F821
+def render_weiler_atherton(scene: Scene, window: int = 0, convex: bool = True,
+                           blend: str = "linear") -> "np.ndarray":  # noqa: F821
+    if blend != "linear":
+        return render_blended(scene, blend, lambda s: render_weiler_atherton(s, window, convex))
     return box_filter(scene, visible_arrays(scene, window=window, convex=convex))

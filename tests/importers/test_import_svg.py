@@ -161,18 +161,18 @@ def test_fill_rules_give_holes_where_they_should():
 def test_every_ignored_element_is_listed_by_id(tmp_path):
     svg = tmp_path / "mixed.svg"
     svg.write_text("""<svg xmlns="http://www.w3.org/2000/svg" width="20" height="20">
-  <defs><linearGradient id="g"><stop offset="0" stop-color="red"/></linearGradient>
+  <defs><linearGradient id="g"><stop offset="0" stop-color="red"/><stop offset="1" stop-color="blue"/></linearGradient>
         <clipPath id="c"><rect width="5" height="5"/></clipPath></defs>
   <rect id="kept" x="1" y="1" width="5" height="5" fill="blue"/>
   <rect id="gradient" x="1" y="8" width="5" height="5" fill="url(#g)"/>
-  <rect id="clipped" x="8" y="1" width="5" height="5" fill="red" clip-path="url(#c)"/>
+  <rect id="clipped" x="8" y="1" width="5" height="5" fill="red" clip-path="url(#elsewhere)"/>
   <rect id="faint" x="8" y="8" width="5" height="5" fill="red" opacity="0.5"/>
   <text id="words" x="1" y="19">hi</text>
   <rect x="14" y="14" width="5" height="5" fill="red" filter="url(#f)"/>
 </svg>""")
     result = import_svg(svg)
     listed = "\n".join(result.ignored)
-    for expected in ["#gradient: fill url(#g)", "#clipped: clip path", "#faint: opacity 0.5",
+    for expected in ["#gradient: fill url(#g)", "#clipped: clip-path url(#elsewhere) is not a clipPath", "#faint: opacity 0.5",
                      "#words: text element", "rect[4]: filter"]:
         assert expected in listed, (expected, listed)
     assert parse_scene(result.document).extensions["svg"].ignored == tuple(result.ignored)
@@ -252,14 +252,17 @@ def test_layers_stand_where_svgelements_puts_the_shapes(name):
         np.testing.assert_allclose(g.bounds, box, atol=1 / 16 + 1e-5)
 
 
-def test_use_is_placed_and_nested_svg_refused(tmp_path):
+def test_use_is_placed_and_nested_svg_gets_its_viewport_and_clip(tmp_path):
     svg = tmp_path / "use.svg"
     body = ('<defs><path id="tri" d="M 0 0 L 6 0 L 3 5 Z"/></defs>'
             '<use href="#tri" x="2" y="3" fill="red"/><use href="#tri" transform="translate(15 8) scale(2)" fill="blue"/>')
     svg.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" width="30" height="20">{body}</svg>')
     layers = imported_layers(import_svg(svg).document)
     np.testing.assert_allclose([g.bounds for g in layers], [(2, 3, 8, 8), (15, 8, 27, 18)], atol=1e-6)
-    svg.write_text(f'<svg xmlns="http://www.w3.org/2000/svg" width="30" height="20">{body}'
-                   '<svg x="10" width="10" height="10" viewBox="0 0 20 20"><rect width="20" height="20"/></svg></svg>')
-    with pytest.raises(ValueError, match="nested <svg>"):
-        import_svg(svg)
+    # the viewBox maps 20 user units onto 10 px at x = 10; the 40-unit square is clipped to it
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="30" height="20">'
+                   '<svg x="10" width="10" height="10" viewBox="0 0 20 20"><rect x="5" y="-5" width="40" height="40"/>'
+                   '</svg></svg>')
+    (square,) = imported_layers(import_svg(svg).document)
+    np.testing.assert_allclose(square.bounds, (12.5, 0, 20, 10), atol=1e-12)
+    assert square.area == pytest.approx(7.5 * 10, abs=1e-9)
