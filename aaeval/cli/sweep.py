@@ -34,6 +34,9 @@ def run(args) -> int:
 
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
+    if args.scheduler is not None and not args.scheduler.strip():  # not "run locally": a blank variable, likely
+        raise ValueError("--scheduler: empty address; give one such as tcp://HOST:8786, or leave the option out "
+                         "to run on local workers")
     from aaeval.imageio import check_outputs
 
     experiment = load_experiment(args.config)

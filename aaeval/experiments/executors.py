@@ -37,6 +37,7 @@ from typing import Any, Callable, Iterator, Sequence
 from aaeval import registries
 
 __all__ = ["SerialExecutor", "ProcessExecutor", "DaskExecutor", "SchedulerLost", "WorkerDied", "TaskTimedOut",
+           "WorkersCannotStart", "NO_MAIN_GUARD",
            "connect", "make_executor", "close_quietly", "quiet_distributed", "scheduler_workers", "task_limit", "MAX_SECONDS", "retried_error"]
 
 Outcome = tuple[int, Any, BaseException | None]
@@ -51,6 +52,20 @@ class WorkerDied(RuntimeError):
 
 class TaskTimedOut(RuntimeError):
     """A task ran past its time limit; its worker was stopped."""
+
+
+class WorkersCannotStart(RuntimeError):
+    """A local worker process ended before it was ready for its first task: no task's doing
+    (each replacement would end the same way), so every task not yet answered comes back
+    with it, unrecorded, and the sweep says why."""
+
+
+#: What a local worker sends once it is ready (its registries loaded), before any answer.
+_READY = "aaeval-worker-ready"
+
+NO_MAIN_GUARD = ("a script that runs a sweep on local worker processes must start it under "
+                 "'if __name__ == \"__main__\":' (each worker imports the script: without the guard it starts the "
+                 "sweep again); or run it with workers=1")
 
 
 # the recorded errors of cells that a rerun runs again without --retry-failed: the cell did
@@ -156,6 +171,7 @@ def _worker_main(conn, parent: int) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     _exit_with_parent(parent)
     registries.load()  # before the first message: its specs are parsed as it is received
+    conn.send(_READY)
     while True:
         try:
             message = conn.recv()
@@ -182,6 +198,7 @@ class _Worker:
         self.process.start()
         child.close()
         self.task: tuple[int, float] | None = None  # (index, when it was sent)
+        self.ready = False  # it said so: it got past its start (importing, loading the registries)
 
     def stop(self) -> None:
         if self.process.is_alive():
@@ -210,6 +227,7 @@ class ProcessExecutor:
         self._context = multiprocessing.get_context("spawn")  # spawn: Dr.Jit's threads do not survive fork
         self._parent = os.getpid()
         self._pool: list[_Worker] = []
+        self.broken: WorkersCannotStart | None = None
 
     def _spawn(self) -> _Worker:
         worker = _Worker(self._context, self._parent)
@@ -222,6 +240,10 @@ class ProcessExecutor:
 
     def run(self, fn: Callable, payloads: Sequence) -> Iterator[Outcome]:
         todo = deque(enumerate(payloads))
+        if self.broken is not None:  # its workers cannot start: nothing more can run
+            for i, _ in todo:
+                yield i, None, self.broken
+            return
         try:
             while todo or any(w.task for w in self._pool):
                 busy_now = sum(w.task is not None for w in self._pool)
@@ -253,6 +275,13 @@ class ProcessExecutor:
                                 answer = worker.conn.recv()
                         except (EOFError, OSError):
                             answer = None
+                        if answer == _READY:
+                            worker.ready = True
+                            continue
+                        if answer is None and not worker.ready:  # it never started: no task's doing
+                            worker.process.join(5)
+                            yield from self._cannot_start(worker.process.exitcode, todo)
+                            return
                         if answer is None:  # the process ended without answering
                             worker.process.join(5)
                             exc = _died(worker.process.exitcode)
@@ -271,6 +300,15 @@ class ProcessExecutor:
         except GeneratorExit:  # the caller stopped reading: tasks in flight are abandoned
             self.terminate()
             raise
+
+    def _cannot_start(self, exitcode: int | None, todo: deque) -> Iterator[Outcome]:
+        """Every task not answered, back as :class:`WorkersCannotStart`; the pool ended."""
+        self.broken = WorkersCannotStart(f"local worker processes end before their first task ({_died(exitcode)}): "
+                                         f"{NO_MAIN_GUARD}")
+        in_flight = [w.task[0] for w in self._pool if w.task is not None]
+        self.terminate()
+        for i in [*in_flight, *(i for i, _ in todo)]:
+            yield i, None, self.broken
 
     def terminate(self) -> None:
         """End the workers now; their cells in flight are lost (and rerun next time)."""

@@ -201,3 +201,13 @@ def test_a_peer_that_never_answers_is_refused_after_the_stated_wait(tmp_path, ca
     assert code == 2 and "did not answer within 2 s" in err and err.count("\n") == 1, err
     assert waited < 30
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("address", ["", "   "])
+def test_an_empty_scheduler_address_is_refused_not_run_locally(tmp_path, capsys, address):
+    """``--scheduler "$UNSET"`` ran the sweep locally without a word; it is refused before work."""
+    config = write_config(tmp_path, MANY)
+    code = main(["sweep", str(config), "--out", str(tmp_path / "out"), "--scheduler", address, "-q"])
+    err = capsys.readouterr().err
+    assert code == 2 and "--scheduler: empty address" in err and err.count("\n") == 1, err
+    assert not (tmp_path / "out").exists()
