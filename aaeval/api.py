@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 import numpy as np
 
 from aaeval import registries
+from aaeval.options import MAX_INT
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -48,7 +49,12 @@ class SweepIncomplete(RuntimeError):
 
 
 def _refused(name: str, expected: str, value: Any) -> ArgumentError:
-    shown = repr(value) if isinstance(value, (str, bytes, numbers.Number, type(None))) else type(value).__name__
+    if isinstance(value, numbers.Integral) and abs(value) > MAX_INT:  # its repr may be past int's digit limit
+        shown = f"an integer of {int(value).bit_length()} bits"
+    elif isinstance(value, (str, bytes, numbers.Number, type(None))):
+        shown = repr(value)
+    else:
+        shown = type(value).__name__
     if len(shown) > 80:
         shown = shown[:77] + "..."
     return ArgumentError(f"{name}: expected {expected}, got {shown}")
@@ -63,8 +69,9 @@ def _path(name: str, value: Any) -> Path:
 
 
 def _whole(name: str, value: Any, low: int, rule: str) -> int:
-    """``value`` as an int >= ``low`` (a Python or numpy integer; not a bool, a float, a str)."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low:
+    """``value`` as an int in [``low``, 2**63 - 1] (a Python or numpy integer; not a bool, a
+    float, a str)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not low <= value <= MAX_INT:
         raise _refused(name, rule, value)
     return int(value)
 
