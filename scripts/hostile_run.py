@@ -832,7 +832,8 @@ def api(run: Run) -> None:
         _api_call(run, name, fn, refused=content if "1e9" in name or "outside" in name else (wrong,))
 
     def shape(result):
-        return None if getattr(result, "shape", None) == (6, 8, 3) else ("exit", f"shape {getattr(result, 'shape', None)}")
+        got = getattr(result, "shape", None)
+        return None if got == (6, 8, 3) else ("exit", f"shape {got}")
 
     _api_call(run, "render a document", lambda: aaeval.render(square, "catmull", frame=np.int64(0)), check=shape)
 
@@ -893,7 +894,8 @@ def budgets(run: Run) -> None:
             for key in env:
                 os.environ.pop(key, None)
     configs = {
-        "config power=2": ('methods = ["catmull", "catmull-jagged"]', 'methods = ["catmull:specular=amanatides,power=2"]'),
+        "config power=2": ('methods = ["catmull", "catmull-jagged"]',
+                           'methods = ["catmull:specular=amanatides,power=2"]'),
         "config threads=5000": ('methods = ["catmull", "catmull-jagged"]', 'methods = ["catmull:threads=5000"]'),
         "config size 400 digits": ("frames = 3, size = 12", f"frames = 3, size = {big}"),
         "config frames 400 digits": ("frames = 3, size = 12", f"frames = {big}, size = 12"),
@@ -948,7 +950,7 @@ def deployed(run: Run) -> None:
 
     import pandas as pd
 
-    from tests.helpers.sweep_util import SMALL
+    from tests.helpers.sweep_util import MANY, SMALL
 
     spec = importlib.util.spec_from_file_location("deployed_test", ROOT / "tests" / "experiments" /
                                                   "test_sweep_dask_deployed.py")
@@ -957,7 +959,7 @@ def deployed(run: Run) -> None:
     folder = run.work / "deployed"
     folder.mkdir()
     (folder / "small.toml").write_text(SMALL)
-    (folder / "many.toml").write_text(module.MANY)
+    (folder / "many.toml").write_text(MANY)
     env = {"AAEVAL_DASK_TIMEOUT": "5", "AAEVAL_CACHE_DIR": str(folder / "cache")}
     cluster = module.Deployed(folder)
     try:
@@ -995,12 +997,9 @@ def deployed(run: Run) -> None:
 
 
 def _signal_after_cells(out: Path, pid: int, sig: int) -> None:
-    deadline = time.monotonic() + 240
-    while time.monotonic() < deadline:
-        cells = out / "cells"
-        if cells.is_dir() and len(list(cells.glob("*.json"))) >= 3:
-            break
-        time.sleep(0.05)
+    from tests.helpers.sweep_util import wait_for_cells
+
+    wait_for_cells(out, 3, 240)
     with contextlib.suppress(ProcessLookupError):
         os.kill(pid, sig)
 

@@ -285,7 +285,8 @@ def _speed(raw: Any, where: str, base: Path, groups: set[str], limit: float | No
     repeats = _repeats(raw.get("repeats", 5), f"{where}.repeats")
     threads = raw.get("threads", 1)
     if isinstance(threads, bool) or not isinstance(threads, int) or not 1 <= threads <= MAX_THREADS:
-        raise ConfigError(f"{where}.threads: expected a whole number of threads from 1 to {MAX_THREADS}, got {threads!r}")
+        raise ConfigError(f"{where}.threads: expected a whole number of threads from 1 to {MAX_THREADS}, "
+                          f"got {threads!r}")
     specs = []
     for spec, given in _expand_specs(methods, options, where, with_given=True):
         if "threads" in spec.method.options and "threads" not in given:

@@ -38,7 +38,8 @@ from aaeval import registries
 
 __all__ = ["SerialExecutor", "ProcessExecutor", "DaskExecutor", "SchedulerLost", "WorkerDied", "TaskTimedOut",
            "WorkersCannotStart", "NO_MAIN_GUARD",
-           "connect", "make_executor", "close_quietly", "quiet_distributed", "scheduler_workers", "task_limit", "MAX_SECONDS", "retried_error"]
+           "connect", "make_executor", "close_quietly", "quiet_distributed", "scheduler_workers", "task_limit",
+           "MAX_SECONDS", "retried_error"]
 
 Outcome = tuple[int, Any, BaseException | None]
 

@@ -33,7 +33,7 @@ def worker_spec(spec: MethodSpec | str) -> MethodSpec:
     """``spec`` as the worker's own :class:`MethodSpec`: its text parsed against this
     process's registries, loaded first (a task may reach a worker that has run none)."""
     registries.load()
-    return MethodSpec.parse(str(spec))
+    return MethodSpec.parse(spec)
 
 
 def run_reference(document: dict, source: str, frame: int, spec: MethodSpec, estimate_noise: bool,

@@ -22,28 +22,13 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from tests.helpers.sweep_util import write_config
+from tests.helpers.sweep_util import MANY, wait_for_cells, write_config
 
 pytest.importorskip("distributed", reason="dask[distributed] is a dependency; install it to run this")
 
 pytestmark = pytest.mark.slow
 
 ROOT = Path(__file__).resolve().parents[2]
-
-MANY = """
-[experiment]
-name = "many"
-description = "enough cells to stop the scheduler in the middle"
-reference = "supersample:k=2"
-metrics = ["rmse"]
-temporal = []
-
-[[groups]]
-name = "edges"
-scenes = [{generator = "edges", difficulty = [0.1], frames = 60, size = 24}]
-methods = ["point", "supersample:k=3"]
-"""
-
 
 def _env(tmp_path: Path) -> dict:
     return {**os.environ, "AAEVAL_CACHE_DIR": str(tmp_path / "cache"), "PYTHONPATH": str(ROOT),
@@ -99,7 +84,7 @@ def deployed(tmp_path):
         cluster.stop()
 
 
-def sweep(tmp_path: Path, config: Path, out: Path, *extra: str, timeout: float = 300) -> subprocess.Popen:
+def sweep(tmp_path: Path, config: Path, out: Path, *extra: str) -> subprocess.Popen:
     return subprocess.Popen([sys.executable, "-m", "aaeval", "sweep", str(config), "--out", str(out), "-q", *extra],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=_env(tmp_path),
                             cwd=tmp_path)
@@ -123,22 +108,17 @@ def test_a_sweep_on_a_deployed_cluster_has_the_rows_of_a_local_run(tmp_path, dep
         pd.testing.assert_series_equal(a[column], b[column])
 
 
-def _when_cells(out: Path, at_least: int, process: subprocess.Popen, limit: float = 240) -> int:
-    deadline = time.monotonic() + limit
-    while time.monotonic() < deadline and process.poll() is None:
-        cells = out / "cells"
-        n = len(list(cells.glob("*.json"))) if cells.is_dir() else 0
-        if n >= at_least:
-            return n
-        time.sleep(0.05)
-    raise AssertionError(f"fewer than {at_least} cells in {limit} s: {process.communicate()}")
+def sweep_until_cells(tmp_path: Path, deployed: Deployed, at_least: int = 3) -> tuple[subprocess.Popen, Path]:
+    """A sweep of :data:`MANY` through the cluster, once ``at_least`` of its cells are written."""
+    out = tmp_path / "out"
+    running = sweep(tmp_path, write_config(tmp_path, MANY), out, "--scheduler", deployed.address)
+    if wait_for_cells(out, at_least, 240, running=lambda: running.poll() is None) < at_least:
+        raise AssertionError(f"fewer than {at_least} cells in 240 s: {running.communicate()}")
+    return running, out
 
 
 def test_a_frozen_scheduler_ends_the_sweep_within_its_timeout(tmp_path, deployed):
-    config = write_config(tmp_path, MANY)
-    out = tmp_path / "out"
-    running = sweep(tmp_path, config, out, "--scheduler", deployed.address)
-    _when_cells(out, 3, running)
+    running, out = sweep_until_cells(tmp_path, deployed)
     os.kill(deployed.scheduler.pid, signal.SIGSTOP)
     stopped = time.monotonic()
     stdout, err = running.communicate(timeout=120)
@@ -153,10 +133,7 @@ def test_a_frozen_scheduler_ends_the_sweep_within_its_timeout(tmp_path, deployed
 
 
 def test_a_killed_scheduler_is_said_in_one_line(tmp_path, deployed):
-    config = write_config(tmp_path, MANY)
-    out = tmp_path / "out"
-    running = sweep(tmp_path, config, out, "--scheduler", deployed.address)
-    _when_cells(out, 3, running)
+    running, out = sweep_until_cells(tmp_path, deployed)
     os.killpg(deployed.scheduler.pid, signal.SIGKILL)
     stdout, err = running.communicate(timeout=180)
     assert running.returncode == 1, stdout + err

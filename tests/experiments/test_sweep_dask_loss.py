@@ -11,25 +11,10 @@ import time
 import pytest
 
 from aaeval.cli import main
-from tests.helpers.sweep_util import write_config
+from tests.helpers.sweep_util import MANY, wait_for_cells, write_config
 
 distributed = pytest.importorskip("distributed", reason="dask[distributed] is a dependency; install it to run this")
 import dask  # noqa: E402  (installed with distributed)
-
-MANY = """
-[experiment]
-name = "many"
-description = "enough cells to kill the scheduler in the middle"
-reference = "supersample:k=2"
-metrics = ["rmse"]
-temporal = []
-
-[[groups]]
-name = "edges"
-scenes = [{generator = "edges", difficulty = [0.1], frames = 60, size = 24}]
-methods = ["point", "supersample:k=3"]
-"""
-
 
 def local_cluster(n_workers):
     """An in-process cluster. Connect attempts give up after 3 s (not Dask's 30): closing a
@@ -76,12 +61,7 @@ def test_a_scheduler_killed_mid_sweep_is_named_and_the_rerun_finishes(tmp_path, 
     out = tmp_path / "out"
     with local_cluster(1) as cluster:
         def kill_after_first_cells():
-            deadline = time.monotonic() + 300
-            while time.monotonic() < deadline:
-                cells = out / "cells"
-                if cells.is_dir() and len(list(cells.glob("*.json"))) >= 3:
-                    break
-                time.sleep(0.02)
+            wait_for_cells(out, 3)
             cluster.loop.add_callback(cluster.scheduler.close)
 
         killer = threading.Thread(target=kill_after_first_cells, daemon=True)
