@@ -7,7 +7,7 @@ The library functions (:mod:`aaeval.api`) are loaded on first use (PEP 562), so
 
 __version__ = "0.1.0"
 
-_API = ("load_scene", "render", "compare", "sweep", "open_sweep", "Sweep", "show")
+_API = ("load_scene", "render", "compare", "sweep", "open_sweep", "Sweep", "ArgumentError", "SweepIncomplete", "show")
 
 __all__ = ["__version__", *_API]
 

@@ -10,6 +10,9 @@ loads the registries first (:func:`aaeval.registries.load`, once per process). S
 
 from __future__ import annotations
 
+import numbers
+import os
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping, Sequence
@@ -17,13 +20,75 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 import numpy as np
 
 from aaeval import registries
+from aaeval.errors import ArgumentError
+from aaeval.options import MAX_INT
 
 if TYPE_CHECKING:
     import pandas as pd
 
     from aaeval.scenes import Scene
 
-__all__ = ["load_scene", "render", "compare", "sweep", "open_sweep", "Sweep", "show", "show_scenes_in"]
+__all__ = ["load_scene", "render", "compare", "sweep", "open_sweep", "Sweep", "ArgumentError", "SweepIncomplete", "show",
+           "show_scenes_in"]
+
+
+class SweepIncomplete(RuntimeError):
+    """:func:`sweep` finished with cells that did not run (a worker or the cluster was lost,
+    or a worker could not start): ``summary`` says how many; the finished cells are kept and
+    calling :func:`sweep` again runs the rest."""
+
+    def __init__(self, message: str, summary: Any):
+        super().__init__(message)
+        self.summary = summary
+
+
+def _refused(name: str, expected: str, value: Any) -> ArgumentError:
+    if isinstance(value, numbers.Integral) and abs(value) > MAX_INT:  # its repr may be past int's digit limit
+        shown = f"an integer of {int(value).bit_length()} bits"
+    elif isinstance(value, (str, bytes, numbers.Number, type(None))):
+        shown = repr(value)
+    else:
+        shown = type(value).__name__
+    if len(shown) > 80:
+        shown = shown[:77] + "..."
+    return ArgumentError(f"{name}: expected {expected}, got {shown}")
+
+
+def _path(name: str, value: Any) -> Path:
+    """``value`` as a path: a str or an ``os.PathLike`` of str, not empty, no NUL byte."""
+    text = os.fspath(value) if isinstance(value, os.PathLike) else value
+    if not isinstance(text, str) or not text or "\0" in text:
+        raise _refused(name, "a path (str or pathlib.Path, not empty)", value)
+    return Path(text)
+
+
+def _whole(name: str, value: Any, low: int, rule: str) -> int:
+    """``value`` as an int in [``low``, 2**63 - 1] (a Python or numpy integer; not a bool, a
+    float, a str)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not low <= value <= MAX_INT:
+        raise _refused(name, rule, value)
+    return int(value)
+
+
+def _text(name: str, value: Any, what: str) -> str:
+    if not isinstance(value, str):
+        raise _refused(name, what, value)
+    return value
+
+
+def _texts(name: str, value: Any, what: str) -> list[str]:
+    """A str (one) or a sequence of str (a list, a tuple), each checked."""
+    if isinstance(value, str):
+        return [value]
+    if not isinstance(value, Sequence) or isinstance(value, (bytes, bytearray)):
+        raise _refused(name, f"{what} or a list of them", value)
+    return [_text(f"{name}[{i}]", item, what) for i, item in enumerate(value)]
+
+
+def _flag(name: str, value: Any) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise _refused(name, "True or False", value)
+    return bool(value)
 
 
 def load_scene(scene: str | Path | Mapping[str, Any] | "Scene") -> "Scene":
@@ -47,7 +112,9 @@ def load_scene(scene: str | Path | Mapping[str, Any] | "Scene") -> "Scene":
         return scene
     if isinstance(scene, Mapping):
         return parse_scene(scene, source="<document>")
-    return load_file(scene)
+    if not isinstance(scene, (str, os.PathLike)):
+        raise _refused("scene", "a Scene, a scene file's path or a scene document (dict)", scene)
+    return load_file(_path("scene", scene))
 
 
 def render(scene, spec: str = "catmull", frame: int = 0) -> np.ndarray:
@@ -59,16 +126,28 @@ def render(scene, spec: str = "catmull", frame: int = 0) -> np.ndarray:
         Anything :func:`load_scene` takes.
     spec : str or MethodSpec
         A method spec as on the command line: ``"catmull"``, ``"supersample:k=4"``.
+    frame : int
+        The animation's frame, from 0.
 
     Returns
     -------
     image : ndarray
         (height, width, 3) linear RGB, float64.
+
+    Raises
+    ------
+    ArgumentError
+        An argument of the wrong type, or a frame outside the animation.
     """
     from aaeval.renderers import render as render_spec
 
+    spec = _text("spec", spec, "a method spec (str), such as 'catmull'")
+    frame = _whole("frame", frame, 0, "a frame number (an int >= 0)")
     registries.load()
-    return render_spec(load_scene(scene), spec, frame=frame)
+    scene = load_scene(scene)
+    if frame >= scene.frames:
+        raise ArgumentError(f"frame: {frame} is outside the scene's frames 0..{scene.frames - 1}")
+    return render_spec(scene, spec, frame=frame)
 
 
 def compare(scene, specs: Sequence[str] | str, reference: str = "catmull", frames: int | str = 1,
@@ -104,8 +183,14 @@ def compare(scene, specs: Sequence[str] | str, reference: str = "catmull", frame
 
     from aaeval.experiments.compare import plan_comparison, run_comparison
 
+    specs = _texts("specs", specs, "a method spec (str)")  # texts are parsed once, by the plan
+    reference = _text("reference", reference, "a method spec (str), such as 'catmull'")
+    if frames != "all":
+        frames = _whole("frames", frames, 1, "a number of frames (an int >= 1) or 'all'")
+    metrics = None if metrics is None else _texts("metrics", metrics, "a metric name (str)")
+    temporal = None if temporal is None else _texts("temporal", temporal, "a temporal metric name (str)")
+    repeats = _whole("repeats", repeats, 1, "a number of timed renders (an int >= 1)")
     registries.load()
-    specs = [specs] if isinstance(specs, str) else list(specs)  # texts are parsed once, by the plan
     plan = plan_comparison(load_scene(scene), specs, reference, frames, metrics=metrics, temporal=temporal,
                            repeats=repeats)
     document = run_comparison(plan)
@@ -126,24 +211,84 @@ def sweep(config, out: str | Path, **options: Any) -> Path:
     out : path
         The results folder; finished cells in it are kept.
     **options
-        Passed to :func:`aaeval.experiments.run_sweep` (``workers``, ``quiet``,
-        ``retry_failed``, ``cache_dir``, ``force``).
+        Passed to :func:`aaeval.experiments.run_sweep`: ``workers`` (local worker
+        processes, a positive int; default every core), ``scheduler`` (a Dask scheduler's
+        address or Client), ``quiet``, ``retry_failed``, ``force`` (bools), ``cache_dir``
+        (a path).
 
     Returns
     -------
     folder : Path
         ``out``, holding ``results.parquet`` (read it with :func:`open_sweep`).
+
+    Raises
+    ------
+    ArgumentError
+        An argument of the wrong type or value, before anything runs.
+    SweepIncomplete
+        Some cells did not run (a worker or the cluster was lost); the others are kept, and
+        calling :func:`sweep` again runs the rest. With local workers, a script must call
+        :func:`sweep` under ``if __name__ == "__main__":`` (each worker starts by importing
+        the script).
     """
     from aaeval.experiments import Experiment, load_experiment, parse_experiment, run_sweep
+    from aaeval.experiments.executors import NO_MAIN_GUARD
 
+    if _importing_a_worker():  # the script's top level, run again by a worker that imports it
+        raise SystemExit(f"aaeval.sweep() called while a worker process imports the script: {NO_MAIN_GUARD}")
+    options = _sweep_options(options)
+    out = _path("out", out)
     registries.load()
     if isinstance(config, Mapping):
         config = parse_experiment(config)
+    elif isinstance(config, (str, os.PathLike)):
+        config = load_experiment(_path("config", config))
     elif not isinstance(config, Experiment):
-        config = load_experiment(config)
-    options.setdefault("quiet", True)
-    run_sweep(config, out, **options)
-    return Path(out)
+        raise _refused("config", "an experiment config's path, its content (dict) or an Experiment", config)
+    summary = run_sweep(config, out, **options)
+    if summary.lost:
+        raise SweepIncomplete(f"{out}: {len(summary.lost)} of {summary.total} cell(s) did not run ({summary.lost[0]}); "
+                              "finished cells are kept, call sweep() again to run the rest", summary)
+    return out
+
+
+def _importing_a_worker() -> bool:
+    """Whether this is a process that multiprocessing is still starting ("spawn": it imports
+    the parent's main script before it runs anything it was started for)."""
+    import multiprocessing
+
+    return bool(getattr(multiprocessing.current_process(), "_inheriting", False))
+
+
+# sweep()'s keyword options: the check of each (run_sweep's own keywords)
+_SWEEP_OPTIONS = {
+    "workers": lambda v: None if v is None else _whole("workers", v, 1, "a number of worker processes (an int >= 1)"),
+    "quiet": lambda v: _flag("quiet", v),
+    "retry_failed": lambda v: _flag("retry_failed", v),
+    "force": lambda v: _flag("force", v),
+    "cache_dir": lambda v: None if v is None else _path("cache_dir", v),
+    "scheduler": lambda v: _scheduler(v),
+}
+
+
+def _sweep_options(options: Mapping[str, Any]) -> dict[str, Any]:
+    unknown = sorted(set(options) - set(_SWEEP_OPTIONS))
+    if unknown:
+        raise ArgumentError(f"sweep(): unknown option(s) {unknown}; options: {', '.join(_SWEEP_OPTIONS)}")
+    checked = {name: _SWEEP_OPTIONS[name](value) for name, value in options.items()}
+    checked.setdefault("quiet", True)
+    return checked
+
+
+def _scheduler(value: Any) -> Any:
+    """A Dask scheduler: None (run locally), a non-empty address or a ``distributed.Client``."""
+    if value is None or (isinstance(value, str) and value.strip()):
+        return value
+    client = sys.modules.get("distributed")
+    if client is not None and isinstance(value, client.Client):
+        return value
+    raise _refused("scheduler", "a Dask scheduler address such as 'tcp://HOST:8786', a distributed.Client or None",
+                   value)
 
 
 @dataclass(frozen=True)
@@ -172,8 +317,8 @@ def open_sweep(folder: str | Path) -> Sweep:
     """
     from aaeval.experiments.table import read_table
 
+    folder = _path("folder", folder)
     registries.load()
-    folder = Path(folder)
     if not (folder / "results.parquet").is_file():
         raise FileNotFoundError(f"{folder}: no results.parquet; run a sweep into it first")
     temporal = folder / "temporal.parquet"

@@ -24,9 +24,12 @@ import numbers
 from dataclasses import dataclass
 from typing import Any, Callable, Iterable, TypeVar
 
-__all__ = ["Option", "OptionError", "Registry"]
+__all__ = ["Option", "OptionError", "Registry", "MAX_INT"]
 
 T = TypeVar("T")
+
+#: The largest integer an ``int`` option takes: int64's, which native code and numpy hold.
+MAX_INT = 2**63 - 1
 
 
 class OptionError(ValueError):
@@ -74,6 +77,9 @@ class Option:
         value = _coerce(raw, self.type)
         if value is _REFUSED:
             raise error(f"{where}: expected {self.type.__name__} ({self.rule()}), got {raw!r}")
+        if self.type is int and abs(value) > MAX_INT:
+            raise error(f"{where}: an integer of {value.bit_length()} bits, past the largest taken "
+                        f"({MAX_INT}, what native code and numpy hold)")
         if self.choices is not None and value not in self.choices:
             raise error(f"{where}: {value!r} is not one of {list(self.choices)}")
         if self.type in (int, float) and not self._in_range(value):
@@ -84,7 +90,8 @@ class Option:
         return value
 
     def _in_range(self, value: float) -> bool:
-        if not math.isfinite(value):
+        # an int compares with the bounds exactly, however long (a float of it may overflow)
+        if isinstance(value, float) and not math.isfinite(value):
             return False
         if self.minimum is not None and not (value > self.minimum if self.low_open else value >= self.minimum):
             return False
@@ -102,11 +109,14 @@ def _coerce(raw: Any, kind: type) -> Any:
                     "0": False, "false": False, "no": False, "off": False}.get(raw.lower(), _REFUSED)
         try:
             return kind(raw)
-        except ValueError:
+        except (ValueError, OverflowError):  # past int's digit limit, or float's range
             return _REFUSED
     if not isinstance(raw, bool):
         if kind is float and isinstance(raw, numbers.Real):
-            return float(raw)
+            try:
+                return float(raw)
+            except OverflowError:  # an integer past float's range (a 400-digit TOML number)
+                return _REFUSED
         if kind is int and isinstance(raw, numbers.Integral):
             return int(raw)
         if kind is int and isinstance(raw, numbers.Real) and math.isfinite(raw) and float(raw).is_integer():

@@ -14,6 +14,8 @@ import sys
 
 import numpy as np
 
+from aaeval.errors import ArgumentError
+
 __all__ = ["PREVIEW_METHOD", "PREVIEW_SIZE", "Picture", "show", "png_bytes", "scene_png", "show_scenes_in"]
 
 #: The method a Scene's preview is rendered with: exact and fast on small scenes.
@@ -49,7 +51,7 @@ def png_bytes(image: np.ndarray, size: int | None = None) -> bytes:
 
 def _checked_size(size) -> int:
     if isinstance(size, bool) or not isinstance(size, int) or not 1 <= size <= _MAX_SIZE:
-        raise ValueError(f"size must be a whole number of pixels from 1 to {_MAX_SIZE}, got {size!r}")
+        raise ArgumentError(f"size must be a whole number of pixels from 1 to {_MAX_SIZE}, got {size!r}")
     return size
 
 
@@ -71,7 +73,7 @@ class Picture:
         if not isinstance(subject, Scene):
             subject = np.asarray(subject)
             if subject.ndim != 3 or subject.shape[2] != 3 or subject.dtype.kind not in "fiu" or not subject.size:
-                raise ValueError(f"show() takes a Scene or an (H, W, 3) image, got an array of shape {subject.shape}")
+                raise ArgumentError(f"show() takes a Scene or an (H, W, 3) image, got an array of shape {subject.shape}")
         self.subject, self.size = subject, None if size is None else _checked_size(size)
 
     def _repr_png_(self) -> bytes:

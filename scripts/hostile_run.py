@@ -1,6 +1,9 @@
 #!/usr/bin/env python3
-"""Hostile run of issue 36's surfaces: plugins, the report's files, fonts, configs, tampered
-sweep folders and Dask, as an attacker or an unlucky user would try them.
+"""Hostile run of aaeval's surfaces: plugins, the report's files, fonts, configs, tampered
+sweep folders, Dask (in-process and as deployed: ``dask scheduler`` and ``dask worker`` as
+separate processes, frozen and killed mid-sweep), the Python API's arguments, the budgets a
+user chooses and far frames of phased animations, as an attacker or an unlucky user would
+try them.
 
     python3 scripts/hostile_run.py [--only CATEGORY ...] [--json FILE]
 
@@ -14,9 +17,10 @@ limit, and is counted by what went wrong:
   planted links, are hashed before and after every case);
 - ``rows``: a sweep folder that after the case lost or doubled a row (``results.parquet``
   against the cells the config plans);
-- ``exit``: an exit code the case does not allow (a refusal is 2, a finished command 0).
+- ``exit``: an exit code the case does not allow (a refusal is 2, a finished command 0);
+- ``memory``: a case run with a peak check held more than :data:`PEAK_LIMIT` resident.
 
-All five must be 0. The counts and any failing case are printed; ``--json`` writes them.
+All six must be 0. The counts and any failing case are printed; ``--json`` writes them.
 """
 
 from __future__ import annotations
@@ -44,11 +48,25 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
+# the test modules whose fixtures the cases reuse, in the folders of the package they test
+for _folder in ("plugins", "importers", "report", "experiments"):
+    sys.path.insert(0, str(ROOT / "tests" / _folder))
 
 from aaeval.cli import main  # noqa: E402
 
-CATEGORIES = ("plugins", "fonts", "configs", "store", "report", "dask")
-PROBLEMS = ("traceback", "hang", "outside", "rows", "exit")
+CATEGORIES = ("plugins", "fonts", "configs", "store", "report", "dask", "api", "budgets", "phases", "deployed")
+PROBLEMS = ("traceback", "hang", "outside", "rows", "exit", "memory")
+
+# A case run with ``peak=`` is a memory blow-up past this many bytes of resident memory.
+PEAK_LIMIT = 1 << 30
+# Run ``python -m aaeval`` and write the process's peak resident bytes to $HOSTILE_PEAK_FILE at exit.
+_PEAK_WRAPPER = """
+import atexit, os, resource, runpy, sys
+atexit.register(lambda: open(os.environ["HOSTILE_PEAK_FILE"], "w").write(
+    str(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024)))
+sys.argv = ["aaeval", *sys.argv[1:]]
+runpy.run_module("aaeval", run_name="__main__")
+"""
 
 
 class Run:
@@ -131,18 +149,28 @@ class Run:
         return code, out.getvalue(), err.getvalue()
 
     def sub(self, category: str, name: str, args: list[str], *, allowed=(2,), timeout: float = 120,
-            env: dict | None = None, cwd: Path | None = None, check=None) -> subprocess.CompletedProcess | None:
-        """``python -m aaeval ARGS`` in a subprocess (the case may kill its process)."""
+            env: dict | None = None, cwd: Path | None = None, check=None, peak: bool = False,
+            command: list[str] | None = None) -> subprocess.CompletedProcess | None:
+        """``python -m aaeval ARGS`` (or ``command``) in a subprocess (the case may kill its
+        process); with ``peak``, its peak resident memory past :data:`PEAK_LIMIT` is a
+        ``memory`` problem."""
         before = self.snapshot()
         full = {**os.environ, **(env or {})}
         full["PYTHONPATH"] = os.pathsep.join(p for p in [full.get("EXTRA_PYTHONPATH", ""), str(ROOT),
                                                          full.get("PYTHONPATH", "")] if p)
+        peak_file = self.work / "peak.txt"
+        peak_file.unlink(missing_ok=True)
+        full["HOSTILE_PEAK_FILE"] = str(peak_file)
+        argv = command or ([sys.executable, "-c", _PEAK_WRAPPER, *args] if peak else
+                           [sys.executable, "-m", "aaeval", *args])
         problems, detail, done = [], "", None
         try:
-            done = subprocess.run([sys.executable, "-m", "aaeval", *args], capture_output=True, text=True,
-                                  timeout=timeout, env=full, cwd=cwd)
+            done = subprocess.run(argv, capture_output=True, text=True, timeout=timeout, env=full, cwd=cwd)
         except subprocess.TimeoutExpired:
             problems.append("hang")
+        if peak and peak_file.exists() and int(peak_file.read_text() or 0) > PEAK_LIMIT:
+            problems.append("memory")
+            detail = f"peak resident memory {int(peak_file.read_text()) / 2**30:.2f} GiB"
         if done is not None:
             if "Traceback" in done.stdout + done.stderr:
                 problems.append("traceback")
@@ -640,11 +668,17 @@ def report(run: Run, base: Path) -> None:
     out = dest / "out"
     from test_hostile_report import MARKUP, plant_markup
 
+    from aaeval.experiments import SweepStore
+    from aaeval.experiments.table import write_results
+
     plant_markup(out)
+    write_results(SweepStore(out))  # the tables the report reads are the sweep's: written again from the cells
     run.cli("report", "markup in every field", ["report", str(out), "--quiet"], allowed=(0,), timeout=180)
     page = (out / "index.html").read_text() if (out / "index.html").is_file() else ""
     stray = "alert(" in page.replace("alert(&#x27;x&#x27;)", "")
-    for f in ("reference_kind", "error", "host", "experiment", "group", "scene", "spec", "description"):
+    # the fields the report's page shows (as tests/report/test_hostile_report.py checks them);
+    # markup elsewhere may not show, but must not show unescaped (stray)
+    for f in ("reference_kind", "error", "host", "experiment", "group", "description"):
         escaped = f"&lt;script&gt;alert(&#x27;x&#x27;)&lt;/script&gt;{f}" in page
         run.record("report", f"markup in {f}", [] if escaped and not stray else ["outside"],
                    "" if escaped else "not found escaped")
@@ -702,6 +736,278 @@ def dask(run: Run) -> None:
     finally:
         os.environ.pop("AAEVAL_DASK_TIMEOUT", None)
         os.environ.pop("AAEVAL_DASK_WORKER_TIMEOUT", None)
+
+
+# ---------------------------------------------------------------------------------- api
+
+def _api_call(run: Run, name: str, fn, *, refused: tuple = (), timeout: float = 60, check=None) -> None:
+    """One call of the Python API under a watchdog: it returns (``check`` may say what is
+    wrong with the result) or raises one of ``refused`` in one line; anything else that
+    escapes is a traceback."""
+    before = run.snapshot()
+    fired = threading.Event()
+
+    def bark():
+        fired.set()
+        _thread.interrupt_main()
+
+    dog = threading.Timer(timeout, bark)
+    problems, detail = [], ""
+    try:
+        dog.start()
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            result = fn()
+        if not refused and check is not None:
+            extra = check(result)
+            if extra:
+                problems.append(extra[0])
+                detail = extra[1]
+        elif refused:
+            problems.append("exit")
+            detail = f"returned {type(result).__name__} where a refusal was due"
+    except KeyboardInterrupt:
+        pass
+    except BaseException as exc:  # noqa: BLE001 - the thing being counted
+        text = str(exc)
+        if not isinstance(exc, refused) if refused else True:
+            problems.append("traceback")
+            detail = f"{type(exc).__name__}: {text[:300]}"
+        elif "\n" in text.strip():
+            problems.append("exit")
+            detail = "refusal not one line: " + text[:300]
+    finally:
+        dog.cancel()
+    if fired.is_set():
+        problems.append("hang")
+    if run.snapshot() != before:
+        problems.append("outside")
+    run.record("api", name, problems, detail)
+
+
+def api(run: Run) -> None:
+    import numpy as np
+
+    import aaeval
+    from aaeval.experiments.config import ConfigError
+    from aaeval.renderers import MethodError
+    from aaeval.scenes import SceneError
+    from tests.helpers.sweep_util import SMALL
+
+    folder = run.work / "api"
+    folder.mkdir()
+    cfg = folder / "exp.toml"
+    cfg.write_text(SMALL)
+    square = {"image": {"width": 8, "height": 6, "background": [0.0, 0.0, 0.0]},
+              "polygons": [{"color": [1.0, 0.5, 0.25], "vertices": [[1.5, 1.0, 0], [6.25, 1.0, 0], [6.25, 4.5, 0]]}]}
+    wrong = aaeval.ArgumentError
+    content = (aaeval.ArgumentError, SceneError, MethodError, ConfigError)
+    cases = {
+        "render an array": lambda: aaeval.render(np.zeros((4, 4, 3))),
+        "render None": lambda: aaeval.render(None),
+        "render bytes path": lambda: aaeval.render(b"configs/scenes/fan.toml"),
+        "render a number for a spec": lambda: aaeval.render(square, 3),
+        "render a list for a spec": lambda: aaeval.render(square, ["catmull"]),
+        "render frame '1'": lambda: aaeval.render(square, "catmull", frame="1"),
+        "render frame None": lambda: aaeval.render(square, "catmull", frame=None),
+        "render frame True": lambda: aaeval.render(square, "catmull", frame=True),
+        "render frame 2.5": lambda: aaeval.render(square, "catmull", frame=2.5),
+        "render frame 400 digits": lambda: aaeval.render(square, "catmull", frame=10**400),
+        "render frame outside": lambda: aaeval.render(square, "catmull", frame=3),
+        "compare frames 2.5": lambda: aaeval.compare(square, "point", frames=2.5),
+        "compare frames True": lambda: aaeval.compare(square, "point", frames=True),
+        "compare a list for a metric": lambda: aaeval.compare(square, "point", metrics=[["rmse"]]),
+        "compare a number for specs": lambda: aaeval.compare(square, 3),
+        "compare repeats 1e9": lambda: aaeval.compare(square, "point", repeats=10**9),
+        "compare repeats 400 digits": lambda: aaeval.compare(square, "point", repeats=10**400),
+        "compare repeats 0": lambda: aaeval.compare(square, "point", repeats=0),
+        "sweep config None": lambda: aaeval.sweep(None, folder / "o"),
+        "sweep out bytes": lambda: aaeval.sweep(cfg, b"o"),
+        "sweep out None": lambda: aaeval.sweep(cfg, None),
+        "sweep workers 0": lambda: aaeval.sweep(cfg, folder / "o", workers=0),
+        "sweep workers -1": lambda: aaeval.sweep(cfg, folder / "o", workers=-1),
+        "sweep workers 1.5": lambda: aaeval.sweep(cfg, folder / "o", workers=1.5),
+        "sweep workers True": lambda: aaeval.sweep(cfg, folder / "o", workers=True),
+        "sweep scheduler ''": lambda: aaeval.sweep(cfg, folder / "o", scheduler=""),
+        "sweep unknown option": lambda: aaeval.sweep(cfg, folder / "o", wrokers=2),
+        "open_sweep None": lambda: aaeval.open_sweep(None),
+        "open_sweep bytes": lambda: aaeval.open_sweep(b"o"),
+        "load_scene a number": lambda: aaeval.load_scene(7),
+        "load_scene NUL": lambda: aaeval.load_scene("fan\0.toml"),
+    }
+    for name, fn in cases.items():
+        _api_call(run, name, fn, refused=content if "1e9" in name or "outside" in name else (wrong,))
+
+    def shape(result):
+        got = getattr(result, "shape", None)
+        return None if got == (6, 8, 3) else ("exit", f"shape {got}")
+
+    _api_call(run, "render a document", lambda: aaeval.render(square, "catmull", frame=np.int64(0)), check=shape)
+
+    def rows(result):
+        table = aaeval.open_sweep(result).results
+        if len(table) != 9 or table["key"].duplicated().any() or not table["error"].isna().all():
+            return "rows", f"{len(table)} rows"
+        return None
+
+    _api_call(run, "sweep workers=1", lambda: aaeval.sweep(cfg, folder / "ok", workers=1), check=rows, timeout=300)
+    script = folder / "noguard.py"
+    script.write_text("import sys, aaeval\ntry:\n"
+                      f"    aaeval.sweep({str(cfg)!r}, {str(folder / 'noguard')!r}, workers=2)\n"
+                      "except aaeval.SweepIncomplete as exc:\n    print(exc, file=sys.stderr)\n    sys.exit(3)\n")
+
+    def guard(done):
+        if "__main__" not in done.stderr.strip().splitlines()[-1]:
+            return "exit", done.stderr[-300:]
+        return None
+
+    run.sub("api", "sweep() without a __main__ guard", [], command=[sys.executable, str(script)], allowed=(3,),
+            check=guard, cwd=folder, timeout=300)
+
+
+# ---------------------------------------------------------------------------------- budgets
+
+def budgets(run: Run) -> None:
+    from tests.helpers.sweep_util import SMALL
+
+    folder = run.work / "budgets"
+    folder.mkdir()
+    fan = str(ROOT / "configs" / "scenes" / "fan.toml")
+    thin = str(ROOT / "configs" / "scenes" / "shaded" / "thin-highlight.toml")
+    big = "9" * 400
+    out = str(folder / "x.png")
+    cli_cases = {
+        "crow k=1000 under 512M": (["render", thin, "-m", "catmull:specular=crow,k=1000", "-o", out],
+                                   {"AAEVAL_MAX_MEMORY": "512M"}),
+        "crow k=300 under 4G": (["render", thin, "-m", "catmull:specular=crow,k=300", "-o", out],
+                                {"AAEVAL_MAX_MEMORY": "4G"}),
+        "compare repeats 1e9": (["compare", fan, "-m", "point", "-r", "catmull", "--repeats", "1000000000"], {}),
+        "compare repeats 400 digits": (["compare", fan, "-m", "point", "-r", "catmull", "--repeats", big], {}),
+        "supersample k 400 digits": (["render", fan, "-m", f"supersample:k={big}", "-o", out], {}),
+        "jitter seed 400 digits": (["render", fan, "-m", f"jitter:seed={big}", "-o", out], {}),
+        "power=2": (["render", fan, "-m", "catmull:specular=amanatides,power=2", "-o", out], {}),
+        "threads=5000": (["render", fan, "-m", "catmull:threads=5000", "-o", out], {}),
+        "render frame 400 digits": (["render", fan, "-m", "point", "--frame", big, "-o", out], {}),
+        "scheduler ''": (["sweep", str(folder / "exp.toml"), "--out", str(folder / "o"), "--scheduler", ""], {}),
+    }
+    (folder / "exp.toml").write_text(SMALL)
+    for name, (argv, env) in cli_cases.items():
+        for key, value in env.items():
+            os.environ[key] = value
+        try:
+            run.cli("budgets", name, argv, timeout=120,
+                    check=lambda c, o, e: ("exit", "an image was written") if Path(out).exists() else None)
+        finally:
+            for key in env:
+                os.environ.pop(key, None)
+    configs = {
+        "config power=2": ('methods = ["catmull", "catmull-jagged"]',
+                           'methods = ["catmull:specular=amanatides,power=2"]'),
+        "config threads=5000": ('methods = ["catmull", "catmull-jagged"]', 'methods = ["catmull:threads=5000"]'),
+        "config size 400 digits": ("frames = 3, size = 12", f"frames = 3, size = {big}"),
+        "config frames 400 digits": ("frames = 3, size = 12", f"frames = {big}, size = 12"),
+        "config speed threads=5000": ("fail_above = 0.1", "fail_above = 0.1\n[[speed]]\nscenes = [{generator = "
+                                      "\"edges\", difficulty = [0.1], size = 256}]\nmethods = [\"catmull\"]\n"
+                                      "threads = 5000"),
+    }
+    for name, (old, new) in configs.items():
+        cfg = folder / f"{name.replace(' ', '_')}.toml"
+        cfg.write_text(SMALL.replace(old, new, 1))
+        dest = folder / f"out_{name.replace(' ', '_')}"
+        run.cli("budgets", name, ["sweep", str(cfg), "--out", str(dest), "-q"],
+                check=lambda c, o, e, dest=dest: ("exit", "the folder was written") if dest.exists() else None)
+
+
+# ---------------------------------------------------------------------------------- phases
+
+def phases(run: Run) -> None:
+    folder = run.work / "phases"
+    folder.mkdir()
+    for kind in ("random", "r2"):
+        scene = folder / f"{kind}.toml"
+        scene.write_text(f"""
+[image]
+width = 1
+height = 1
+background = [0.0, 0.0, 0.0]
+
+[animation]
+frames = 100000000
+translate = [0.0, 0.0]
+phases = "{kind}"
+
+[[polygons]]
+color = [1.0, 1.0, 1.0]
+vertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+""")
+        for frame in ("99999999", "12345678"):
+            run.sub("phases", f"{kind}: render frame {frame}", ["render", str(scene), "-m", "catmull", "--frame", frame,
+                                                               "-o", str(folder / f"{kind}_{frame}.png")],
+                    allowed=(0,), peak=True, timeout=120)
+        run.sub("phases", f"{kind}: compare every frame", ["compare", str(scene), "-m", "point", "-r", "catmull",
+                                                           "--frames", "all", "-q"], peak=True, timeout=120)
+
+
+# ---------------------------------------------------------------------------------- deployed Dask
+
+def deployed(run: Run) -> None:
+    """``dask scheduler`` and ``dask worker`` as separate processes, a sweep through them;
+    then a scheduler frozen (SIGSTOP) and one killed mid-sweep."""
+    import importlib.util
+
+    import pandas as pd
+
+    from tests.helpers.sweep_util import MANY, SMALL
+
+    spec = importlib.util.spec_from_file_location("deployed_test", ROOT / "tests" / "experiments" /
+                                                  "test_sweep_dask_deployed.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    folder = run.work / "deployed"
+    folder.mkdir()
+    (folder / "small.toml").write_text(SMALL)
+    (folder / "many.toml").write_text(MANY)
+    env = {"AAEVAL_DASK_TIMEOUT": "5", "AAEVAL_CACHE_DIR": str(folder / "cache")}
+    cluster = module.Deployed(folder)
+    try:
+        def same_rows(done):
+            table = pd.read_parquet(folder / "o1" / "results.parquet")
+            if len(table) != 9 or table["key"].duplicated().any() or not table["error"].isna().all():
+                return "rows", f"{len(table)} rows, errors {table['error'].dropna().unique()[:2]}"
+            return None
+
+        run.sub("deployed", "sweep through separate processes", ["sweep", str(folder / "small.toml"), "--out",
+                                                                 str(folder / "o1"), "--scheduler", cluster.address,
+                                                                 "-q"], allowed=(0,), env=env, check=same_rows,
+                timeout=300)
+        for name, sig in (("frozen", signal.SIGSTOP), ("killed", signal.SIGKILL)):
+            out = folder / f"o_{name}"
+            timer = threading.Thread(target=_signal_after_cells, args=(out, cluster.scheduler.pid, sig), daemon=True)
+            timer.start()
+
+            def one_line(done, out=out):
+                if done.stderr.count("\n") != 1:
+                    return "exit", done.stderr[-300:]
+                kept = len(list((out / "cells").glob("*.json")))
+                if not 1 <= kept == len(pd.read_parquet(out / "results.parquet")):
+                    return "rows", f"{kept} cells"
+                return None
+
+            run.sub("deployed", f"scheduler {name} mid-sweep", ["sweep", str(folder / "many.toml"), "--out", str(out),
+                                                                "--scheduler", cluster.address, "-q"],
+                    allowed=(1,), env=env, check=one_line, timeout=180)
+            timer.join(5)
+            if name == "frozen":
+                os.kill(cluster.scheduler.pid, signal.SIGCONT)
+    finally:
+        cluster.stop()
+
+
+def _signal_after_cells(out: Path, pid: int, sig: int) -> None:
+    from tests.helpers.sweep_util import wait_for_cells
+
+    wait_for_cells(out, 3, 240)
+    with contextlib.suppress(ProcessLookupError):
+        os.kill(pid, sig)
 
 
 def main_run(argv=None) -> int:

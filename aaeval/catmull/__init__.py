@@ -30,7 +30,7 @@ from aaeval.scenes import Scene
 from aaeval.scenes.depth import depth_tolerance
 from aaeval.weiler_atherton.near_ties import resolve_flat_arrays
 
-__all__ = ["BACKGROUND", "BAND_ROWS", "Fragments", "kernel_inputs", "available_cores", "far_apart",
+__all__ = ["BACKGROUND", "BAND_ROWS", "MAX_THREADS", "Fragments", "kernel_inputs", "available_cores", "far_apart",
            "visible_fragments", "resolve_flat", "render_flat"]
 
 BACKGROUND = _catmull.BACKGROUND  # the source of the background's fragments
@@ -122,11 +122,15 @@ def available_cores() -> int:
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
 
 
+#: The most threads the native kernels take (src/catmull/module.cpp, src/shading/module.cpp).
+MAX_THREADS = 4096
+
+
 def thread_count(threads: int) -> int:
     """``threads`` (0: all cores) as the kernel's thread count."""
-    if threads < 0:
-        raise ValueError(f"threads must be >= 0 (0: all cores), got {threads}")
-    return int(threads) or available_cores()
+    if not 0 <= threads <= MAX_THREADS:
+        raise ValueError(f"threads must be in [0, {MAX_THREADS}] (0: all cores), got {threads}")
+    return min(int(threads) or available_cores(), MAX_THREADS)
 
 
 def far_apart(n: int, threads: int) -> list[int]:

@@ -34,6 +34,9 @@ def run(args) -> int:
 
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
+    if args.scheduler is not None and not args.scheduler.strip():  # not "run locally": a blank variable, likely
+        raise ValueError("--scheduler: empty address; give one such as tcp://HOST:8786, or leave the option out "
+                         "to run on local workers")
     from aaeval.imageio import check_outputs
 
     experiment = load_experiment(args.config)
@@ -55,13 +58,11 @@ def run(args) -> int:
             from aaeval.experiments.executors import close_quietly
 
             close_quietly(scheduler)
-    workers_lost = next((line for line in summary.lost if "WorkersLost: " in line), None)
-    if workers_lost:
-        print(f"aaeval sweep: {workers_lost.split('WorkersLost: ', 1)[1]} ({len(summary.lost)} cell(s) not run)",
+    cluster_lost = next((line.split(f"{name}: ", 1)[1] for line in summary.lost
+                         for name in ("WorkersLost", "SchedulerLost") if f"{name}: " in line), None)
+    if cluster_lost:  # the cluster's own reason (lost, not answering, no worker left), once
+        print(f"aaeval sweep: {' '.join(cluster_lost.split())} ({len(summary.lost)} cell(s) not run)",
               file=sys.stderr)
-    elif any("SchedulerLost" in line for line in summary.lost):
-        print(f"aaeval sweep: the Dask scheduler at {args.scheduler} was lost: {len(summary.lost)} cell(s) not run; "
-              "finished cells are kept, rerun when it is back", file=sys.stderr)
     print(f"{experiment.name}: {summary.total} cells, {summary.skipped} already done, {summary.ran} run "
           f"({summary.failed} failed), references {summary.references_rendered} rendered / "
           f"{summary.references_cached} from cache{', on ' + summary.executor if summary.executor else ''}; "

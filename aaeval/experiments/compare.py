@@ -22,6 +22,7 @@ from aaeval.experiments.measure import (
     series_metrics,
 )
 from aaeval.metrics import MASKS, METRICS, relative_variation
+from aaeval.options import MAX_INT
 from aaeval.renderers import MethodSpec
 from aaeval.renderers.registry import check_frames
 from aaeval.scenes import Scene, load_scene
@@ -118,15 +119,16 @@ def plan_comparison(
         metrics = check_image_metrics(metrics)
     if temporal is not None:
         temporal = check_temporal_metrics(temporal)
-    if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
-        raise ValueError(f"--repeats must be a whole number >= 1, got {repeats!r}")
+    if isinstance(repeats, bool) or not isinstance(repeats, int) or not 1 <= repeats <= MAX_INT:
+        shown = "a larger integer" if isinstance(repeats, int) and repeats > MAX_INT else repr(repeats)
+        raise ValueError(f"--repeats must be a whole number in [1, {MAX_INT}] (and fit the time limit), got {shown}")
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
     metrics = default_metrics("image", scene) if metrics is None else metrics
     temporal = default_metrics("temporal", scene) if temporal is None else temporal
     # a file's frame count is budgeted as a generator's, before the frame list is built
-    check_frames(scene, _frame_count(frames, scene.frames), f"--frames {frames}", specs=(reference, *methods),
-                 held=1 + len(methods))
+    check_frames(scene, _frame_count(frames, scene.frames), f"--frames {frames} --repeats {repeats}",
+                 specs=(reference, *methods), held=1 + len(methods), repeats=repeats)
     return ComparisonPlan(scene, methods, reference, parse_frames(frames, scene.frames), metrics,
                           temporal, repeats)
 

@@ -49,6 +49,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from aaeval._toml import read_toml, refuse_unknown_keys
+from aaeval.catmull import MAX_THREADS
 from aaeval.scenes.generate import GENERATORS, generate_scene
 from aaeval.metrics import MetricError, check_metric_names
 from aaeval.renderers import MethodError, MethodSpec, parse_spec
@@ -283,8 +284,9 @@ def _speed(raw: Any, where: str, base: Path, groups: set[str], limit: float | No
     methods, options = _methods_and_options(raw, where)
     repeats = _repeats(raw.get("repeats", 5), f"{where}.repeats")
     threads = raw.get("threads", 1)
-    if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
-        raise ConfigError(f"{where}.threads: expected a whole number of threads >= 1, got {threads!r}")
+    if isinstance(threads, bool) or not isinstance(threads, int) or not 1 <= threads <= MAX_THREADS:
+        raise ConfigError(f"{where}.threads: expected a whole number of threads from 1 to {MAX_THREADS}, "
+                          f"got {threads!r}")
     specs = []
     for spec, given in _expand_specs(methods, options, where, with_given=True):
         if "threads" in spec.method.options and "threads" not in given:

@@ -37,7 +37,9 @@ from typing import Any, Callable, Iterator, Sequence
 from aaeval import registries
 
 __all__ = ["SerialExecutor", "ProcessExecutor", "DaskExecutor", "SchedulerLost", "WorkerDied", "TaskTimedOut",
-           "connect", "make_executor", "close_quietly", "task_limit", "MAX_SECONDS", "retried_error"]
+           "WorkersCannotStart", "NO_MAIN_GUARD",
+           "connect", "make_executor", "close_quietly", "quiet_distributed", "scheduler_workers", "task_limit",
+           "MAX_SECONDS", "retried_error"]
 
 Outcome = tuple[int, Any, BaseException | None]
 
@@ -51,6 +53,20 @@ class WorkerDied(RuntimeError):
 
 class TaskTimedOut(RuntimeError):
     """A task ran past its time limit; its worker was stopped."""
+
+
+class WorkersCannotStart(RuntimeError):
+    """A local worker process ended before it was ready for its first task: no task's doing
+    (each replacement would end the same way), so every task not yet answered comes back
+    with it, unrecorded, and the sweep says why."""
+
+
+#: What a local worker sends once it is ready (its registries loaded), before any answer.
+_READY = "aaeval-worker-ready"
+
+NO_MAIN_GUARD = ("a script that runs a sweep on local worker processes must start it under "
+                 "'if __name__ == \"__main__\":' (each worker imports the script: without the guard it starts the "
+                 "sweep again); or run it with workers=1")
 
 
 # the recorded errors of cells that a rerun runs again without --retry-failed: the cell did
@@ -156,6 +172,7 @@ def _worker_main(conn, parent: int) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     _exit_with_parent(parent)
     registries.load()  # before the first message: its specs are parsed as it is received
+    conn.send(_READY)
     while True:
         try:
             message = conn.recv()
@@ -182,6 +199,7 @@ class _Worker:
         self.process.start()
         child.close()
         self.task: tuple[int, float] | None = None  # (index, when it was sent)
+        self.ready = False  # it said so: it got past its start (importing, loading the registries)
 
     def stop(self) -> None:
         if self.process.is_alive():
@@ -210,6 +228,7 @@ class ProcessExecutor:
         self._context = multiprocessing.get_context("spawn")  # spawn: Dr.Jit's threads do not survive fork
         self._parent = os.getpid()
         self._pool: list[_Worker] = []
+        self.broken: WorkersCannotStart | None = None
 
     def _spawn(self) -> _Worker:
         worker = _Worker(self._context, self._parent)
@@ -222,6 +241,10 @@ class ProcessExecutor:
 
     def run(self, fn: Callable, payloads: Sequence) -> Iterator[Outcome]:
         todo = deque(enumerate(payloads))
+        if self.broken is not None:  # its workers cannot start: nothing more can run
+            for i, _ in todo:
+                yield i, None, self.broken
+            return
         try:
             while todo or any(w.task for w in self._pool):
                 busy_now = sum(w.task is not None for w in self._pool)
@@ -253,6 +276,13 @@ class ProcessExecutor:
                                 answer = worker.conn.recv()
                         except (EOFError, OSError):
                             answer = None
+                        if answer == _READY:
+                            worker.ready = True
+                            continue
+                        if answer is None and not worker.ready:  # it never started: no task's doing
+                            worker.process.join(5)
+                            yield from self._cannot_start(worker.process.exitcode, todo)
+                            return
                         if answer is None:  # the process ended without answering
                             worker.process.join(5)
                             exc = _died(worker.process.exitcode)
@@ -271,6 +301,15 @@ class ProcessExecutor:
         except GeneratorExit:  # the caller stopped reading: tasks in flight are abandoned
             self.terminate()
             raise
+
+    def _cannot_start(self, exitcode: int | None, todo: deque) -> Iterator[Outcome]:
+        """Every task not answered, back as :class:`WorkersCannotStart`; the pool ended."""
+        self.broken = WorkersCannotStart(f"local worker processes end before their first task ({_died(exitcode)}): "
+                                         f"{NO_MAIN_GUARD}")
+        in_flight = [w.task[0] for w in self._pool if w.task is not None]
+        self.terminate()
+        for i in [*in_flight, *(i for i, _ in todo)]:
+            yield i, None, self.broken
 
     def terminate(self) -> None:
         """End the workers now; their cells in flight are lost (and rerun next time)."""
@@ -331,12 +370,16 @@ def connect(address: Any):
     """
     from distributed import Client
 
-    if isinstance(address, Client):
-        client = address
-    else:
-        timeout = _seconds("AAEVAL_DASK_TIMEOUT", CONNECT_TIMEOUT)
-        client = _client_within(Client, address, timeout)
-    if not client.scheduler_info().get("workers"):
+    timeout = _seconds("AAEVAL_DASK_TIMEOUT", CONNECT_TIMEOUT)
+    with quiet_distributed():
+        client = address if isinstance(address, Client) else _client_within(Client, address, timeout)
+        try:
+            workers = scheduler_workers(client, timeout)
+        except SchedulerLost as exc:
+            if client is not address:
+                close_quietly(client)
+            raise ConnectionError(str(exc)) from None
+    if not workers:
         wait = _seconds("AAEVAL_DASK_WORKER_TIMEOUT", WORKER_TIMEOUT)
         try:
             client.wait_for_workers(1, timeout=wait)
@@ -348,6 +391,50 @@ def connect(address: Any):
                                   f"(start one with 'dask worker {where}'; AAEVAL_DASK_WORKER_TIMEOUT sets the "
                                   f"wait; {type(exc).__name__})") from None
     return client
+
+
+def scheduler_workers(client, timeout: float) -> dict:
+    """The scheduler's workers (address -> info), asked with an answer due within ``timeout``
+    seconds: :class:`SchedulerLost` when none comes (a scheduler that is stopped, SIGSTOP or
+    a frozen host, keeps its connections open and never answers; distributed's own calls
+    wait for it forever)."""
+    try:
+        identity = client.sync(client.scheduler.identity, n_workers=-1, callback_timeout=timeout)
+    except (TimeoutError, OSError) as exc:
+        raise _no_answer(client, timeout, exc) from None
+    return dict(identity.get("workers") or {})
+
+
+def _no_answer(client, timeout: float, exc: BaseException) -> SchedulerLost:
+    return SchedulerLost(f"the Dask scheduler at {_address(client)} did not answer within {timeout:g} s "
+                         f"({type(exc).__name__}; AAEVAL_DASK_TIMEOUT sets the wait); finished cells are kept, "
+                         "rerun the sweep when it answers")
+
+
+def _address(client) -> str:
+    return str(getattr(client.scheduler, "address", None) or "?")
+
+
+class quiet_distributed:
+    """distributed's loggers silenced while it is entered: a scheduler that goes away makes
+    them print tens of lines of tracebacks and retries, where the sweep says what happened
+    in one line (:class:`SchedulerLost`). Their levels are restored on exit."""
+
+    def __enter__(self):
+        import logging
+
+        names = ["distributed", *(n for n in logging.root.manager.loggerDict if n.startswith("distributed."))]
+        self.saved = {name: logging.getLogger(name).level for name in names}
+        for name in names:
+            logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+        return self
+
+    def __exit__(self, *exc):
+        import logging
+
+        for name, level in self.saved.items():
+            logging.getLogger(name).setLevel(level)
+        return False
 
 
 def _client_within(Client, address: Any, timeout: float):
@@ -395,8 +482,10 @@ class DaskExecutor:
         from distributed import Client
 
         self.max_seconds = task_limit(max_seconds)
+        self.answer_within = _seconds("AAEVAL_DASK_TIMEOUT", CONNECT_TIMEOUT)
         self._own = not isinstance(address, Client)
         self.client = connect(address)
+        self._quiet = quiet_distributed().__enter__()  # until close(): a lost scheduler is said in one line
         # every worker, and any that joins later, loads the registries before its first task
         self.client.register_worker_callbacks(setup=registries.load)
         self.address = self.client.scheduler.address
@@ -407,7 +496,7 @@ class DaskExecutor:
 
     def _live_workers(self) -> int:
         try:
-            return len(self.client.scheduler_info().get("workers", {}))
+            return len(scheduler_workers(self.client, self.answer_within))
         except Exception:  # noqa: BLE001 - no answer: none known
             return 0
 
@@ -443,14 +532,17 @@ class DaskExecutor:
                     if i in returned:  # cancelled here at its time limit: already answered
                         continue
                     if future.status == "cancelled":
-                        raise SchedulerLost("its task was cancelled")
+                        raise self._lost("a task was cancelled")
                     if future.status == "error":
                         exc = future.exception()
                         if type(exc).__name__ == "KilledWorker":  # it took down every worker it was given
                             exc = WorkerDied(f"worker died: every worker that ran it died ({_short(exc)})")
                         outcome = (i, None, exc)
                     else:
-                        outcome = (i, future.result(), None)
+                        try:  # the result comes through the scheduler: it may have stopped since
+                            outcome = (i, future.result(timeout=self.answer_within), None)
+                        except TimeoutError as exc:
+                            raise _no_answer(self.client, self.answer_within, exc) from None
                     returned.add(i)
                     yield outcome
                     future.release()
@@ -468,19 +560,22 @@ class DaskExecutor:
         except BaseException as exc:  # noqa: BLE001 - a lost connection comes in many classes
             if self.client.status == "running" and not isinstance(exc, SchedulerLost) and self._live_workers():
                 raise  # the cluster is fine: not ours to hide
-            if isinstance(exc, WorkersLost):
+            if isinstance(exc, SchedulerLost):  # said already: which and why
                 self.lost = exc
             else:
-                self.lost = SchedulerLost(f"the Dask scheduler at {self.address} was lost during the sweep "
-                                          f"({type(exc).__name__}: {str(exc) or 'connection closed'}); finished cells "
-                                          "are kept, rerun the sweep when it is back")
+                self.lost = self._lost(f"{type(exc).__name__}: {_short(exc) or 'connection closed'}")
             for i in range(len(payloads)):
                 if i not in returned:
                     yield i, None, self.lost
 
+    def _lost(self, why: str) -> SchedulerLost:
+        return SchedulerLost(f"the Dask scheduler at {self.address} was lost during the sweep ({why}); finished "
+                             "cells are kept, rerun the sweep when it is back")
+
     def close(self) -> None:
         if self._own:
             close_quietly(self.client)
+        self._quiet.__exit__(None, None, None)
 
 
 def _short(exc: BaseException, limit: int = 300) -> str:
@@ -507,7 +602,7 @@ class _ClusterWatch:
             return []
         self.next_check = now + 1.0
         ex = self.executor
-        if ex._live_workers() == 0:
+        if not scheduler_workers(ex.client, ex.answer_within):  # a scheduler that does not answer ends the sweep
             self.empty_since = self.empty_since or now
             if now - self.empty_since > self.grace:
                 raise WorkersLost(f"the last worker of the Dask cluster at {ex.address} died and none joined "
@@ -516,7 +611,7 @@ class _ClusterWatch:
             return []
         self.empty_since = None
         try:
-            processing = ex.client.processing()
+            processing = ex.client.sync(ex.client.scheduler.processing, workers=None, callback_timeout=ex.answer_within)
         except Exception:  # noqa: BLE001 - no answer now: checked again in a second
             return []
         late, workers = [], set()
@@ -553,7 +648,7 @@ class _quietly:
 
 def close_quietly(client: Any, timeout: float = 5) -> None:
     """Close a Dask client, ignoring any error (its scheduler may be gone)."""
-    with _quietly():
+    with _quietly(), quiet_distributed():
         client.close(timeout=timeout)
 
 

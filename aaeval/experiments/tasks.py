@@ -1,6 +1,11 @@
 """The work a sweep sends to its workers: plain top-level functions of plain data, so that
 local processes and Dask workers run exactly the same code.
 
+A spec crosses to a worker as its text: a Dask scheduler unpickles every task, in a
+process where no method is registered, so a :class:`MethodSpec` would reach the worker as
+the plain string it falls back to there. Each task parses its specs itself
+(:func:`worker_spec`), after loading the registries, so it runs the same wherever it lands.
+
 Neither function touches the sweep folder: they return results, and the process that
 drives the sweep writes them. Workers of a cluster need not share its disk. Both measure
 through :mod:`aaeval.experiments.measure`, the engine ``aaeval compare`` uses too; each
@@ -12,17 +17,23 @@ from __future__ import annotations
 import os
 import socket
 import time
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
+from aaeval import registries
 from aaeval.experiments.measure import SCENES, FrameMeasurement, Timing, measure_frame, render_reference
 from aaeval.experiments.record import CellRecord
+from aaeval.renderers.registry import MethodSpec
 
-if TYPE_CHECKING:
-    from aaeval.renderers.registry import MethodSpec
+__all__ = ["run_reference", "run_cell", "failed_record", "worker_spec"]
 
-__all__ = ["run_reference", "run_cell", "failed_record"]
+
+def worker_spec(spec: MethodSpec | str) -> MethodSpec:
+    """``spec`` as the worker's own :class:`MethodSpec`: its text parsed against this
+    process's registries, loaded first (a task may reach a worker that has run none)."""
+    registries.load()
+    return MethodSpec.parse(spec)
 
 
 def run_reference(document: dict, source: str, frame: int, spec: MethodSpec, estimate_noise: bool,
@@ -33,6 +44,7 @@ def run_reference(document: dict, source: str, frame: int, spec: MethodSpec, est
     A reference that fails comes back as ``{"error": ...}``.
     """
     try:
+        spec = worker_spec(spec)
         scene = SCENES.scene(digest, document, source)
         result = render_reference(scene, spec, frame, estimate_noise=estimate_noise)
     except Exception as exc:  # noqa: BLE001 - the cells that need it record this as their error
@@ -51,6 +63,7 @@ def run_cell(payload: dict[str, Any]) -> tuple[dict, np.ndarray | None, np.ndarr
     """
     identity = payload["identity"]
     try:
+        identity = {**identity, "spec": worker_spec(identity["spec"]), "reference": worker_spec(identity["reference"])}
         scene = SCENES.scene(identity["scene_digest"], payload["document"], payload["source"])
     except Exception as exc:  # noqa: BLE001 - cannot happen for a checked config; recorded if it does
         scene, parse_error = None, f"{type(exc).__name__}: {exc}"

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from aaeval.catmull import render_flat
+from aaeval.catmull import MAX_THREADS, render_flat
 from aaeval.filters.exact import filtered_image
 from aaeval.filters.registry import DEFAULT_FILTER, FILTERS
 from aaeval.renderers.blending import BLEND, render_blended
@@ -21,6 +21,7 @@ from aaeval.renderers.registry import Option, register_method
 from aaeval.scenes import Scene, parse_scene
 from aaeval.scenes.shaded import has_shaded
 from aaeval.specular.methods import PARAMETERS as SPECULAR_PARAMETERS
+from aaeval.specular.methods import SPECULAR_METHODS
 from aaeval.specular.exact import render_exact
 from aaeval.specular.render import render_shaded
 
@@ -45,11 +46,8 @@ def _warmup() -> None:
 
 # Options for scenes with [shaded] objects, declared once by the specular registry
 # (flat scenes ignore them). Its method list is a live view: a clamp registered there
-# later is accepted by catmull:specular=NAME.
-SPECULAR_OPTIONS = {
-    name: Option(p.type, p.default, p.doc, choices=p.choices, minimum=p.minimum)
-    for name, p in SPECULAR_PARAMETERS.items()
-}
+# later is accepted by catmull:specular=NAME. The same Options: every rule of each applies.
+SPECULAR_OPTIONS = dict(SPECULAR_PARAMETERS)
 
 
 FILTER_OPTION = {
@@ -71,7 +69,22 @@ SHADING = Option(str, "piece", "shaded scenes: one Phong shade per visible piece
                  "shade integrated over each visible piece (exact, aaeval.specular.exact)", choices=("piece", "exact"))
 
 THREADS = Option(int, 0, "bands of rows rendered in parallel on this many threads (0: all cores); "
-                 "the image does not depend on it", minimum=0)
+                 "the image does not depend on it", minimum=0, maximum=MAX_THREADS)
+
+# A supersampling specular method (crow) draws the whole scene magnified k times
+# (aaeval.specular.render._supersampled): per pixel of that magnified scene, the bytes held
+# (measured: 98-100 by peak RSS on shaded/thin-highlight.toml, region=all, k = 40 and 80;
+# with a margin for scenes with more edges per pixel) and the seconds taken (0.53 us there).
+FINE_PIXEL_BYTES = 160
+FINE_PIXEL_SECONDS = 1e-6
+
+
+def _fine_pixels(scene: Scene, options) -> float:
+    """Pixels of the magnified scene a supersampling specular method draws (0 for none)."""
+    supersamples = SPECULAR_METHODS[options["specular"]].supersample
+    if not (supersamples and has_shaded(scene) and options["shading"] == "piece"):
+        return 0.0
+    return float(scene.width) * scene.height * float(options["k"]) ** 2
 
 
 @register_method(
@@ -80,6 +93,8 @@ THREADS = Option(int, 0, "bands of rows rendered in parallel on this many thread
     options={**SPECULAR_OPTIONS, **FILTER_OPTION, "threads": THREADS, "shading": SHADING, "blend": BLEND},
     exact=True,
     warmup=_warmup,
+    memory=lambda scene, o: FINE_PIXEL_BYTES * _fine_pixels(scene, o),
+    seconds=lambda scene, o: FINE_PIXEL_SECONDS * _fine_pixels(scene, o),
 )
 def render_catmull(scene: Scene, filter: str = DEFAULT_FILTER, threads: int = 0, shading: str = "piece",
                    blend: str = "linear", **specular_options) -> np.ndarray:

@@ -466,11 +466,12 @@ def _render_seconds(scene: Scene, method: Method, options: Mapping[str, Any]) ->
 
 
 def check_frames(scene: Scene, frames: int, where: str, specs: tuple[str | MethodSpec, ...] = (),
-                 held: int = 0) -> None:
+                 held: int = 0, repeats: int = 1) -> None:
     """Refuse rendering ``frames`` frames of ``scene`` when the pixels over all of them
     exceed the limit generated scenes have (``aaeval.scenes.generate.MAX_PIXEL_FRAMES``):
     a scene file's ``[animation] frames`` is budgeted as a generator's is. With ``specs``
-    (the methods rendering every frame), the whole run's estimated time must fit
+    (the methods rendering every frame, each ``repeats`` times: an upper bound where one
+    of them, a reference, renders once), the whole run's estimated time must fit
     ``AAEVAL_MAX_SECONDS`` too, and ``held`` images of every frame kept at once (compare
     keeps each method's frames for the temporal metrics) must fit in memory."""
     from aaeval.scenes import SceneError
@@ -485,10 +486,12 @@ def check_frames(scene: Scene, frames: int, where: str, specs: tuple[str | Metho
     if not specs:
         return
     parsed = [MethodSpec.parse(spec) for spec in specs]
-    seconds = sum(_render_seconds(scene, spec.method, spec.options) for spec in parsed) * frames
+    # as floats: a count of any size gives a time (an int past float's range would overflow)
+    seconds = sum(_render_seconds(scene, spec.method, spec.options) for spec in parsed) * float(frames) * float(repeats)
     limit_s = _max_seconds()
     if seconds > limit_s:
-        raise SceneError(f"{scene.source}: {where}: {frames} frames x {len(specs)} method(s) would take about "
+        times = f" x {repeats} repeats" if repeats != 1 else ""
+        raise SceneError(f"{scene.source}: {where}: {frames} frames x {len(specs)} method(s){times} would take about "
                          f"{seconds:.3g} s, over the limit of {limit_s:.3g} s (AAEVAL_MAX_SECONDS raises it; "
                          "or render fewer frames)")
     need = total * 3 * 8 * held

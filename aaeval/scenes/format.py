@@ -123,11 +123,11 @@ class Scene:
 
     def offset(self, k: int) -> np.ndarray:
         """Where frame ``k`` is moved to, relative to the scene as written (px, (2,))."""
-        from aaeval.scenes.phases import phase_offsets
+        from aaeval.scenes.phases import phase_offset
 
         if self.phases == "none":  # the shipped motion, bit for bit: no offset added
             return int(k) * self.translate
-        return int(k) * self.translate + phase_offsets(self.phases, int(k) + 1, self.phase_seed)[int(k)]
+        return int(k) * self.translate + phase_offset(self.phases, int(k), self.phase_seed)
 
     @cached_property
     def arrays(self) -> PolygonArrays:

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["PHASES", "R2_STEP", "phase_offsets", "subpixel_phase"]
+__all__ = ["PHASES", "R2_STEP", "phase_offset", "phase_offsets", "subpixel_phase"]
 
 #: The plastic number g (g**3 = g + 1): the R2 sequence steps by (1/g, 1/g**2) modulo 1
 #: (Roberts 2018), the two-dimensional analogue of golden-ratio steps; its points fill the
@@ -55,6 +55,26 @@ def phase_offsets(kind: str, frames: int, seed: int = 0) -> np.ndarray:
     offsets = np.random.default_rng(int(seed)).random((int(frames), 2))
     offsets[0] = 0.0
     return offsets
+
+
+def phase_offset(kind: str, frame: int, seed: int = 0) -> np.ndarray:
+    """The sub-pixel offset of frame ``frame`` alone, shape (2,): ``phase_offsets(kind,
+    frame + 1, seed)[frame]``, in constant time and memory whatever the frame.
+
+    ``random`` draws two doubles per frame from ``numpy.random.default_rng(seed)`` (a
+    PCG64), one 64-bit step each, so frame k's pair is the stream advanced by 2k steps
+    (``PCG64.advance``): the same numbers as drawing every earlier frame's first.
+    """
+    if kind not in PHASES:
+        raise ValueError(f"unknown phases {kind!r}; choices: {', '.join(PHASES)}")
+    k = int(frame)
+    if kind == "none" or k == 0:
+        return np.zeros(2)
+    if kind == "r2":
+        return np.mod(k * R2_STEP, 1.0)
+    stream = np.random.PCG64(int(seed))
+    stream.advance(2 * k)
+    return np.random.Generator(stream).random(2)
 
 
 def subpixel_phase(offset) -> np.ndarray:

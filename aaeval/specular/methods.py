@@ -85,6 +85,7 @@ PARAMETERS: dict[str, Option] = {
         "amanatides/crow: fraction of the power of cos^n kept by the tables; 1 = the "
         "conservative form, 0.999 = the paper's aggressive plate",
         minimum=1e-6,
+        maximum=1.0,  # a fraction of the power (aaeval.specular.tables refuses more)
     ),
     "k": Option(int, 4, "crow: K x K shading samples per supersampled piece", minimum=1),
     "region": Option(str, "flagged", "crow: supersample flagged pieces or all", choices=("flagged", "all")),

@@ -159,3 +159,86 @@ def test_sweep_then_open_sweep(tmp_path):
     assert aaeval.open_sweep(again).results.equals(opened.results)
     with pytest.raises(FileNotFoundError):
         aaeval.open_sweep(tmp_path)
+
+
+# Wrong arguments: the API's own error (a TypeError and a ValueError), one line naming the
+# argument, raised before any file is read or anything rendered.
+WRONG = [
+    ("scene", lambda: aaeval.render(np.zeros((4, 4, 3)))),
+    ("scene", lambda: aaeval.render(None)),
+    ("scene", lambda: aaeval.load_scene(b"configs/scenes/fan.toml")),
+    ("scene", lambda: aaeval.load_scene(3)),
+    ("scene", lambda: aaeval.load_scene("fan\0.toml")),
+    ("spec", lambda: aaeval.render(SQUARE, 3)),
+    ("spec", lambda: aaeval.render(SQUARE, ["catmull"])),
+    ("frame", lambda: aaeval.render(SQUARE, "catmull", frame="1")),
+    ("frame", lambda: aaeval.render(SQUARE, "catmull", frame=None)),
+    ("frame", lambda: aaeval.render(SQUARE, "catmull", frame=True)),
+    ("frame", lambda: aaeval.render(SQUARE, "catmull", frame=0.0)),
+    ("frame", lambda: aaeval.render(SQUARE, "catmull", frame=-1)),
+    ("frame", lambda: aaeval.render(SQUARE, "catmull", frame=1)),  # a still scene has frame 0 only
+    ("specs", lambda: aaeval.compare(SQUARE, 3)),
+    ("specs[1]", lambda: aaeval.compare(SQUARE, ["point", None])),
+    ("reference", lambda: aaeval.compare(SQUARE, "point", reference=np.zeros(3))),
+    ("frames", lambda: aaeval.compare(SQUARE, "point", frames=2.5)),
+    ("frames", lambda: aaeval.compare(SQUARE, "point", frames=True)),
+    ("frames", lambda: aaeval.compare(SQUARE, "point", frames="1")),
+    ("metrics[0]", lambda: aaeval.compare(SQUARE, "point", metrics=[["rmse"]])),
+    ("metrics", lambda: aaeval.compare(SQUARE, "point", metrics=3)),
+    ("temporal", lambda: aaeval.compare(SQUARE, "point", temporal=b"flicker")),
+    ("repeats", lambda: aaeval.compare(SQUARE, "point", repeats=0)),
+    ("repeats", lambda: aaeval.compare(SQUARE, "point", repeats=2.0)),
+    ("config", lambda: aaeval.sweep(None, "out")),
+    ("config", lambda: aaeval.sweep(np.zeros(2), "out")),
+    ("out", lambda: aaeval.sweep("exp.toml", None)),
+    ("out", lambda: aaeval.sweep("exp.toml", b"out")),
+    ("out", lambda: aaeval.sweep("exp.toml", "")),
+    ("workers", lambda: aaeval.sweep("exp.toml", "out", workers=0)),
+    ("workers", lambda: aaeval.sweep("exp.toml", "out", workers=-1)),
+    ("workers", lambda: aaeval.sweep("exp.toml", "out", workers=1.5)),
+    ("workers", lambda: aaeval.sweep("exp.toml", "out", workers=True)),
+    ("workers", lambda: aaeval.sweep("exp.toml", "out", workers="2")),
+    ("quiet", lambda: aaeval.sweep("exp.toml", "out", quiet="no")),
+    ("cache_dir", lambda: aaeval.sweep("exp.toml", "out", cache_dir=3)),
+    ("scheduler", lambda: aaeval.sweep("exp.toml", "out", scheduler="")),
+    ("scheduler", lambda: aaeval.sweep("exp.toml", "out", scheduler=8786)),
+    ("sweep(): unknown option", lambda: aaeval.sweep("exp.toml", "out", wrokers=2)),
+    ("folder", lambda: aaeval.open_sweep(None)),
+]
+
+
+@pytest.mark.parametrize("name, call", WRONG, ids=[f"{i}-{n}" for i, (n, _) in enumerate(WRONG)])
+def test_a_wrong_argument_is_refused_in_one_line_naming_it(name, call, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # nothing may be written: the folder stays empty
+    with pytest.raises(aaeval.ArgumentError) as caught:
+        call()
+    message = str(caught.value)
+    assert isinstance(caught.value, TypeError) and isinstance(caught.value, ValueError)
+    assert "\n" not in message and len(message) < 300
+    assert message.startswith(name.split("[")[0]) or name in message, message
+    assert not list(tmp_path.iterdir())
+
+
+def test_right_arguments_of_other_kinds_are_taken():
+    scene = aaeval.load_scene(Path(FAN))
+    assert aaeval.render(scene, "point", frame=np.int64(0)).shape == (32, 32, 3)
+    table = aaeval.compare(SQUARE, ("point",), metrics="rmse", temporal=[], frames=np.int32(1))
+    assert list(table["method"]) == ["point"] and table["rmse"].iloc[0] > 0
+
+
+def test_a_sweep_script_without_a_main_guard_raises_and_says_why(tmp_path):
+    """Each local worker imports the script that started the sweep: without an
+    ``if __name__ == "__main__":`` guard it runs the sweep again. The workers stop at once with
+    the reason in one line each; sweep() raises SweepIncomplete naming the guard."""
+    config = write_config(tmp_path)
+    script = tmp_path / "run.py"
+    script.write_text(f"import aaeval\naaeval.sweep({str(config)!r}, {str(tmp_path / 'out')!r}, workers=2)\n")
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300, cwd=tmp_path,
+                          env={**os.environ, "PYTHONPATH": str(ROOT), "AAEVAL_CACHE_DIR": str(tmp_path / "cache")})
+    assert done.returncode == 1
+    last = done.stderr.strip().splitlines()[-1]
+    assert last.startswith("aaeval.api.SweepIncomplete:") and "9 of 9 cell(s) did not run" in last, done.stderr
+    assert "if __name__ == \"__main__\":" in last
+    workers = [line for line in done.stderr.splitlines() if line.startswith("aaeval.sweep() called while a worker")]
+    assert 1 <= len(workers) <= 2 and done.stderr.count("Traceback") == 1  # the script's own, for the raise
+    assert not (tmp_path / "out" / "cells").exists() or not list((tmp_path / "out" / "cells").iterdir())

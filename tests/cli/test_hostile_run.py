@@ -23,3 +23,16 @@ def test_the_hostile_configs_are_all_clean(tmp_path):
     assert done.returncode == 0, [c for c in counts["failing"]]
     assert counts["cases"] >= 50
     assert all(counts[p] == 0 for p in ("traceback", "hang", "outside", "rows", "exit")), counts
+
+
+@pytest.mark.slow
+def test_the_hostile_api_budgets_and_phases_are_all_clean(tmp_path):
+    """The Python API's arguments, the budgets a user chooses (crow's k, repeats, 400-digit and
+    out-of-range options) and far frames of phased animations under a peak-memory limit."""
+    out = tmp_path / "counts.json"
+    done = subprocess.run([sys.executable, str(ROOT / "scripts" / "hostile_run.py"), "--only", "api", "budgets",
+                           "phases", "--json", str(out)], capture_output=True, text=True, timeout=900, cwd=tmp_path)
+    counts = json.loads(out.read_text())
+    assert done.returncode == 0, [c for c in counts["failing"]]
+    assert counts["per_category"] == {"api": 34, "budgets": 15, "phases": 6}
+    assert all(counts[p] == 0 for p in ("traceback", "hang", "outside", "rows", "exit", "memory")), counts

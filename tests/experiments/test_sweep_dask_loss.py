@@ -11,25 +11,10 @@ import time
 import pytest
 
 from aaeval.cli import main
-from tests.helpers.sweep_util import write_config
+from tests.helpers.sweep_util import MANY, wait_for_cells, write_config
 
 import distributed
 import dask  # noqa: E402  (installed with distributed)
-
-MANY = """
-[experiment]
-name = "many"
-description = "enough cells to kill the scheduler in the middle"
-reference = "supersample:k=2"
-metrics = ["rmse"]
-temporal = []
-
-[[groups]]
-name = "edges"
-scenes = [{generator = "edges", difficulty = [0.1], frames = 60, size = 24}]
-methods = ["point", "supersample:k=3"]
-"""
-
 
 def local_cluster(n_workers):
     """An in-process cluster. Connect attempts give up after 3 s (not Dask's 30): closing a
@@ -76,12 +61,7 @@ def test_a_scheduler_killed_mid_sweep_is_named_and_the_rerun_finishes(tmp_path, 
     out = tmp_path / "out"
     with local_cluster(1) as cluster:
         def kill_after_first_cells():
-            deadline = time.monotonic() + 300
-            while time.monotonic() < deadline:
-                cells = out / "cells"
-                if cells.is_dir() and len(list(cells.glob("*.json"))) >= 3:
-                    break
-                time.sleep(0.02)
+            wait_for_cells(out, 3)
             cluster.loop.add_callback(cluster.scheduler.close)
 
         killer = threading.Thread(target=kill_after_first_cells, daemon=True)
@@ -200,4 +180,14 @@ def test_a_peer_that_never_answers_is_refused_after_the_stated_wait(tmp_path, ca
     err = capsys.readouterr().err
     assert code == 2 and "did not answer within 2 s" in err and err.count("\n") == 1, err
     assert waited < 30
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("address", ["", "   "])
+def test_an_empty_scheduler_address_is_refused_not_run_locally(tmp_path, capsys, address):
+    """``--scheduler "$UNSET"`` ran the sweep locally without a word; it is refused before work."""
+    config = write_config(tmp_path, MANY)
+    code = main(["sweep", str(config), "--out", str(tmp_path / "out"), "--scheduler", address, "-q"])
+    err = capsys.readouterr().err
+    assert code == 2 and "--scheduler: empty address" in err and err.count("\n") == 1, err
     assert not (tmp_path / "out").exists()

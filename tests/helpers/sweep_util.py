@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 SMALL = """
@@ -29,3 +30,33 @@ def write_config(tmp_path: Path, text: str = SMALL, name: str = "exp.toml") -> P
     path = tmp_path / name
     path.write_text(text)
     return path
+
+
+# 120 cells of about a tenth of a second: enough to stop a scheduler or a worker mid-sweep.
+MANY = """
+[experiment]
+name = "many"
+description = "enough cells to stop the scheduler in the middle"
+reference = "supersample:k=2"
+metrics = ["rmse"]
+temporal = []
+
+[[groups]]
+name = "edges"
+scenes = [{generator = "edges", difficulty = [0.1], frames = 60, size = 24}]
+methods = ["point", "supersample:k=3"]
+"""
+
+
+def wait_for_cells(out: Path, at_least: int, limit: float = 300, running=lambda: True) -> int:
+    """Wait until the sweep folder ``out`` holds ``at_least`` cell records (while
+    ``running()``, at most ``limit`` seconds); the count, which may be short when it gave up."""
+    deadline = time.monotonic() + limit
+    n = 0
+    while time.monotonic() < deadline and running():
+        cells = out / "cells"
+        n = len(list(cells.glob("*.json"))) if cells.is_dir() else 0
+        if n >= at_least:
+            break
+        time.sleep(0.02)
+    return n
