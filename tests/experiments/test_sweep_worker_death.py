@@ -126,7 +126,8 @@ def test_a_cell_past_the_time_limit_is_stopped_and_the_sweep_goes_on(site, tmp_p
     done, seconds, out = sweep(site, tmp_path, ["sleepy", "point"], env={"AAEVAL_MAX_SECONDS": "8"}, timeout=200)
     assert seconds < 100, seconds
     assert "Traceback" not in done.stderr + done.stdout, done.stderr
-    assert done.returncode == 0, done.stderr + done.stdout
+    assert done.returncode == 3, done.stderr + done.stdout  # cells failed
+    assert "1 x timed out: stopped after 8 s" in done.stderr, done.stderr
     found = cells(out)
     assert found[("sleepy", 0)]["error"].startswith("timed out: stopped after 8 s"), found[("sleepy", 0)]
     assert found[("point", 0)]["error"] is None
@@ -139,7 +140,8 @@ def test_a_method_that_calls_os_exit_fails_its_cells_only(site, tmp_path):
     done; the cells that killed a worker say how it died."""
     done, _, out = sweep(site, tmp_path, ["exits", "segv", "point"], frames=3)
     assert "Traceback" not in done.stderr + done.stdout, done.stderr
-    assert done.returncode == 0, done.stderr + done.stdout
+    assert done.returncode == 3, done.stderr + done.stdout  # cells failed
+    assert "3 x worker died: exit 3" in done.stderr and "3 x worker died: signal 11" in done.stderr, done.stderr
     found = cells(out)
     assert len(found) == 9
     for frame in range(3):
@@ -152,7 +154,7 @@ def test_a_method_that_calls_os_exit_fails_its_cells_only(site, tmp_path):
 @pytest.mark.slow
 def test_a_rerun_retries_the_cells_whose_worker_died(site, tmp_path):
     first, _, out = sweep(site, tmp_path, ["flaky", "point"], frames=2)
-    assert first.returncode == 0 and "(2 failed)" in first.stdout, first.stdout + first.stderr
+    assert first.returncode == 3 and "(2 failed)" in first.stdout, first.stdout + first.stderr
     again, _, out = sweep(site, tmp_path, ["flaky", "point"], frames=2, env={"FLAKY_OK": "1"})
     assert again.returncode == 0, again.stderr
     assert "4 cells, 2 already done, 2 run (0 failed)" in again.stdout, again.stdout
@@ -165,14 +167,14 @@ def test_images_and_metrics_that_cannot_be_measured_fail_their_cells(site, tmp_p
     above fail_above: "0 failed") and an object array (write_cell raised in the parent) fail
     their cells; a metric that answers inf fails the cell too. The report counts them."""
     done, _, out = sweep(site, tmp_path, ["huge", "objects", "point"], workers=1)
-    assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr
+    assert done.returncode == 3 and "Traceback" not in done.stderr, done.stderr
     assert "(2 failed)" in done.stdout, done.stdout
     found = cells(out)
     assert found[("point", 0)]["error"] is None
     assert "huge" in found[("huge", 0)]["error"] and "objects" in found[("objects", 0)]["error"]
     (tmp_path / "m").mkdir()
     again, _, out2 = sweep(site, tmp_path / "m", ["point"], metrics=("rmse", "infinite"), workers=1)
-    assert again.returncode == 0, again.stderr
+    assert again.returncode == 3, again.stderr
     record = cells(out2)[("point", 0)]
     assert "infinite=inf" in record["error"] and "(1 failed)" in again.stdout
 
