@@ -281,7 +281,8 @@ register_metric("highlight_energy_flicker", highlight_energy_flicker, kind="temp
                 summary="std over frames of the highlight energy ratio test / reference (what is left after hl bias)")
 register_metric("highlight_profile_flicker", highlight_profile_flicker, kind="temporal",
                 title="hl flicker (per cross-section)", fmt=".3e", mask="highlight",
-                summary="RMS over the highlight's rows of the std over frames of each row's energy error, / mean row energy")
+                summary="energy per cross-section of each highlight (cut across its own direction): change over frames "
+                        "left after each cross-section's steady gain, relative to its energy")
 register_metric("highlight_flicker", highlight_flicker, kind="temporal", title="hl change error", fmt=".3e",
                 mask="highlight",
                 summary="RMS of the frame-to-frame change of the error over the highlight pixels (a moving bias counts)")
