@@ -129,7 +129,7 @@ def test_findings_rank_amanatides_ten_times_steadier_on_the_thin_highlight(tmp_p
     table = ranked(temporal, group, question.column, {name: m.info() for name, m in METRICS.items()})
     value = {MethodSpec.parse(spec).options["specular"]: v for m, spec, v in zip(table["method"], table["spec"],
                                                                                   table["value"]) if m == "catmull"}
-    assert value["none"] >= 10 * value["amanatides"], value  # measured 74x
+    assert value["none"] >= 10 * value["amanatides"], value  # measured 73x (5.5e-3 and 7.6e-5)
     results = pd.read_parquet(out / "results.parquet")
     assert set(results["reference_kind"]) == {"exact"}
     assert (results["reference_noise_rmse"] > 0).all() and (results["reference_noise_rmse"] < 1e-12).all()
