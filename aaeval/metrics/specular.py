@@ -125,7 +125,7 @@ def highlight_profile_flicker(frames_true, frames_test, *, mask, direction: floa
     angle, or a curved one, is cut across. The cuts follow the pixel axis nearest to the
     highlight's perpendicular (columns for a highlight nearer horizontal, rows for one
     nearer vertical); a cross-section is a Gaussian window of standard deviation
-    ``section`` pixels of the centre line's length, weighting each pixel by where its cut
+    ``section`` pixels along the highlight's axis, weighting each pixel by where its cut
     meets the centre line. The box-filtered truth keeps each cross-section's energy nearly
     constant as the highlight drifts by fractions of a pixel; a highlight that breaks up
     or pops does not.
@@ -180,14 +180,14 @@ def highlight_profile_flicker(frames_true, frames_test, *, mask, direction: floa
     true, test = (f.sum(axis=-1) if f.ndim == 4 else f for f in (frames_true, frames_test))
     left, energy = 0.0, 0.0
     height, width = mask.shape
-    for (rows, cols), lit, along, cut in _cross_section_positions(true.mean(axis=0), mask, int(margin), direction):
+    for (rows, cols), highlight, along, cut in _cross_section_positions(true.mean(axis=0), mask, int(margin),
+                                                                         direction):
         windows = _gaussian_windows(along, section)
         # A cut that the image's side ends inside the highlight holds part of a cross-section,
         # whose share changes as the highlight slides along that side: cross-sections with
         # more than 1 % of their highlight on the side are left out.
         side = (cols == 0) | (cols == width - 1) if cut == 1 else (rows == 0) | (rows == height - 1)
-        held = lit @ windows
-        windows = windows[:, (lit * side) @ windows <= 0.01 * held]
+        windows = windows[:, (highlight * side) @ windows <= 0.01 * (highlight @ windows)]
         p, q = true[:, rows, cols] @ windows, test[:, rows, cols] @ windows
         power = (p * p).sum(axis=0)
         lit = power > 0
