@@ -26,7 +26,7 @@ def cvvdp(frames_true, frames_test, *, fps: float = 30.0, display: str = DISPLAY
     """ColorVideoVDP quality of a test animation against the reference, in JOD.
 
     The frames are linear sRGB; they are clipped to [0, 1], encoded with the sRGB transfer
-    function and shown on ``display`` (a display model of ColorVideoVDP's own tables, shipped
+    function (colour-science) and shown on ``display`` (a display model of ColorVideoVDP's own tables, shipped
     with the package: nothing is fetched) at ``fps`` frames per second. JOD (just-objectionable
     differences) is 10 for a test no one can tell from the reference and falls as the
     difference becomes visible; temporal artefacts such as popping count for more than a
@@ -55,14 +55,14 @@ def cvvdp(frames_true, frames_test, *, fps: float = 30.0, display: str = DISPLAY
     check_positive("fps", fps)
     if frames_true.shape[0] < 2:
         raise ValueError(f"need at least 2 frames for a video, got {frames_true.shape[0]}")
+    import colour
     import torch
-
-    from aaeval.renderers.fxaa import srgb_encode
 
     metric = _metric(display)
 
     def video(frames):
-        return torch.as_tensor(srgb_encode(np.clip(frames, 0.0, 1.0)), dtype=torch.float32)
+        encoded = colour.models.eotf_inverse_sRGB(np.clip(frames, 0.0, 1.0))
+        return torch.as_tensor(encoded, dtype=torch.float32)
 
     # One thread: a sweep already runs a cell per core, and PyTorch's threads waiting on a
     # busy machine cost 30 times the work (24 x 24 x 16 frames: 8 s on two threads, 0.2 s on one).
