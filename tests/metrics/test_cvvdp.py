@@ -10,7 +10,7 @@ from aaeval.metrics import registry
 
 CVVDP = registry.METRICS["cvvdp"]
 needs_cvvdp = pytest.mark.skipif(CVVDP.unavailable() is not None,
-                                 reason=f"cvvdp is not installed: {CVVDP.unavailable()}")
+                                 reason=f"ColorVideoVDP unavailable here: {CVVDP.unavailable()}")
 FRAMES, SIZE = 16, 24  # a default-sweep-sized animation
 
 
