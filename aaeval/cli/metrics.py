@@ -23,6 +23,8 @@ def run(args) -> int:
             needs = ", ".join(m.needs) + (f", mask {m.mask}" if m.mask else "")
             print(f"  {name}: {m.summary}")
             print(f"      title {m.title!r}, format {m.fmt}, {m.direction}; needs {needs}")
+            if m.unavailable():
+                print(f"      unavailable here: {m.unavailable()}")
     print("masks:")
     for name, mask in MASKS.items():
         print(f"  {name}: {mask.summary}")

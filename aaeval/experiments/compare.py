@@ -31,10 +31,11 @@ __all__ = ["ComparisonPlan", "parse_frames", "plan_comparison", "run_comparison"
 
 
 def default_metrics(kind: str, scene: Scene | None = None) -> tuple[str, ...]:
-    """Every registered metric of ``kind``, less those whose mask is always empty on ``scene``
-    (highlight metrics on a scene without shaded objects)."""
+    """Every registered metric of ``kind`` available here, less those whose mask is always
+    empty on ``scene`` (highlight metrics on a scene without shaded objects)."""
     return tuple(n for n, m in METRICS.items()
-                 if m.kind == kind and (scene is None or m.mask is None or MASKS[m.mask].applies_to(scene)))
+                 if m.kind == kind and m.unavailable() is None
+                 and (scene is None or m.mask is None or MASKS[m.mask].applies_to(scene)))
 
 
 @dataclass(frozen=True)

@@ -76,9 +76,10 @@ QUESTIONS = (
              what="error over the highlight pixels, mean over scenes and frames; beside it the highlight's bias "
                   "(time-average of its energy error) and flicker (what is left, frame to frame)"),
     Question("temporal", "Temporal stability", "temporal", "flicker", ("edge-aliasing", "khan-figures-moving"),
-             extra=(("temporal", "temporal_bias"),),
+             extra=(("temporal", "temporal_bias"), ("temporal", "cvvdp")),
              what="flicker of the error over each animation (the error minus its time-average), mean over "
-                  "animations; beside it the bias (the time-average)"),
+                  "animations; beside it the bias (the time-average) and, where the group measures it, "
+                  "ColorVideoVDP's JOD (10: no visible difference)"),
     Question("highlight-flicker", "Temporal stability of highlights", "temporal", "highlight_profile_flicker",
              ("specular-thin", "specular"), extra=(("temporal", "highlight_bias"),),
              what="spread over frames of each highlight cross-section's energy error, relative, mean over animations; "

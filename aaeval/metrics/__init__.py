@@ -25,6 +25,7 @@ _EXPORTS = {
                  "highlight_flicker", "highlight_mask", "highlight_profile_flicker", "highlight_rmse"),
     "temporal": ("flicker", "image_flicker", "intensity_sum", "relative_variation", "sum_bias", "sum_variation",
                  "temporal_bias"),
+    "video": ("cvvdp",),
 }
 _MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
 
@@ -67,6 +68,7 @@ __all__ = [
     "highlight_energy_flicker",
     "highlight_profile_flicker",
     "detection_precision_recall",
+    "cvvdp",
 ]
 
 

@@ -39,6 +39,7 @@ from aaeval.metrics.specular import (
     highlight_rmse,
 )
 from aaeval.metrics.temporal import flicker, image_flicker, sum_bias, sum_variation, temporal_bias
+from aaeval.metrics.video import CVVDP_MODULE, cvvdp
 from aaeval.metrics.info import MetricInfo, format_value
 from aaeval.options import Registry
 
@@ -77,6 +78,16 @@ class Metric(MetricInfo):
     and ``func(true, test, **options) -> float``."""
 
     func: Callable[..., float] | None = None
+    requires: str | None = None  # a module the function imports, not installed with aaeval itself
+    extra: str | None = None  # the optional-dependency group of aaeval that installs it
+
+    def unavailable(self) -> str | None:
+        """Why this metric cannot be computed on this machine, or None when it can."""
+        import importlib.util
+
+        if self.requires is None or importlib.util.find_spec(self.requires) is not None:
+            return None
+        return f"needs the module {self.requires!r}, not installed (pip install 'aaeval[{self.extra}]')"
 
     def info(self) -> MetricInfo:
         """The description alone, without the function (what a sweep stores)."""
@@ -121,11 +132,15 @@ METRICS: Registry = _MetricRegistry("metric", MetricError)
 def register_metric(name: str, func: Callable[..., float] | None = None, *, kind: str, title: str, fmt: str,
                     higher_is_better: bool = False, needs: tuple[str, ...] = ("reference",),
                     mask: str | None = None, summary: str | None = None, target: float | None = None,
-                    rms: bool = False) -> Metric:
+                    rms: bool = False, requires: str | None = None, extra: str | None = None) -> Metric:
     """Register a metric; the only step needed for compare, sweeps, tables and reports to know it.
 
     ``register_metric(name, func, ...)`` returns the :class:`Metric`; without ``func`` it is
-    a decorator (``@register_metric(name, kind=..., ...)``) returning the function.
+    a decorator (``@register_metric(name, kind=..., ...)``) returning the function. A metric
+    computed by an optional package names the module it imports (``requires``) and the
+    optional-dependency group of aaeval that installs it (``extra``): where the module is
+    missing it stays listed, as unavailable with that reason, and a config asking for it is
+    refused before any work.
 
     Raises
     ------
@@ -136,7 +151,8 @@ def register_metric(name: str, func: Callable[..., float] | None = None, *, kind
 
     if func is None:
         return lambda f: register_metric(name, f, kind=kind, title=title, fmt=fmt, higher_is_better=higher_is_better,
-                                         needs=needs, mask=mask, summary=summary, target=target, rms=rms).func
+                                         needs=needs, mask=mask, summary=summary, target=target, rms=rms,
+                                         requires=requires, extra=extra).func
     if not isinstance(name, str) or not name.isidentifier():
         raise MetricError(f"metric name must be an identifier (it becomes a table column), got {name!r}")
     if name in METRICS:
@@ -154,6 +170,8 @@ def register_metric(name: str, func: Callable[..., float] | None = None, *, kind
         if "mask" not in _keyword_options(func):
             raise MetricError(f"metric {name!r} declares mask {mask!r} but its function takes no 'mask' option")
         needs = tuple(dict.fromkeys((*needs, "scene")))
+    if (requires is None) != (extra is None):
+        raise MetricError(f"metric {name!r}: an optional module (requires) and the extra installing it go together")
     try:
         format(1.0, fmt)
     except ValueError:
@@ -161,7 +179,7 @@ def register_metric(name: str, func: Callable[..., float] | None = None, *, kind
     doc = (inspect.getdoc(func) or "").split("\n", 1)[0]
     metric = Metric(name=name, func=func, kind=kind, title=title, fmt=fmt, higher_is_better=bool(higher_is_better),
                     needs=tuple(needs), mask=mask, summary=summary or doc,
-                    target=None if target is None else float(target), rms=bool(rms))
+                    target=None if target is None else float(target), rms=bool(rms), requires=requires, extra=extra)
     return METRICS.add(name, metric)
 
 
@@ -185,6 +203,10 @@ def check_metric_names(names, kind: str) -> tuple[str, ...]:
     repeated = sorted({n for n in names if names.count(n) > 1})
     if repeated:
         raise MetricError(f"metric(s) {repeated} given more than once")
+    missing = {n: METRICS[n].unavailable() for n in names}
+    missing = {n: why for n, why in missing.items() if why}
+    if missing:
+        raise MetricError("metric(s) unavailable here: " + "; ".join(f"{n} {why}" for n, why in missing.items()))
     return names
 
 
@@ -281,7 +303,13 @@ register_metric("highlight_energy_flicker", highlight_energy_flicker, kind="temp
                 summary="std over frames of the highlight energy ratio test / reference (what is left after hl bias)")
 register_metric("highlight_profile_flicker", highlight_profile_flicker, kind="temporal",
                 title="hl flicker (per cross-section)", fmt=".3e", mask="highlight",
-                summary="RMS over the highlight's rows of the std over frames of each row's energy error, / mean row energy")
+                summary="energy per cross-section of each highlight (cut across its own direction): change over frames "
+                        "left after each cross-section's steady gain, relative to its energy")
 register_metric("highlight_flicker", highlight_flicker, kind="temporal", title="hl change error", fmt=".3e",
                 mask="highlight",
                 summary="RMS of the frame-to-frame change of the error over the highlight pixels (a moving bias counts)")
+# Perceptual: how visible the difference is, popping weighed above a steady error of one size.
+register_metric("cvvdp", cvvdp, kind="temporal", title="ColorVideoVDP JOD", fmt=".3f", higher_is_better=True,
+                requires=CVVDP_MODULE, extra="cvvdp",
+                summary="ColorVideoVDP (Mantiuk et al. 2024) in JOD, 10: indistinguishable from the reference; "
+                        "sRGB on a 4K 30-inch monitor at 30 frames per second")

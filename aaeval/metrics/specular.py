@@ -115,27 +115,54 @@ def highlight_flicker(frames_true, frames_test, *, mask) -> float:
     return float(np.sqrt(np.mean(change**2)))
 
 
-def highlight_profile_flicker(frames_true, frames_test, *, mask, axis: int = 1, margin: int = 4) -> float:
-    """Flicker of the highlight's cross-section energy, relative to the truth's.
+def highlight_profile_flicker(frames_true, frames_test, *, mask, direction: float | None = None,
+                              section: float = 2.0, margin: int = 4) -> float:
+    """Flicker of the highlight's energy per cross-section, after each cross-section's steady gain.
 
-    Sums the masked pixels along ``axis`` (1: along rows, for a highlight running up and
-    down the image) into a profile per frame. The box-filtered truth keeps each
-    cross-section's energy nearly constant as the highlight drifts sideways by fractions
-    of a pixel; a highlight that breaks up does not. Returns the RMS over profile
-    positions of the temporal standard deviation of ``profile_test - profile_true``,
-    divided by the mean true profile.
+    Each highlight (a connected piece of the mask, widened by ``margin``) is cut across
+    its own direction, found from the truth: the principal axis of the truth's
+    time-averaged highlight, with a quadratic centre line along it, so a highlight at any
+    angle, or a curved one, is cut across. The cuts follow the pixel axis nearest to the
+    highlight's perpendicular (columns for a highlight nearer horizontal, rows for one
+    nearer vertical); a cross-section is a Gaussian window of standard deviation
+    ``section`` pixels along the highlight's axis, weighting each pixel by where its cut
+    meets the centre line. The box-filtered truth keeps each cross-section's energy nearly
+    constant as the highlight drifts by fractions of a pixel; a highlight that breaks up
+    or pops does not.
+
+    With ``P(t)`` the truth's and ``Q(t)`` the test's energy in a cross-section at frame
+    ``t``, the cross-section's steady gain ``g = sum(P Q) / sum(P P)`` (least squares over
+    the frames) is its bias; what is left, ``Q - g P``, is flicker. Returns
+    ``sqrt(sum(|Q - g P|^2) / sum(P^2))`` over cross-sections and frames: a steady bias
+    scores 0, a highlight brightened and dimmed by 20 % in alternate frames 0.2.
+
+    Why these cuts: a box-filtered pixel holds its energy without saying where in the
+    square it lies. A hard 1 px bin across a highlight at an angle splits squares, and the
+    share of a split square that belongs to each bin changes as the highlight moves (by
+    1.5 % of a bin at 19 degrees, 4.5 % at 45, with exact area weights); a window whose
+    weight changes slowly over a pixel makes that share nearly irrelevant. And a cut
+    exactly perpendicular to a highlight 5 degrees from vertical gives the pixels of one
+    row different weights: a narrow highlight and a wider one drifting across that row
+    together spread their energy over its pixels differently, and a steady wider
+    highlight read 4e-3 of flicker. Cutting along rows there leaves it at 0.
 
     Parameters
     ----------
     frames_true, frames_test : ndarray, shape (T, H, W) (specular term) or (T, H, W, C)
-    mask : ndarray of bool, shape (H, W)
-        The region holding one highlight line.
-    axis : {0, 1}, optional
-        Image axis summed over: 1 sums each row (default), 0 each column.
+        Channels are summed.
+    mask : ndarray of bool, shape (H, W) or (T, H, W)
+        The highlight's pixels (a per-frame mask counts the pixels masked in any frame).
+    direction : float, optional
+        The highlights' direction in degrees from the image's x axis toward its y axis (90:
+        straight down the image, whose cross-sections are rows), taken straight; default:
+        each highlight's own, found from the truth.
+    section : float, optional
+        Standard deviation in pixels of the window along the highlight that one
+        cross-section sums over.
     margin : int, optional
-        Pixels the mask is widened by along ``axis``, so that energy a steady blur spreads
-        just outside the highlight still counts in its cross-section (a 1 px Gaussian,
-        truncated at 4 sigma, needs 4).
+        Pixels the mask is widened by, so that energy a steady blur spreads just outside
+        the highlight still counts in its cross-section (a 1 px Gaussian, truncated at 4
+        sigma, needs 4).
 
     Returns
     -------
@@ -144,28 +171,90 @@ def highlight_profile_flicker(frames_true, frames_test, *, mask, axis: int = 1, 
     """
     frames_true, frames_test = _frames(frames_true, frames_test)
     mask = _still_mask(mask, frames_true.shape)
-    if axis not in (0, 1):
-        raise ValueError(f"axis must be 0 (columns) or 1 (rows), got {axis!r}")
-    if margin > 0:
-        from scipy import ndimage  # here, not at the top: every command line loads this module, few dilate
-
-        reach = np.zeros((1, 2 * margin + 1) if axis == 1 else (2 * margin + 1, 1), dtype=bool)
-        reach[...] = True
-        mask = ndimage.binary_dilation(mask, structure=reach)
-    weight = mask.astype(np.float64)
-    if frames_true.ndim == 4:
-        weight = weight[..., None]
-
-    def profile(frames):
-        p = (frames * weight).sum(axis=axis + 1)
-        return p.sum(axis=-1) if p.ndim == 3 else p
-
-    true, test = profile(frames_true), profile(frames_test)
-    lines = true.mean(axis=0) > 0
-    if not lines.any():
+    if direction is not None and not np.isfinite(direction):
+        raise ValueError(f"direction must be a finite angle in degrees or None, got {direction!r}")
+    if not section > 0 or not np.isfinite(section):
+        raise ValueError(f"section must be a finite number of pixels > 0, got {section!r}")
+    if int(margin) != margin or margin < 0:
+        raise ValueError(f"margin must be a whole number of pixels >= 0, got {margin!r}")
+    true, test = (f.sum(axis=-1) if f.ndim == 4 else f for f in (frames_true, frames_test))
+    left, energy = 0.0, 0.0
+    height, width = mask.shape
+    for (rows, cols), highlight, along, cut in _cross_section_positions(true.mean(axis=0), mask, int(margin),
+                                                                         direction):
+        windows = _gaussian_windows(along, section)
+        # A cut that the image's side ends inside the highlight holds part of a cross-section,
+        # whose share changes as the highlight slides along that side: cross-sections with
+        # more than 1 % of their highlight on the side are left out.
+        side = (cols == 0) | (cols == width - 1) if cut == 1 else (rows == 0) | (rows == height - 1)
+        windows = windows[:, (highlight * side) @ windows <= 0.01 * (highlight @ windows)]
+        p, q = true[:, rows, cols] @ windows, test[:, rows, cols] @ windows
+        power = (p * p).sum(axis=0)
+        lit = power > 0
+        gain = (p * q).sum(axis=0)[lit] / power[lit]
+        left += float(((q[:, lit] - gain * p[:, lit]) ** 2).sum())
+        energy += float(power.sum())
+    if energy == 0:
         return float("nan")
-    spread = (test - true)[:, lines].std(axis=0)
-    return float(np.sqrt(np.mean(spread**2)) / true[:, lines].mean())
+    return float(np.sqrt(left / energy))
+
+
+def _cross_section_positions(truth, mask, margin, direction):
+    """For each highlight (a connected piece of ``mask`` widened by ``margin``), its pixels,
+    the truth on those of them in the mask (0 elsewhere), and where each pixel lies along
+    the highlight with the cut that places it (:func:`_position_along`)."""
+    from scipy import ndimage  # here, not at the top: every command line loads this module, few measure
+
+    disk = np.hypot(*np.mgrid[-margin:margin + 1, -margin:margin + 1]) <= margin
+    region = ndimage.binary_dilation(mask, structure=disk) if margin else mask
+    pieces, count = ndimage.label(region, structure=np.ones((3, 3), bool))
+    weight = np.where(mask, np.clip(truth, 0, None), 0.0)
+    for piece in range(1, count + 1):
+        rows, cols = np.nonzero(pieces == piece)
+        w = weight[rows, cols]
+        if not w.sum() > 0:
+            continue
+        centres = np.stack([cols + 0.5, rows + 0.5], axis=1)
+        yield (rows, cols), w, *_position_along(centres, w, direction)
+
+
+def _position_along(points, weight, direction):
+    """Where each point's cut meets the highlight's centre line, as a distance along it, and
+    the cut (0: columns, 1: rows).
+
+    The centre line runs along the principal axis of the weighted points (or ``direction``),
+    bent by a quadratic fitted across it. A point's cut is its pixel column when the line
+    is nearer horizontal, its row when nearer vertical: the pixel axis nearest to the
+    line's perpendicular (within 45 degrees of it), so that energy moving across the
+    highlight from pixel to pixel of one row (or column) stays in its cross-section.
+    """
+    centre = weight @ points / weight.sum()
+    offsets = points - centre
+    if direction is None:
+        spread = (offsets * weight[:, None]).T @ offsets
+        axis = np.linalg.eigh(spread)[1][:, -1]  # the principal axis: the largest spread
+    else:
+        axis = np.array([np.cos(np.radians(direction)), np.sin(np.radians(direction))])
+    across = np.array([-axis[1], axis[0]])
+    cut = 0 if abs(axis[0]) >= abs(axis[1]) else 1  # 0: columns cut the line, 1: rows
+    target = offsets[:, cut]
+    t = target / axis[cut]
+    lit = weight > 0
+    u = offsets[lit] @ axis
+    degree = min(2, len(np.unique(u)) - 1)
+    if direction is not None or degree < 1:
+        return t, cut
+    line = np.polynomial.Polynomial.fit(u, offsets[lit] @ across, degree, w=np.sqrt(weight[lit]))
+    slope = line.deriv()
+    for _ in range(8):  # Newton's steps to the centre line's point t * axis + line(t) * across in the cut
+        t -= (t * axis[cut] + line(t) * across[cut] - target) / (axis[cut] + slope(t) * across[cut])
+    return t, cut
+
+
+def _gaussian_windows(position, sigma):
+    """Weights (pixels x windows) of Gaussian windows spaced ``sigma`` apart along ``position``."""
+    centres = np.arange(position.min() - 2 * sigma, position.max() + 2 * sigma + sigma, sigma)
+    return np.exp(-0.5 * ((position[:, None] - centres[None, :]) / sigma) ** 2)
 
 
 def _energy_ratios(frames_true, frames_test, mask) -> np.ndarray:

@@ -121,26 +121,31 @@ def test_sum_bias_reads_the_exact_frames_not_the_reference():
 
 
 def test_every_temporal_measure_meets_the_known_answers_of_the_controls():
-    from aaeval.metrics.controls import control_scores
+    from aaeval.metrics.controls import WORSE, control_scores
 
     rows = control_scores()
     checked = [r for r in rows if np.isfinite(r["expected"])]
     missed = [(r["measure"], r["control"], r["score"], r["expected"]) for r in checked
               if not abs(r["score"] - r["expected"]) <= 1e-9]
     assert not missed
-    # every registered temporal measure is held to at least two known answers
-    temporal = [n for n, m in registry.METRICS.items() if m.kind == "temporal"]
-    counts = {n: sum(r["measure"] == n for r in checked) for n in temporal}
+    score = {(r["measure"], r["control"]): r["score"] for r in rows}
+    ordered = [(m, worse, better) for m, worse, better in WORSE if (m, worse) in score]
+    for m, worse, better in ordered:
+        sign = 1.0 if registry.METRICS[m].higher_is_better else -1.0
+        assert sign * score[m, worse] < sign * score[m, better], (m, worse, better)
+    # every temporal measure available here is held to at least two known answers or orders
+    temporal = [n for n, m in registry.METRICS.items() if m.kind == "temporal" and not m.unavailable()]
+    counts = {n: sum(r["measure"] == n for r in checked) + sum(o[0] == n for o in ordered) for n in temporal}
     assert all(c >= 2 for c in counts.values()), counts
 
 
 def test_library_controls_match_this_file():
     # the page's controls are the ones this file builds by hand
-    from aaeval.metrics.controls import controls
+    from aaeval.metrics.controls import ENERGY, controls
 
     truth, tests, masks = controls()
-    assert np.array_equal(truth[..., 0], TRUTH)
-    assert np.array_equal(tests["steady_blur"][..., 0], STEADY_BLUR)
+    assert np.array_equal(truth[..., 0], ENERGY * TRUTH)
+    assert np.allclose(tests["steady_blur"][..., 0], ENERGY * STEADY_BLUR, rtol=0, atol=1e-15)
     assert np.array_equal(masks["highlight"], MASK)
 
 
