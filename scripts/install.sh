@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Installs aaeval and everything it needs: the Python package with its test extras (its
-# C++ kernels compiled on the way, by scikit-build-core and CMake), and on Debian-like
+# Installs aaeval and everything it needs: the Python package with its test extra and the
+# cvvdp extra (ColorVideoVDP and a CPU build of PyTorch, for the perceptual temporal metric
+# the default experiment measures), its C++ kernels compiled on the way by scikit-build-core
+# and CMake, and on Debian-like
 # machines a C++ compiler and CMake where missing and the shared libLLVM that Mitsuba's
 # LLVM variant loads.
 set -euo pipefail
@@ -50,7 +52,7 @@ if [ -n "${AAEVAL_INSTALL_BROWSER:-}" ] && ! command -v chromium >/dev/null 2>&1
   fi
 fi
 
-"$PY" -m pip install -q --disable-pip-version-check -e ".[test]"
+"$PY" -m pip install -q --disable-pip-version-check -e ".[test,cvvdp]"
 # An editable install leaves the sources uncompiled (pip byte-compiles only what it copies):
 # compile them once here, so that every process importing aaeval (the CLI, sweep workers,
 # the tests' subprocesses) reads bytecode even where PYTHONDONTWRITEBYTECODE is set, instead

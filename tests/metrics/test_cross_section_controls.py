@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-shapely = pytest.importorskip("shapely")
+import shapely
 
 from aaeval.metrics import registry  # noqa: E402
 from aaeval.metrics.specular import highlight_mask  # noqa: E402

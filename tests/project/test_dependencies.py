@@ -19,8 +19,9 @@ CHECKED = ("aaeval", "tests", "examples", "benchmarks")
 WRITTEN_BY_TESTS = {"aaeval_callable_test_plugin"}
 #: Optional packages: imported only where present, each with the reason it is optional.
 OPTIONAL = {
-    "cvvdp": "ColorVideoVDP needs PyTorch (hundreds of MB); its metric is listed as unavailable without it",
-    "torch": "ColorVideoVDP's runtime",
+    "pycvvdp": "ColorVideoVDP (the [cvvdp] extra) needs PyTorch; its metric is listed as unavailable without it",
+    "torch": "ColorVideoVDP's runtime (the [cvvdp] extra)",
+    "torchvision": "imported by ColorVideoVDP (the [cvvdp] extra)",
 }
 
 
