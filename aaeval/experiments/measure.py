@@ -198,7 +198,8 @@ def exact_shading_bound(scene, spec, frame: int) -> float | None:
         return None
     from aaeval.specular.exact import exact_shading
 
-    options = {k: v for k, v in spec.options.items() if k not in ("shading", "threads", "filter")}
+    # the specular options alone: pixel filter, blending space and threads do not change the bound
+    options = {k: v for k, v in spec.options.items() if k not in ("shading", "threads", "filter", "blend")}
     bound = exact_shading(at, **options).bound
     return float(np.sqrt(np.mean(bound ** 2)))
 

@@ -17,8 +17,9 @@ from tests.helpers.catmull_fragment_bits import FILE, fragment_digests
 def test_native_fragments_have_the_recorded_bits():
     expected = json.loads(FILE.read_text())
     got = dict(fragment_digests())
-    # 118 scenes x 2: the 115 the numba kernel recorded and three shipped since (the 21-bar
-    # moire fence, the thin and wide highlight cylinders), added alone by `... add`
-    assert got.keys() == expected.keys() and len(expected) == 236
+    # 120 scenes x 2: the 115 the numba kernel recorded and five shipped since (the 21-bar
+    # moire fence, the thin and wide highlight cylinders, the held-out tilted and upright
+    # thin cylinders), added alone by `... add`
+    assert got.keys() == expected.keys() and len(expected) == 240
     differing = sorted(key for key in expected if got[key] != expected[key])
     assert not differing, f"{len(differing)} of {len(expected)} differ, e.g. {differing[:5]}"

@@ -224,6 +224,9 @@ def reshade(family: str) -> Path:
 
 
 if __name__ == "__main__":
+    from aaeval import registries
+
+    registries.load()  # the methods whose images are recorded
     commands = {"record": record, "reshade": reshade, "add": add_new, "shaded": lambda f: json.dumps(shaded_digests(f))}
     if len(sys.argv) != 3 or sys.argv[1] not in commands or sys.argv[2] not in FAMILY_METHODS:
         raise SystemExit(f"usage: python3 -m tests.helpers.same_bits {{record,reshade,add}} {{{','.join(FAMILY_METHODS)}}}")

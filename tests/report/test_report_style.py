@@ -237,7 +237,7 @@ def test_a_figure_is_written_as_png_svg_and_pdf_with_its_style_tags(drawn, tmp_p
     for fmt in figures.FORMATS:
         assert (folder / f"{SAVED}.{fmt}").stat().st_size > 0, fmt
     svg = (folder / "validation.svg").read_text()
-    assert 'id="method=catmull;options=' in svg and 'id="method=weiler-atherton;options=convex=True,window=0"' in svg  # the style tags survive into the SVG
+    assert 'id="method=catmull;options=' in svg and 'id="method=weiler-atherton;options=blend=linear,convex=True,window=0"' in svg  # the style tags survive into the SVG
 
 
 def test_every_registered_method_has_its_own_line():
