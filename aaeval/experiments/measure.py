@@ -37,7 +37,8 @@ from aaeval.metrics import (
     intensity_sum,
     rmse,
 )
-from aaeval.metrics.perceptual import flip_map, one_flip_per_pair
+from aaeval.metrics._pairs import maps_once_per_pair
+from aaeval.metrics.perceptual import flip_map
 
 if TYPE_CHECKING:
     from aaeval.renderers.registry import MethodSpec
@@ -414,7 +415,7 @@ def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | N
         if not np.all(np.isfinite(image)):
             raise FloatingPointError("the image has non-finite pixels")
         out.intensity_sum = intensity_sum(image)
-        with one_flip_per_pair():  # the flip metric's evaluation gives the viewer's map too
+        with maps_once_per_pair():  # one FLIP for the metric and the viewer's map, one CIEDE2000 map
             out.metrics, out.metric_errors = frame_metrics(
                 metrics, reference, image, lambda name: cache.mask(digest, scene, frame, name))
             if keep_flip:

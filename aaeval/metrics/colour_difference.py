@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from aaeval.metrics._checks import check_image_pair
+from aaeval.metrics._pairs import once_per_pair
 
 __all__ = ["linear_rgb_to_lab", "ciede2000_map", "ciede2000_mean", "ciede2000_p95"]
 
@@ -27,8 +28,11 @@ def linear_rgb_to_lab(image) -> np.ndarray:
     return colour.XYZ_to_Lab(xyz, srgb.whitepoint)
 
 
+@once_per_pair
 def ciede2000_map(image_true, image_test) -> np.ndarray:
-    """Per-pixel CIEDE2000 colour difference, shape (H, W).
+    """Per-pixel CIEDE2000 colour difference, shape (H, W); computed once per pair inside
+    :func:`aaeval.metrics._pairs.maps_once_per_pair` (the mean and the 95th percentile of a
+    sweep cell read one map).
 
     Parameters
     ----------
