@@ -52,7 +52,7 @@ from typing import Any, Callable, Iterable, Iterator
 import numpy as np
 
 import aaeval
-from aaeval.fileio import atomic_write
+from aaeval.fileio import atomic_write, atomic_write_many
 
 __all__ = ["code_version", "read_table", "SCHEMA_KEY", "cell_key", "reference_key", "SweepStore", "ReferenceCache", "default_cache_dir",
            "StoreError", "FolderInUse", "npy_problem"]
@@ -228,7 +228,15 @@ def _stamp() -> str:
 
 
 def _save_npy(path: Path, array: np.ndarray, dtype) -> None:
-    atomic_write(path, lambda tmp: np.save(tmp, np.asarray(array, dtype=dtype)))
+    atomic_write(path, _npy_writer(array, dtype))
+
+
+def _npy_writer(array: np.ndarray, dtype):
+    return lambda tmp: np.save(tmp, np.asarray(array, dtype=dtype))
+
+
+def _text_writer(text: str):
+    return lambda tmp: Path(tmp).write_text(text)
 
 
 def _reference_meta_ok(info) -> bool:
@@ -511,20 +519,28 @@ class SweepStore:
     # --- writing ---------------------------------------------------------------------
 
     def write_cell(self, record: dict, image: np.ndarray | None, flip: np.ndarray | None = None) -> None:
-        # image first: a record that exists always has its image
-        if image is not None:
-            # float64: a float32 copy would show rounding as error against an exact reference
-            self._folder(self.images_dir)
-            _save_npy(self.image_path(record["key"]), image, np.float64)
-        if flip is not None:
-            self.write_flip(record["key"], flip)
-        text = json.dumps(record, indent=1, default=_jsonable) + "\n"
-        self._folder(self.cells_dir)
-        atomic_write(self.cell_path(record["key"]), lambda tmp: Path(tmp).write_text(text))
+        self.write_cells([(record, image, flip)])
+
+    def write_cells(self, cells: list[tuple[dict, np.ndarray | None, np.ndarray | None]]) -> None:
+        """Write finished cells, each ``(record, image, flip map)`` (image and map may be
+        None), with the syncs of the batch shared (:func:`aaeval.fileio.atomic_write_many`):
+        every file of every cell is synced before any is renamed into place, every image
+        and map before any record, so a record that exists always has its image."""
+        arrays, records = [], []
+        for record, image, flip in cells:
+            key = record["key"]
+            if image is not None:
+                # float64: a float32 copy would show rounding as error against an exact reference
+                arrays.append((self._folder(self.images_dir) / f"{key}.npy", _npy_writer(image, np.float64)))
+            if flip is not None:  # float32: the viewer shows it in 1/255 steps
+                arrays.append((self._folder(self.flips_dir) / f"{key}.npy", _npy_writer(flip, np.float32)))
+            text = json.dumps(record, indent=1, default=_jsonable) + "\n"
+            records.append((self._folder(self.cells_dir) / f"{key}.json", _text_writer(text)))
+        atomic_write_many(arrays + records)
 
     def write_flip(self, key: str, flip: np.ndarray) -> None:
         self._folder(self.flips_dir)
-        _save_npy(self.flip_path(key), flip, np.float32)  # the viewer shows it in 1/255 steps
+        _save_npy(self.flip_path(key), flip, np.float32)
 
     def write_reference(self, key: str, image: np.ndarray) -> None:
         path = self.reference_path(key)

@@ -81,3 +81,9 @@ def failed_record(payload: dict[str, Any], error: str) -> dict:
         host=socket.gethostname(), pid=os.getpid(),
         finished_at=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()))
     return record.to_json()
+
+
+def run_cells(payloads: list[dict[str, Any]]) -> list[tuple[dict, np.ndarray | None, np.ndarray | None]]:
+    """:func:`run_cell` on each payload of a chunk, in order: one task, one message each way
+    for many cells."""
+    return [run_cell(payload) for payload in payloads]
