@@ -526,16 +526,23 @@ class SweepStore:
         None), with the syncs of the batch shared (:func:`aaeval.fileio.atomic_write_many`):
         every file of every cell is synced before any is renamed into place, every image
         and map before any record, so a record that exists always has its image."""
+        checked: dict[Path, Path] = {}
+
+        def folder(path: Path) -> Path:  # checked once a batch, and made only when written into
+            if path not in checked:
+                checked[path] = self._folder(path)
+            return checked[path]
+
         arrays, records = [], []
         for record, image, flip in cells:
             key = record["key"]
             if image is not None:
                 # float64: a float32 copy would show rounding as error against an exact reference
-                arrays.append((self._folder(self.images_dir) / f"{key}.npy", _npy_writer(image, np.float64)))
+                arrays.append((folder(self.images_dir) / f"{key}.npy", _npy_writer(image, np.float64)))
             if flip is not None:  # float32: the viewer shows it in 1/255 steps
-                arrays.append((self._folder(self.flips_dir) / f"{key}.npy", _npy_writer(flip, np.float32)))
+                arrays.append((folder(self.flips_dir) / f"{key}.npy", _npy_writer(flip, np.float32)))
             text = json.dumps(record, indent=1, default=_jsonable) + "\n"
-            records.append((self._folder(self.cells_dir) / f"{key}.json", _text_writer(text)))
+            records.append((folder(self.cells_dir) / f"{key}.json", _text_writer(text)))
         atomic_write_many(arrays + records)
 
     def write_flip(self, key: str, flip: np.ndarray) -> None:

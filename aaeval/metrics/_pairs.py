@@ -48,4 +48,11 @@ def once_per_pair(compute: Callable) -> Callable:
         _SEEN.append((compute, image_true, image_test, options, answer))
         return answer
 
+    def remember(image_true, image_test, answer, *options) -> None:
+        """Inside :func:`maps_once_per_pair`: ``answer`` is what the pair gives (computed in
+        bulk with others); outside, nothing."""
+        if _SEEN is not None:
+            _SEEN.append((compute, image_true, image_test, options, answer))
+
+    shared.remember = remember
     return shared

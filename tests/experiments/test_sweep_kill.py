@@ -24,21 +24,6 @@ from aaeval.experiments import SweepStore
 
 ROOT = Path(__file__).resolve().parents[2]
 
-# a script file, not "python -c": spawned workers re-import it and so know "test-nap"
-SWEEP = """
-import sys, time
-from aaeval.renderers import register_method, render
-
-@register_method("test-nap", summary="point sampling after a short pause: a sweep long enough to kill")
-def nap(scene):
-    time.sleep(0.05)
-    return render(scene, "point")
-
-if __name__ == "__main__":
-    from aaeval.cli import main
-    sys.exit(main(["sweep", sys.argv[1], "--out", sys.argv[2], "--workers", "2", "--quiet", "--cache", sys.argv[3]]))
-"""
-
 CONFIG = """
 [experiment]
 name = "kill"
@@ -47,19 +32,20 @@ metrics = ["rmse", "ciede2000_mean", "ciede2000_p95", "flip"]
 
 [[groups]]
 name = "killed"
-scenes = [{generator = "edges", difficulty = [0.1], frames = 60, size = 12}]
-methods = ["test-nap", "supersample:k=2"]
+scenes = [{generator = "edges", difficulty = [0.1], frames = 150, size = 12}]
+methods = ["point", "supersample:k=2"]
 """
 
-CELLS = 120
+CELLS = 300
 IDENTITY = ["group", "scene", "difficulty", "spec", "frame"]
 
 
 def _start(tmp_path: Path, out: Path) -> subprocess.Popen:
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    return subprocess.Popen([sys.executable, str(tmp_path / "sweep.py"), str(tmp_path / "exp.toml"), str(out),
-                             str(tmp_path / "cache")], cwd=tmp_path, env=env, start_new_session=True,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    return subprocess.Popen([sys.executable, "-m", "aaeval", "sweep", str(tmp_path / "exp.toml"), "--out", str(out),
+                             "--workers", "2", "--quiet", "--cache", str(tmp_path / "cache")],
+                            cwd=tmp_path, env=env, start_new_session=True, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
 
 
 def _kill_at(proc: subprocess.Popen, seconds: float) -> bool:
@@ -94,7 +80,6 @@ def _table(out: Path) -> pd.DataFrame:
 
 @pytest.mark.slow
 def test_kill_9_at_random_moments_loses_nothing_written_and_doubles_nothing(tmp_path):
-    (tmp_path / "sweep.py").write_text(SWEEP)
     (tmp_path / "exp.toml").write_text(CONFIG)
     whole = tmp_path / "whole"
     done = _start(tmp_path, whole)
