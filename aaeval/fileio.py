@@ -129,21 +129,9 @@ def _sync_files(paths: list[str]) -> None:
 
 
 def _sync_folders(folders: list[Path]) -> None:
-    """The renames into ``folders`` on disk: each folder's ``fsync``, or for several one sync
-    of their file system."""
-    if len(folders) > 1:
-        try:
-            fd = os.open(folders[0], os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
-        except OSError:
-            fd = None
-        if fd is not None:
-            try:
-                _syncfs(fd)
-                return
-            except OSError:
-                pass
-            finally:
-                os.close(fd)
+    """The renames into ``folders`` on disk: each folder's ``fsync``. Once the files' data is
+    synced, these commit only the renames (a few folders a batch), where a sync of the whole
+    file system would write every other process's dirty pages too."""
     for folder in folders:
         _fsync_dir(folder)
 
@@ -181,8 +169,8 @@ def atomic_write(path: str | Path, write) -> Path:
 def atomic_write_many(writes) -> list[Path]:
     """:func:`atomic_write` for each ``(path, write)`` of ``writes``, with the syncs shared:
     every file is written to its temporary file, all of them are synced (one sync of the file
-    system for several), then each is renamed onto its path in the order given, then their
-    folders are synced. A file renamed is whole; a failure before the renames leaves every
+    system for several), then each is renamed onto its path in the order given, then each of
+    their folders is synced once. A file renamed is whole; a failure before the renames leaves every
     path as it was, and one during them leaves the earlier paths written, the later ones as
     they were.
     """

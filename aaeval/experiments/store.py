@@ -16,8 +16,10 @@ Also ``DIR/sweep.lock`` (the PID of the sweep writing the folder, empty when non
 
 A cell's key hashes its full configuration and the code version, so a changed scene,
 option or source file gives new cells instead of stale results. Every file is written
-atomically (temporary file, then ``os.replace``) and the record last, so a cell file that
-exists is complete, and a killed sweep loses at most the cells in flight.
+atomically (temporary file, synced, then ``os.replace``) and the record last, so a cell file
+that exists is complete. Cells are written in batches (:meth:`SweepStore.write_cells`: the
+syncs shared by the batch), so a killed sweep loses at most the cells in flight: those still
+computing and those waiting for their batch.
 
 Every file is checked when read: a cell record that is not JSON of its key, or an image
 or reference ``.npy`` whose header and size disagree (what a power cut or a full disk
