@@ -388,7 +388,7 @@ def _run_in_chunks(executor, work: list[tuple]) -> Iterator[tuple[tuple[int, ...
 @contextmanager
 def _batched_writes(store):
     """``write(record, image, flip)`` for finished cells, written to ``store`` in batches
-    (:meth:`SweepStore.write_cells`, one sync for each): a batch is written when a cell
+    (:meth:`SweepStore.write_cells`, its syncs shared): a batch is written when a cell
     arrives and the batch then holds :data:`BATCH_CELLS` cells or its first cell has waited
     :data:`BATCH_SECONDS`, and the rest when the block ends, however it ends (an error,
     Ctrl-C). A sweep killed outright loses
