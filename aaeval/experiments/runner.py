@@ -391,18 +391,19 @@ def _batched_writes(store):
     (:meth:`SweepStore.write_cells`, its syncs shared): a batch is written when a cell
     arrives and the batch then holds :data:`BATCH_CELLS` cells or its first cell has waited
     :data:`BATCH_SECONDS`, and the rest when the block ends, however it ends (an error,
-    Ctrl-C). A sweep killed outright loses
-    the cells in flight: those still computing and those waiting in the batch."""
+    Ctrl-C). A sweep killed outright loses the cells in flight: those still computing and
+    those waiting in the batch."""
     import time
 
     batch: list[tuple] = []
-    since = [0.0]
+    since = 0.0
 
     def write(record, image, flip) -> None:
+        nonlocal since
         if not batch:
-            since[0] = time.monotonic()
+            since = time.monotonic()
         batch.append((record, image, flip))
-        if len(batch) >= BATCH_CELLS or time.monotonic() - since[0] >= BATCH_SECONDS:
+        if len(batch) >= BATCH_CELLS or time.monotonic() - since >= BATCH_SECONDS:
             flush()
 
     def flush() -> None:
