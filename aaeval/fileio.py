@@ -7,13 +7,14 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import functools
 import os
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["linear_to_srgb", "linear_to_srgb8", "srgb_to_linear", "atomic_write", "check_outputs", "OutputError"]
+__all__ = ["linear_to_srgb", "linear_to_srgb8", "srgb_to_linear", "atomic_write", "atomic_write_many", "check_outputs", "OutputError"]
 
 
 def linear_to_srgb(image) -> np.ndarray:
@@ -96,6 +97,49 @@ def _fsync_dir(folder: Path) -> None:
         os.close(fd)
 
 
+def _syncfs(fd: int) -> None:
+    """``syncfs(2)``: write out every file of the file system holding ``fd`` and wait;
+    ``OSError`` where the C library has none (not Linux) or it fails."""
+    import ctypes
+
+    syncfs = getattr(_libc(), "syncfs", None)
+    if syncfs is None:
+        raise OSError(errno.ENOSYS, "no syncfs")
+    if syncfs(fd) != 0:
+        raise OSError(ctypes.get_errno(), "syncfs failed")
+
+
+@functools.cache
+def _libc():
+    import ctypes
+
+    return ctypes.CDLL(None, use_errno=True)
+
+
+def _sync_files(paths: list[str]) -> None:
+    """Every file of ``paths`` on disk: one ``fsync`` for one file; for several, one sync of
+    their file system (one flush of the journal instead of one per file), each file's own
+    ``fsync`` where that cannot be done."""
+    if len(paths) > 1:
+        with open(paths[0], "rb") as first:
+            try:
+                _syncfs(first.fileno())
+                return
+            except OSError:
+                pass
+    for path in paths:
+        with open(path, "rb") as written:
+            os.fsync(written.fileno())
+
+
+def _sync_folders(folders: list[Path]) -> None:
+    """The renames into ``folders`` on disk: each folder's ``fsync``. Once the files' data is
+    synced, these commit only the renames (a few folders a batch), where a sync of the whole
+    file system would write every other process's dirty pages too."""
+    for folder in folders:
+        _fsync_dir(folder)
+
+
 def _disk_full(exc: OSError, folder: Path) -> bool:
     # numpy reports a short write as "N requested and M written", with no errno
     if exc.errno == errno.ENOSPC:
@@ -123,29 +167,72 @@ def atomic_write(path: str | Path, write) -> Path:
     the old content or the whole new one, never a truncated file. A full disk raises
     :class:`OSError` ``no space left on device: PATH`` and leaves ``path`` as it was.
     """
-    path = Path(path)
+    return atomic_write_many([(path, write)])[0]
+
+
+def atomic_write_many(writes) -> list[Path]:
+    """:func:`atomic_write` for each ``(path, write)`` of ``writes``, with the syncs shared:
+    every file is written to its temporary file, all of them are synced (one sync of the file
+    system for several), then each is renamed onto its path in the order given, then each of
+    their folders is synced once. A file renamed is whole; a failure before the renames leaves every
+    path as it was, and one during them leaves the earlier paths written, the later ones as
+    they were.
+    """
+    writes = [(Path(path), write) for path, write in writes]
+    folders = list(dict.fromkeys(path.parent for path, _ in writes))
+    mode = 0o666 & ~_umask()
+    pending: list[str] = []  # temporary files not yet renamed
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
+        for folder in folders:
+            try:
+                folder.mkdir(parents=True, exist_ok=True)
+            except OSError as exc:  # name the user's path, not the temporary file's
+                path = next(path for path, _ in writes if path.parent == folder)
+                raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from None
+        for path, write in writes:
+            pending.append(_temporary(path, mode))
+            try:
+                write(pending[-1])
+            except BaseException as exc:
+                _refuse_write(exc, pending[-1], path)
+        try:
+            _sync_files(pending)
+        except OSError as exc:  # a delayed allocation finds the disk full here
+            _refuse_write(exc, None, writes[0][0])
+        for (path, _), tmp in zip(writes, list(pending)):
+            os.replace(tmp, path)
+            pending.remove(tmp)
+    except BaseException:
+        for tmp in pending:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+        raise
+    _sync_folders(folders)
+    return [path for path, _ in writes]
+
+
+def _temporary(path: Path, mode: int) -> str:
+    """A new empty temporary file beside ``path`` (in an existing folder), of ``mode``."""
+    try:
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
     except OSError as exc:  # name the user's path, not the temporary file's
         raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from None
     try:
-        try:
-            os.fchmod(fd, 0o666 & ~_umask())  # mkstemp makes 0600 whatever the umask
-        finally:
-            os.close(fd)
-        write(tmp)
-        with open(tmp, "rb") as written:
-            os.fsync(written.fileno())
-        os.replace(tmp, path)
-    except BaseException as exc:
-        full = isinstance(exc, OSError) and _disk_full(exc, path.parent)  # before the unlink frees space
+        os.fchmod(fd, mode)  # mkstemp makes 0600 whatever the umask
+    except BaseException:
+        os.close(fd)
         with contextlib.suppress(OSError):
             os.unlink(tmp)
-        if full:
-            raise OSError(errno.ENOSPC, "no space left on device", str(path)) from None
-        if isinstance(exc, OSError) and exc.filename is not None and str(exc.filename) == str(tmp):
-            raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from None  # the user's path
         raise
-    _fsync_dir(path.parent)
-    return path
+    os.close(fd)
+    return tmp
+
+
+def _refuse_write(exc: BaseException, tmp: str | None, path: Path):
+    """Raise ``exc`` of writing ``tmp`` as the user's: a full disk as ``no space left on device:
+    PATH``, an error naming the temporary file as one naming ``path``."""
+    if isinstance(exc, OSError) and _disk_full(exc, path.parent):  # before the unlink frees space
+        raise OSError(errno.ENOSPC, "no space left on device", str(path)) from None
+    if isinstance(exc, OSError) and exc.filename is not None and str(exc.filename) == str(tmp):
+        raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from None
+    raise exc

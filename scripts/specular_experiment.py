@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from aaeval import registries
-from aaeval.experiments.record import dumps
+from aaeval.experiments.typed_json import dumps
 from aaeval.imageio import atomic_write
 from aaeval.metrics import rmse
 from aaeval.metrics.masks import HIGHLIGHT_THRESHOLD

@@ -4,7 +4,7 @@ import os
 
 import pytest
 
-from aaeval import registries
+from aaeval import fileio, registries
 
 # the tests are a program: they load the registries once, first, as the command line does
 # (test modules parametrise over them when they are collected)
@@ -13,15 +13,17 @@ registries.load()
 
 @pytest.fixture(autouse=True)
 def _no_fsync(request, monkeypatch):
-    """``os.fsync`` does nothing in this process unless the test is marked ``durability``.
+    """``os.fsync`` and the store's ``syncfs`` do nothing in this process unless the test is
+    marked ``durability``.
 
-    An fsync costs about 11 ms on ext4, two per cell the store writes: most of the time of
+    An fsync costs about 11 ms on ext4 (a syncfs of a batch of cells more): most of the time of
     the tests that run every shipped config through the engine, which test what is
     written, not that it survives a power cut. The durability tests
     (tests/experiments/test_store_durability.py, the atomic-write test) keep the real one and spy on it.
     """
     if request.node.get_closest_marker("durability") is None:
         monkeypatch.setattr(os, "fsync", _skip_fsync)
+        monkeypatch.setattr(fileio, "_syncfs", _skip_fsync)  # the batched writes' one sync
 
 
 def _skip_fsync(fd: int) -> None:

@@ -37,14 +37,16 @@ from aaeval.metrics import (
     intensity_sum,
     rmse,
 )
-from aaeval.metrics.perceptual import flip_map, one_flip_per_pair
+from aaeval.metrics._pairs import maps_once_per_pair
+from aaeval.metrics.perceptual import flip_map
 
 if TYPE_CHECKING:
     from aaeval.renderers.registry import MethodSpec
 
 __all__ = ["Timing", "FrameMeasurement", "SceneCache", "render_measured", "render_reference",
            "reference_kind", "noise_spec", "frame_metrics", "series_metrics", "measure_frame",
-           "check_image_metrics", "check_temporal_metrics", "mask_source", "scene_mask"]
+           "check_image_metrics", "check_temporal_metrics", "mask_source", "scene_mask", "FrameJob",
+           "measure_frames"]
 
 
 @dataclass(frozen=True)
@@ -405,30 +407,84 @@ def measure_frame(scene, spec: MethodSpec, frame: int, reference: np.ndarray | N
     the record's ``agreement`` holds each RMS metric's z-test pass fraction. ``keep_flip``:
     also the per-pixel FLIP map (``flip``) a sweep stores for its viewer.
     """
-    cache = cache or SCENES
-    out = FrameMeasurement(None, Timing.missing(repeats), metrics={m: math.nan for m in metrics})
+    return measure_frames([FrameJob(scene, spec, frame, reference, metrics, digest=digest, repeats=repeats,
+                                    cache=cache, reference_error=reference_error, noise_by_metric=noise_by_metric,
+                                    keep_flip=keep_flip)])[0]
+
+
+@dataclass
+class FrameJob:
+    """The arguments of one :func:`measure_frame`, for :func:`measure_frames`."""
+
+    scene: Any
+    spec: Any
+    frame: int
+    reference: np.ndarray | None
+    metrics: Sequence[str]
+    digest: str
+    repeats: int = 1
+    cache: SceneCache | None = None
+    reference_error: str | None = None
+    noise_by_metric: Mapping[str, Sequence[float]] | None = None
+    keep_flip: bool = True
+
+
+def measure_frames(jobs: Sequence[FrameJob]) -> list[FrameMeasurement]:
+    """:func:`measure_frame` of each job, the same numbers, in two passes: every frame
+    rendered (timed) first, then the per-pixel maps that several of them need computed
+    together (the CIEDE2000 maps of every pair of one size in one call,
+    :func:`aaeval.metrics.colour_difference.ciede2000_maps`), then each frame measured."""
+    from aaeval.metrics.colour_difference import ciede2000_maps
+
+    outs = [_rendered(job) for job in jobs]
+    with maps_once_per_pair():  # one FLIP for the metric and the viewer's map, one CIEDE2000 map
+        if any({"ciede2000_mean", "ciede2000_p95"} & set(job.metrics) for job in jobs):
+            ciede2000_maps([(job.reference, out.image) for job, out in zip(jobs, outs) if out.error is None])
+        for job, out in zip(jobs, outs):
+            if out.error is None:
+                _measured(job, out)
+    return outs
+
+
+def _failed(out: FrameMeasurement, exc: Exception) -> None:
+    out.error = f"{type(exc).__name__}: {exc}"
+    out.traceback = traceback.format_exc(limit=6)
+
+
+def _rendered(job: FrameJob) -> FrameMeasurement:
+    """The job's frame rendered (timed) and checked, or its failure."""
+    out = FrameMeasurement(None, Timing.missing(job.repeats), metrics={m: math.nan for m in job.metrics})
     try:
-        if reference_error:
-            raise RuntimeError(reference_error)
-        image, out.timing = render_measured(scene, spec, frame, repeats)
+        if job.reference_error:
+            raise RuntimeError(job.reference_error)
+        image, out.timing = render_measured(job.scene, job.spec, job.frame, job.repeats)
         out.image = image
         if not np.all(np.isfinite(image)):
             raise FloatingPointError("the image has non-finite pixels")
         out.intensity_sum = intensity_sum(image)
-        with one_flip_per_pair():  # the flip metric's evaluation gives the viewer's map too
-            out.metrics, out.metric_errors = frame_metrics(
-                metrics, reference, image, lambda name: cache.mask(digest, scene, frame, name))
-            if keep_flip:
-                out.flip = flip_map(reference, image)
+    except Exception as exc:  # noqa: BLE001 - a failing cell is a result, not the end of the run
+        _failed(out, exc)
+    return out
+
+
+def _measured(job: FrameJob, out: FrameMeasurement) -> None:
+    """The metrics, FLIP map and z-test of a rendered frame into ``out``, or its failure."""
+    cache, scene, frame, reference, image = job.cache or SCENES, job.scene, job.frame, job.reference, out.image
+
+    def mask_of(name):
+        return cache.mask(job.digest, scene, frame, name)
+
+    try:
+        out.metrics, out.metric_errors = frame_metrics(job.metrics, reference, image, mask_of)
+        if job.keep_flip:
+            out.flip = flip_map(reference, image)
         not_finite = not_finite_metrics(out.metrics, out.metric_errors)
         if not_finite:  # stored as null and read back as NaN, never above fail_above: "0 failed"
             raise FloatingPointError(f"metric(s) infinite: {not_finite}; the image is too far from its "
                                      "reference to be measured")
-        if noise_by_metric:
-            out.agreement = agreement(metrics, reference, image, _test_noise(scene, spec, frame, image, noise_by_metric),
-                                      lambda name: cache.mask(digest, scene, frame, name),
-                                      cache.noise_weight(digest, scene, frame))
+        if job.noise_by_metric:
+            out.agreement = agreement(job.metrics, reference, image,
+                                      _test_noise(scene, job.spec, frame, image, job.noise_by_metric), mask_of,
+                                      cache.noise_weight(job.digest, scene, frame))
     except Exception as exc:  # noqa: BLE001 - a failing cell is a result, not the end of the run
-        out.error = f"{type(exc).__name__}: {exc}"
-        out.traceback = traceback.format_exc(limit=6)
-    return out
+        _failed(out, exc)

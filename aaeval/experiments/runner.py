@@ -22,7 +22,7 @@ from aaeval.experiments.provenance import write_provenance
 from aaeval.experiments.record import SCHEMA_VERSION
 from aaeval.experiments.reference_cache import ReferenceCache, ReferenceInfo, cache_folder_problem
 from aaeval.experiments.store import SweepStore, cell_key, code_version, reference_key
-from aaeval.experiments.tasks import failed_record, run_cell, run_reference
+from aaeval.experiments.tasks import failed_record, run_cell, run_cells, run_reference
 from aaeval.plugins import cell_plugins
 
 if TYPE_CHECKING:
@@ -351,22 +351,89 @@ def _cells(todo, refs, store, executor, progress, summary) -> None:
     if task is not None:
         progress.advance(task, len(lost))
     work = list(payloads())
-    for i, result, exc in executor.run(run_cell, work):
-        if isinstance(exc, (WorkerDied, TaskTimedOut)):  # the cell's own doing: recorded as failed
-            store.write_cell(failed_record(work[i][0], str(exc)), None)
-            summary.ran += 1
-            summary.failed += 1
-            summary.add_error(str(exc), describe(todo[i]))
-        elif exc is not None:
-            summary.lost.append(f"{todo[i].key}: {type(exc).__name__}: {exc}")
-        else:
-            record, image, flip = result
-            if hasattr(executor, "current"):  # a cluster's workers now (one may have died since the start)
-                record.update(executor.current())
-            store.write_cell(record, image, flip)
-            summary.ran += 1
-            if record.get("error"):
+    with _batched_writes(store) as write:
+        for indices, outcome, exc in _run_in_chunks(executor, work):
+            if isinstance(exc, (WorkerDied, TaskTimedOut)):  # the cell's own doing: recorded as failed
+                (i,) = indices
+                write(failed_record(work[i][0], str(exc)), None, None)
+                summary.ran += 1
                 summary.failed += 1
-                summary.add_error(record["error"], describe(todo[i]))
-        if task is not None:
-            progress.advance(task)
+                summary.add_error(str(exc), describe(todo[i]))
+            elif exc is not None:
+                summary.lost += [f"{todo[i].key}: {type(exc).__name__}: {exc}" for i in indices]
+            else:
+                for i, (record, image, flip) in zip(indices, outcome):
+                    if hasattr(executor, "current"):  # a cluster's workers now (one may have died since the start)
+                        record.update(executor.current())
+                    write(record, image, flip)
+                    summary.ran += 1
+                    if record.get("error"):
+                        summary.failed += 1
+                        summary.add_error(record["error"], describe(todo[i]))
+            if task is not None:
+                progress.advance(task, len(indices))
+
+
+#: Most cells in one task, and most cells and seconds between two writes of the store.
+CHUNK_CELLS = 16
+BATCH_CELLS = 64
+BATCH_SECONDS = 1.0
+
+
+def chunks(count: int, workers: int, most: int = CHUNK_CELLS) -> list[range]:
+    """``range(count)`` cut into consecutive chunks for ``workers``: each an eighth of the
+    cells left per worker (at most ``most``), so chunks shrink towards the end and no worker
+    waits long for another's last chunk."""
+    out, start = [], 0
+    while start < count:
+        size = max(1, min(most, (count - start) // (8 * max(1, workers))))
+        out.append(range(start, min(count, start + size)))
+        start += size
+    return out
+
+
+def _run_in_chunks(executor, work: list[tuple]) -> Iterator[tuple[tuple[int, ...], Any, BaseException | None]]:
+    """Run every cell of ``work`` in chunks (:func:`run_cells`), yielding ``(indices, results,
+    error)`` per chunk. A chunk whose worker died or ran past the time limit runs again one
+    cell per task, so that the cell that did it is the one recorded as failed, alone."""
+    parts = [tuple(r) for r in chunks(len(work), executor.workers)]
+    again = []
+    for j, results, exc in executor.run(run_cells, [([work[i][0] for i in part],) for part in parts]):
+        if isinstance(exc, (WorkerDied, TaskTimedOut)) and len(parts[j]) > 1:
+            again += parts[j]
+        else:
+            yield parts[j], results, exc
+    for k, result, exc in executor.run(run_cell, [work[i] for i in again]):
+        yield (again[k],), None if exc is not None else [result], exc
+
+
+@contextmanager
+def _batched_writes(store):
+    """``write(record, image, flip)`` for finished cells, written to ``store`` in batches
+    (:meth:`SweepStore.write_cells`, its syncs shared): a batch is written when a cell
+    arrives and the batch then holds :data:`BATCH_CELLS` cells or its first cell has waited
+    :data:`BATCH_SECONDS`, and the rest when the block ends, however it ends (an error,
+    Ctrl-C). A sweep killed outright loses the cells in flight: those still computing and
+    those waiting in the batch."""
+    import time
+
+    batch: list[tuple] = []
+    since = 0.0
+
+    def write(record, image, flip) -> None:
+        nonlocal since
+        if not batch:
+            since = time.monotonic()
+        batch.append((record, image, flip))
+        if len(batch) >= BATCH_CELLS or time.monotonic() - since >= BATCH_SECONDS:
+            flush()
+
+    def flush() -> None:
+        if batch:
+            store.write_cells(batch)
+            batch.clear()
+
+    try:
+        yield write
+    finally:
+        flush()

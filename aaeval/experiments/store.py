@@ -16,8 +16,10 @@ Also ``DIR/sweep.lock`` (the PID of the sweep writing the folder, empty when non
 
 A cell's key hashes its full configuration and the code version, so a changed scene,
 option or source file gives new cells instead of stale results. Every file is written
-atomically (temporary file, then ``os.replace``) and the record last, so a cell file that
-exists is complete, and a killed sweep loses at most the cells in flight.
+atomically (temporary file, synced, then ``os.replace``) and the record last, so a cell file
+that exists is complete. Cells are written in batches (:meth:`SweepStore.write_cells`: the
+syncs shared by the batch), so a killed sweep loses at most the cells in flight: those still
+computing and those waiting for their batch.
 
 Every file is checked when read: a cell record that is not JSON of its key, or an image
 or reference ``.npy`` whose header and size disagree (what a power cut or a full disk
@@ -53,7 +55,7 @@ import numpy as np
 
 import aaeval
 from aaeval.experiments.typed_json import dumps
-from aaeval.fileio import atomic_write
+from aaeval.fileio import atomic_write, atomic_write_many
 
 __all__ = ["code_version", "read_table", "SCHEMA_KEY", "cell_key", "reference_key", "SweepStore",
            "StoreError", "FolderInUse", "npy_problem"]
@@ -223,7 +225,15 @@ def _stamp() -> str:
 
 
 def _save_npy(path: Path, array: np.ndarray, dtype) -> None:
-    atomic_write(path, lambda tmp: np.save(tmp, np.asarray(array, dtype=dtype)))
+    atomic_write(path, _npy_writer(array, dtype))
+
+
+def _npy_writer(array: np.ndarray, dtype):
+    return lambda tmp: np.save(tmp, np.asarray(array, dtype=dtype))
+
+
+def _text_writer(text: str):
+    return lambda tmp: Path(tmp).write_text(text)
 
 
 def manifest_problem(manifest: dict) -> str | None:
@@ -467,20 +477,35 @@ class SweepStore:
     # --- writing ---------------------------------------------------------------------
 
     def write_cell(self, record: dict, image: np.ndarray | None, flip: np.ndarray | None = None) -> None:
-        # image first: a record that exists always has its image
-        if image is not None:
-            # float64: a float32 copy would show rounding as error against an exact reference
-            self._folder(self.images_dir)
-            _save_npy(self.image_path(record["key"]), image, np.float64)
-        if flip is not None:
-            self.write_flip(record["key"], flip)
-        text = dumps(record, indent=1) + "\n"
-        self._folder(self.cells_dir)
-        atomic_write(self.cell_path(record["key"]), lambda tmp: Path(tmp).write_text(text))
+        self.write_cells([(record, image, flip)])
+
+    def write_cells(self, cells: list[tuple[dict, np.ndarray | None, np.ndarray | None]]) -> None:
+        """Write finished cells, each ``(record, image, flip map)`` (image and map may be
+        None), with the syncs of the batch shared (:func:`aaeval.fileio.atomic_write_many`):
+        every file of every cell is synced before any is renamed into place, every image
+        and map before any record, so a record that exists always has its image."""
+        checked: dict[Path, Path] = {}
+
+        def folder(path: Path) -> Path:  # checked once a batch, and made only when written into
+            if path not in checked:
+                checked[path] = self._folder(path)
+            return checked[path]
+
+        arrays, records = [], []
+        for record, image, flip in cells:
+            key = record["key"]
+            if image is not None:
+                # float64: a float32 copy would show rounding as error against an exact reference
+                arrays.append((folder(self.images_dir) / f"{key}.npy", _npy_writer(image, np.float64)))
+            if flip is not None:  # float32: the viewer shows it in 1/255 steps
+                arrays.append((folder(self.flips_dir) / f"{key}.npy", _npy_writer(flip, np.float32)))
+            text = dumps(record, indent=1) + "\n"
+            records.append((folder(self.cells_dir) / f"{key}.json", _text_writer(text)))
+        atomic_write_many(arrays + records)
 
     def write_flip(self, key: str, flip: np.ndarray) -> None:
         self._folder(self.flips_dir)
-        _save_npy(self.flip_path(key), flip, np.float32)  # the viewer shows it in 1/255 steps
+        _save_npy(self.flip_path(key), flip, np.float32)
 
     def write_reference(self, key: str, image: np.ndarray) -> None:
         path = self.reference_path(key)

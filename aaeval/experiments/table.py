@@ -63,22 +63,17 @@ TEMPORAL_COLUMNS = ("group", "scene", "difficulty", "difficulty_label", "spec", 
                     "reference", "reference_noise_rmse", "failed_frames", "reference_sum_variation", "metric_errors")
 
 
-def read_record(store: SweepStore, key: str) -> CellRecord:
-    """The cell file ``key`` as a record (:class:`RecordError` naming the file if it is not one)."""
-    return CellRecord.from_json(store.read_cell(key), where=str(store.cell_path(key)))
-
-
 def results_frame(store: SweepStore, *, heal: bool = True) -> pd.DataFrame:
     """One row per finished cell of the manifest, in manifest order (``heal=False``: damaged
     cells are left where they are, for a reader that does not hold the folder's lock)."""
     manifest = store.read_manifest()
     metrics = list(manifest.get("metrics", []))
-    done = set(store.check(heal=heal))
+    done = store.check(heal=heal)  # every sound record, read and checked once
     out = []
     for row in manifest["cells"]:
         if row["key"] not in done:
             continue
-        record = read_record(store, row["key"])
+        record = CellRecord.from_json(done[row["key"]], where=str(store.cell_path(row["key"])))
         wrong = next((name for name in ("group", "scene", "spec", "frame") if getattr(record, name) != row[name]),
                      None)
         if wrong:  # a record edited after it was written: set aside (healing) or left out, never blocking

@@ -22,11 +22,11 @@ from typing import Any
 import numpy as np
 
 from aaeval import registries
-from aaeval.experiments.measure import SCENES, FrameMeasurement, Timing, measure_frame, render_reference
+from aaeval.experiments.measure import SCENES, FrameJob, FrameMeasurement, Timing, measure_frames, render_reference
 from aaeval.experiments.record import CellRecord
 from aaeval.renderers.registry import MethodSpec
 
-__all__ = ["run_reference", "run_cell", "failed_record", "worker_spec"]
+__all__ = ["run_reference", "run_cell", "run_cells", "failed_record", "worker_spec"]
 
 
 def worker_spec(spec: MethodSpec | str) -> MethodSpec:
@@ -61,6 +61,27 @@ def run_cell(payload: dict[str, Any]) -> tuple[dict, np.ndarray | None, np.ndarr
     ``reference_image``, ``reference_error``. Returns the record as strict-JSON-ready dict
     (:meth:`CellRecord.to_json`), the image and its FLIP map against the reference.
     """
+    return run_cells([payload])[0]
+
+
+def failed_record(payload: dict[str, Any], error: str) -> dict:
+    """The record of a cell that never answered (its worker died or was stopped at the time
+    limit), built in the sweep's process from the payload it sent: failed with ``error``,
+    every metric NaN, no image."""
+    measured = FrameMeasurement(None, Timing.missing(payload["repeats"]),
+                                metrics={m: float("nan") for m in payload["metrics"]}, error=error)
+    return _answer(payload, measured)[0]
+
+
+def run_cells(payloads: list[dict[str, Any]]) -> list[tuple[dict, np.ndarray | None, np.ndarray | None]]:
+    """:func:`run_cell` of each payload of a chunk, in order: one task, one message each way
+    for many cells, and the per-pixel maps the cells share computed together
+    (:func:`aaeval.experiments.measure.measure_frames`)."""
+    jobs = [_frame_job(payload) for payload in payloads]
+    return [_answer(payload, measured) for payload, measured in zip(payloads, measure_frames(jobs))]
+
+
+def _frame_job(payload: dict[str, Any]) -> FrameJob:
     identity = payload["identity"]
     try:
         identity = {**identity, "spec": worker_spec(identity["spec"]), "reference": worker_spec(identity["reference"])}
@@ -69,28 +90,19 @@ def run_cell(payload: dict[str, Any]) -> tuple[dict, np.ndarray | None, np.ndarr
         scene, parse_error = None, f"{type(exc).__name__}: {exc}"
     else:
         parse_error = None
-    measured = measure_frame(
+    return FrameJob(
         scene, identity["spec"], identity["frame"], payload["reference_image"], payload["metrics"],
         repeats=payload["repeats"], digest=identity["scene_digest"], cache=SCENES,
         noise_by_metric=payload.get("noise_by_metric"),
         reference_error=parse_error or (payload.get("reference_error") and
                                         f"reference {identity['reference']} failed: {payload['reference_error']}"))
+
+
+def _answer(payload: dict[str, Any], measured: FrameMeasurement) -> tuple[dict, np.ndarray | None, np.ndarray | None]:
+    """The cell's record (strict-JSON-ready), image and FLIP map."""
+    identity = payload["identity"]
     record = CellRecord(
         **identity, **measured.fields(identity["width"], identity["height"]), **payload["run"],
         host=socket.gethostname(), pid=os.getpid(),
         finished_at=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()))
     return record.to_json(), measured.image, measured.flip
-
-
-def failed_record(payload: dict[str, Any], error: str) -> dict:
-    """The record of a cell that never answered (its worker died or was stopped at the time
-    limit), built in the sweep's process from the payload it sent: failed with ``error``,
-    every metric NaN, no image."""
-    identity = payload["identity"]
-    measured = FrameMeasurement(None, Timing.missing(payload["repeats"]),
-                                metrics={m: float("nan") for m in payload["metrics"]}, error=error)
-    record = CellRecord(
-        **identity, **measured.fields(identity["width"], identity["height"]), **payload["run"],
-        host=socket.gethostname(), pid=os.getpid(),
-        finished_at=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()))
-    return record.to_json()

@@ -14,8 +14,9 @@ from __future__ import annotations
 import numpy as np
 
 from aaeval.metrics._checks import check_image_pair
+from aaeval.metrics._pairs import once_per_pair
 
-__all__ = ["linear_rgb_to_lab", "ciede2000_map", "ciede2000_mean", "ciede2000_p95"]
+__all__ = ["linear_rgb_to_lab", "ciede2000_map", "ciede2000_maps", "ciede2000_mean", "ciede2000_p95"]
 
 
 def linear_rgb_to_lab(image) -> np.ndarray:
@@ -27,8 +28,11 @@ def linear_rgb_to_lab(image) -> np.ndarray:
     return colour.XYZ_to_Lab(xyz, srgb.whitepoint)
 
 
+@once_per_pair
 def ciede2000_map(image_true, image_test) -> np.ndarray:
-    """Per-pixel CIEDE2000 colour difference, shape (H, W).
+    """Per-pixel CIEDE2000 colour difference, shape (H, W); computed once per pair inside
+    :func:`aaeval.metrics._pairs.maps_once_per_pair` (the mean and the 95th percentile of a
+    sweep cell read one map).
 
     Parameters
     ----------
@@ -46,6 +50,30 @@ def ciede2000_map(image_true, image_test) -> np.ndarray:
     import colour
 
     return colour.delta_E(linear_rgb_to_lab(image_true), linear_rgb_to_lab(image_test), method="CIE 2000")
+
+
+def ciede2000_maps(pairs) -> None:
+    """The CIEDE2000 maps of many ``(image_true, image_test)`` pairs, computed together (one
+    conversion and one colour difference per image size) and kept for :func:`ciede2000_map`
+    inside :func:`aaeval.metrics._pairs.maps_once_per_pair`. Every step is per pixel, so each
+    map is the one a call per pair gives, bit for bit. A pair that fails the checks is left
+    to its own call (which raises there)."""
+    import colour
+
+    by_shape: dict[tuple, list] = {}
+    for image_true, image_test in pairs:
+        try:
+            checked = check_image_pair(image_true, image_test)
+        except ValueError:
+            continue
+        by_shape.setdefault(checked[0].shape, []).append(((image_true, image_test), checked))
+    for group in by_shape.values():
+        if len(group) < 2:
+            continue  # alone, its own call costs the same
+        maps = colour.delta_E(linear_rgb_to_lab(np.stack([c[0] for _, c in group])),
+                              linear_rgb_to_lab(np.stack([c[1] for _, c in group])), method="CIE 2000")
+        for ((image_true, image_test), _), delta_e in zip(group, maps):
+            ciede2000_map.remember(image_true, image_test, delta_e)
 
 
 def ciede2000_mean(image_true, image_test) -> float:

@@ -2,29 +2,12 @@
 
 from __future__ import annotations
 
-from contextlib import contextmanager
-
 import numpy as np
 
 from aaeval.metrics._checks import check_image_pair, check_positive
+from aaeval.metrics._pairs import once_per_pair
 
-__all__ = ["flip", "flip_map", "one_flip_per_pair"]
-
-# Inside one_flip_per_pair(): what FLIP gave for the pairs of arrays seen there, by identity.
-_SEEN: list | None = None
-
-
-@contextmanager
-def one_flip_per_pair():
-    """Within this block FLIP is evaluated once per pair of arrays (the same objects, not
-    changed in between): a sweep cell takes its mean as the ``flip`` metric and its map for
-    the viewer, and one evaluation gives both (about 30 ms of a 512 x 512 cell)."""
-    global _SEEN
-    outer, _SEEN = _SEEN, []
-    try:
-        yield
-    finally:
-        _SEEN = outer
+__all__ = ["flip", "flip_map"]
 
 
 def flip(image_true, image_test, *, ppd: float | None = None) -> float:
@@ -50,7 +33,7 @@ def flip(image_true, image_test, *, ppd: float | None = None) -> float:
     flip : float
         Mean of the per-pixel FLIP error, in [0, 1]; 0 for identical images.
     """
-    _, mean = _evaluated(image_true, image_test, ppd, mean=True)
+    _, mean = _evaluated(image_true, image_test, ppd)
     return float(mean)
 
 
@@ -70,36 +53,49 @@ def flip_map(image_true, image_test, *, ppd: float | None = None) -> np.ndarray:
     ndarray, shape (H, W), float32
         The FLIP error of every pixel, in [0, 1].
     """
-    fmap, _ = _evaluated(image_true, image_test, ppd, mean=False)
+    fmap, _ = _evaluated(image_true, image_test, ppd)
     return np.asarray(fmap, dtype=np.float32).reshape(np.shape(image_true)[:2])
 
 
-def _evaluated(image_true, image_test, ppd, *, mean: bool):
-    """(map, mean) of the pair, checked first; inside :func:`one_flip_per_pair` a pair seen
-    before gives what it gave then (its mean always computed there)."""
-    if _SEEN is not None:
-        for a, b, p, found in _SEEN:
-            if a is image_true and b is image_test and p == ppd:
-                return found
+@once_per_pair
+def _evaluated(image_true, image_test, ppd):
+    """(map, mean) of the pair, checked first; inside
+    :func:`aaeval.metrics._pairs.maps_once_per_pair` a pair seen before gives what it gave
+    then: a sweep cell takes the mean as the ``flip`` metric and the map for the viewer."""
     checked_true, checked_test = check_image_pair(image_true, image_test)
     if ppd is not None:
         check_positive("ppd", ppd)
-    found = _evaluate(checked_true, checked_test, ppd, mean=mean or _SEEN is not None)
-    if _SEEN is not None:
-        _SEEN.append((image_true, image_test, ppd, found))
-    return found
+    return _evaluate(checked_true, checked_test, ppd)
 
 
-def _evaluate(image_true, image_test, ppd, *, mean: bool):
+def _evaluate(image_true, image_test, ppd):
     import flip_evaluator
 
-    fmap, value, _ = flip_evaluator.evaluate(
-        np.clip(image_true, 0.0, 1.0),
-        np.clip(image_test, 0.0, 1.0),
-        "LDR",
-        inputsRGB=False,
-        applyMagma=False,
-        computeMeanError=mean,
-        parameters={} if ppd is None else {"ppd": float(ppd)},
-    )
+    with _one_thread():
+        fmap, value, _ = flip_evaluator.evaluate(
+            np.clip(image_true, 0.0, 1.0),
+            np.clip(image_test, 0.0, 1.0),
+            "LDR",
+            inputsRGB=False,
+            applyMagma=False,
+            computeMeanError=True,
+            parameters={} if ppd is None else {"ppd": float(ppd)},
+        )
     return fmap, value
+
+
+_OPENMP = None
+
+
+def _one_thread():
+    """FLIP's OpenMP runtime (the libgomp flip-evaluator ships) limited to one thread for a
+    call. Each pixel's error is computed alone, so the map is the same whatever the number of
+    threads; but a team of threads costs more than it gives on the small images of a sweep,
+    where each core already runs its own worker: 32 calls on 24 x 24 pixels took 2.1 s with
+    two threads beside another busy process, 53 ms with one (docs/performance.md)."""
+    global _OPENMP
+    if _OPENMP is None:
+        from threadpoolctl import ThreadpoolController
+
+        _OPENMP = ThreadpoolController().select(user_api="openmp")
+    return _OPENMP.limit(limits=1)

@@ -22,6 +22,7 @@ them.
 
 from __future__ import annotations
 
+import functools
 import inspect
 from dataclasses import dataclass
 from typing import Any, Callable, Mapping
@@ -239,6 +240,7 @@ def compute_temporal_metric(name: str, frames_true, frames_test, **context: Any)
     return _dispatch(TEMPORAL_METRICS, "temporal", name, frames_true, frames_test, context)
 
 
+@functools.lru_cache(maxsize=None)  # every metric call reads every function's signature
 def _keyword_options(func: Callable) -> dict[str, inspect.Parameter]:
     params = inspect.signature(func).parameters.values()
     return {p.name: p for p in params if p.kind is inspect.Parameter.KEYWORD_ONLY}

@@ -5,10 +5,12 @@ folder and then renamed onto its name, the image before the record."""
 from __future__ import annotations
 
 import os
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+from aaeval import fileio
 from aaeval.experiments.store import SweepStore
 
 pytestmark = pytest.mark.durability  # the real os.fsync (tests/conftest.py)
@@ -16,13 +18,19 @@ pytestmark = pytest.mark.durability  # the real os.fsync (tests/conftest.py)
 
 @pytest.fixture
 def spied(monkeypatch):
-    """Every fsync'd path and every rename, in order, as ('fsync', path) / ('replace', src, dst)."""
+    """Every fsync'd path and every rename, in order, as ('fsync', path) / ('replace', src,
+    dst); a sync of the whole file system as one ('fsync', path) per file then in the folder."""
     events = []
-    real_fsync, real_replace = os.fsync, os.replace
+    real_fsync, real_replace, real_syncfs = os.fsync, os.replace, fileio._syncfs
 
     def fsync(fd):
         events.append(("fsync", os.readlink(f"/proc/self/fd/{fd}")))
         return real_fsync(fd)
+
+    def syncfs(fd):
+        top = Path(os.readlink(f"/proc/self/fd/{fd}")).parents[1]
+        events.extend(("fsync", os.fspath(p)) for p in sorted(top.rglob("*")))
+        return real_syncfs(fd)
 
     def replace(src, dst, *args, **kwargs):
         events.append(("replace", os.fspath(src), os.fspath(dst)))
@@ -30,6 +38,7 @@ def spied(monkeypatch):
 
     monkeypatch.setattr(os, "fsync", fsync)
     monkeypatch.setattr(os, "replace", replace)
+    monkeypatch.setattr(fileio, "_syncfs", syncfs)
     return events
 
 
@@ -57,3 +66,23 @@ def test_write_reference_syncs_and_renames(tmp_path, spied):
     store = SweepStore(tmp_path / "out")
     store.write_reference("r0", np.zeros((2, 2, 3)))
     _landed_atomically(spied, store.reference_path("r0"))
+
+
+def test_a_batch_of_cells_is_synced_once_before_any_rename_and_records_land_last(tmp_path, spied, monkeypatch):
+    """Many cells written together: one sync of the file system for all their files and one
+    fsync per folder for the renames (not one per file and folder), every file whole before
+    it is renamed, and every image and map in place before the first record."""
+    calls, fsyncs = [], []
+    monkeypatch.setattr(fileio, "_syncfs", lambda fd, real=fileio._syncfs: calls.append(fd) or real(fd))
+    monkeypatch.setattr(os, "fsync", lambda fd, real=os.fsync: fsyncs.append(fd) or real(fd))
+    store = SweepStore(tmp_path / "out")
+    cells = [({"key": f"k{i}", "value": i}, np.full((3, 4, 3), i, float), np.zeros((3, 4), np.float32))
+             for i in range(20)]
+    del spied[:]
+    store.write_cells(cells)
+    assert len(calls) == 1 and len(fsyncs) == 3  # images/, flip/, cells/
+    images = [_landed_atomically(spied, store.image_path(f"k{i}")) for i in range(20)]
+    flips = [_landed_atomically(spied, store.flip_path(f"k{i}")) for i in range(20)]
+    records = [_landed_atomically(spied, store.cell_path(f"k{i}")) for i in range(20)]
+    assert max(images + flips) < min(records)
+    assert all(np.array_equal(store.load_image(f"k{i}"), cells[i][1]) for i in range(20))

@@ -369,3 +369,85 @@ def test_a_measured_frame_evaluates_flip_once_for_its_metric_and_its_map(monkeyp
     calls.clear()
     assert measure_frame(scene, spec, 0, reference, ["rmse"], digest="flip-once", keep_flip=False).flip is None
     assert calls == []
+
+
+def test_a_measured_frame_computes_one_ciede2000_map_for_its_mean_and_p95(monkeypatch):
+    """``ciede2000_mean`` and ``ciede2000_p95`` of a sweep cell read one CIEDE2000 map: one
+    colour difference per cell, and the values of the metrics called alone."""
+    import colour
+
+    from aaeval.experiments.measure import measure_frame
+    from aaeval.renderers import MethodSpec, render
+    from aaeval.scenes.generate import random_triangles
+
+    scene = random_triangles(30, 24, 24, size=8.0, seed=2)
+    reference, image = render(scene, "catmull"), render(scene, "point")
+    calls = []
+    delta_e = colour.delta_E
+    monkeypatch.setattr(colour, "delta_E", lambda *a, **k: calls.append(1) or delta_e(*a, **k))
+    measured = measure_frame(scene, MethodSpec.parse("point"), 0, reference, ["ciede2000_mean", "ciede2000_p95"],
+                             digest="ciede-once", keep_flip=False)
+    assert len(calls) == 1
+    assert measured.metrics["ciede2000_mean"] == ciede2000_mean(reference, image) > 0
+    assert measured.metrics["ciede2000_p95"] == ciede2000_p95(reference, image) > 0
+    assert len(calls) == 3  # outside a cell each call computes its own map
+
+
+def test_flip_on_one_thread_gives_every_pixel_the_value_of_flip_on_many():
+    """FLIP runs on one OpenMP thread (a sweep gives each core its own worker); each pixel's
+    error is computed alone, so the map is the one FLIP's own team of threads gives, bit for
+    bit, and the mean the same to float rounding."""
+    import flip_evaluator
+    from threadpoolctl import threadpool_limits
+
+    from aaeval.metrics.perceptual import flip_map
+
+    rng = np.random.default_rng(5)
+    true = rng.random((61, 47, 3))
+    test = np.clip(true + 0.2 * rng.standard_normal(true.shape), 0.0, 1.0)
+    with threadpool_limits(limits=4, user_api="openmp"):
+        expected, mean, _ = flip_evaluator.evaluate(true, test, "LDR", inputsRGB=False, applyMagma=False,
+                                                    computeMeanError=True, parameters={})
+    assert np.array_equal(flip_map(true, test), expected.reshape(true.shape[:2]))
+    assert flip(true, test) == pytest.approx(mean, rel=1e-6)
+
+
+def test_ciede2000_maps_in_bulk_are_the_maps_of_one_call_per_pair():
+    """The CIEDE2000 maps of many pairs computed together are each pair's own, bit for bit
+    (every step is per pixel), and kept only inside maps_once_per_pair."""
+    from aaeval.metrics._pairs import maps_once_per_pair
+    from aaeval.metrics.colour_difference import ciede2000_maps
+
+    rng = np.random.default_rng(7)
+    pairs = [(rng.random((9, 13, 3)), rng.random((9, 13, 3)) * 1.3) for _ in range(5)] + [
+        (rng.random((4, 6, 3)), rng.random((4, 6, 3))) for _ in range(2)]
+    alone = [ciede2000_map(a, b) for a, b in pairs]
+    with maps_once_per_pair():
+        ciede2000_maps(pairs)
+        for (a, b), expected in zip(pairs, alone):
+            assert np.array_equal(ciede2000_map(a, b), expected)
+            assert ciede2000_map(a, b) is ciede2000_map(a, b)  # kept, not computed again
+
+
+def test_a_chunk_of_frames_measures_what_each_frame_measures_alone(monkeypatch):
+    """measure_frames on a chunk (the sweep's task): the metrics of each frame measured
+    alone, the CIEDE2000 maps of the chunk in one colour difference."""
+    import colour
+
+    from aaeval.experiments.measure import FrameJob, measure_frame, measure_frames
+    from aaeval.renderers import MethodSpec, render
+    from aaeval.scenes.generate import random_triangles
+
+    metrics = ["rmse", "ssim", "ciede2000_mean", "ciede2000_p95", "flip"]
+    scenes = [random_triangles(20, 16, 16, size=6.0, seed=s) for s in range(4)]
+    spec = MethodSpec.parse("supersample:k=2")
+    jobs = [FrameJob(scene, spec, 0, render(scene, "catmull"), metrics, digest=f"chunk-{i}")
+            for i, scene in enumerate(scenes)]
+    alone = [measure_frame(job.scene, spec, 0, job.reference, metrics, digest=job.digest) for job in jobs]
+    calls = []
+    delta_e = colour.delta_E
+    monkeypatch.setattr(colour, "delta_E", lambda *a, **k: calls.append(1) or delta_e(*a, **k))
+    together = measure_frames(jobs)
+    assert len(calls) == 1
+    for one, chunk in zip(alone, together):
+        assert chunk.error is None and chunk.metrics == one.metrics and np.array_equal(chunk.flip, one.flip)
