@@ -181,7 +181,7 @@ def compare(scene, specs: Sequence[str] | str, reference: str = "catmull", frame
     """
     import pandas as pd
 
-    from aaeval.experiments.compare import plan_comparison, run_comparison
+    from aaeval.sweeps.compare import plan_comparison, run_comparison
 
     specs = _texts("specs", specs, "a method spec (str)")  # texts are parsed once, by the plan
     reference = _text("reference", reference, "a method spec (str), such as 'catmull'")
@@ -206,12 +206,12 @@ def sweep(config, out: str | Path, **options: Any) -> Path:
     Parameters
     ----------
     config : path, mapping or Experiment
-        An experiment config file (``configs/experiments/*.toml``), the same as a
-        dictionary, or a loaded :class:`~aaeval.experiments.Experiment`.
+        An experiment config file (``configs/sweeps/*.toml``), the same as a
+        dictionary, or a loaded :class:`~aaeval.sweeps.Experiment`.
     out : path
         The results folder; finished cells in it are kept.
     **options
-        Passed to :func:`aaeval.experiments.run_sweep`: ``workers`` (local worker
+        Passed to :func:`aaeval.sweeps.run_sweep`: ``workers`` (local worker
         processes, a positive int; default every core), ``scheduler`` (a Dask scheduler's
         address or Client), ``quiet``, ``retry_failed``, ``force`` (bools), ``cache_dir``
         (a path).
@@ -231,8 +231,8 @@ def sweep(config, out: str | Path, **options: Any) -> Path:
         :func:`sweep` under ``if __name__ == "__main__":`` (each worker starts by importing
         the script).
     """
-    from aaeval.experiments import Experiment, load_experiment, parse_experiment, run_sweep
-    from aaeval.experiments.executors import NO_MAIN_GUARD
+    from aaeval.sweeps import Experiment, load_experiment, parse_experiment, run_sweep
+    from aaeval.sweeps.executors import NO_MAIN_GUARD
 
     if _importing_a_worker():  # the script's top level, run again by a worker that imports it
         raise SystemExit(f"aaeval.sweep() called while a worker process imports the script: {NO_MAIN_GUARD}")
@@ -315,7 +315,7 @@ def open_sweep(folder: str | Path) -> Sweep:
     FileNotFoundError
         ``folder`` holds no ``results.parquet``.
     """
-    from aaeval.experiments.table import read_table
+    from aaeval.sweeps.table import read_table
 
     folder = _path("folder", folder)
     registries.load()

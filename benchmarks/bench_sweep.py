@@ -4,7 +4,7 @@ results table, and the scheduling and bookkeeping around them, in total and per 
     PYTHONPATH=. python benchmarks/bench_sweep.py [CONFIG] [--group NAME] [--workers N]
         [--out benchmarks/results/bench_sweep.txt]
 
-CONFIG defaults to configs/experiments/default.toml; ``--group`` keeps one of its groups
+CONFIG defaults to configs/sweeps/default.toml; ``--group`` keeps one of its groups
 (e.g. ``edge-aliasing``). The sweep runs from an empty folder and an empty reference cache
 (both temporary), with the real ``fsync``.
 
@@ -76,7 +76,7 @@ class Clock:
 def patch(clock: Clock) -> None:
     """Time every part of a sweep that runs in this process."""
     import aaeval.renderers as renderers
-    from aaeval.experiments import measure, runner, store, table, tasks
+    from aaeval.sweeps import measure, runner, store, table, tasks
     from aaeval.metrics import registry
 
     def on(owner, name, bucket, *, owns=None):
@@ -119,7 +119,7 @@ def startup(clock: Clock) -> None:
     import mitsuba  # noqa: F401
     import skimage.metrics  # noqa: F401
 
-    import aaeval.experiments  # noqa: F401
+    import aaeval.sweeps  # noqa: F401
     from aaeval import registries
 
     registries.load()
@@ -127,7 +127,7 @@ def startup(clock: Clock) -> None:
 
 
 def experiment_of(config: Path, group: str | None):
-    from aaeval.experiments import load_experiment
+    from aaeval.sweeps import load_experiment
 
     experiment = load_experiment(config)
     if group is None:
@@ -160,14 +160,14 @@ def table(clock: Clock, wall: float, cells: int, title: str) -> str:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("config", nargs="?", type=Path, default=ROOT / "configs/experiments/default.toml")
+    parser.add_argument("config", nargs="?", type=Path, default=ROOT / "configs/sweeps/default.toml")
     parser.add_argument("--group", help="keep only this group of the config")
     parser.add_argument("--workers", type=int, default=1, help="1: split the time; more: wall time only")
     parser.add_argument("--out", type=Path, help="also write the table to this file")
     args = parser.parse_args(argv)
     clock = Clock()
     startup(clock)
-    from aaeval.experiments import run_sweep
+    from aaeval.sweeps import run_sweep
 
     experiment = experiment_of(args.config, args.group)
     if args.workers == 1:

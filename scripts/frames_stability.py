@@ -2,7 +2,7 @@
 spread (flicker of the error; the intensity sum's variation) at 8, 16, 32 and 64 frames of
 seeded random sub-pixel offsets, against the exact box-filtered truth (Catmull).
 
-    python scripts/frames_stability.py        # a Markdown table (docs/experiments.md quotes it)
+    python scripts/frames_stability.py        # a Markdown table (docs/sweeps.md quotes it)
 
 A spread is stable at N frames when it is close to its value at 64. The flicker (an RMS over
 frames) settles fast; a sum variation (max - min) is an extreme and grows while rare phases

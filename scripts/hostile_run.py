@@ -545,7 +545,7 @@ BAD_VALUES = [None, "text", 7, 1.5, True, [1], {"a": 1}, float("inf")]
 
 
 def store(run: Run, base: Path) -> None:
-    from aaeval.experiments.record import RECORD_FIELDS
+    from aaeval.sweeps.record import RECORD_FIELDS
 
     n = 0
     rng = random.Random(5)
@@ -668,8 +668,8 @@ def report(run: Run, base: Path) -> None:
     out = dest / "out"
     from test_hostile_report import MARKUP, plant_markup
 
-    from aaeval.experiments import SweepStore
-    from aaeval.experiments.table import write_results
+    from aaeval.sweeps import SweepStore
+    from aaeval.sweeps.table import write_results
 
     plant_markup(out)
     write_results(SweepStore(out))  # the tables the report reads are the sweep's: written again from the cells
@@ -788,7 +788,7 @@ def api(run: Run) -> None:
     import numpy as np
 
     import aaeval
-    from aaeval.experiments.config import ConfigError
+    from aaeval.sweeps.config import ConfigError
     from aaeval.renderers import MethodError
     from aaeval.scenes import SceneError
     from tests.helpers.sweep_util import SMALL

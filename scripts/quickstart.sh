@@ -15,7 +15,7 @@ OUT=${AAEVAL_QUICKSTART_OUT:-reports/default}
 done
 
 start=$(date +%s)
-"$PY" -m aaeval sweep configs/experiments/default.toml --out "$OUT" "$@"
+"$PY" -m aaeval sweep configs/sweeps/default.toml --out "$OUT" "$@"
 "$PY" -m aaeval report "$OUT"
 echo "default sweep and report took $(( $(date +%s) - start )) s"
 echo "report: $(cd "$OUT" && pwd)/index.html  (tables: $OUT/results.parquet)"

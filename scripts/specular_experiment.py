@@ -4,7 +4,7 @@ The per-method numbers (highlight RMSE, highlight energy bias, highlight flicker
 flicker, image metrics, render times) are a sweep config measured by the same engine as
 every other experiment::
 
-    aaeval sweep configs/experiments/specular.toml --out reports/specular-sweep
+    aaeval sweep configs/sweeps/specular.toml --out reports/specular-sweep
     aaeval report reports/specular-sweep
 
 This script keeps the three analyses a sweep cannot express, each against the Mitsuba
@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from aaeval import registries
-from aaeval.experiments.typed_json import dumps
+from aaeval.sweeps.typed_json import dumps
 from aaeval.imageio import atomic_write
 from aaeval.metrics import rmse
 from aaeval.metrics.masks import HIGHLIGHT_THRESHOLD
@@ -164,7 +164,7 @@ def format_report(report) -> str:
         f"Scene {report['scene']}, {report['frames']} frames, ground truth Mitsuba Phong "
         f"{report['spp']} spp; highlight = truth specular > {report['mask_threshold']} "
         f"({report['mask_pixels_per_frame']:.0f} px/frame). Per-method highlight error and flicker: "
-        "the sweep configs/experiments/specular.toml.",
+        "the sweep configs/sweeps/specular.toml.",
         "",
         "| method | x-section flicker central | x-section flicker lower right |",
         "|---|---|---|",

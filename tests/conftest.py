@@ -19,7 +19,7 @@ def _no_fsync(request, monkeypatch):
     An fsync costs about 11 ms on ext4 (a syncfs of a batch of cells more): most of the time of
     the tests that run every shipped config through the engine, which test what is
     written, not that it survives a power cut. The durability tests
-    (tests/experiments/test_store_durability.py, the atomic-write test) keep the real one and spy on it.
+    (tests/sweeps/test_store_durability.py, the atomic-write test) keep the real one and spy on it.
     """
     if request.node.get_closest_marker("durability") is None:
         monkeypatch.setattr(os, "fsync", _skip_fsync)

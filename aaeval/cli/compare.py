@@ -52,8 +52,8 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    from aaeval.experiments.compare import plan_comparison, run_comparison
-    from aaeval.experiments.typed_json import dumps
+    from aaeval.sweeps.compare import plan_comparison, run_comparison
+    from aaeval.sweeps.typed_json import dumps
     from aaeval.imageio import atomic_write
 
     from aaeval.imageio import check_outputs

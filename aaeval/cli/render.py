@@ -27,7 +27,7 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    from aaeval.experiments.typed_json import dumps
+    from aaeval.sweeps.typed_json import dumps
     from aaeval.imageio import SUFFIXES, atomic_write, check_outputs, save_image
     from aaeval.renderers import MethodSpec, render_timed
     from aaeval.scenes import load_scene

@@ -9,7 +9,7 @@ def add_parser(sub) -> None:
     p = sub.add_parser(
         "sweep",
         help="run an experiment sweep (scenes x methods x options x frames) into a folder",
-        description="Run every cell of the experiment CONFIG (TOML, see configs/experiments/) and write "
+        description="Run every cell of the experiment CONFIG (TOML, see configs/sweeps/) and write "
         "one result file per cell into DIR, then DIR/results.parquet. Finished cells are kept: a rerun "
         "(after a crash, or with more cells in the config) runs only what is missing.",
     )
@@ -30,7 +30,7 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    from aaeval.experiments import load_experiment, run_sweep
+    from aaeval.sweeps import load_experiment, run_sweep
 
     if args.workers is not None and args.workers < 1:
         raise ValueError(f"--workers must be >= 1, got {args.workers}")
@@ -46,7 +46,7 @@ def run(args) -> int:
     scheduler = None
     try:
         if args.scheduler:  # reached, with a worker, before the folder is touched (no empty sweep.lock)
-            from aaeval.experiments.executors import connect
+            from aaeval.sweeps.executors import connect
 
             scheduler = connect(args.scheduler)
         summary = run_sweep(experiment, args.out, workers=args.workers, scheduler=scheduler, quiet=args.quiet,
@@ -55,13 +55,11 @@ def run(args) -> int:
         raise ValueError(str(exc)) from None
     finally:
         if scheduler is not None:
-            from aaeval.experiments.executors import close_quietly
+            from aaeval.sweeps.executors import close_quietly
 
             close_quietly(scheduler)
-    cluster_lost = next((line.split(f"{name}: ", 1)[1] for line in summary.lost
-                         for name in ("WorkersLost", "SchedulerLost") if f"{name}: " in line), None)
-    if cluster_lost:  # the cluster's own reason (lost, not answering, no worker left), once
-        print(f"aaeval sweep: {' '.join(cluster_lost.split())} ({len(summary.lost)} cell(s) not run)",
+    if summary.cluster_lost:  # the cluster's own reason (lost, not answering, no worker left), once
+        print(f"aaeval sweep: {' '.join(summary.cluster_lost.split())} ({len(summary.lost)} cell(s) not run)",
               file=sys.stderr)
     print(f"{experiment.name}: {summary.total} cells, {summary.skipped} already done, {summary.ran} run "
           f"({summary.failed} failed), references {summary.references_rendered} rendered / "
@@ -94,7 +92,7 @@ def print_errors(summary, out) -> None:
 
 
 def dry_run(experiment, out) -> int:
-    from aaeval.experiments import SweepStore, plan
+    from aaeval.sweeps import SweepStore, plan
     planned = plan(experiment)
     done = set(SweepStore(out).check(heal=False))  # sound cells only; a dry run moves nothing
     rows: dict[tuple, list] = {}

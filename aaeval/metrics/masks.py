@@ -1,7 +1,7 @@
 """Masks the masked metrics are computed over, built from the scene by name.
 
 A metric declares the mask it needs by name (``register_metric(..., mask="edge")``); the
-measuring engine (:mod:`aaeval.experiments.measure`) builds it from the scene at the
+measuring engine (:mod:`aaeval.sweeps.measure`) builds it from the scene at the
 frame being measured with :func:`build_mask`, once per scene frame, and passes it as the
 metric's ``mask`` option. This is the only place that knows how a mask is made.
 """
@@ -29,7 +29,7 @@ INTERIOR_MARGIN = 2
 
 
 #: What a mask may be read from besides the scene, rendered by the measuring engine
-#: (:func:`aaeval.experiments.measure.mask_source`) and passed in: ``exact``, the exact
+#: (:func:`aaeval.sweeps.measure.mask_source`) and passed in: ``exact``, the exact
 #: box-filtered image of the scene (Catmull's area sampling; one shade per visible piece
 #: on a shaded scene); ``specular``, the specular term of the Mitsuba Phong ground truth at
 #: :data:`HIGHLIGHT_SPP`.
@@ -70,7 +70,7 @@ def register_mask(name: str, build: Callable[..., np.ndarray] | None = None, sum
 def build_mask(name: str, scene, source: np.ndarray | None = None) -> np.ndarray:
     """The mask ``name`` of ``scene`` (at the frame wanted), bool (H, W). A mask read from
     a render (:attr:`Mask.source`) takes that render as ``source``
-    (:func:`aaeval.experiments.measure.scene_mask` renders it); where the mask does not
+    (:func:`aaeval.sweeps.measure.scene_mask` renders it); where the mask does not
     apply it is empty and needs none."""
     mask = MASKS.get_entry(name)
     if not mask.applies_to(scene):
@@ -79,7 +79,7 @@ def build_mask(name: str, scene, source: np.ndarray | None = None) -> np.ndarray
         found = mask.build(scene)
     elif source is None:
         raise ValueError(f"mask {name!r} is read from the scene's {mask.source} render: pass it as source= "
-                         "(aaeval.experiments.measure.scene_mask renders it)")
+                         "(aaeval.sweeps.measure.scene_mask renders it)")
     else:
         found = mask.build(scene, source)
     found = np.asarray(found, dtype=bool)

@@ -454,7 +454,7 @@ RENDER_SECONDS = 1e-3
 PIXEL_SECONDS = 1e-8
 
 
-def _render_seconds(scene: Scene, method: Method, options: Mapping[str, Any]) -> float:
+def render_seconds(scene: Scene, method: Method, options: Mapping[str, Any]) -> float:
     """The estimated seconds of one render (the near-tie pass, the method's own estimate,
     and the least any render costs)."""
     seconds = RENDER_SECONDS + PIXEL_SECONDS * scene.width * scene.height
@@ -487,7 +487,7 @@ def check_frames(scene: Scene, frames: int, where: str, specs: tuple[str | Metho
         return
     parsed = [MethodSpec.parse(spec) for spec in specs]
     # as floats: a count of any size gives a time (an int past float's range would overflow)
-    seconds = sum(_render_seconds(scene, spec.method, spec.options) for spec in parsed) * float(frames) * float(repeats)
+    seconds = sum(render_seconds(scene, spec.method, spec.options) for spec in parsed) * float(frames) * float(repeats)
     limit_s = _max_seconds()
     if seconds > limit_s:
         times = f" x {repeats} repeats" if repeats != 1 else ""
@@ -526,7 +526,7 @@ def check_budget(scene: Scene, method: Method, options: Mapping[str, Any]) -> No
         detail = f", {load.pairs:.3g} overlapping polygon pairs" if load is not None and load.pairs > 1e5 else ""
         raise MethodError(f"{where} needs about {need / 2**30:.3g} GiB of memory ({len(scene.polygons)} polygons"
                           f"{detail}), {have / 2**30:.3g} GiB available (AAEVAL_MAX_MEMORY may lower it)")
-    seconds = _render_seconds(scene, method, options)
+    seconds = render_seconds(scene, method, options)
     limit_s = _max_seconds()
     if seconds > limit_s:
         detail = f", {load.pairs:.3g} overlapping polygon pairs" if load is not None else ""

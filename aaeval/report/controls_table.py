@@ -10,7 +10,7 @@ from __future__ import annotations
 import html
 import math
 
-from aaeval.experiments.typed_json import decode_float
+from aaeval.sweeps.typed_json import decode_float
 from aaeval.report.html_tables import Stored, shown
 from aaeval.report.sweep_data import METRICS
 

@@ -267,7 +267,7 @@ def _scene_axes(scenes: list[str], entries: int, width: float = 7.6):
 def _error_panel(ax, rows: pd.DataFrame, x: str, metric: str, styles: Styles, *, lw: float | None = None) -> None:
     """One scene's ``metric`` against the column ``x`` (frame or phase) on a log axis, one
     curve per spec, the ground truth's noise of each frame as a grey curve."""
-    from aaeval.experiments.summaries import measured_noise
+    from aaeval.sweeps.summaries import measured_noise
 
     ref = rows.drop_duplicates("frame").sort_values(x)
     noise = measured_noise(ref)  # a noise-free truth's error bound is no noise
@@ -371,10 +371,10 @@ def phase_figure(results: pd.DataFrame, path: Path, *, metric: str, title: str, 
 def temporal_bars(temporal: pd.DataFrame, path: Path, *, group: str, metrics: list[str], title: str,
                   styles: Styles) -> Path:
     """One panel per temporal metric (registered, from temporal.parquet): a bar per spec, mean over
-    the group's animations (:func:`aaeval.experiments.aggregate.per_spec`, the findings' aggregation),
+    the group's animations (:func:`aaeval.sweeps.aggregate.per_spec`, the findings' aggregation),
     linear axes, the ground truth's noise RMS dashed where the metric is an RMS of errors."""
     from aaeval.report.sweep_data import METRICS
-    from aaeval.experiments.aggregate import per_spec
+    from aaeval.sweeps.aggregate import per_spec
 
     tables = {m: per_spec(temporal, group, m) for m in metrics}
     specs = tables[metrics[0]]
@@ -419,7 +419,7 @@ def stability(results: pd.DataFrame, path: Path, *, metric: str, failed, title: 
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, max(4.2, 0.17 * results["spec"].nunique())),
                                  gridspec_kw={"wspace": 0.25})
     label = results["difficulty_label"].dropna().iloc[0] if results["difficulty_label"].notna().any() else "difficulty"
-    from aaeval.experiments.summaries import measured_noise
+    from aaeval.sweeps.summaries import measured_noise
 
     lo, hi, exact = _log_limits(results[metric], measured_noise(results))
     at = _exact_strip(ax, lo, hi) if exact else None

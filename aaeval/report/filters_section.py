@@ -1,11 +1,11 @@
 """Report section of the pixel-filter groups (``filters*``): exact against sampled, and how much
 each filter lets a picket fence flicker. It draws the sweep's stored ``filters`` summary and
 computes nothing: every value is a registered metric (:mod:`aaeval.metrics`) the sweep
-measured, averaged per (filter, method) by :func:`aaeval.experiments.aggregate.per_spec`.
+measured, averaged per (filter, method) by :func:`aaeval.sweeps.aggregate.per_spec`.
 
 Each cell of these groups was judged against the ground truth through its own filter
 (``mitsuba:filter=F``, or ``catmull:filter=F`` for an exact reference;
-:func:`aaeval.experiments.config.reference_for`), never against the box.
+:func:`aaeval.sweeps.config.reference_for`), never against the box.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import pandas as pd
 
 from aaeval.report.sweep_data import METRICS
 from aaeval.report.figures import UNIT, metric_label, save_figure
-from aaeval.experiments.summaries import FILTER_ORDER
+from aaeval.sweeps.summaries import FILTER_ORDER
 from aaeval.report.style import Styles
 from aaeval.report.html_tables import stored_cells, write_table
 

@@ -1,9 +1,9 @@
 """The findings at the top of the report: one ranked table per question, drawn from the sweep.
 
-The sweep ranked every question's answers once (:mod:`aaeval.experiments.summaries`:
+The sweep ranked every question's answers once (:mod:`aaeval.sweeps.summaries`:
 ``findings``, ``findings_questions``, ``findings_per_scene``), each value the mean of one
 group's cells (``results.parquet``) or animations (``temporal.parquet``) of one spec by
-:func:`~aaeval.experiments.aggregate.per_spec`, the aggregation the group charts and the
+:func:`~aaeval.sweeps.aggregate.per_spec`, the aggregation the group charts and the
 specular and filters sections use, so a ranking reads the same wherever it appears. Each
 number names where it is stored (``data-source``, ``data-row``, ``data-column``) and the
 cells it aggregates (``data-from``, ``data-group``, ``data-spec``, ``data-agg``: the tests
@@ -21,8 +21,8 @@ import json
 
 import pandas as pd
 
-from aaeval.experiments.record import noise_column
-from aaeval.experiments.summaries import QUESTIONS, Question
+from aaeval.sweeps.record import noise_column
+from aaeval.sweeps.summaries import QUESTIONS, Question
 from aaeval.metrics.info import format_value
 from aaeval.report.html_tables import Stored
 from aaeval.report.sweep_data import METRICS, SweepData

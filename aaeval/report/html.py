@@ -21,8 +21,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from aaeval.experiments.aggregate import failed_cells, failure_definition
-from aaeval.experiments.summaries import measured_noise, validation_rows
+from aaeval.sweeps.aggregate import failed_cells, failure_definition
+from aaeval.sweeps.summaries import measured_noise, validation_rows
 from aaeval.metrics.agreement import truth_of
 from aaeval.fileio import atomic_write
 from aaeval.report import figures, image_figures
@@ -153,7 +153,7 @@ def _noise(rows: pd.DataFrame) -> np.ndarray:
 def _accuracy_block(page: _Page, group: str, slug: str, summary: pd.DataFrame, rows: pd.DataFrame,
                     ref: str) -> str:
     """Accuracy per spec. The accuracy cells may run in parallel, so their times are never
-    charted: speed comes from the speed pass (:mod:`aaeval.experiments.speed`)."""
+    charted: speed comes from the speed pass (:mod:`aaeval.sweeps.speed`)."""
     primary = page.primary
     noise = _noise(rows)
     data = summary.dropna(subset=[primary])
@@ -238,10 +238,10 @@ def _policy_section(page: _Page, results: pd.DataFrame) -> str:
     out.append(page.stored_table(per_group, REFS, "ground_truth_per_group", "Ground truth of every group",
                                  {"reference_label": "reference", "noise_mean": "noise RMS (mean)",
                                   "noise_max": "noise RMS (max)"}))
+    checked = list(refs["validated"].astype(bool)) if "validated" in refs else [False] * len(refs)
     per_group = per_group.to_dict("records")
-    checked = [g["Mitsuba ground truth"] == "yes" or ": agrees (" in g["Mitsuba ground truth"] for g in per_group]
     bad = [g["group"] for g, ok in zip(per_group, checked) if not ok]
-    crossed = [g["group"] for g, ok in zip(per_group, checked) if ok and g["Mitsuba ground truth"] != "yes"]
+    crossed = [g["group"] for g, ok, truth in zip(per_group, checked, refs["is_ground_truth"]) if ok and not truth]
     if crossed:
         out.append(f"<p>Groups {html.escape(', '.join(dict.fromkeys(crossed)))} are judged against an exact truth "
                    "(no sampling noise; its quadrature error bound is a bound, not noise), and their Mitsuba row of the most "
@@ -515,7 +515,7 @@ def _speed_section(page: _Page, results: pd.DataFrame, speed: pd.DataFrame) -> s
                                       "ms_per_mpix_max": "slowest"}))
         if ratios:
             out.append("<p class='note'>Time ratios on the same scene: " + "; ".join(ratios) + ". "
-                       "benchmarks/bench_methods.py times the same scene the same way (see docs/experiments.md) for "
+                       "benchmarks/bench_methods.py times the same scene the same way (see docs/sweeps.md) for "
                        "the ratio to compare.</p>")
     return "\n".join(out)
 

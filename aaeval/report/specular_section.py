@@ -4,7 +4,7 @@ It draws the sweep's stored ``specular`` summary and computes no measure: every 
 registered metric (:mod:`aaeval.metrics`) the sweep measured on the specular groups (scenes
 with ``[shaded]`` objects), against the one specular ground truth of the page (the groups'
 reference, whose spp is stated once, here), averaged per spec by
-:func:`aaeval.experiments.aggregate.per_spec`, the aggregation the findings and the group
+:func:`aaeval.sweeps.aggregate.per_spec`, the aggregation the findings and the group
 charts use, so the rankings agree:
 
 - the highlight's **bias** (time-average of its energy error) and **flicker** (what is
@@ -34,7 +34,7 @@ from scipy.special import gammaln  # noqa: E402
 from aaeval.metrics.info import format_value  # noqa: E402
 from aaeval.report.sweep_data import METRICS  # noqa: E402
 from aaeval.report.figures import UNIT, save_figure, twin_formats  # noqa: E402
-from aaeval.experiments.summaries import SPECULAR_COLUMNS, shaded_groups  # noqa: E402
+from aaeval.sweeps.summaries import SPECULAR_COLUMNS, shaded_groups  # noqa: E402
 from aaeval.report.html_tables import Stored, shown  # noqa: E402
 from aaeval.report.style import Styles  # noqa: E402
 from aaeval.specular.tables import cutoff_table, maximum  # noqa: E402

@@ -1,11 +1,11 @@
 """What the report reads: the files the sweep stored in its folder, and nothing else.
 
 The sweep measured every number and wrote it beside its cells
-(:func:`aaeval.experiments.table.write_results`): ``results.parquet``, ``temporal.parquet``,
+(:func:`aaeval.sweeps.table.write_results`): ``results.parquet``, ``temporal.parquet``,
 ``speed.parquet``, ``metrics.json`` (each metric's title, format and direction),
 ``specs.json`` (each spec's options and each method's choices, for the styles),
 ``controls.json``, ``specular_detection.npz`` and, in ``summaries/``, every table the page
-shows, aggregated by the sweep (:mod:`aaeval.experiments.summaries`). :func:`read_sweep`
+shows, aggregated by the sweep (:mod:`aaeval.sweeps.summaries`). :func:`read_sweep`
 loads them once;
 :data:`METRICS` then describes the sweep's metrics (:class:`~aaeval.metrics.info.MetricInfo`)
 for every section that formats or labels a value.
@@ -20,9 +20,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from aaeval.experiments.record import RecordError
-from aaeval.experiments.store import SweepStore, read_table
-from aaeval.experiments.summaries import SUMMARIES, SUMMARY_FOLDER
+from aaeval.sweeps.record import RecordError
+from aaeval.sweeps.store import SweepStore, read_table
+from aaeval.sweeps.summaries import SUMMARIES, SUMMARY_FOLDER
 from aaeval.metrics.info import MetricInfo
 
 __all__ = ["SweepData", "read_sweep", "use_metrics", "METRICS"]
@@ -54,7 +54,7 @@ class SweepData:
     summaries: dict[str, pd.DataFrame] = field(default_factory=dict)
 
     def summary(self, name: str) -> pd.DataFrame:
-        """The stored summary ``name`` (:data:`~aaeval.experiments.summaries.SUMMARIES`);
+        """The stored summary ``name`` (:data:`~aaeval.sweeps.summaries.SUMMARIES`);
         its index is the stored row."""
         return self.summaries[name]
 

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from aaeval.experiments.summaries import changing_row
+from aaeval.sweeps.summaries import changing_row
 from aaeval.fileio import atomic_write
 from aaeval.report.style import Styles
 

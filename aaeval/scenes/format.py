@@ -15,7 +15,6 @@ import math
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from functools import cached_property
-from pathlib import Path
 from typing import Any, Callable, Mapping
 
 import numpy as np
@@ -267,7 +266,7 @@ def parse_polygon(raw: Any, i: int, source: str) -> Polygon:
     if np.abs(vertices).max() > MAX_COORDINATE:
         raise SceneError(f"{where}: coordinates beyond +-{MAX_COORDINATE:g} are not supported")
     check_no_repeats(vertices, where)
-    in_plane = _check_planar(vertices, where)
+    in_plane = check_planar(vertices, where)
     check_simple(in_plane, where)
     return Polygon(vertices=vertices, color=color, index=i, plane=_plane_of(vertices))
 
@@ -325,7 +324,7 @@ def check_no_repeats(vertices: np.ndarray, where: str) -> None:
         raise SceneError(f"{where}: vertex {k} repeats vertex {j} (zero-length edge){hint}")
 
 
-def _check_planar(vertices: np.ndarray, where: str) -> np.ndarray:
+def check_planar(vertices: np.ndarray, where: str) -> np.ndarray:
     """Refuse a degenerate or non-planar outline; return it in its own plane's 2-D coordinates.
 
     The plane is the best fit by singular value decomposition, which (unlike Newell's

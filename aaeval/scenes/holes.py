@@ -24,7 +24,7 @@ import numpy as np
 
 from aaeval.scenes.simplicity import rings_contact
 from aaeval.scenes.format import (
-    _check_planar,
+    check_planar,
     MAX_COORDINATE,
     PLANARITY_RTOL,
     Polygon,
@@ -209,7 +209,7 @@ def _plain_polygons(raw_polygons: list, source: str) -> tuple[Polygon, ...] | No
             vertices[i] = row
     for i in sorted(one_by_one):  # the rules the batch leaves to the single-polygon checks
         try:
-            check_simple(_check_planar(vertices[i], ""), "")
+            check_simple(check_planar(vertices[i], ""), "")
         except SceneError:
             return None
     return tuple(map(Polygon, vertices, color, range(n), planes))

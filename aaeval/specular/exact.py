@@ -24,7 +24,7 @@ from aaeval.native import shading as _shading
 from aaeval.scenes import Scene
 from aaeval.scenes.shaded import expand_shaded
 from aaeval.specular.methods import specular_options
-from aaeval.specular.render import _shaded_pieces, fragment_parameters
+from aaeval.specular.render import shaded_pieces, fragment_parameters
 
 __all__ = ["ExactShading", "DEFAULT_TOL", "exact_shading", "render_exact"]
 
@@ -93,7 +93,7 @@ def exact_shading(scene: Scene, *, tol: float = DEFAULT_TOL, threads: int = 0, *
 
 def _fragment_materials(field, fragments: Fragments, width: int, options) -> tuple[np.ndarray, np.ndarray]:
     """Exponent and ks per fragment row: the specular method's clamp on shaded rows, 0 elsewhere."""
-    pieces = _shaded_pieces(field, fragments, width)
+    pieces = shaded_pieces(field, fragments, width)
     n_new, ks_new, _ = fragment_parameters(field, pieces, **options)
     frag_n = np.zeros(len(fragments.pixel))
     frag_ks = np.zeros(len(fragments.pixel))

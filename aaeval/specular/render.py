@@ -56,7 +56,7 @@ class _Pieces(NamedTuple):
     dot: np.ndarray  # (k,)
 
 
-def _shaded_pieces(field: ShadingField, fragments: Fragments, width: int) -> _Pieces:
+def shaded_pieces(field: ShadingField, fragments: Fragments, width: int) -> _Pieces:
     poly = fragments.polygon
     rows = np.flatnonzero((poly >= 0) & field.shaded[np.maximum(poly, 0)] if len(field.shaded) else np.zeros(len(poly), bool))
     polygon = poly[rows]
@@ -82,7 +82,7 @@ def specular_aliasing_map(scene: Scene, *, power: float = 1.0) -> AliasingMap:
     """
     expanded = expand_shaded(scene)
     fragments = visible_fragments(expanded.scene)
-    pieces = _shaded_pieces(expanded.field, fragments, scene.width)
+    pieces = shaded_pieces(expanded.field, fragments, scene.width)
     n = expanded.field.n[pieces.polygon]
     rate = amanatides_rate(pieces.dot, n, power)
     flagged = pieces.dot < min_dot(n, power)
@@ -139,7 +139,7 @@ def render_shaded(scene: Scene, *, return_specular: bool = False, **options):
     expanded = expand_shaded(scene)
     fragments = visible_fragments(expanded.scene)
     field = expanded.field
-    pieces = _shaded_pieces(field, fragments, scene.width)
+    pieces = shaded_pieces(field, fragments, scene.width)
     n_new, ks_new, flagged = fragment_parameters(field, pieces, **options)
 
     size = scene.width * scene.height

@@ -128,7 +128,7 @@ def load_study(folder: str | Path, results: str | Path | None = None) -> Study:
         its rule: every field is checked here, against the config's groups, methods, metrics,
         frames and image sizes, so that nothing is refused after the sweep has run.
     """
-    from aaeval.experiments import ConfigError, load_experiment
+    from aaeval.sweeps import ConfigError, load_experiment
 
     folder = Path(folder)
     if folder.is_symlink() or not folder.is_dir():
@@ -287,7 +287,7 @@ def _check_temporal(item: Mapping, group, where: str, folder: Path) -> None:
 
 
 def _check_errors(item: Mapping, group, where: str, folder: Path) -> None:
-    from aaeval.experiments.measure import reference_kind
+    from aaeval.sweeps.measure import reference_kind
 
     _check_metrics(group, item, where, group.metrics, ["rmse"])
     if "within_noise" in item and reference_kind(group.reference) == "deterministic":
@@ -404,7 +404,7 @@ def run_study(study: Study, *, run: bool = True, workers: int | None = None, qui
     str
         The generated section, as written into the README.
     """
-    from aaeval.experiments import load_experiment, run_sweep
+    from aaeval.sweeps import load_experiment, run_sweep
     from aaeval.imageio import atomic_write
 
     for name in OUTPUT_FOLDERS:  # again: the folder may have been swapped for a link since load_study
@@ -441,7 +441,7 @@ def generate_section(study: Study, now: datetime | None = None) -> str:
         metric that is not in it.
     """
     from aaeval.api import open_sweep
-    from aaeval.experiments.provenance import read_provenance
+    from aaeval.sweeps.provenance import read_provenance
 
     if not (study.results / "results.parquet").is_file():
         raise StudyError(f"{study.results}: no results.parquet; run 'aaeval study {study.folder}' without --no-run")
@@ -715,7 +715,7 @@ def _temporal(sweep, item: Mapping, study: Study, where: str, checks: list[bool]
 def _errors(sweep, item: Mapping, study: Study, where: str, checks: list[bool]) -> list[str]:
     """Per scene and method: the mean over frames of image metrics, the largest absolute pixel
     difference from the reference (read from the stored images) and the reference's noise."""
-    from aaeval.experiments.store import SweepStore
+    from aaeval.sweeps.store import SweepStore
     from aaeval.metrics import METRICS
 
     metrics = _names(item, "metrics", where, ["rmse"])
@@ -768,7 +768,7 @@ def _max_abs(store, row) -> float:
 
 def _pairs(sweep, item: Mapping, study: Study, where: str, checks: list[bool]) -> list[str]:
     """The largest absolute difference between two methods' stored images, frame by frame."""
-    from aaeval.experiments.store import SweepStore
+    from aaeval.sweeps.store import SweepStore
 
     pairs = item["pairs"]  # checked by _check_pairs
     rows = _group(sweep.results, item, where)
@@ -793,7 +793,7 @@ def _pairs(sweep, item: Mapping, study: Study, where: str, checks: list[bool]) -
 
 def _pixel(sweep, item: Mapping, study: Study, where: str, checks: list[bool]) -> list[str]:
     """One pixel of one frame, every method's stored value against the reference's."""
-    from aaeval.experiments.store import SweepStore
+    from aaeval.sweeps.store import SweepStore
 
     pixel, frame = item["pixel"], item.get("frame", 0)  # checked by _check_pixel
     tol = _number(item, "tolerance", 0.01, where)

@@ -12,11 +12,11 @@ import pandas as pd
 import pytest
 
 from aaeval.cli import main
-from aaeval.experiments import SweepStore, load_experiment, plan, run_sweep
-from aaeval.experiments.config import ConfigError, parse_experiment
-from aaeval.experiments.record import SCHEMA_VERSION, TIMING_FIELDS, CellRecord, RecordError
-from aaeval.experiments.runner import manifest, record_identity
-from aaeval.experiments.table import read_table, results_frame
+from aaeval.sweeps import SweepStore, load_experiment, plan, run_sweep
+from aaeval.sweeps.config import ConfigError, parse_experiment
+from aaeval.sweeps.record import SCHEMA_VERSION, TIMING_FIELDS, CellRecord, RecordError
+from aaeval.sweeps.runner import manifest, record_identity
+from aaeval.sweeps.table import read_table, results_frame
 from aaeval.metrics import METRICS, register_metric
 from tests.helpers.sweep_util import write_config
 
@@ -144,7 +144,7 @@ def test_a_config_that_repeats_itself_is_refused_naming_the_key(group, message):
 # --- one record ------------------------------------------------------------------------
 
 def test_a_record_with_a_missing_or_unknown_field_or_another_schema_is_refused():
-    from aaeval.experiments.record import _INT, _STR
+    from aaeval.sweeps.record import _INT, _STR
 
     fields = {f: None for f in CellRecord.__dataclass_fields__}  # every optional field null
     fields.update({f: "x" for f in _STR}, **{f: 1 for f in _INT})  # the others of their types (issue 36)

@@ -95,7 +95,7 @@ def test_an_animation_within_the_budget_still_runs(tmp_path, capsys, monkeypatch
 # /proc takes no new files, even for root (a chmod-ed folder does not stop root)
 
 def test_compare_json_into_an_unwritable_folder_fails_before_rendering(tmp_path, capsys, monkeypatch):
-    import aaeval.experiments.compare as compare
+    import aaeval.sweeps.compare as compare
 
     monkeypatch.chdir(tmp_path)
     scene = tmp_path / "scene.toml"

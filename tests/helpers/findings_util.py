@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from aaeval.experiments import load_experiment, run_sweep
+from aaeval.sweeps import load_experiment, run_sweep
 from aaeval.report import write_report
 
 CONFIG = """

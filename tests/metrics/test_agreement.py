@@ -74,7 +74,7 @@ def test_ties_in_the_findings_follow_the_test_not_the_gap():
 
 
 def test_per_scene_table_shows_each_animation():
-    from aaeval.experiments.summaries import QUESTIONS, per_scene_values
+    from aaeval.sweeps.summaries import QUESTIONS, per_scene_values
     from aaeval.metrics import METRICS
     from aaeval.report.findings import per_scene_html
     from aaeval.report.sweep_data import METRICS as SHOWN
@@ -132,7 +132,7 @@ def test_a_seeded_method_is_tested_within_its_own_noise_against_an_exact_truth()
     # then differs by its sampling noise on every edge pixel, and the question the z-test
     # answers is whether it agrees within that noise (its own, from the next seed); a
     # deterministic method that is off (point sampling) has no noise of its own and differs
-    from aaeval.experiments.measure import measure_frame, render_reference
+    from aaeval.sweeps.measure import measure_frame, render_reference
     from aaeval.renderers import MethodSpec
     from aaeval.scenes import parse_scene
     from aaeval.scenes.generate import generate_scene

@@ -152,7 +152,7 @@ def test_library_controls_match_this_file():
 def test_the_report_prints_every_measures_control_scores():
     import re
 
-    from aaeval.experiments.table import _controls
+    from aaeval.sweeps.table import _controls
     from aaeval.metrics.controls import control_scores
     from aaeval.report.controls_table import controls_html
 

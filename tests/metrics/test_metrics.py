@@ -351,7 +351,7 @@ def test_a_measured_frame_evaluates_flip_once_for_its_metric_and_its_map(monkeyp
     no map and asks for none."""
     import flip_evaluator
 
-    from aaeval.experiments.measure import measure_frame
+    from aaeval.sweeps.measure import measure_frame
     from aaeval.metrics.perceptual import flip, flip_map
     from aaeval.renderers import MethodSpec, render
     from aaeval.scenes.generate import random_triangles
@@ -376,7 +376,7 @@ def test_a_measured_frame_computes_one_ciede2000_map_for_its_mean_and_p95(monkey
     colour difference per cell, and the values of the metrics called alone."""
     import colour
 
-    from aaeval.experiments.measure import measure_frame
+    from aaeval.sweeps.measure import measure_frame
     from aaeval.renderers import MethodSpec, render
     from aaeval.scenes.generate import random_triangles
 
@@ -434,7 +434,7 @@ def test_a_chunk_of_frames_measures_what_each_frame_measures_alone(monkeypatch):
     alone, the CIEDE2000 maps of the chunk in one colour difference."""
     import colour
 
-    from aaeval.experiments.measure import FrameJob, measure_frame, measure_frames
+    from aaeval.sweeps.measure import FrameJob, measure_frame, measure_frames
     from aaeval.renderers import MethodSpec, render
     from aaeval.scenes.generate import random_triangles
 

@@ -156,7 +156,7 @@ def test_no_top_level_folder_shares_a_name_with_a_package_of_aaeval():
     assert packages, "no aaeval packages found"
     # the one exception, asked for by issue 31 (item 6): the studies live in experiments/.
     # It holds sweep configs and READMEs, no Python, so it cannot be taken for (or shadow)
-    # the package aaeval.experiments; Python in it, or any other clash, still fails
+    # the package aaeval.sweeps; Python in it, or any other clash, still fails
     clash = packages & top
     assert clash <= {"experiments"}, f"top-level folders named like aaeval packages: {sorted(clash - {'experiments'})}"
     for name in clash:

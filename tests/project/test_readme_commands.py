@@ -4,7 +4,7 @@ loop, the benchmarks) is run, as written, in a temporary folder, and must exit 0
 
 The folder holds what the lines name: ``configs/scenes`` (the shipped scenes),
 ``scripts/quickstart.sh`` and ``benchmarks/`` (copies: their outputs land here, never in the
-repository), and ``configs/experiments/default.toml`` replaced by a small experiment of the
+repository), and ``configs/sweeps/default.toml`` replaced by a small experiment of the
 same shape (groups and a speed pass), so that ``bash scripts/quickstart.sh`` and the README's
 ``aaeval sweep``/``aaeval report`` lines run the whole path in seconds, not the default
 experiment's half hour. ``python3 -m pytest`` runs as collection only (``--collect-only``, plain asserts):

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 import aaeval.renderers.registry as registry
-from aaeval.experiments import load_experiment, run_sweep
-from aaeval.experiments.table import rebuild_results
-from aaeval.experiments.store import SweepStore
+from aaeval.sweeps import load_experiment, run_sweep
+from aaeval.sweeps.table import rebuild_results
+from aaeval.sweeps.store import SweepStore
 from aaeval.renderers import MethodError, MethodSpec, render
 from aaeval.scenes import parse_scene
 from aaeval.scenes.generate import generate_scene

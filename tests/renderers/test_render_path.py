@@ -44,7 +44,7 @@ def renders(monkeypatch):
 def test_a_measured_spec_is_rendered_untimed_first_with_every_option(renders):
     """Issue 23 item 8: catmull's own warm-up compiles the box path only; a timed
     catmull:filter=tent (or any other option) must have rendered that very spec untimed first."""
-    from aaeval.experiments import measure
+    from aaeval.sweeps import measure
 
     calls, checks = renders
     scene = parse_scene(TRIANGLE)
@@ -93,7 +93,7 @@ def test_render_stats_warms_up_the_spec_it_times(tmp_path, renders, stats):
 
 
 def test_a_config_reads_each_spec_text_once_and_sets_cache_as_an_option(monkeypatch):
-    from aaeval.experiments import config
+    from aaeval.sweeps import config
 
     read = []
     real = registry.parse_spec

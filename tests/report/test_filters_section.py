@@ -17,11 +17,11 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from aaeval.experiments import load_experiment, run_sweep
+from aaeval.sweeps import load_experiment, run_sweep
 from aaeval.scenes.generate import generate_scene
 from aaeval.filters import FILTERS
 from aaeval.renderers import render
-from aaeval.experiments.measure import scene_mask
+from aaeval.sweeps.measure import scene_mask
 from aaeval.metrics import image_flicker
 from aaeval.metrics.filters import edges_window as _edge_window, edge_width_10_90
 from aaeval.report.filters_section import filters_section

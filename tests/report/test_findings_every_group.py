@@ -8,7 +8,7 @@ import re
 import pandas as pd
 import pytest
 
-from aaeval.experiments import load_experiment, run_sweep
+from aaeval.sweeps import load_experiment, run_sweep
 from aaeval.report import write_report
 
 pytestmark = pytest.mark.xdist_group("findings_every_group")

@@ -8,8 +8,8 @@ import json
 import os
 
 from aaeval.cli import main
-from aaeval.experiments.store import SweepStore
-from aaeval.experiments.table import write_results
+from aaeval.sweeps.store import SweepStore
+from aaeval.sweeps.table import write_results
 from tests.helpers.links_util import TINY, snapshot, sweep
 
 MARKUP = "<script>alert('x')</script>"

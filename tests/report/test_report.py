@@ -13,9 +13,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from aaeval.experiments import load_experiment, run_sweep
-from aaeval.experiments.store import SweepStore
-from aaeval.experiments.table import write_results
+from aaeval.sweeps import load_experiment, run_sweep
+from aaeval.sweeps.store import SweepStore
+from aaeval.sweeps.table import write_results
 from aaeval.report import write_report
 from aaeval.report.names import figure_stem
 from aaeval.report.figures import pareto_front
@@ -124,7 +124,7 @@ def test_overview_has_one_row_per_method_and_option(report):
 
 
 def test_failed_is_defined_once_and_stated(report):
-    from aaeval.experiments.aggregate import failure_definition
+    from aaeval.sweeps.aggregate import failure_definition
 
     # the page marks the threshold as the manifest's value: the words are read without the mark
     text = re.sub(r"<span class='num'[^>]*>([^<]*)</span>", r"\1", report.read_text())
@@ -181,7 +181,7 @@ def test_report_of_a_folder_that_is_not_a_sweep(tmp_path):
 
 
 def test_labels_show_options_that_vary_even_at_their_default():
-    from aaeval.experiments.table import short_label
+    from aaeval.sweeps.table import short_label
 
     assert short_label("supersample") == "supersample"
     assert short_label("supersample", {"k"}) == "supersample:k=4"

@@ -12,7 +12,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from aaeval.experiments.table import read_table
+from aaeval.sweeps.table import read_table
 from aaeval.metrics import METRICS, format_value
 from tests.helpers.findings_util import findings_report
 
@@ -127,7 +127,7 @@ def test_highlight_flicker_ranks_alike_in_findings_chart_and_section(out):
 
 def test_no_exact_cell_fails_and_filters_are_judged_through_their_own_filter(out):
     from aaeval.renderers import METHODS, resolve
-    from aaeval.experiments.aggregate import failed_cells
+    from aaeval.sweeps.aggregate import failed_cells
 
     results = read_table(out / "results.parquet")
     manifest = json.loads((out / "manifest.json").read_text())

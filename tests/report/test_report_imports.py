@@ -23,8 +23,8 @@ ROOT = Path(aaeval.__file__).parent
 #: Modules (and packages: every module under them) that render, measure or parse scenes.
 FORBIDDEN = ("aaeval.groundtruth", "aaeval.catmull", "aaeval.weiler_atherton", "aaeval.native",
              "aaeval.metrics.masks", "aaeval.specular.shading", "aaeval.specular.exact", "aaeval.specular.render",
-             "aaeval.renderers", "aaeval.scenes", "aaeval.experiments.measure", "aaeval.experiments.config",
-             "aaeval.experiments.runner", "aaeval.filters", "aaeval.plugins")
+             "aaeval.renderers", "aaeval.scenes", "aaeval.sweeps.measure", "aaeval.sweeps.config",
+             "aaeval.sweeps.runner", "aaeval.filters", "aaeval.plugins")
 
 
 _modules = aaeval_modules
@@ -134,7 +134,7 @@ def _forbidden(seen: dict[str, str], banned) -> list[str]:
 
 def test_the_walk_sees_function_level_imports():
     """The walk is not blind where the old rule was: a function-level import is an edge."""
-    assert "aaeval.catmull" in reachable(["aaeval.experiments.measure"])  # measure imports Catmull in a function
+    assert "aaeval.catmull" in reachable(["aaeval.sweeps.measure"])  # measure imports Catmull in a function
     assert _forbidden(reachable(["aaeval.api"]), FORBIDDEN)
 
 
@@ -148,7 +148,7 @@ def test_metrics_import_no_renderer_ground_truth_or_sweep():
     """Every import statement of aaeval/metrics, function-level ones too: a mask read from a
     render is given that render by the sweep's measuring step (what the modules they import
     in turn reach is their packages' affair: tests/project/test_import_cycles.py)."""
-    banned = ("aaeval.renderers", "aaeval.groundtruth", "aaeval.experiments")
+    banned = ("aaeval.renderers", "aaeval.groundtruth", "aaeval.sweeps")
     found = [f"{m} imports {t}" for m in MODULES if m == "aaeval.metrics" or m.startswith("aaeval.metrics.")
              for t in _imports(m) if any(t == b or t.startswith(b + ".") for b in banned)]
     assert found == []

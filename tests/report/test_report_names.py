@@ -38,7 +38,7 @@ def test_user_text_in_figures_is_never_mathtext(tmp_path):
 
 @pytest.mark.slow
 def test_report_of_groups_whose_names_slug_alike_keeps_each_groups_figures(tmp_path):
-    from aaeval.experiments import load_experiment, run_sweep
+    from aaeval.sweeps import load_experiment, run_sweep
     from aaeval.report import write_report
 
     text = SMALL.replace('name = "edges"', 'name = "fence a"').replace('name = "stability"', 'name = "fence-a"')

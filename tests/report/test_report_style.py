@@ -1,5 +1,5 @@
 """One style per method: every figure of the default report, drawn from a synthetic results
-table with every method and option of configs/experiments/default.toml, shows each spec in
+table with every method and option of configs/sweeps/default.toml, shows each spec in
 one colour and marker, each method in one marker and colour family, legends sorted by
 option value, and tick labels that do not collide."""
 
@@ -19,10 +19,10 @@ from matplotlib.colors import to_rgb
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from aaeval.experiments.table import short_label
+from aaeval.sweeps.table import short_label
 from aaeval.renderers import format_spec, resolve
 from aaeval.report import figures
-from aaeval.experiments.aggregate import failed_cells, spec_summary
+from aaeval.sweeps.aggregate import failed_cells, spec_summary
 from aaeval.report.style import METHOD_STYLES, Styles, method_style
 
 # one worker builds the module's sweep fixture once (pyproject's --dist loadgroup);
@@ -83,7 +83,7 @@ def _use_registered_metrics(folder: Path) -> None:
 def _styles(specs) -> Styles:
     """The styles of (method, options text) pairs, as a report gets them: through the specs
     the sweep stores (``specs.json``)."""
-    from aaeval.experiments.table import specs_of
+    from aaeval.sweeps.table import specs_of
 
     method, options = zip(*specs)
     return Styles.from_sweep(specs_of(pd.DataFrame({"method": method, "options": options})))

@@ -33,7 +33,7 @@ def out(tmp_path_factory):
 # --dist loadgroup): on another worker this test would build it again (20-25 s)
 @pytest.mark.xdist_group("report_findings")
 def test_section_states_one_ground_truth_and_ranks_by_flicker(out):
-    from aaeval.experiments.table import read_table
+    from aaeval.sweeps.table import read_table
 
     text = (out / "index.html").read_text()
     section = text[text.index("<h2 id='specular'>"):text.index("<h2 id='filters'>")]

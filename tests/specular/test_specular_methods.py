@@ -18,7 +18,7 @@ from aaeval.catmull import visible_fragments
 from aaeval.scenes import parse_scene
 from aaeval.scenes.shaded import expand_shaded
 from aaeval.specular.methods import SPECULAR_METHODS, register_specular
-from aaeval.specular.render import _shaded_pieces, fragment_parameters, render_shaded
+from aaeval.specular.render import shaded_pieces, fragment_parameters, render_shaded
 
 @pytest.fixture(scope="module")
 def cylinder():
@@ -83,7 +83,7 @@ def interior_pieces(scene, **options):
     """
     expanded = expand_shaded(scene)
     fragments = visible_fragments(expanded.scene)
-    pieces = _shaded_pieces(expanded.field, fragments, scene.width)
+    pieces = shaded_pieces(expanded.field, fragments, scene.width)
     n_new, ks_new, _ = fragment_parameters(expanded.field, pieces, **options)
     col = fragments.pixel[pieces.rows] % scene.width
     row = fragments.pixel[pieces.rows] // scene.width

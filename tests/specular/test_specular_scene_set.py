@@ -70,7 +70,7 @@ def test_wide_highlight_no_method_helps():
 def test_held_out_cylinders_amanatides_ten_times_steadier_at_any_direction(kind):
     """A thin cylinder at 19 degrees from horizontal and an upright one (held out from the
     sweeps the measure was designed on), RGB against the exact shading: through the sweep
-    (configs/experiments/highlight-directions.toml, Mitsuba's highlight mask) 76x tilted, 71x upright."""
+    (configs/sweeps/highlight-directions.toml, Mitsuba's highlight mask) 76x tilted, 71x upright."""
     scene = load_scene(SCENES / f"held-out/thin-cylinder-{kind}.toml")
     truth, none, clamped, mask = [], [], [], []
     for k in range(scene.frames):
@@ -112,10 +112,10 @@ def test_findings_rank_amanatides_ten_times_steadier_on_the_thin_highlight(tmp_p
     to the table the findings' highlight-stability question ranks."""
     import pandas as pd
 
-    from aaeval.experiments import load_experiment, run_sweep
+    from aaeval.sweeps import load_experiment, run_sweep
     from aaeval.renderers import MethodSpec
-    from aaeval.experiments.aggregate import ranked
-    from aaeval.experiments.summaries import QUESTIONS
+    from aaeval.sweeps.aggregate import ranked
+    from aaeval.sweeps.summaries import QUESTIONS
     from aaeval.metrics import METRICS
 
     config = tmp_path / "exp.toml"

@@ -5,9 +5,9 @@ from pathlib import Path
 
 import pytest
 
-from aaeval.experiments import load_experiment
+from aaeval.sweeps import load_experiment
 
-EXPERIMENTS = Path(__file__).resolve().parents[2] / "configs/experiments"
+EXPERIMENTS = Path(__file__).resolve().parents[2] / "configs/sweeps"
 
 
 @pytest.mark.parametrize("name", ["default", "specular"])

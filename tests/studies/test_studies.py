@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from aaeval.cli import main
-from aaeval.experiments import SweepStore, load_experiment, plan
+from aaeval.sweeps import SweepStore, load_experiment, plan
 from aaeval.studies.study import BEGIN, END, StudyError, load_study, replace_section, run_study
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -29,7 +29,7 @@ def _committed(folder: Path) -> str:
 def _regenerate(folder: Path, tmp_path: Path) -> str:
     from dataclasses import replace
 
-    from aaeval.experiments import run_sweep
+    from aaeval.sweeps import run_sweep
 
     study = replace(load_study(folder, results=tmp_path / "results"), drawings=tmp_path / "drawings")
     summary = run_sweep(study.experiment, study.results, workers=2, quiet=True, cache_dir=tmp_path / "cache")

@@ -81,7 +81,7 @@ def test_a_study_against_exact_shading_divides_nothing_by_its_bound(tmp_path):
 def test_charts_draw_no_noise_band_for_a_noise_free_truth():
     import pandas as pd
 
-    from aaeval.experiments.summaries import measured_noise
+    from aaeval.sweeps.summaries import measured_noise
 
     rows = pd.DataFrame({"reference_kind": ["stochastic", "exact", "exact", "deterministic"],
                          "reference_noise_rmse": [3e-3, 2.7e-14, 0.0, 0.0]})

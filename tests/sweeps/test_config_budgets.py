@@ -1,0 +1,126 @@
+"""Configs budgeted before any work (issue 36 item 4): a million-frame list, a 1e5-step
+difficulty ladder, more cells than a config may plan and a speed pass no run would finish are
+refused at parse time in one line (exit 2) with their count or estimate; error lines stay
+readable; the memory estimate honours RLIMIT_AS."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from aaeval.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+
+HEAD = """
+[experiment]
+name = "budget"
+reference = "catmull"
+metrics = ["rmse"]
+temporal = []
+"""
+
+
+def refused(capsys, config: Path, *words: str, within: float = 30) -> str:
+    capsys.readouterr()
+    start = time.monotonic()
+    code = main(["sweep", str(config), "--out", str(config.parent / "out"), "--dry-run"])
+    took = time.monotonic() - start
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert took < within, took
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err[:2000]
+    assert len(err) < 1200, len(err)
+    for word in words:
+        assert word in err, err
+    assert not (config.parent / "out").exists()
+    return err
+
+
+def _frame_list(config: Path, frames) -> Path:
+    """A config of one 100,000-frame scene (the most a scene may have) and this frame list."""
+    config.write_text(HEAD + f"""
+[[groups]]
+name = "g"
+scenes = [{{generator = "edges", difficulty = [0.1], frames = 100000, size = 8}}]
+methods = ["point"]
+frames = [{", ".join(map(str, frames))}]
+""")
+    return config
+
+
+@pytest.mark.slow
+def test_a_million_frame_list_is_refused_within_30_s(tmp_path, capsys):
+    config = _frame_list(tmp_path / "frames.toml", range(1_000_000))
+    refused(capsys, config, "1000000 frame numbers", "100000")
+
+
+def test_repeated_and_outside_frames_are_found_by_counting_once(tmp_path, capsys):
+    """60k frames took 50 s with list.count per item; the refusal shows a few, not all."""
+    config = _frame_list(tmp_path / "twice.toml", list(range(50_000)) * 2)
+    refused(capsys, config, "given more than once", "50000 in all", within=20)
+
+
+def test_a_long_ladder_is_refused_with_its_estimate(tmp_path, capsys):
+    levels = ", ".join(str(i * 1e-6) for i in range(1, 100_001))
+    config = tmp_path / "ladder.toml"
+    config.write_text(HEAD + f"""
+[[groups]]
+name = "g"
+scenes = [{{generator = "edges", difficulty = [{levels}], size = 8}}]
+methods = ["point"]
+""")
+    refused(capsys, config, "100000 steps", "limit of 1000", within=20)
+
+
+def test_too_many_cells_are_refused_before_any_is_built(tmp_path, capsys):
+    from aaeval.sweeps.config import MAX_CELLS
+
+    methods = ", ".join(f'"supersample:k={k}"' for k in range(1, 4))
+    config = tmp_path / "cells.toml"
+    config.write_text(HEAD + f"""
+[[groups]]
+name = "g"
+scenes = [{{generator = "edges", difficulty = [0.1], frames = 100000, size = 4}}]
+methods = [{methods}]
+""")
+    refused(capsys, config, "300000 cells", str(MAX_CELLS), "hours")
+
+
+def test_a_speed_pass_no_run_would_finish_is_refused_with_the_estimate(tmp_path, capsys):
+    config = tmp_path / "speed.toml"
+    config.write_text(HEAD.replace('temporal = []', 'temporal = []\nmax_seconds = 1') + """
+[[groups]]
+name = "g"
+scenes = [{generator = "edges", difficulty = [0.1], size = 8}]
+methods = ["point"]
+
+[[speed]]
+scenes = [{generator = "edges", difficulty = [0.1], size = 2048, frames = 1}]
+methods = ["supersample:k=8"]
+repeats = 1000
+""")
+    refused(capsys, config, "speed[0]", "would take about", "limit of 1 s")
+
+
+def test_error_lines_are_cut_to_a_readable_length(capsys):
+    from aaeval.cli import MAX_ERROR_CHARS, _one_line
+
+    line = _one_line("x" * 10_000_000)
+    assert len(line) < MAX_ERROR_CHARS + 100 and "characters cut" in line
+
+
+def test_the_memory_estimate_honours_rlimit_as():
+    code = """
+import resource
+from aaeval.renderers.registry import available_memory
+soft = 3 << 30
+resource.setrlimit(resource.RLIMIT_AS, (soft, resource.getrlimit(resource.RLIMIT_AS)[1]))
+print(available_memory() <= soft)
+"""
+    done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert done.stdout.strip() == "True", done.stderr
