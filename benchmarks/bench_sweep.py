@@ -102,8 +102,10 @@ def patch(clock: Clock) -> None:
         on(store.SweepStore, name, "store: cells")
     for name in ("write_reference", "load_reference"):
         on(store.SweepStore, name, "store: references")
+    from aaeval.sweeps import reference_cache
+
     for name in ("get", "put"):
-        on(store.ReferenceCache, name, "store: references")
+        on(reference_cache.ReferenceCache, name, "store: references")
     for name in ("write_manifest", "check"):
         on(store.SweepStore, name, "store: manifest, checks")
     on(runner, "write_provenance", "store: manifest, checks")

@@ -49,7 +49,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 # the test modules whose fixtures the cases reuse, in the folders of the package they test
-for _folder in ("plugins", "importers", "report", "experiments"):
+for _folder in ("plugins", "importers", "report", "sweeps"):
     sys.path.insert(0, str(ROOT / "tests" / _folder))
 
 from aaeval.cli import main  # noqa: E402
@@ -958,7 +958,7 @@ def deployed(run: Run) -> None:
 
     from tests.helpers.sweep_util import MANY, SMALL
 
-    spec = importlib.util.spec_from_file_location("deployed_test", ROOT / "tests" / "experiments" /
+    spec = importlib.util.spec_from_file_location("deployed_test", ROOT / "tests" / "sweeps" /
                                                   "test_sweep_dask_deployed.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)

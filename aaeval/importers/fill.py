@@ -119,7 +119,7 @@ def _simple_ring(ring):
     r = r[np.any(r != np.roll(r, 1, axis=0), axis=1)]
     if len(r) < 3:
         return []
-    a = _area(r)
+    a = ring_area(r)
     ext = float(np.ptp(r, axis=0).max())
     if abs(a) <= CRUMB_RTOL * ext * ext or ring_contact(r) is not None:
         return None
@@ -510,7 +510,8 @@ def _split_at_repeats(ring: list) -> list[list]:
     return parts
 
 
-def _area(r):
+def ring_area(r) -> float:
+    """The signed area of a closed ring of (x, y) rows (the shoelace formula; positive counter-clockwise in x-right, y-up axes)."""
     x, y = r[:, 0], r[:, 1]
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
@@ -527,7 +528,7 @@ def _inside(p, ring) -> bool:
 def _nest(rings):
     outers, holes = [], []
     for r in rings:
-        a = _area(r)
+        a = ring_area(r)
         ext = float(np.ptp(r, axis=0).max())
         if abs(a) <= CRUMB_RTOL * ext * ext:
             continue

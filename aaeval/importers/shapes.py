@@ -14,7 +14,7 @@ from typing import Iterable, NamedTuple
 
 import numpy as np
 
-from aaeval.importers.fill import _area, resolve_fill
+from aaeval.importers.fill import resolve_fill, ring_area
 from aaeval.importers.limits import charge
 from aaeval.importers.stroke import Seg, stroke_pieces
 
@@ -78,7 +78,7 @@ def clip_regions(regions: list[Region], clip: list[Region]) -> list[Region]:
     if not rings or not clip_rings:
         return []
     if len(clip_rings) == 1:
-        ring = clip_rings[0] if _area(clip_rings[0]) > 0 else clip_rings[0][::-1]
+        ring = clip_rings[0] if ring_area(clip_rings[0]) > 0 else clip_rings[0][::-1]
         clip_rings = [ring]
         if _convex(ring) and _inside_convex(np.concatenate(rings), ring):
             return list(regions)

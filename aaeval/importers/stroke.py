@@ -34,6 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from aaeval.importers.fill import ring_area
+
 __all__ = ["Seg", "stroke_pieces", "MAX_TURN"]
 
 MAX_TURN = math.pi / 8  # most the tangent may turn within one sampled interval
@@ -207,13 +209,8 @@ def _normals(tangent: np.ndarray) -> np.ndarray:
     return np.column_stack([-tangent[:, 1], tangent[:, 0]])
 
 
-def _area(r: np.ndarray) -> float:
-    x, y = r[:, 0], r[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
-
-
 def _positive(ring: np.ndarray) -> np.ndarray | None:
-    a = _area(ring)
+    a = ring_area(ring)
     if a == 0.0:
         return None
     return ring if a > 0 else ring[::-1]

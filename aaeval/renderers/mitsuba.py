@@ -48,6 +48,7 @@ def _warmup() -> None:
     },
     samples=lambda o: o["spp"],
     warmup=_warmup,
+    draws_polygons=False,  # the scene goes to Mitsuba, which resolves its own depth order
 )
 def render_mitsuba_method(
     scene: Scene, *, spp: int, sampler: str, seed: int, variant: str, cache: bool, filter: str = "box"

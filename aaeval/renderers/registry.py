@@ -98,6 +98,9 @@ class Method:
     memory: Callable[[Scene, Mapping[str, Any]], int] | None = None
     # estimated seconds of the render, for a scene and options (None: not estimated)
     seconds: Callable[[Scene, Mapping[str, Any]], float] | None = None
+    # whether it draws the scene's polygons itself (and so runs the near-tie pass over them);
+    # False for one that hands the scene to another renderer (Mitsuba)
+    draws_polygons: bool = True
 
 
 METHODS: Registry = Registry("method", MethodError)
@@ -115,6 +118,7 @@ def register_method(
     samples: Callable[[Mapping[str, Any]], int] | None = None,
     memory: Callable[[Scene, Mapping[str, Any]], int] | None = None,
     seconds: Callable[[Scene, Mapping[str, Any]], float] | None = None,
+    draws_polygons: bool = True,
 ):
     """Register ``render(scene, **options)`` under ``name``: ``register_method(name, render, ...)``
     or, as a decorator, ``@register_method(name, ...)``; a name registered twice is refused.
@@ -127,7 +131,7 @@ def register_method(
 
     def decorate(func):
         METHODS.add(name, Method(name, func, dict(options or {}), summary, exact, warmup, requires, samples, memory,
-                                 seconds))
+                                 seconds, draws_polygons))
         return func
 
     return decorate if func is None else decorate(func)
@@ -165,6 +169,10 @@ def parse_spec(spec: str) -> tuple[str, dict[str, str]]:
     return name.strip(), options
 
 
+#: Specs parsed in this process, by their text (a method registered again is parsed anew).
+_PARSED: dict[str, "MethodSpec"] = {}
+
+
 class MethodSpec(str):
     """A method spec parsed and validated once: the canonical spec string, carrying the
     :class:`Method` it names (``.method``) and its full options, defaults filled in
@@ -187,8 +195,15 @@ class MethodSpec(str):
         unknown option or a value the option does not take."""
         if isinstance(spec, MethodSpec) and not overrides:
             return spec
+        if not overrides:  # a spec's text is parsed once a process (the config, the table, a worker)
+            known = _PARSED.get(str(spec))
+            if known is not None and METHODS.get(known.method.name) is known.method:
+                return known
         name, raw = parse_spec(str(spec))
-        return cls.of(name, {**raw, **overrides})
+        parsed = cls.of(name, {**raw, **overrides})
+        if not overrides:
+            _PARSED[str(spec)] = parsed
+        return parsed
 
     @classmethod
     def of(cls, name: str, options: Mapping[str, Any]) -> "MethodSpec":
@@ -503,9 +518,9 @@ def check_frames(scene: Scene, frames: int, where: str, specs: tuple[str | Metho
 
 
 def _draws_polygons(method: Method) -> bool:
-    # methods drawing a source table (resvg, freetype) or calling Mitsuba do not run the
-    # near-tie pass over the polygons
-    return method.requires is None and method.name != "mitsuba"
+    # methods drawing a source table (resvg, freetype) or handing the scene to another
+    # renderer (Mitsuba) do not run the near-tie pass over the polygons
+    return method.requires is None and method.draws_polygons
 
 
 def check_budget(scene: Scene, method: Method, options: Mapping[str, Any]) -> None:

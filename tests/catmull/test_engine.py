@@ -21,7 +21,7 @@ from aaeval.metrics import METRICS, register_metric
 from tests.helpers.sweep_util import write_config
 
 ROOT = Path(__file__).resolve().parents[2]
-SHIPPED = sorted((ROOT / "configs" / "experiments").glob("*.toml"))
+SHIPPED = sorted((ROOT / "configs" / "sweeps").glob("*.toml"))
 
 MOVING = """
 [image]

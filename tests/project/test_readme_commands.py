@@ -79,9 +79,9 @@ def test_the_readme_has_the_commands_this_test_runs():
 @pytest.fixture(scope="module")
 def workspace(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("readme")
-    (tmp / "configs" / "experiments").mkdir(parents=True)
+    (tmp / "configs" / "sweeps").mkdir(parents=True)
     (tmp / "configs" / "scenes").symlink_to(ROOT / "configs" / "scenes")
-    (tmp / "configs" / "experiments" / "default.toml").write_text(SMALL_DEFAULT)
+    (tmp / "configs" / "sweeps" / "default.toml").write_text(SMALL_DEFAULT)
     (tmp / "scripts").mkdir()
     shutil.copy(ROOT / "scripts" / "quickstart.sh", tmp / "scripts" / "quickstart.sh")
     shutil.copytree(ROOT / "benchmarks", tmp / "benchmarks", ignore=shutil.ignore_patterns("results", "__pycache__"))

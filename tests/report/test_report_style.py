@@ -29,7 +29,7 @@ from aaeval.report.style import METHOD_STYLES, Styles, method_style
 # split across two workers each would build it
 pytestmark = pytest.mark.xdist_group("report_style")
 
-DEFAULT = Path(__file__).parents[2] / "configs" / "experiments" / "default.toml"
+DEFAULT = Path(__file__).parents[2] / "configs" / "sweeps" / "default.toml"
 # the one figure the style fixture writes to files (every format); the others are drawn only
 SAVED = "validation"
 
