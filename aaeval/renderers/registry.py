@@ -202,7 +202,7 @@ class MethodSpec(str):
         name, raw = parse_spec(str(spec))
         parsed = cls.of(name, {**raw, **overrides})
         if not overrides:
-            _PARSED[str(spec)] = parsed
+            _PARSED[str(spec)] = parsed  # the text as written, beside the canonical text
         return parsed
 
     @classmethod
@@ -234,6 +234,10 @@ class MethodSpec(str):
         made = str.__new__(cls, _spec_text(method, options, shown=_differs))
         made.method = method
         made.options = MappingProxyType(dict(options))
+        # its canonical text, as records and tables store it, needs no parsing again
+        known = _PARSED.get(str(made))
+        if known is None or known.method is not method:
+            _PARSED[str(made)] = made
         return made
 
     @property

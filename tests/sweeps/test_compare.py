@@ -67,7 +67,7 @@ def test_compare_writes_rows_and_temporal_summaries(scene_file, tmp_path, capsys
     ]
     for row in doc["rows"]:
         assert set(row) == {"method", "frame", *FLAT_METRICS, "intensity_sum", *TIMING_FIELDS, "error",
-                            "metric_errors"}
+                            "metric_errors", "failure"}
         assert row["render_s"] > 0 and row["repeats"] == 1 and row["megapixels"] == 16 * 12 / 1e6
         assert row["render_s_min"] <= row["render_s"] <= row["render_s_max"]
         assert row["ms_per_mpix"] == pytest.approx(row["render_s"] * 1e3 / row["megapixels"])
@@ -99,7 +99,7 @@ def test_rows_hold_the_metrics_of_the_rendered_frames(scene_file):
     truth, test = render(scene, "catmull", frame=1), render(scene, "catmull-jagged", frame=1)
     row = doc["rows"][1]
     assert row["frame"] == 1 and set(row) == {"method", "frame", "rmse", "edge_rmse", "intensity_sum",
-                                              *TIMING_FIELDS, "error", "metric_errors"}
+                                              *TIMING_FIELDS, "error", "metric_errors", "failure"}
     # expected values by another route: GEOS on the raw document for the exact image and
     # for the pixels an edge crosses (no pixel wholly one polygon's or the background's),
     # and the RMSE written out

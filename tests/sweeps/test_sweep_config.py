@@ -77,7 +77,7 @@ def test_scene_file_errors_are_reported_with_the_config_key(tmp_path):
 def test_shipped_configs_are_valid():
     from pathlib import Path
 
-    configs = sorted(Path(__file__).resolve().parents[2].joinpath("configs", "experiments").glob("*.toml"))
+    configs = sorted(Path(__file__).resolve().parents[2].joinpath("configs", "sweeps").glob("*.toml"))
     assert configs, "no experiment configs shipped"
     for path in configs:
         assert load_experiment(path).cells(), path

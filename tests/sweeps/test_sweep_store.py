@@ -195,5 +195,5 @@ def test_editing_what_only_draws_or_aggregates_keeps_the_cells(tmp_path, monkeyp
     for rel in ("sweeps/summaries.py", "sweeps/aggregate.py", "report/html.py"):
         (copy / rel).write_text((copy / rel).read_text() + "\n# edited\n")
     assert store._package_digest() == before
-    (copy / "experiments/table.py").write_text((copy / "experiments/table.py").read_text() + "\n# edited\n")
+    (copy / "sweeps/table.py").write_text((copy / "sweeps/table.py").read_text() + "\n# edited\n")
     assert store._package_digest() != before
