@@ -45,6 +45,8 @@ import _thread
 from collections import Counter
 from pathlib import Path
 
+import numpy as np
+
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
@@ -54,7 +56,8 @@ for _folder in ("plugins", "importers", "report", "sweeps"):
 
 from aaeval.cli import main  # noqa: E402
 
-CATEGORIES = ("plugins", "fonts", "configs", "store", "report", "dask", "api", "budgets", "phases", "deployed")
+CATEGORIES = ("plugins", "fonts", "configs", "store", "cache", "report", "studies", "dask", "api", "budgets", "phases",
+              "deployed")
 PROBLEMS = ("traceback", "hang", "outside", "rows", "exit", "memory")
 
 # A case run with ``peak=`` is a memory blow-up past this many bytes of resident memory.
@@ -634,7 +637,7 @@ def store(run: Run, base: Path) -> None:
         shutil.rmtree(dest)
 
 
-def _store_case(run: Run, dest: Path, name: str) -> None:
+def _store_case(run: Run, dest: Path, name: str, category: str = "store") -> None:
     """Rerun the sweep on a tampered folder: it must heal (one cell or none to run again),
     keep 9 rows, none doubled; the table is rebuilt."""
     def rows(code, o, e):
@@ -643,10 +646,137 @@ def _store_case(run: Run, dest: Path, name: str) -> None:
         table = pd.read_parquet(dest / "out" / "results.parquet")
         if len(table) != 9 or table["key"].duplicated().any():
             return "rows", f"{len(table)} rows"
+        if category == "cache" and "damaged reference cache entry" not in e:  # used as if sound: rows silently wrong
+            return "rows", "the damaged cache entry was read as sound"
         return None
 
-    run.cli("store", name, ["sweep", str(dest / "exp.toml"), "--out", str(dest / "out"), "--workers", "1", "--quiet",
+    run.cli(category, name, ["sweep", str(dest / "exp.toml"), "--out", str(dest / "out"), "--workers", "1", "--quiet",
                             "--cache", str(dest / "cache")], allowed=(0,), timeout=120, check=rows)
+
+
+# ---------------------------------------------------------------------------------- cache
+
+def _cache_note(note: Path, edit) -> None:
+    data = json.loads(note.read_text())
+    edit(data)
+    note.write_text(json.dumps(data))
+
+
+#: Damage to one reference cache entry: the rerun must name it, render it again and keep every row.
+CACHE_DAMAGES = {
+    "noise Infinity": lambda note, image: _cache_note(note, lambda d: d.update(noise_rmse="Infinity")),
+    "noise bare Infinity": lambda note, image: note.write_text(note.read_text().replace(
+        '"noise_rmse": ', '"noise_rmse": Infinity, "was": ', 1)),
+    "noise 1e308": lambda note, image: _cache_note(note, lambda d: d.update(noise_rmse=1e308)),
+    "noise text": lambda note, image: _cache_note(note, lambda d: d.update(noise_rmse="loud")),
+    "noise list": lambda note, image: _cache_note(note, lambda d: d.update(noise_rmse=[1, 2])),
+    "noise null": lambda note, image: _cache_note(note, lambda d: d.update(noise_rmse=None)),
+    "strata text": lambda note, image: _cache_note(note, lambda d: d.update(noise_by_metric={"rmse": ["a", 0, 0]})),
+    "strata negative": lambda note, image: _cache_note(note, lambda d: d.update(noise_by_metric={"rmse": [-1, 0, 0]})),
+    "sum wrong": lambda note, image: _cache_note(note, lambda d: d.update(intensity_sum=12345.0)),
+    "field missing": lambda note, image: _cache_note(note, lambda d: d.pop("host")),
+    "note not json": lambda note, image: note.write_text("{"),
+    "nan image": lambda note, image: np.save(image, np.full(np.load(image).shape, np.nan)),
+    "image of another shape": lambda note, image: np.save(image, np.zeros((3, 3, 3))),
+    "image header claims 3.5 GB": lambda note, image: _huge_header(image),
+    "image a FIFO": lambda note, image: (image.unlink(), os.mkfifo(image)),
+    "note a link outside": lambda note, image: (note.unlink(), os.symlink("/etc/hostname", note)),
+}
+
+
+def _huge_header(image: Path) -> None:
+    with open(image, "wb") as f:
+        np.lib.format.write_array_header_1_0(f, {"descr": "<f8", "fortran_order": False, "shape": (12000, 12000, 3)})
+        f.write(b"\0" * 4096)
+
+
+def cache(run: Run, base: Path) -> None:
+    """The reference cache read as input: each damaged entry is named, rendered again and
+    replaced (the rerun keeps every row); a cache path that is not a folder is refused."""
+    for n, (name, damage) in enumerate(CACHE_DAMAGES.items()):
+        dest = _copy(base, run.work / f"cache{n}")
+        notes = sorted((dest / "cache" / "references").glob("*.json"))
+        for note in notes:  # every entry: the rerun reads them all from the cache
+            damage(note, note.with_suffix(".npy"))
+        shutil.rmtree(dest / "out")
+        _store_case(run, dest, f"reference cache {name}", "cache")
+        shutil.rmtree(dest)
+    dest = _copy(base, run.work / "cache-file")
+    (dest / "file").write_text("")
+    run.cli("cache", "cache path is a file", ["sweep", str(dest / "exp.toml"), "--out", str(dest / "fresh"),
+                                              "--workers", "1", "--quiet", "--cache", str(dest / "file")],
+            allowed=(2,), timeout=60)
+
+
+# ---------------------------------------------------------------------------------- studies
+
+STUDY_CONFIG = """
+[experiment]
+name = "hostile-study"
+reference = "catmull"
+metrics = ["rmse"]
+temporal = ["sum_variation"]
+
+[[groups]]
+name = "fence"
+scenes = [{generator = "picket", difficulty = [1.0], bars = 2, width = 4, height = 4, frames = 2}]
+methods = ["point", "catmull"]
+"""
+STUDY = """
+[study]
+paper = "E. Catmull, a test"
+seed = "000_test.txt"
+
+[[summaries]]
+kind = KIND
+group = "GROUP"
+steady = ["catmull"]
+
+[[summaries]]
+kind = "pixel"
+group = "fence"
+pixel = PIXEL
+"""
+
+
+def studies(run: Run) -> None:
+    """``aaeval study`` on hostile study folders: each refused in one line before any sweep,
+    nothing written outside, or (the sound one) regenerated."""
+    from aaeval.studies.study import BEGIN, END
+
+    cases = {
+        "sound": ({}, (0,)),
+        "missing group": ({"GROUP": "nowhere"}, (2,)),
+        "kind a list": ({"KIND": '["sums"]'}, (2,)),
+        "pixel of booleans": ({"PIXEL": "[true, true]"}, (2,)),
+        "pixel outside": ({"PIXEL": "[99, 99]"}, (2,)),
+        "hidden-lines a link outside": ({"LINK": "hidden-lines"}, (0, 2)),
+        "figures a link outside": ({"LINK": "figures"}, (0, 2)),
+        "results a link outside": ({"LINK": "results"}, (2,)),
+        "README 3 GiB sparse": ({"SPARSE": True}, (2,)),
+        "title with the end marker": ({"TITLE": END}, (0,)),
+    }
+    for n, (name, (edit, allowed)) in enumerate(cases.items()):
+        folder = run.work / f"study{n}"
+        folder.mkdir()
+        (folder / "config.toml").write_text(STUDY_CONFIG)
+        study = STUDY.replace("KIND", edit.get("KIND", '"sums"')).replace("GROUP", edit.get("GROUP", "fence"))
+        study = study.replace("PIXEL", edit.get("PIXEL", "[1, 2]"))
+        if "TITLE" in edit:
+            study = study.replace('kind = "pixel"', f'kind = "pixel"\ntitle = "{edit["TITLE"]}"')
+        (folder / "study.toml").write_text(study)
+        readme = folder / "README.md"
+        readme.write_text(f"# Test\n\n{BEGIN}\nold\n{END}\n")
+        if edit.get("SPARSE"):
+            with open(readme, "r+b") as f:
+                f.truncate(3 << 30)
+        if "LINK" in edit:
+            os.symlink(run.canary, folder / edit["LINK"])
+        run.cli("studies", name, ["study", str(folder), "--workers", "1", "--quiet"], allowed=allowed, timeout=120)
+        if name == "title with the end marker":  # the README written is one the next run accepts
+            run.cli("studies", f"{name} (again)", ["study", str(folder), "--workers", "1", "--quiet"], allowed=(0,),
+                    timeout=120)
+        shutil.rmtree(folder)
 
 
 # ---------------------------------------------------------------------------------- report
@@ -1018,10 +1148,10 @@ def main_run(argv=None) -> int:
     start = time.monotonic()
     with tempfile.TemporaryDirectory(prefix="aaeval-hostile-") as tmp:
         run = Run(Path(tmp))
-        base = _finished(run.work) if {"store", "report"} & set(args.only) else None
+        base = _finished(run.work) if {"store", "cache", "report"} & set(args.only) else None
         for category in args.only:
             t0 = time.monotonic()
-            if category in ("store", "report"):
+            if category in ("store", "cache", "report"):
                 globals()[category](run, base)
             else:
                 globals()[category](run)

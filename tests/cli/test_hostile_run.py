@@ -36,3 +36,17 @@ def test_the_hostile_api_budgets_and_phases_are_all_clean(tmp_path):
     assert done.returncode == 0, [c for c in counts["failing"]]
     assert counts["per_category"] == {"api": 34, "budgets": 15, "phases": 6}
     assert all(counts[p] == 0 for p in ("traceback", "hang", "outside", "rows", "exit", "memory")), counts
+
+
+@pytest.mark.slow
+def test_the_hostile_cache_and_studies_are_all_clean(tmp_path):
+    """Damaged reference cache entries (non-finite, huge or mistyped noise, NaN or oversized
+    images, a FIFO, a link) named and rendered again; a cache path that is a file refused;
+    hostile study folders refused before their sweep, nothing written outside."""
+    out = tmp_path / "counts.json"
+    done = subprocess.run([sys.executable, str(ROOT / "scripts" / "hostile_run.py"), "--only", "cache", "studies",
+                           "--json", str(out)], capture_output=True, text=True, timeout=600, cwd=tmp_path)
+    counts = json.loads(out.read_text())
+    assert done.returncode == 0, [c for c in counts["failing"]]
+    assert counts["per_category"] == {"cache": 17, "studies": 11}
+    assert all(counts[p] == 0 for p in ("traceback", "hang", "outside", "rows", "exit", "memory")), counts
