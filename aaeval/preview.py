@@ -102,7 +102,7 @@ def show_scenes_in(shell) -> None:
     (:func:`scene_png`). A Scene is data and renders nothing itself; this module, above
     the renderers, lends it the picture."""
     formatter = shell.display_formatter.formatters["image/png"]
-    formatter.for_type_by_name("aaeval.scenes.format", "Scene", lambda scene: scene_png(scene))
+    formatter.for_type_by_name("aaeval.scenes.format", "Scene", scene_png)
 
 
 def show_scenes_in_a_running_notebook() -> None:

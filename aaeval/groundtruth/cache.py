@@ -50,6 +50,7 @@ __all__ = [
     "CODE_FILES",
     "GroundTruth",
     "cache_dir",
+    "cache_root",
     "code_digest",
     "scene_digest",
     "groundtruth_key",
@@ -81,10 +82,15 @@ class GroundTruth(NamedTuple):
     hit: bool
 
 
+def cache_root() -> Path:
+    """The folder of every cache of this machine: ``$AAEVAL_CACHE_DIR``, default ``~/.cache/aaeval``
+    (ground truths here, the sweeps' reference images in :mod:`aaeval.sweeps.reference_cache`)."""
+    return Path(os.environ.get(CACHE_ENV) or Path.home() / ".cache" / "aaeval").expanduser()
+
+
 def cache_dir() -> Path:
-    """Folder of cached ground truths: ``$AAEVAL_CACHE_DIR/groundtruth``, default ``~/.cache/aaeval/groundtruth``."""
-    root = os.environ.get(CACHE_ENV) or Path.home() / ".cache" / "aaeval"
-    return Path(root).expanduser() / "groundtruth"
+    """Folder of cached ground truths: ``cache_root()/groundtruth``."""
+    return cache_root() / "groundtruth"
 
 
 @functools.lru_cache(maxsize=None)

@@ -29,9 +29,10 @@ from typing import Any, Mapping
 import numpy as np
 
 from aaeval.sweeps.typed_json import TypedJSONError, decode_float, encode
-from aaeval.fileio import atomic_write
+from aaeval.fileio import atomic_write_many
+from aaeval.groundtruth.cache import cache_root
 
-__all__ = ["ReferenceInfo", "ReferenceCache", "CacheEntryError", "cache_folder_problem", "default_cache_dir"]
+__all__ = ["ReferenceInfo", "ReferenceCache", "CacheEntryError", "cache_folder_problem"]
 
 # An entry's note is a few hundred bytes; a larger one is damage, never read whole.
 _MAX_NOTE_BYTES = 1 << 20
@@ -42,16 +43,10 @@ _NOISE_HEADROOM = 2.0
 _SCALE_HEADROOM = 1e6
 
 
-def default_cache_dir() -> Path:
-    """Shared cache folder: ``$AAEVAL_CACHE_DIR`` or ``~/.cache/aaeval``."""
-    env = os.environ.get("AAEVAL_CACHE_DIR")
-    return Path(env).expanduser() if env else Path.home() / ".cache" / "aaeval"
-
-
 def cache_folder_problem(root: str | Path | None = None) -> str | None:
-    """Why the cache folder (``root``, default :func:`default_cache_dir`) cannot be used, or
+    """Why the cache folder (``root``, default :func:`aaeval.groundtruth.cache.cache_root`) cannot be used, or
     None: it must be a folder, or not exist yet with a folder to create it in."""
-    root = Path(root) if root is not None else default_cache_dir()
+    root = Path(root) if root is not None else cache_root()
     for place in (root, *root.parents):
         if os.path.lexists(place):
             if place.is_dir():
@@ -183,7 +178,7 @@ class ReferenceCache:
     """Reference images on disk, shared by every cell and every sweep of this machine."""
 
     def __init__(self, root: str | Path | None = None):
-        self.root = Path(root) if root is not None else default_cache_dir() / "references"
+        self.root = Path(root) if root is not None else cache_root() / "references"
         self._warned: set[Path] = set()
 
     def path(self, key: str) -> Path:
@@ -225,9 +220,10 @@ class ReferenceCache:
         for path in (self.path(key), self.note_path(key)):
             if os.path.lexists(path) and _regular_size(path) is None and not (path.is_dir() and not path.is_symlink()):
                 os.unlink(path)  # a link or a FIFO in its place: replaced, never written through
-        atomic_write(self.path(key), lambda tmp: np.save(tmp, np.asarray(image, dtype=np.float64)))
         text = json.dumps(info.to_json(), allow_nan=False)
-        atomic_write(self.note_path(key), lambda tmp: Path(tmp).write_text(text))
+        # one shared sync; the image is renamed into place before its note
+        atomic_write_many([(self.path(key), lambda tmp: np.save(tmp, np.asarray(image, dtype=np.float64))),
+                           (self.note_path(key), lambda tmp: Path(tmp).write_text(text))])
 
     def _damaged(self, path: Path, exc: Exception) -> None:
         if path not in self._warned:
