@@ -1,6 +1,8 @@
-"""The ``aaeval`` command line. Each subcommand lives in its own module here and adds
-itself through ``add_parser(subparsers)``; ``main`` turns known errors into one-line
-messages and exit code 2.
+"""The ``aaeval`` command line. Each subcommand lives in its own module here and declares
+its ``NAME``, ``HELP``, ``DESCRIPTION`` (and ``EPILOG`` where it has one), its options in
+``add_arguments(parser)`` where it has any, and ``run(args)`` where the command itself runs
+(``import`` hands each of its kinds a ``run`` of its own); ``main`` turns known errors into
+one-line messages and exit code 2.
 
 Exit codes: 0 success; 1 a sweep left cells not run (they run on the next sweep); 2 an
 input error (one line on stderr, nothing written); 128 + N when stopped by signal N:
@@ -49,8 +51,18 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=_version())
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in COMMANDS:
-        importlib.import_module(name).add_parser(sub)
+        add_command(sub, importlib.import_module(name))
     return parser
+
+
+def add_command(sub, command) -> None:
+    """The subparser of one command module, built from what the module declares."""
+    p = sub.add_parser(command.NAME, help=command.HELP, description=command.DESCRIPTION,
+                       epilog=getattr(command, "EPILOG", None))
+    if hasattr(command, "add_arguments"):
+        command.add_arguments(p)
+    if hasattr(command, "run"):
+        p.set_defaults(run=command.run)
 
 
 class Interrupted(KeyboardInterrupt):

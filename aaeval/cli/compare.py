@@ -4,7 +4,8 @@ Output formats (``--format``): ``table`` (default; rich tables at most 100 colum
 metric columns split over several tables when they do not fit), ``csv`` (one row per
 method and frame, every field), ``markdown`` (the per-frame and summary tables as pipe
 tables) and ``json`` (the whole document). JSON is strict: a value that is not a finite
-number (NaN, infinity: PSNR of identical images, a metric on an empty mask) is ``null``.
+number (NaN, infinity: PSNR of identical images, a metric on an empty mask) is written as
+the string ``"NaN"``, ``"Infinity"`` or ``"-Infinity"`` (``aaeval.sweeps.typed_json``).
 Column titles and number formats come from the metric registry (``aaeval metrics``).
 """
 
@@ -18,18 +19,20 @@ from pathlib import Path
 FORMATS = ("table", "csv", "markdown", "json")
 TABLE_WIDTH = 100
 
+NAME = "compare"
+HELP = "compare methods against a reference: image metrics, render times, temporal stability"
+DESCRIPTION = (
+    "Render SCENE with every --method and with the --reference on the frames asked, "
+    "and print for each method and frame every image metric against the reference (see 'aaeval "
+    "metrics'), its intensity sum and its render time (median of --repeats timed renders after an "
+    "untimed warm-up); then per method the mean of each metric and, over two or more frames, the "
+    "temporal metrics (intensity-sum variation beside the reference's, flicker, ...)."
+)
+EPILOG = ('JSON output is strict: a value that is not a finite number is written as "NaN", "Infinity" '
+          'or "-Infinity".')
 
-def add_parser(sub) -> None:
-    p = sub.add_parser(
-        "compare",
-        help="compare methods against a reference: image metrics, render times, temporal stability",
-        description="Render SCENE with every --method and with the --reference on the frames asked, "
-        "and print for each method and frame every image metric against the reference (see 'aaeval "
-        "metrics'), its intensity sum and its render time (median of --repeats timed renders after an "
-        "untimed warm-up); then per method the mean of each metric and, over two or more frames, the "
-        "temporal metrics (intensity-sum variation beside the reference's, flicker, ...).",
-        epilog="JSON output writes null for a value that is not a finite number (NaN, infinity).",
-    )
+
+def add_arguments(p) -> None:
     p.add_argument("scene", help="scene file (TOML)")
     p.add_argument("--method", "-m", action="append", required=True, metavar="SPEC", dest="methods",
                    help="method spec to compare; repeat for more methods")
@@ -48,7 +51,6 @@ def add_parser(sub) -> None:
     p.add_argument("--json", metavar="OUT.json", help="also write the whole document as JSON to this file")
     p.add_argument("--quiet", "-q", action="store_true",
                    help="no progress bar; with --format table, no per-frame table: only the per-method summary")
-    p.set_defaults(run=run)
 
 
 def run(args) -> int:

@@ -4,15 +4,16 @@ from __future__ import annotations
 
 from pathlib import Path
 
+NAME = "hidden-lines"
+HELP = "draw the visible edges of a scene (Weiler-Atherton hidden-line removal) as SVG"
+DESCRIPTION = (
+    "Solve the hidden surfaces of SCENE with Weiler & Atherton's polygon clipper and "
+    "write the visible parts of the polygon edges, and the lines where interpenetrating "
+    "polygons cross, to an SVG file."
+)
 
-def add_parser(sub) -> None:
-    p = sub.add_parser(
-        "hidden-lines",
-        help="draw the visible edges of a scene (Weiler-Atherton hidden-line removal) as SVG",
-        description="Solve the hidden surfaces of SCENE with Weiler & Atherton's polygon clipper and "
-        "write the visible parts of the polygon edges, and the lines where interpenetrating "
-        "polygons cross, to an SVG file.",
-    )
+
+def add_arguments(p) -> None:
     p.add_argument("scene", help="scene file (TOML)")
     p.add_argument("--frame", type=int, default=0, metavar="K", help="animation frame, 0-based (default 0)")
     p.add_argument("--window", type=int, default=0, metavar="N",
@@ -20,7 +21,6 @@ def add_parser(sub) -> None:
     p.add_argument("--stroke", type=float, default=0.05, metavar="W", help="line width in pixels (default 0.05)")
     p.add_argument("-o", "--output", required=True, metavar="OUT.svg", help="output SVG file")
     p.add_argument("--quiet", action="store_true", help="print nothing on success")
-    p.set_defaults(run=run)
 
 
 def run(args) -> int:

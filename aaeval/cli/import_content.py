@@ -8,15 +8,16 @@ from pathlib import Path
 
 from aaeval.importers.flatten import DEFAULT_TOLERANCE
 
+NAME = "import"
+HELP = "turn an SVG file or a string of text into a scene file"
+DESCRIPTION = (
+    "Import real content as a scene: vector art from an SVG file, or text set in a "
+    "TrueType/OpenType font. Curves are flattened to --tolerance pixels; anything the scene format "
+    "cannot hold is listed by element, never dropped silently."
+)
 
-def add_parser(sub) -> None:
-    p = sub.add_parser(
-        "import",
-        help="turn an SVG file or a string of text into a scene file",
-        description="Import real content as a scene: vector art from an SVG file, or text set in a "
-        "TrueType/OpenType font. Curves are flattened to --tolerance pixels; anything the scene format "
-        "cannot hold is listed by element, never dropped silently.",
-    )
+
+def add_arguments(p) -> None:
     kinds = p.add_subparsers(dest="kind", metavar="KIND", required=True)
 
     svg = kinds.add_parser("svg", help="an SVG file (paths, shapes, groups, transforms, fills, strokes)")

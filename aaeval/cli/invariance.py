@@ -2,19 +2,19 @@
 
 from __future__ import annotations
 
+NAME = "invariance"
+HELP = "intensity sum of every frame of an animation, and its relative variation"
+DESCRIPTION = (
+    "Render every frame of SCENE's animation with SPEC and print each frame's "
+    "intensity sum and the relative variation (max - min) / mean. Area sampling keeps the "
+    "sum constant under translation inside the frame; point sampling does not."
+)
 
-def add_parser(sub) -> None:
-    p = sub.add_parser(
-        "invariance",
-        help="intensity sum of every frame of an animation, and its relative variation",
-        description="Render every frame of SCENE's animation with SPEC and print each frame's "
-        "intensity sum and the relative variation (max - min) / mean. Area sampling keeps the "
-        "sum constant under translation inside the frame; point sampling does not.",
-    )
+
+def add_arguments(p) -> None:
     p.add_argument("scene", help="scene file (TOML)")
     p.add_argument("--method", "-m", default="catmull", metavar="SPEC", help="method spec (default: catmull)")
     p.add_argument("--quiet", "-q", action="store_true", help="print only the variation")
-    p.set_defaults(run=run)
 
 
 def run(args) -> int:

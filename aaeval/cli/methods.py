@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-
-def add_parser(sub) -> None:
-    p = sub.add_parser("methods", help="list rendering methods and their options",
-                       description="List every registered rendering method with its options and defaults.")
-    p.set_defaults(run=run)
+NAME = "methods"
+HELP = "list rendering methods and their options"
+DESCRIPTION = "List every registered rendering method with its options and defaults."
 
 
 def run(args) -> int:

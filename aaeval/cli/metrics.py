@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-
-def add_parser(sub) -> None:
-    p = sub.add_parser("metrics", help="list metrics: kind, direction, what each needs",
-                       description="List every registered metric (aaeval.metrics.METRICS) with its kind "
-                       "(image: one frame; temporal: every frame of an animation), whether higher or lower is "
-                       "better, what it needs (reference, scene, frames, a mask) and its table title. The names "
-                       "are what experiment configs and 'compare --metric' take.")
-    p.set_defaults(run=run)
+NAME = "metrics"
+HELP = "list metrics: kind, direction, what each needs"
+DESCRIPTION = (
+    "List every registered metric (aaeval.metrics.METRICS) with its kind "
+    "(image: one frame; temporal: every frame of an animation), whether higher or lower is "
+    "better, what it needs (reference, scene, frames, a mask) and its table title. The names "
+    "are what experiment configs and 'compare --metric' take."
+)
 
 
 def run(args) -> int:

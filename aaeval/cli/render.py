@@ -4,15 +4,16 @@ from __future__ import annotations
 
 from pathlib import Path
 
+NAME = "render"
+HELP = "render one frame of a scene with one method"
+DESCRIPTION = (
+    "Render SCENE with the method SPEC and write the image to OUT "
+    "(.npy: float64 linear RGB HxWx3; .exr: float32 linear; .png: 8-bit sRGB for viewing). "
+    "OUT's folder must exist unless --mkdir is given."
+)
 
-def add_parser(sub) -> None:
-    p = sub.add_parser(
-        "render",
-        help="render one frame of a scene with one method",
-        description="Render SCENE with the method SPEC and write the image to OUT "
-        "(.npy: float64 linear RGB HxWx3; .exr: float32 linear; .png: 8-bit sRGB for viewing). "
-        "OUT's folder must exist unless --mkdir is given.",
-    )
+
+def add_arguments(p) -> None:
     p.add_argument("scene", help="scene file (TOML, see the scene format in the README)")
     p.add_argument("--method", "-m", default="catmull", metavar="SPEC",
                    help="method spec, e.g. catmull, supersample:k=4, mitsuba:spp=4096 (default: catmull)")
@@ -23,7 +24,6 @@ def add_parser(sub) -> None:
                    help="PNG only: enlarge every pixel to an N x N block (nearest neighbour), for viewing (default 1)")
     p.add_argument("--stats", metavar="STATS.json",
                    help="write timing as JSON; render_s is the render alone (no start-up, imports or JIT)")
-    p.set_defaults(run=run)
 
 
 def run(args) -> int:

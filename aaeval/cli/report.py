@@ -2,20 +2,20 @@
 
 from __future__ import annotations
 
+NAME = "report"
+HELP = "write DIR/index.html: charts and tables of a sweep's results"
+DESCRIPTION = (
+    "Rebuild DIR/results.parquet from the cell files and write DIR/index.html with its "
+    "figures (PNG files beside it, each with its SVG and PDF for papers): speed against accuracy, intensity sum per frame, flicker, "
+    "stability as difficulty grows, an image grid with crops and error maps, and the tables."
+)
 
-def add_parser(sub) -> None:
-    p = sub.add_parser(
-        "report",
-        help="write DIR/index.html: charts and tables of a sweep's results",
-        description="Rebuild DIR/results.parquet from the cell files and write DIR/index.html with its "
-        "figures (PNG files beside it, each with its SVG and PDF for papers): speed against accuracy, intensity sum per frame, flicker, "
-        "stability as difficulty grows, an image grid with crops and error maps, and the tables.",
-    )
+
+def add_arguments(p) -> None:
     p.add_argument("dir", metavar="DIR", help="sweep folder written by 'aaeval sweep'")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     p.add_argument("--png-only", action="store_true",
                    help="a quicker draft: figures as PNG only, without their SVG and PDF twins")
-    p.set_defaults(run=run)
 
 
 def run(args) -> int:

@@ -2,16 +2,17 @@
 
 from __future__ import annotations
 
+NAME = "study"
+HELP = "run a study (experiments/NAME) and regenerate the measured part of its README"
+DESCRIPTION = (
+    "Run (or resume) the sweep of the study folder DIR (its config.toml) into DIR/results, then "
+    "rewrite only the part of DIR/README.md between the study markers with the numbers that bear on the "
+    "paper's claim, read from the stored results (which numbers: DIR/study.toml). The hand-written text "
+    "around the markers is kept."
+)
 
-def add_parser(sub) -> None:
-    p = sub.add_parser(
-        "study",
-        help="run a study (experiments/NAME) and regenerate the measured part of its README",
-        description="Run (or resume) the sweep of the study folder DIR (its config.toml) into DIR/results, then "
-        "rewrite only the part of DIR/README.md between the study markers with the numbers that bear on the "
-        "paper's claim, read from the stored results (which numbers: DIR/study.toml). The hand-written text "
-        "around the markers is kept.",
-    )
+
+def add_arguments(p) -> None:
     p.add_argument("dir", metavar="DIR", help="study folder, e.g. experiments/catmull1978")
     p.add_argument("--no-run", action="store_true",
                    help="run nothing: regenerate the README from the results already in the folder")
@@ -21,7 +22,6 @@ def add_parser(sub) -> None:
     p.add_argument("--cache", metavar="CACHE", help="reference cache folder (default $AAEVAL_CACHE_DIR or ~/.cache/aaeval)")
     p.add_argument("--print", action="store_true", dest="show", help="also print the generated section")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bars")
-    p.set_defaults(run=run)
 
 
 def run(args) -> int:

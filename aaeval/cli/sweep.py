@@ -4,15 +4,16 @@ from __future__ import annotations
 
 import sys
 
+NAME = "sweep"
+HELP = "run an experiment sweep (scenes x methods x options x frames) into a folder"
+DESCRIPTION = (
+    "Run every cell of the experiment CONFIG (TOML, see configs/sweeps/) and write "
+    "one result file per cell into DIR, then DIR/results.parquet. Finished cells are kept: a rerun "
+    "(after a crash, or with more cells in the config) runs only what is missing."
+)
 
-def add_parser(sub) -> None:
-    p = sub.add_parser(
-        "sweep",
-        help="run an experiment sweep (scenes x methods x options x frames) into a folder",
-        description="Run every cell of the experiment CONFIG (TOML, see configs/sweeps/) and write "
-        "one result file per cell into DIR, then DIR/results.parquet. Finished cells are kept: a rerun "
-        "(after a crash, or with more cells in the config) runs only what is missing.",
-    )
+
+def add_arguments(p) -> None:
     p.add_argument("config", help="experiment config (TOML)")
     p.add_argument("--out", "-o", required=True, metavar="DIR", help="results folder (created if missing)")
     p.add_argument("--dry-run", action="store_true", help="list the cells and which are already done; run nothing")
@@ -26,7 +27,6 @@ def add_parser(sub) -> None:
                    help="run into a folder that holds another experiment (its config moves to DIR/history/, "
                    "its cell files stay)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bars; print only the summary line")
-    p.set_defaults(run=run)
 
 
 def run(args) -> int:

@@ -36,10 +36,8 @@ def ciede2000_map(image_true, image_test) -> np.ndarray:
 
     Parameters
     ----------
-    image_true : ndarray, shape (H, W, 3)
-        Reference image (linear sRGB).
-    image_test : ndarray, shape (H, W, 3)
-        Test image, same shape.
+    image_true, image_test : ndarray, shape (H, W, 3)
+        The reference and the test image (linear sRGB), the same shape.
 
     Returns
     -------

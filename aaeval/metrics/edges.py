@@ -46,10 +46,8 @@ def edge_rmse(image_true, image_test, *, mask) -> float:
 
     Parameters
     ----------
-    image_true : ndarray, shape (H, W, 3)
-        Reference image (linear RGB).
-    image_test : ndarray, shape (H, W, 3)
-        Test image, same shape.
+    image_true, image_test : ndarray, shape (H, W, 3)
+        The reference and the test image (linear RGB), the same shape.
     mask : ndarray of bool, shape (H, W)
         The pixels to measure, typically :func:`edge_mask` of the scene.
 

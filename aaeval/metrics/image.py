@@ -18,10 +18,8 @@ def rmse(image_true, image_test) -> float:
 
     Parameters
     ----------
-    image_true : ndarray, shape (H, W, 3)
-        Reference image (linear RGB).
-    image_test : ndarray, shape (H, W, 3)
-        Test image, same shape.
+    image_true, image_test : ndarray, shape (H, W, 3)
+        The reference and the test image (linear RGB), the same shape.
 
     Returns
     -------
@@ -48,10 +46,8 @@ def psnr(image_true, image_test, *, data_range: float = 1.0) -> float:
 
     Parameters
     ----------
-    image_true : ndarray, shape (H, W, 3)
-        Reference image (linear RGB).
-    image_test : ndarray, shape (H, W, 3)
-        Test image, same shape.
+    image_true, image_test : ndarray, shape (H, W, 3)
+        The reference and the test image (linear RGB), the same shape.
     data_range : float, optional
         Peak-to-peak range of the signal; 1.0 (the default) for colours in [0, 1].
 
@@ -78,10 +74,8 @@ def ssim(image_true, image_test, *, data_range: float = 1.0, win_size: int = 7) 
 
     Parameters
     ----------
-    image_true : ndarray, shape (H, W, 3)
-        Reference image (linear RGB).
-    image_test : ndarray, shape (H, W, 3)
-        Test image, same shape.
+    image_true, image_test : ndarray, shape (H, W, 3)
+        The reference and the test image (linear RGB), the same shape.
     data_range : float, optional
         Peak-to-peak range of the signal; 1.0 (the default) for colours in [0, 1].
     win_size : int, optional

@@ -20,10 +20,8 @@ def flip(image_true, image_test, *, ppd: float | None = None) -> float:
 
     Parameters
     ----------
-    image_true : ndarray, shape (H, W, 3)
-        Reference image (linear sRGB).
-    image_test : ndarray, shape (H, W, 3)
-        Test image, same shape.
+    image_true, image_test : ndarray, shape (H, W, 3)
+        The reference and the test image (linear sRGB), the same shape.
     ppd : float, optional
         Pixels per degree of visual angle. By default FLIP's own (about 67: a 0.7 m wide
         3840-pixel monitor seen from 0.7 m).

@@ -315,8 +315,8 @@ def frame_metrics(names: Sequence[str], reference: np.ndarray, image: np.ndarray
 
 def not_finite_metrics(values: dict, errors: dict) -> str:
     """The metrics of ``values`` that are infinite on their bad side (``rmse=inf``) or not
-    numbers at all, as text; empty when there are none. Stored as null, an infinite error
-    read back as NaN and was never above ``fail_above`` ("0 failed"). NaN stays what it was:
+    numbers at all, as text; empty when there are none. Such a cell fails: an infinite error
+    is no measurement, and no ``fail_above`` threshold could judge it. NaN stays what it was:
     a metric that could not judge this image (a masked metric on a scene without its pixels),
     listed apart; infinity on a metric's good side is a perfect score (PSNR of identical
     images)."""
@@ -486,7 +486,7 @@ def _measured(job: FrameJob, out: FrameMeasurement) -> None:
         if job.keep_flip:
             out.flip = flip_map(reference, image)
         not_finite = not_finite_metrics(out.metrics, out.metric_errors)
-        if not_finite:  # stored as null and read back as NaN, never above fail_above: "0 failed"
+        if not_finite:  # an image too far from its reference to measure: a failed cell, not a number
             raise FloatingPointError(f"metric(s) infinite: {not_finite}; the image is too far from its "
                                      "reference to be measured")
         if job.noise_by_metric:
