@@ -77,7 +77,7 @@ def ssim(image_true, image_test, *, data_range: float = 1.0, win_size: int = 7) 
     image_true, image_test : ndarray, shape (H, W, 3)
         The reference and the test image (linear RGB), the same shape.
     data_range : float, optional
-        Peak-to-peak range of the signal; 1.0 (the default) for colours in [0, 1].
+        As for :func:`psnr`: 1.0 (the default) for colours in [0, 1].
     win_size : int, optional
         Odd side of the window, 7 by default. On images with a side shorter than that it
         shrinks to the largest odd number that fits (at least 3).

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from aaeval.metrics._checks import check_finite_pair, check_frame_mask, check_stack_pair
 from aaeval.metrics.image import masked_rmse
 
 __all__ = [
@@ -107,8 +108,8 @@ def highlight_flicker(frames_true, frames_test, *, mask) -> float:
     flicker : float
         NaN when the mask is empty.
     """
-    frames_true, frames_test = _frames(frames_true, frames_test)
-    mask = _still_mask(mask, frames_true.shape)
+    frames_true, frames_test = check_stack_pair(frames_true, frames_test)
+    mask = check_frame_mask(mask, frames_true.shape, per_frame="any")
     if not mask.any():
         return float("nan")
     change = np.diff(frames_test - frames_true, axis=0)[:, mask]
@@ -169,8 +170,8 @@ def highlight_profile_flicker(frames_true, frames_test, *, mask, direction: floa
     flicker : float
         Relative; NaN when the truth has no energy in the region.
     """
-    frames_true, frames_test = _frames(frames_true, frames_test)
-    mask = _still_mask(mask, frames_true.shape)
+    frames_true, frames_test = check_stack_pair(frames_true, frames_test)
+    mask = check_frame_mask(mask, frames_true.shape, per_frame="any")
     if direction is not None and not np.isfinite(direction):
         raise ValueError(f"direction must be a finite angle in degrees or None, got {direction!r}")
     if not section > 0 or not np.isfinite(section):
@@ -258,7 +259,7 @@ def _gaussian_windows(position, sigma):
 
 
 def _energy_ratios(frames_true, frames_test, mask) -> np.ndarray:
-    frames_true, frames_test = _frames(frames_true, frames_test)
+    frames_true, frames_test = check_stack_pair(frames_true, frames_test)
     mask = np.broadcast_to(np.asarray(mask, dtype=bool), frames_true.shape[:3])
     return np.array([highlight_energy_bias(t, s, mask=m) + 1.0 for t, s, m in zip(frames_true, frames_test, mask)])
 
@@ -340,38 +341,12 @@ def detection_precision_recall(image_true, image_test, *, flagged, tolerance: fl
 
 
 def _checked(image_true, image_test, mask):
-    image_true = np.asarray(image_true, dtype=np.float64)
-    image_test = np.asarray(image_test, dtype=np.float64)
+    image_true, image_test = check_finite_pair(image_true, image_test, "images")
     mask = np.asarray(mask, dtype=bool)
-    if image_true.shape != image_test.shape:
-        raise ValueError(f"images differ in shape: {image_true.shape} vs {image_test.shape}")
     if image_true.ndim == 3 and image_true.shape[2] != 3 and mask.ndim == 2:
         raise ValueError(f"expected (H, W) specular or (H, W, 3) RGB images, got shape {image_true.shape}")
-    for label, image in (("true", image_true), ("test", image_test)):
-        if not np.isfinite(image).all():
-            raise ValueError(f"the {label} image has non-finite values (NaN or inf)")
     if image_true.shape[: mask.ndim] != mask.shape:
         raise ValueError(f"mask shape {mask.shape} does not match images of shape {image_true.shape}")
     return image_true, image_test, mask
 
 
-def _still_mask(mask, shape) -> np.ndarray:
-    mask = np.asarray(mask, dtype=bool)
-    if mask.ndim == 3:
-        mask = mask.any(axis=0)
-    if mask.shape != tuple(shape[1:3]):
-        raise ValueError(f"mask shape {mask.shape} does not match frames of shape {tuple(shape[1:3])}")
-    return mask
-
-
-def _frames(frames_true, frames_test):
-    frames_true = np.asarray(frames_true, dtype=np.float64)
-    frames_test = np.asarray(frames_test, dtype=np.float64)
-    if frames_true.shape != frames_test.shape:
-        raise ValueError(f"frame stacks differ in shape: {frames_true.shape} vs {frames_test.shape}")
-    for label, frames in (("true", frames_true), ("test", frames_test)):
-        if not np.isfinite(frames).all():
-            raise ValueError(f"the {label} frames have non-finite values (NaN or inf)")
-    if frames_true.ndim < 3 or frames_true.shape[0] < 2:
-        raise ValueError(f"need a stack of at least 2 frames (T, H, W[, C]), got shape {frames_true.shape}")
-    return frames_true, frames_test

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from aaeval.metrics._checks import check_frames_pair
+from aaeval.metrics._checks import check_frame_mask, check_frames_pair
 
 __all__ = ["intensity_sum", "relative_variation", "sum_variation", "sum_bias", "temporal_bias", "flicker",
            "image_flicker"]
@@ -99,10 +99,8 @@ def temporal_bias(frames_true, frames_test) -> float:
 
     Parameters
     ----------
-    frames_true : array_like, shape (F, H, W, 3)
-        Reference frames of the animation (linear RGB).
-    frames_test : array_like, shape (F, H, W, 3)
-        The test method's frames, same shape.
+    frames_true, frames_test : array_like, shape (F, H, W, 3)
+        The reference's and the test method's frames of the animation (linear RGB).
 
     Returns
     -------
@@ -125,10 +123,8 @@ def flicker(frames_true, frames_test) -> float:
 
     Parameters
     ----------
-    frames_true : array_like, shape (F, H, W, 3)
-        Reference frames of the animation (linear RGB).
-    frames_test : array_like, shape (F, H, W, 3)
-        The test method's frames, same shape.
+    frames_true, frames_test : array_like, shape (F, H, W, 3)
+        The reference's and the test method's frames of the animation (linear RGB).
 
     Returns
     -------
@@ -163,11 +159,7 @@ def image_flicker(frames_true, frames_test, *, mask) -> float:
         NaN when the mask is empty.
     """
     frames_true, frames_test = check_frames_pair(frames_true, frames_test)
-    mask = np.asarray(mask, dtype=bool)
-    if mask.ndim == 3:
-        mask = mask.all(axis=0)
-    if mask.shape != frames_test.shape[1:3]:
-        raise ValueError(f"mask shape {mask.shape} does not match frames of shape {frames_test.shape[1:3]}")
+    mask = check_frame_mask(mask, frames_test.shape, per_frame="every")
     if not mask.any():
         return float("nan")
     return float(np.sqrt(np.mean(np.var(frames_test, axis=0)[mask])))

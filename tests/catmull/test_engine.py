@@ -23,23 +23,7 @@ from tests.helpers.sweep_util import write_config
 ROOT = Path(__file__).resolve().parents[2]
 SHIPPED = sorted((ROOT / "configs" / "sweeps").glob("*.toml"))
 
-MOVING = """
-[image]
-width = 14
-height = 10
-
-[animation]
-frames = 4
-translate = [0.3, 0.17]
-
-[[polygons]]
-color = [0.9, 0.2, 0.1]
-vertices = [[2.3, 1.7, 1.0], [11.6, 3.1, 1.0], [6.2, 8.4, 1.0]]
-
-[[polygons]]
-color = [0.1, 0.3, 0.8]
-vertices = [[7.1, 0.5, 2.0], [12.7, 6.3, 2.0], [8.3, 9.2, 0.5]]
-"""
+MOVING = (Path(__file__).resolve().parents[1] / "data" / "scenes" / "two_triangles_14x10.toml").read_text()
 
 
 def _strict_json(text: str):

@@ -13,20 +13,7 @@ import pytest
 from aaeval.cli import main
 from aaeval.imageio import load_image
 
-SCENE = """
-[image]
-width = 12
-height = 9
-background = [0.0, 0.0, 0.2]
-
-[animation]
-frames = 4
-translate = [0.25, 0.125]
-
-[[polygons]]
-color = [1.0, 0.5, 0.0]
-vertices = [[1.3, 1.1, 2.0], [10.2, 2.4, 2.0], [4.6, 8.3, 2.0]]
-"""
+SCENE = (Path(__file__).resolve().parents[1] / "data" / "scenes" / "triangle_on_blue.toml").read_text()
 
 
 @pytest.fixture

@@ -9,19 +9,11 @@ import pytest
 
 from aaeval.cli import main
 from aaeval.importers.svg import import_svg
+from tests.helpers.cli_util import refused
 
 SVG = '<svg xmlns="http://www.w3.org/2000/svg" width="20" height="20">{}</svg>'
 
 
-def refused(args, capsys, *words):
-    capsys.readouterr()
-    assert main(args) == 2, args
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1, err
-    assert "Traceback" not in err
-    for w in words:
-        assert w in err, (w, err)
-    return err
 
 
 def _bomb(levels: int, fan: int = 5) -> str:

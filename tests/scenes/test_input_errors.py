@@ -4,34 +4,18 @@ traceback, nothing written; requests that cannot fit are refused before any work
 from __future__ import annotations
 
 import errno
-import json
-import math
-import os
 import subprocess
 import sys
 from pathlib import Path
 
-import numpy as np
 import pytest
 
-from aaeval.cli import main
 from aaeval.imageio import atomic_write
+from tests.helpers.cli_util import refused
 
 ROOT = Path(__file__).resolve().parents[2]
 
-SCENE = """
-[image]
-width = 12
-height = 9
-
-[animation]
-frames = 3
-translate = [0.25, 0.125]
-
-[[polygons]]
-color = [1.0, 0.5, 0.0]
-vertices = [[1.3, 1.1, 2.0], [10.2, 2.4, 2.0], [4.6, 8.3, 2.0]]
-"""
+SCENE = (Path(__file__).resolve().parents[1] / "data" / "scenes" / "triangle_three_frames.toml").read_text()
 
 
 @pytest.fixture
@@ -41,26 +25,13 @@ def scene(tmp_path):
     return path
 
 
-def _refused(capsys, argv, *needles, written=()):
-    """Run the CLI in this process: exit 2, one line on stderr holding every needle."""
-    code = main([str(a) for a in argv])
-    err = capsys.readouterr().err
-    assert code == 2, err
-    assert err.count("\n") == 1 and "Traceback" not in err, err
-    for needle in needles:
-        assert str(needle) in err, (needle, err)
-    for path in written:
-        assert not Path(path).exists(), path
-    return err
-
-
 # --- scene files ------------------------------------------------------------------
 
 
 def test_a_binary_scene_file_is_named(tmp_path, capsys):
     bad = tmp_path / "image.toml"
     bad.write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00\xff\xfe")
-    _refused(capsys, ["render", bad, "-o", tmp_path / "x.npy"], bad, "UTF-8", written=[tmp_path / "x.npy"])
+    refused(["render", bad, "-o", tmp_path / "x.npy"], capsys, bad, "UTF-8", written=[tmp_path / "x.npy"])
 
 
 @pytest.mark.parametrize("colour, rule", [("[1.5, 0, 0]", "[0, 1]"), ("[-0.1, 0, 0]", "[0, 1]"),
@@ -68,16 +39,16 @@ def test_a_binary_scene_file_is_named(tmp_path, capsys):
 def test_colours_outside_0_1_are_refused(tmp_path, capsys, colour, rule):
     bad = tmp_path / "c.toml"
     bad.write_text(SCENE.replace("color = [1.0, 0.5, 0.0]", f"color = {colour}"))
-    _refused(capsys, ["render", bad, "-o", tmp_path / "x.npy"], bad, "polygons[0].color", rule)
+    refused(["render", bad, "-o", tmp_path / "x.npy"], capsys, bad, "polygons[0].color", rule)
     bg = tmp_path / "bg.toml"
     bg.write_text(SCENE.replace("height = 9", f"height = 9\nbackground = {colour}"))
-    _refused(capsys, ["render", bg, "-o", tmp_path / "x.npy"], "[image].background", rule)
+    refused(["render", bg, "-o", tmp_path / "x.npy"], capsys, "[image].background", rule)
 
 
 def test_an_animation_that_overflows_is_refused(tmp_path, capsys):
     bad = tmp_path / "far.toml"
     bad.write_text(SCENE.replace("translate = [0.25, 0.125]", "translate = [1.7e308, 0]"))
-    _refused(capsys, ["render", bad, "-o", tmp_path / "x.npy"], bad, "[animation]", "frame 2")
+    refused(["render", bad, "-o", tmp_path / "x.npy"], capsys, bad, "[animation]", "frame 2")
 
 
 def test_a_shaded_object_with_absurd_segments_is_refused_at_once(tmp_path, capsys):
@@ -89,7 +60,7 @@ def test_a_shaded_object_with_absurd_segments_is_refused_at_once(tmp_path, capsy
 
     bad = tmp_path / "many.toml"
     bad.write_text(re.sub(r"segments\s*=\s*\d+", "segments = 10000000", content, count=1))
-    _refused(capsys, ["render", bad, "-o", tmp_path / "x.npy"], bad, "segments", str(MAX_SEGMENTS))
+    refused(["render", bad, "-o", tmp_path / "x.npy"], capsys, bad, "segments", str(MAX_SEGMENTS))
 
 
 # --- method options and budgets -----------------------------------------------------
@@ -100,7 +71,7 @@ def test_a_shaded_object_with_absurd_segments_is_refused_at_once(tmp_path, capsy
     ("supersample:k=2.5", "expected int"), ("jitter:seed=-1", ">= 0"),
 ])
 def test_options_are_checked_by_name_type_and_range(scene, tmp_path, capsys, spec, needle):
-    _refused(capsys, ["render", scene, "-m", spec, "-o", tmp_path / "x.npy"], needle, written=[tmp_path / "x.npy"])
+    refused(["render", scene, "-m", spec, "-o", tmp_path / "x.npy"], capsys, needle, written=[tmp_path / "x.npy"])
 
 
 def test_an_option_validator_and_maximum_are_enforced():
@@ -116,7 +87,7 @@ def test_an_option_validator_and_maximum_are_enforced():
 
 @pytest.mark.parametrize("spec", ["supersample:k=100000", "jitter:k=100000"])
 def test_sampling_that_cannot_fit_is_refused_with_its_estimate(scene, tmp_path, capsys, spec):
-    err = _refused(capsys, ["render", scene, "-m", spec, "-o", tmp_path / "x.npy"], "samples",
+    err = refused(["render", scene, "-m", spec, "-o", tmp_path / "x.npy"], capsys, "samples",
                    written=[tmp_path / "x.npy"])
     assert "AAEVAL_MAX_SAMPLES" in err or "memory" in err
 
@@ -125,14 +96,14 @@ def test_an_image_bigger_than_memory_is_refused_with_its_estimate(tmp_path, caps
     monkeypatch.setenv("AAEVAL_MAX_MEMORY", "2G")  # this machine's size must not decide the test
     big = tmp_path / "big.toml"
     big.write_text(SCENE.replace("width = 12", "width = 16384").replace("height = 9", "height = 16384"))
-    _refused(capsys, ["render", big, "-m", "catmull", "-o", tmp_path / "x.npy"], "GiB", "memory",
+    refused(["render", big, "-m", "catmull", "-o", tmp_path / "x.npy"], capsys, "GiB", "memory",
              written=[tmp_path / "x.npy"])
 
 
 def test_an_enlargement_that_cannot_fit_is_refused_before_rendering(scene, tmp_path, capsys, monkeypatch):
     monkeypatch.setenv("AAEVAL_MAX_MEMORY", "1G")
     out = tmp_path / "x.png"
-    _refused(capsys, ["render", scene, "--scale", "5000", "-o", out], "--scale", "GiB", written=[out])
+    refused(["render", scene, "--scale", "5000", "-o", out], capsys, "--scale", "GiB", written=[out])
 
 
 # --- outputs, checked before rendering ------------------------------------------------
@@ -140,24 +111,24 @@ def test_an_enlargement_that_cannot_fit_is_refused_before_rendering(scene, tmp_p
 
 def test_clashing_outputs_are_refused_before_rendering(scene, tmp_path, capsys):
     out = tmp_path / "a.npy"
-    _refused(capsys, ["render", scene, "-o", out, "--stats", out], "-o", "--stats", out, written=[out])
+    refused(["render", scene, "-o", out, "--stats", out], capsys, "-o", "--stats", out, written=[out])
 
 
 def test_a_directory_as_output_is_refused_before_rendering(scene, tmp_path, capsys):
     (tmp_path / "d.npy").mkdir()
-    _refused(capsys, ["render", scene, "-o", tmp_path / "d.npy"], "-o", "directory")
+    refused(["render", scene, "-o", tmp_path / "d.npy"], capsys, "-o", "directory")
     (tmp_path / "s").mkdir()
-    _refused(capsys, ["render", scene, "-o", tmp_path / "x.npy", "--stats", tmp_path / "s"], "--stats", "directory",
+    refused(["render", scene, "-o", tmp_path / "x.npy", "--stats", tmp_path / "s"], capsys, "--stats", "directory",
              written=[tmp_path / "x.npy"])
 
 
 def test_an_unwritable_place_is_refused_before_rendering(scene, tmp_path, capsys):
-    _refused(capsys, ["render", scene, "-o", "/proc/aaeval-test.npy"], "-o", "/proc")
+    refused(["render", scene, "-o", "/proc/aaeval-test.npy"], capsys, "-o", "/proc")
     afile = tmp_path / "file"
     afile.write_text("x")
-    _refused(capsys, ["render", scene, "-o", afile / "x.npy"], afile, "no such folder")
-    _refused(capsys, ["render", scene, "--mkdir", "-o", afile / "x.npy"], "-o", "not a directory")
-    _refused(capsys, ["hidden-lines", scene, "-o", "/proc/aaeval-test.svg"], "-o", "/proc")
+    refused(["render", scene, "-o", afile / "x.npy"], capsys, afile, "no such folder")
+    refused(["render", scene, "--mkdir", "-o", afile / "x.npy"], capsys, "-o", "not a directory")
+    refused(["hidden-lines", scene, "-o", "/proc/aaeval-test.svg"], capsys, "-o", "/proc")
 
 
 def test_sweep_out_and_cache_must_be_writable_folders(tmp_path, capsys):
@@ -166,9 +137,9 @@ def test_sweep_out_and_cache_must_be_writable_folders(tmp_path, capsys):
     config = write_config(tmp_path)
     afile = tmp_path / "file"
     afile.write_text("x")
-    _refused(capsys, ["sweep", config, "--out", afile], "--out", "not a directory")
-    _refused(capsys, ["sweep", config, "--out", tmp_path / "o", "--cache", afile], "--cache", "not a directory")
-    _refused(capsys, ["sweep", config, "--out", "/proc/aaeval-sweep"], "--out", "/proc")
+    refused(["sweep", config, "--out", afile], capsys, "--out", "not a directory")
+    refused(["sweep", config, "--out", tmp_path / "o", "--cache", afile], capsys, "--cache", "not a directory")
+    refused(["sweep", config, "--out", "/proc/aaeval-sweep"], capsys, "--out", "/proc")
 
 
 def test_a_full_disk_says_so_and_keeps_the_old_file(tmp_path, capsys):
@@ -179,28 +150,26 @@ def test_a_full_disk_says_so_and_keeps_the_old_file(tmp_path, capsys):
         with open("/dev/full", "w") as full:
             full.write("x" * 65536)
 
-    with pytest.raises(OSError, match=f"no space left on device") as info:
+    with pytest.raises(OSError, match="no space left on device") as info:
         atomic_write(target, fill)
     assert info.value.errno == errno.ENOSPC and info.value.filename == str(target)
     assert target.read_text() == "earlier" and [p.name for p in tmp_path.iterdir()] == ["kept.json"]
 
 
 def test_the_command_line_turns_os_errors_into_one_line(tmp_path, capsys, monkeypatch):
-    import aaeval.cli.render as render_cli
-
     def no_space(*a, **k):
         raise OSError(errno.ENOSPC, "no space left on device", str(tmp_path / "x.npy"))
 
     monkeypatch.setattr("aaeval.imageio.save_image", no_space)
     scene = tmp_path / "s.toml"
     scene.write_text(SCENE)
-    _refused(capsys, ["render", scene, "-o", tmp_path / "x.npy"], f"no space left on device: {tmp_path / 'x.npy'}")
+    refused(["render", scene, "-o", tmp_path / "x.npy"], capsys, f"no space left on device: {tmp_path / 'x.npy'}")
 
 
 @pytest.mark.parametrize("stroke", ["-1", "nan", "inf", "0"])
 def test_hidden_lines_stroke_must_be_a_positive_width(scene, tmp_path, capsys, stroke):
     out = tmp_path / "l.svg"
-    _refused(capsys, ["hidden-lines", scene, "--stroke", stroke, "-o", out], "--stroke", written=[out])
+    refused(["hidden-lines", scene, "--stroke", stroke, "-o", out], capsys, "--stroke", written=[out])
 
 
 # --- no JIT -------------------------------------------------------------------------

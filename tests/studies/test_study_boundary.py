@@ -11,6 +11,7 @@ import pytest
 
 from aaeval.cli import main
 from aaeval.studies.study import BEGIN, END, StudyError, load_study, run_study
+from tests.helpers.cli_util import refused
 
 ROOT = Path(__file__).resolve().parents[2]
 INTERPENETRATING = ROOT / "configs" / "scenes" / "interpenetrating.toml"
@@ -57,14 +58,12 @@ def _study(tmp_path: Path, study: str = STUDY, config: str = CONFIG) -> Path:
     return folder
 
 
-def _refused(tmp_path, capsys, folder: Path, message: str) -> None:
-    """``aaeval study`` refuses in one line naming the rule, before the sweep: no results."""
+def _study_refused(tmp_path, capsys, folder: Path, message: str) -> None:
+    """``aaeval study`` refuses in one line naming the rule, before the sweep (no results)
+    and with the README untouched."""
     before = (folder / "README.md").read_bytes()
-    assert main(["study", str(folder), "-j", "1", "-q", "--cache", str(tmp_path / "cache")]) == 2
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1 and message in err, err
-    assert "Traceback" not in err
-    assert not (folder / "results").exists(), "the sweep ran before the study file was refused"
+    refused(["study", folder, "-j", "1", "-q", "--cache", tmp_path / "cache"], capsys, message,
+            written=[folder / "results"])
     assert (folder / "README.md").read_bytes() == before
 
 
@@ -99,13 +98,13 @@ def _refused(tmp_path, capsys, folder: Path, message: str) -> None:
 ])
 def test_every_field_is_checked_before_the_sweep(tmp_path, capsys, edit, message):
     folder = _study(tmp_path, edit(STUDY))
-    _refused(tmp_path, capsys, folder, message)
+    _study_refused(tmp_path, capsys, folder, message)
 
 
 def test_within_noise_of_a_truth_without_one_is_refused_before_the_sweep(tmp_path, capsys):
     config = CONFIG.replace('reference = "catmull"', 'reference = "supersample:k=4"')
     study = STUDY + '\n[[summaries]]\nkind = "errors"\ngroup = "fence"\nwithin_noise = ["catmull"]\n'
-    _refused(tmp_path, capsys, _study(tmp_path, study, config), "own error is unknown")
+    _study_refused(tmp_path, capsys, _study(tmp_path, study, config), "own error is unknown")
 
 
 def test_a_drawing_folder_that_is_a_link_is_refused(tmp_path, capsys):
@@ -113,7 +112,7 @@ def test_a_drawing_folder_that_is_a_link_is_refused(tmp_path, capsys):
     outside = tmp_path / "outside"
     outside.mkdir()
     (folder / "hidden-lines").symlink_to(outside)
-    _refused(tmp_path, capsys, folder, "is a symbolic link")
+    _study_refused(tmp_path, capsys, folder, "is a symbolic link")
     assert list(outside.iterdir()) == []
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import tomllib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,24 +18,7 @@ from aaeval.renderers import MethodError, render
 from aaeval.scenes import SceneError
 from tests.helpers.oracle import document_oracle_image, document_visible_areas
 
-# two interpenetrating triangles inside the frame, moving a fraction of a pixel per frame
-TINY = """
-[image]
-width = 16
-height = 12
-
-[animation]
-frames = 4
-translate = [0.25, 0.125]
-
-[[polygons]]
-color = [0.9, 0.2, 0.1]
-vertices = [[2.3, 1.7, 1.0], [12.6, 3.1, 1.0], [6.2, 10.4, 1.0]]
-
-[[polygons]]
-color = [0.1, 0.3, 0.8]
-vertices = [[8.1, 0.5, 2.0], [14.7, 6.3, 2.0], [9.3, 11.2, 0.5]]
-"""
+TINY = (Path(__file__).resolve().parents[1] / "data" / "scenes" / "two_triangles_16x12.toml").read_text()
 
 
 # every image metric that applies to a flat scene (highlight metrics need [shaded] objects)
