@@ -26,6 +26,33 @@ methods = ["catmull-jagged"]
 """
 
 
+def slow_config(name: str, frames: int) -> str:
+    """One group of ``frames`` cells of the method "test-slow" (``tests/helpers/slow_sweep.py``)."""
+    return f"""
+[experiment]
+name = "{name}"
+reference = "catmull"
+metrics = ["rmse"]
+
+[[groups]]
+name = "slow"
+scenes = [{{generator = "edges", difficulty = [0.1], frames = {frames}, size = 8}}]
+methods = ["test-slow"]
+"""
+
+
+def slow_sweep(config: Path, out: Path, cache: Path, *, workers: int, pause: float, **popen):
+    """``tests/helpers/slow_sweep.py`` in a process (and session) of its own."""
+    import os
+    import subprocess
+    import sys
+
+    root = Path(__file__).resolve().parents[2]
+    env = {**os.environ, "PYTHONPATH": str(root), "SLOW_SWEEP_PAUSE": str(pause)}
+    return subprocess.Popen([sys.executable, str(root / "tests" / "helpers" / "slow_sweep.py"), str(config),
+                             str(out), str(cache), str(workers)], env=env, start_new_session=True, **popen)
+
+
 def write_config(tmp_path: Path, text: str = SMALL, name: str = "exp.toml") -> Path:
     path = tmp_path / name
     path.write_text(text)

@@ -6,7 +6,6 @@ import json
 import os
 import signal
 import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -16,7 +15,7 @@ import pytest
 
 from aaeval.sweeps import SweepStore, load_experiment, plan, run_sweep
 from aaeval.renderers import METHODS, register_method, render
-from tests.helpers.sweep_util import SMALL, write_config
+from tests.helpers.sweep_util import SMALL, slow_config, slow_sweep, write_config
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -134,41 +133,11 @@ def test_a_cache_that_is_not_a_folder_is_refused_before_any_work(tmp_path, capsy
     assert not (tmp_path / "out").exists()
 
 
-SLOW_SWEEP = """
-import sys, time
-from aaeval.renderers import register_method, render
-
-PAUSE = float(sys.argv[4])
-
-@register_method("test-slow", summary="catmull after a pause, so a sweep can be killed mid-way")
-def slow(scene):
-    time.sleep(PAUSE)
-    return render(scene, "catmull")
-
-from aaeval.cli import main
-sys.exit(main(["sweep", sys.argv[1], "--out", sys.argv[2], "--workers", "1", "--quiet", "--cache", sys.argv[3]]))
-"""
-
-KILL_CONFIG = """
-[experiment]
-name = "kill"
-reference = "catmull"
-metrics = ["rmse"]
-
-[[groups]]
-name = "slow"
-scenes = [{generator = "edges", difficulty = [0.1], frames = 14, size = 8}]
-methods = ["test-slow"]
-"""
-
-
 def _sweep_process(config, out, cache, pause=0.25):
-    """The sweep in a process of its own; each cell pauses ``pause`` s (the rerun needs none:
-    it only has to finish)."""
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    return subprocess.Popen([sys.executable, "-c", SLOW_SWEEP, str(config), str(out), str(cache), str(pause)],
-                            cwd=ROOT, env=env,
-                            start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    """The sweep in a process of its own, one worker; each cell pauses ``pause`` s (the rerun
+    needs none: it only has to finish)."""
+    return slow_sweep(config, out, cache, workers=1, pause=pause, cwd=ROOT, stdout=subprocess.PIPE,
+                      stderr=subprocess.STDOUT)
 
 
 def _cell_files(out):
@@ -179,7 +148,7 @@ def _cell_files(out):
 
 @pytest.mark.slow
 def test_sigkill_loses_no_finished_cell_and_duplicates_none(tmp_path, test_methods):
-    config, out, cache = write_config(tmp_path, KILL_CONFIG), tmp_path / "out", tmp_path / "cache"
+    config, out, cache = write_config(tmp_path, slow_config("kill", 14)), tmp_path / "out", tmp_path / "cache"
     proc = _sweep_process(config, out, cache)
     deadline = time.monotonic() + 60
     while len(_cell_files(out)) < 3:

@@ -6,55 +6,21 @@ from __future__ import annotations
 import os
 import signal
 import subprocess
-import sys
 import time
-from pathlib import Path
 
 import psutil
 import pytest
 
 from aaeval.sweeps import SweepStore
-
-ROOT = Path(__file__).resolve().parents[2]
-
-# a script file, not "python -c": spawned workers re-import it and so know "test-slow"
-SLOW_SWEEP = """
-import sys, time
-from aaeval.renderers import register_method, render
-
-@register_method("test-slow", summary="catmull after a pause, so a sweep can be killed mid-way")
-def slow(scene):
-    time.sleep(0.4)
-    return render(scene, "catmull")
-
-if __name__ == "__main__":
-    from aaeval.cli import main
-    sys.exit(main(["sweep", sys.argv[1], "--out", sys.argv[2], "--workers", "2", "--quiet", "--cache", sys.argv[3]]))
-"""
-
-CONFIG = """
-[experiment]
-name = "signals"
-reference = "catmull"
-metrics = ["rmse"]
-
-[[groups]]
-name = "slow"
-scenes = [{generator = "edges", difficulty = [0.1], frames = 40, size = 8}]
-methods = ["test-slow"]
-"""
+from tests.helpers.sweep_util import slow_config, slow_sweep, write_config
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("signum, code", [(signal.SIGTERM, 143), (signal.SIGHUP, 129)])
 def test_kill_ends_the_workers_keeps_finished_cells_and_says_interrupted(tmp_path, signum, code):
-    script, config, out = tmp_path / "sweep.py", tmp_path / "exp.toml", tmp_path / "out"
-    script.write_text(SLOW_SWEEP)
-    config.write_text(CONFIG)
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    proc = subprocess.Popen([sys.executable, str(script), str(config), str(out), str(tmp_path / "cache")],
-                            cwd=tmp_path, env=env, start_new_session=True, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE)
+    config, out = write_config(tmp_path, slow_config("signals", 40)), tmp_path / "out"
+    proc = slow_sweep(config, out, tmp_path / "cache", workers=2, pause=0.4, cwd=tmp_path, stdout=subprocess.PIPE,
+                      stderr=subprocess.PIPE)
     family: list[psutil.Process] = []
     try:
         deadline = time.monotonic() + 90
