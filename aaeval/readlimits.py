@@ -19,6 +19,8 @@ import os
 import stat
 from pathlib import Path
 
+from aaeval.limits import env_bytes
+
 __all__ = ["DEFAULT_MAX_FILE_BYTES", "FileLimitError", "max_file_bytes", "read_bytes", "read_text"]
 
 # Scenes, configs, SVGs and fonts shipped or written by aaeval are well under 10 MiB.
@@ -29,24 +31,9 @@ class FileLimitError(ValueError):
     """An input file that is not a regular file, is too large, or cannot be read."""
 
 
-def _parse_bytes(text: str) -> int:
-    units = {"": 1, "K": 1 << 10, "M": 1 << 20, "G": 1 << 30, "T": 1 << 40}
-    number, unit = text.strip().upper().removesuffix("B").removesuffix("I"), ""
-    if number and number[-1] in units:
-        number, unit = number[:-1], number[-1]
-    try:
-        value = float(number) * units[unit]
-    except ValueError:
-        value = float("nan")
-    if not value > 0 or value == float("inf"):
-        raise FileLimitError(f"AAEVAL_MAX_FILE_BYTES={text!r}: expected a positive size such as 64M or 1G")
-    return int(value)
-
-
 def max_file_bytes() -> int:
     """The largest input file read: ``AAEVAL_MAX_FILE_BYTES`` if set, else 64 MiB."""
-    text = os.environ.get("AAEVAL_MAX_FILE_BYTES")
-    return _parse_bytes(text) if text else DEFAULT_MAX_FILE_BYTES
+    return env_bytes("AAEVAL_MAX_FILE_BYTES", DEFAULT_MAX_FILE_BYTES, FileLimitError)
 
 
 def _size(n: int) -> str:

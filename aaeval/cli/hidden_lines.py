@@ -40,7 +40,8 @@ def run(args) -> int:
     check_outputs({"-o": out})
     scene = load_scene(args.scene).at_frame(args.frame)
     # the same memory and time budget as the weiler-atherton method, before any work
-    from aaeval.renderers.registry import MethodSpec, check_budget
+    from aaeval.renderers.budget import check_budget
+    from aaeval.renderers.spec import MethodSpec
 
     spec = MethodSpec.parse(f"weiler-atherton:window={args.window}")
     check_budget(scene, spec.method, spec.options)

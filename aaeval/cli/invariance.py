@@ -22,7 +22,7 @@ def run(args) -> int:
     from aaeval.renderers import MethodSpec, render
     from aaeval.scenes import load_scene
 
-    from aaeval.renderers.registry import check_frames
+    from aaeval.renderers.budget import check_frames
 
     spec = MethodSpec.parse(args.method)  # the spec enters here
     scene = load_scene(args.scene)

@@ -66,7 +66,7 @@ def run(args) -> int:
 
 
 def _check_enlargement(scene, scale: int) -> None:
-    from aaeval.renderers.registry import available_memory
+    from aaeval.limits import available_memory
 
     # the enlarged float64 image and its 8-bit copy, on top of the render itself
     need = scene.width * scene.height * scale * scale * 3 * (8 + 1)

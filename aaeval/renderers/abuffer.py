@@ -38,7 +38,8 @@ import numpy as np
 
 from aaeval.native.samplers import abuffer_image
 from aaeval.renderers.catmull import BOX_ONLY
-from aaeval.renderers.registry import register_method, scene_load
+from aaeval.renderers.cost import scene_load
+from aaeval.renderers.registry import register_method
 from aaeval.renderers.sampling import kernel_scene, warmup_scene
 from aaeval.scenes import Scene
 

@@ -37,7 +37,8 @@ from collections import OrderedDict
 import numpy as np
 
 from aaeval.renderers.offsets import OffsetSampler, halton
-from aaeval.renderers.registry import PAIR_SECONDS, Option, register_method, scene_load
+from aaeval.renderers.cost import PAIR_SECONDS, scene_load
+from aaeval.renderers.registry import Option, register_method
 from aaeval.renderers.sampling import warmup_scene
 from aaeval.scenes import Scene
 

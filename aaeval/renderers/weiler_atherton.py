@@ -8,7 +8,8 @@ image as ``catmull`` by a completely different road.
 from __future__ import annotations
 
 from aaeval.renderers.blending import BLEND, render_blended
-from aaeval.renderers.registry import Option, register_method, scene_load
+from aaeval.renderers.cost import scene_load
+from aaeval.renderers.registry import Option, register_method
 from aaeval.scenes import Scene
 from aaeval.weiler_atherton import box_filter, visible_arrays
 

@@ -24,7 +24,7 @@ from aaeval.sweeps.measure import (
 from aaeval.metrics import MASKS, METRICS, relative_variation
 from aaeval.options import MAX_INT
 from aaeval.renderers import MethodSpec
-from aaeval.renderers.registry import check_frames
+from aaeval.renderers.budget import check_frames
 from aaeval.scenes import Scene, load_scene
 
 __all__ = ["ComparisonPlan", "parse_frames", "plan_comparison", "run_comparison", "default_metrics"]

@@ -304,7 +304,9 @@ def _check_speed_budget(scenes, specs, repeats: int, where: str, limit: float | 
     estimated (the render budget's own estimate) against the time limit of one task: a size
     no run would finish is refused now, with the estimate, not when it is stopped."""
     from aaeval.sweeps.executors import task_limit
-    from aaeval.renderers.registry import MethodError, render_seconds, check_budget
+    from aaeval.renderers.budget import check_budget
+    from aaeval.renderers.cost import render_seconds
+    from aaeval.renderers.registry import MethodError
 
     limit_s = task_limit(limit)
     for src in scenes:
@@ -564,7 +566,7 @@ def _animate(scenes: tuple[SceneSource, ...], raw: Any, where: str) -> tuple[Sce
 
 def _frames(raw: Any, where: str, scenes: tuple[SceneSource, ...]) -> Any:
     if raw == "all":
-        from aaeval.renderers.registry import check_frames
+        from aaeval.renderers.budget import check_frames
 
         for src in scenes:  # a file's [animation] frames is budgeted as a generator's
             try:

@@ -7,7 +7,7 @@ wherever they are measured:
 
 - :func:`render_measured`: one untimed render of exactly the spec to be timed (every
   option: the filter, the specular method, k, spp: each may compile its own kernels) at
-  this image size, once per process (:func:`aaeval.renderers.registry.warm_up`), then
+  this image size, once per process (:func:`aaeval.renderers.run.warm_up`), then
   ``repeats`` timed renders (sweep cells);
 - :func:`render_reference`: the reference image and, for a seeded reference, its noise;
 - :func:`frame_metrics`: every per-frame metric asked, each with the mask it declares;
@@ -42,7 +42,7 @@ from aaeval.metrics.perceptual import flip_map
 from aaeval.sweeps.record import Failure
 
 if TYPE_CHECKING:
-    from aaeval.renderers.registry import MethodSpec
+    from aaeval.renderers.spec import MethodSpec
 
 __all__ = ["Timing", "FrameMeasurement", "SceneCache", "render_measured", "render_reference",
            "reference_kind", "noise_spec", "frame_metrics", "series_metrics", "measure_frame",
@@ -165,7 +165,7 @@ SCENES = SceneCache()
 
 def render_measured(scene, spec: MethodSpec, frame: int, repeats: int = 1) -> tuple[np.ndarray, Timing]:
     """Render ``scene`` at ``frame`` with ``spec``: the spec itself untimed once per process
-    and image size (:func:`aaeval.renderers.registry.warm_up`), then ``repeats`` timed
+    and image size (:func:`aaeval.renderers.run.warm_up`), then ``repeats`` timed
     renders, one budget check for all. The image returned is the last timed render's.
     """
     from aaeval.renderers import render_timed

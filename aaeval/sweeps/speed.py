@@ -3,7 +3,7 @@
 Accuracy cells may run on several workers at once, so their times say how busy the machine
 was. The speed pass runs after them, in the sweep's own process (one worker), with a stated
 number of threads: for every ``[[speed]]`` table of the config and every scene of it, each
-method spec is warmed up (:func:`aaeval.renderers.registry.warm_up`: the spec itself,
+method spec is warmed up (:func:`aaeval.renderers.run.warm_up`: the spec itself,
 untimed), then timed ``repeats`` times in interleaved rounds (the methods take turns inside
 each round, the order rotating), as ``benchmarks/bench_methods.py`` does, so a machine
 shared with other work disturbs them alike.
@@ -31,7 +31,7 @@ from aaeval.sweeps.config import Experiment, SpeedPass
 from aaeval.imageio import atomic_write
 
 if TYPE_CHECKING:
-    from aaeval.renderers.registry import MethodSpec
+    from aaeval.renderers.spec import MethodSpec
 
 __all__ = ["SPEED_FILE", "run_speed_pass", "read_speed", "speed_identity", "accuracy_spec"]
 

@@ -24,7 +24,7 @@ import numpy as np
 from aaeval import registries
 from aaeval.sweeps.measure import SCENES, FrameJob, FrameMeasurement, Timing, measure_frames, render_reference
 from aaeval.sweeps.record import CellRecord, Failure
-from aaeval.renderers.registry import MethodSpec
+from aaeval.renderers.spec import MethodSpec
 
 __all__ = ["run_reference", "run_cell", "run_cells", "failed_record", "worker_spec"]
 

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import shapely
 
-from aaeval.renderers.registry import render
+from aaeval.renderers import render
 from aaeval.scenes import parse_scene
 
 QUAD = [(5.25, 6.5), (57.75, 4.125), (59.5, 58.25), (3.125, 55.875)]

@@ -56,7 +56,7 @@ import numpy as np
 from aaeval.catmull.filtered import filter_sums
 from aaeval.filters.exact import divide_by_weight
 from aaeval.filters import get_filter
-from aaeval.renderers.registry import render
+from aaeval.renderers import render
 from aaeval.scenes import Scene, load_scene, parse_scene
 from aaeval.scenes.shaded import has_shaded
 from aaeval.scenes.generate import generate_scene, random_triangles

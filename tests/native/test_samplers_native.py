@@ -12,7 +12,7 @@ from aaeval.native import samplers as _samplers
 from aaeval.native import samplers_testing
 from aaeval.filters import get_filter
 from aaeval.filters.registry import profile_args
-from aaeval.renderers.registry import render
+from aaeval.renderers import render
 from aaeval.renderers.sampling import kernel_scene, warmup_scene
 from aaeval.scenes import parse_scene
 from aaeval.scenes.generate import coplanar_stack

@@ -57,19 +57,19 @@ def test_no_decision_reads_error_or_display_text():
 
 
 def test_a_sweep_parses_each_spec_once(tmp_path, monkeypatch):
-    from aaeval.renderers import registry
+    from aaeval.renderers import spec as spec_module
     from aaeval.sweeps import load_experiment, run_sweep
     from tests.helpers.sweep_util import SMALL, write_config
 
-    monkeypatch.setattr(registry, "_PARSED", {})  # as in a new process
+    monkeypatch.setattr(spec_module, "_PARSED", {})  # as in a new process
     calls = collections.Counter()
-    parse = registry.parse_spec
+    parse = spec_module.parse_spec
 
     def counted(text):
         calls[text] += 1
         return parse(text)
 
-    monkeypatch.setattr(registry, "parse_spec", counted)
+    monkeypatch.setattr(spec_module, "parse_spec", counted)
     experiment = load_experiment(write_config(tmp_path, SMALL))
     run_sweep(experiment, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache")
     assert calls and max(calls.values()) == 1, calls

@@ -7,7 +7,7 @@ import pickle
 import numpy as np
 import pytest
 
-import aaeval.renderers.registry as registry
+import aaeval.renderers.spec as spec_module
 from aaeval.sweeps import load_experiment, run_sweep
 from aaeval.sweeps.table import rebuild_results
 from aaeval.sweeps.store import SweepStore
@@ -73,8 +73,8 @@ def test_a_sweep_parses_its_specs_only_where_the_config_is_read(tmp_path, monkey
     experiment = load_experiment(config)
     assert all(isinstance(s, MethodSpec) for g in experiment.groups for s in (*g.specs, g.reference))
     calls = []
-    real = registry.parse_spec
-    monkeypatch.setattr(registry, "parse_spec", lambda text: calls.append(text) or real(text))
+    real = spec_module.parse_spec
+    monkeypatch.setattr(spec_module, "parse_spec", lambda text: calls.append(text) or real(text))
     run_sweep(experiment, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache")
     monkeypatch.undo()
     results, _ = rebuild_results(SweepStore(tmp_path / "out"))

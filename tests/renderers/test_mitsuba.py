@@ -14,7 +14,7 @@ import os
 import numpy as np
 import pytest
 
-from aaeval.renderers.registry import MethodFailure
+from aaeval.renderers.check import MethodFailure
 
 from aaeval.groundtruth import cache as gt_cache
 from aaeval.groundtruth import flat as gt

@@ -1,5 +1,5 @@
 """One render path (issue 34 item 3): every timed render goes through
-``aaeval.renderers.registry.render_timed``, with one budget check per call, one warm-up
+``aaeval.renderers.run.render_timed``, with one budget check per call, one warm-up
 cache, and a spec read from its text once where it enters."""
 
 from __future__ import annotations
@@ -8,8 +8,9 @@ from pathlib import Path
 
 import pytest
 
-import aaeval.renderers.registry as registry
-from aaeval.renderers import MethodSpec
+import aaeval.renderers.run as run
+import aaeval.renderers.spec as spec_module
+from aaeval.renderers import MethodError, MethodSpec
 from aaeval.scenes import parse_scene
 
 TRIANGLE = {"image": {"width": 5, "height": 4},
@@ -21,7 +22,7 @@ def renders(monkeypatch):
     """Every render of this test, in order: ("warm", spec) untimed, ("timed", spec) on the
     clock; and the budget checks. The process's warm-up cache starts empty."""
     calls, checks, state = [], [], {"rehearsing": False}
-    real_rehearse, real_timed, real_check = registry._rehearse, registry._timed, registry.check_budget
+    real_rehearse, real_timed, real_check = run._rehearse, run._timed, run.check_budget
 
     def rehearse(scene, spec):
         state["rehearsing"] = True
@@ -34,10 +35,10 @@ def renders(monkeypatch):
         calls.append(("warm" if state["rehearsing"] else "timed", str(spec)))
         return real_timed(scene, spec)
 
-    monkeypatch.setattr(registry, "_rehearse", rehearse)
-    monkeypatch.setattr(registry, "_timed", timed)
-    monkeypatch.setattr(registry, "check_budget", lambda *a: checks.append(a[1].name) or real_check(*a))
-    monkeypatch.setattr(registry, "_warmed", set())
+    monkeypatch.setattr(run, "_rehearse", rehearse)
+    monkeypatch.setattr(run, "_timed", timed)
+    monkeypatch.setattr(run, "check_budget", lambda *a: checks.append(a[1].name) or real_check(*a))
+    monkeypatch.setattr(run, "_warmed", set())
     return calls, checks
 
 
@@ -68,16 +69,16 @@ def test_a_measured_spec_is_rendered_untimed_first_with_every_option(renders):
 def test_render_timed_checks_the_budget_once_before_any_render(renders, monkeypatch):
     calls, checks = renders
     scene = parse_scene(TRIANGLE)
-    image, seconds = registry.render_timed(scene, "point", repeats=3, rehearse=True)
+    image, seconds = run.render_timed(scene, "point", repeats=3, rehearse=True)
     assert image.shape == (4, 5, 3) and len(seconds) == 3 and all(s >= 0 for s in seconds)
     assert checks == ["point"] and calls == [("warm", "point")] + [("timed", "point")] * 3
     monkeypatch.setenv("AAEVAL_MAX_SAMPLES", "10")  # 20 pixels x 16 samples: refused before any render
     calls.clear()
-    with pytest.raises(registry.MethodError, match="AAEVAL_MAX_SAMPLES"):
-        registry.render_timed(scene, "supersample:k=4", repeats=3, rehearse=True)
+    with pytest.raises(MethodError, match="AAEVAL_MAX_SAMPLES"):
+        run.render_timed(scene, "supersample:k=4", repeats=3, rehearse=True)
     assert calls == []
     with pytest.raises(ValueError, match="repeats must be a whole number >= 1"):
-        registry.render_timed(scene, "point", repeats=0)
+        run.render_timed(scene, "point", repeats=0)
 
 
 @pytest.mark.parametrize("stats", [True, False])
@@ -96,8 +97,8 @@ def test_a_config_reads_each_spec_text_once_and_sets_cache_as_an_option(monkeypa
     from aaeval.sweeps import config
 
     read = []
-    real = registry.parse_spec
-    for module in (config, registry):  # the config's own reading, and MethodSpec.parse's
+    real = spec_module.parse_spec
+    for module in (config, spec_module):  # the config's own reading, and MethodSpec.parse's
         monkeypatch.setattr(module, "parse_spec", lambda text: read.append(text) or real(text))
     methods = ["mitsuba:spp=4", "mitsuba:spp=8,cache=true", "supersample"]
     got = config._expand_specs(methods, {"seed": [1, 2], "k": [2, 3]}, "groups[0]", with_given=True)

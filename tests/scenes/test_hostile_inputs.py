@@ -276,7 +276,7 @@ def test_scene_load_counts_match_brute_force():
     import shapely
     from shapely.geometry import box
 
-    from aaeval.renderers.registry import scene_load
+    from aaeval.renderers.cost import scene_load
     from aaeval.scenes.generate import random_triangles
 
     for n, size, w in [(300, 6.0, 40), (3000, 30.0, 256)]:

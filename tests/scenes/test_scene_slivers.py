@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 import shapely
 
-from aaeval.renderers.registry import render
+from aaeval.renderers import render
 from aaeval.scenes import SceneError, parse_scene
 
 SLIVER = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 2e-16, 0.0]]

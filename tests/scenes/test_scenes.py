@@ -22,10 +22,9 @@ from aaeval.scenes.generate import (
     picket_fence,
     random_polygons,
     random_triangles,
-    scene_to_dict,
     slivers,
-    write_scene,
 )
+from aaeval.scenes.write import scene_to_dict, write_scene
 from tests.helpers.oracle import oracle_image
 
 SCENES_DIR = Path(__file__).resolve().parents[2] / "configs" / "scenes"

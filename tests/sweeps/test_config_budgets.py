@@ -111,7 +111,7 @@ def test_error_lines_are_cut_to_a_readable_length(capsys):
 def test_the_memory_estimate_honours_rlimit_as():
     code = """
 import resource
-from aaeval.renderers.registry import available_memory
+from aaeval.limits import available_memory
 soft = 3 << 30
 resource.setrlimit(resource.RLIMIT_AS, (soft, resource.getrlimit(resource.RLIMIT_AS)[1]))
 print(available_memory() <= soft)

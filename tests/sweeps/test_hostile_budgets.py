@@ -18,7 +18,7 @@ import pytest
 from aaeval import registries
 from aaeval.cli import main
 from aaeval.renderers import MethodError, MethodSpec
-from aaeval.renderers.registry import check_budget
+from aaeval.renderers.budget import check_budget
 from aaeval.scenes import SceneError, load_scene, parse_scene
 from aaeval.scenes.phases import phase_offset, phase_offsets
 from tests.helpers.sweep_util import SMALL, write_config

@@ -21,7 +21,7 @@ from shapely.geometry import Polygon as ShapelyPolygon
 
 from aaeval.cli import main
 from aaeval.renderers import render
-from aaeval.renderers.registry import MethodError
+from aaeval.renderers import MethodError
 from aaeval.scenes import load_scene, parse_scene
 from aaeval.weiler_atherton import clip, oriented, polygons, shape_area, visible_pieces
 from aaeval.weiler_atherton.lines import visible_edges
