@@ -732,7 +732,7 @@ def studies(run: Run) -> None:
     nothing written outside, or (the sound one) regenerated."""
     from test_study_boundary import CONFIG as STUDY_CONFIG  # the boundary tests' small config
 
-    from aaeval.studies.study import BEGIN, END
+    from aaeval.studies.readme import BEGIN, END
 
     cases = {
         "sound": ({}, (0,)),
