@@ -240,18 +240,21 @@ def _write_json(path: Path, data) -> None:
 
 def specs_of(results: pd.DataFrame) -> dict:
     """Each spec's method and options (keyed by the ``options`` column's text, which names
-    them in every table) and each shown method's declared choices per option."""
+    them in every table), each shown method's declared choices per option, and the speed baseline
+    each shown method declares (:attr:`aaeval.renderers.Method.speed_baseline`)."""
     from aaeval.renderers import METHODS
 
     specs = {}
     for method, options in dict.fromkeys(zip(results.get("method", []), results.get("options", []))):
         specs.setdefault(method, {})[options] = json.loads(options)
-    choices = {}
+    choices, baselines = {}, {}
     for method in specs:
         declared = METHODS.get(method)
         choices[method] = {name: list(option.choices) for name, option in (declared.options.items() if declared else ())
                            if option.choices}
-    return {"specs": specs, "choices": choices}
+        if declared is not None and declared.speed_baseline is not None:
+            baselines[method] = declared.speed_baseline
+    return {"specs": specs, "choices": choices, "speed_baselines": baselines}
 
 
 def _controls() -> dict:
