@@ -9,18 +9,16 @@ from pathlib import Path
 from typing import Any, Mapping
 
 
-class StudyError(ValueError):
-    """A study folder, its ``study.toml`` or its README breaks a rule; the message names the file."""
-
-
 #: The longest title or note of a summary, in characters.
 MAX_TEXT = 4000
-
 #: The most entries of a list in a summary (methods, pairs, scenes drawn).
 MAX_ITEMS = 64
-
 #: The folders a study writes into beside its README; never links, which would take the writes elsewhere.
 OUTPUT_FOLDERS = ("hidden-lines", "figures")
+
+
+class StudyError(ValueError):
+    """A study folder, its ``study.toml`` or its README breaks a rule; the message names the file."""
 
 
 @dataclass(frozen=True)

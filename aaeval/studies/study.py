@@ -15,7 +15,7 @@ A study folder holds::
     seed = "000_160fc636db56a9a8.txt"           # the paper's file in the seeds folder
 
     [[summaries]]
-    kind = "sums"                               # see SUMMARIES
+    kind = "sums"                               # see aaeval.studies.summaries.SUMMARIES
     group = "picket-fence"
     title = "Intensity sum per frame"
     steady = ["catmull"]                        # expectations: the claim, stated before the run
@@ -37,6 +37,10 @@ truth's error bound, and "within" it means within the bound plus float rounding
 
 It computes none of a cell's results: the sweep's code version leaves ``aaeval/studies`` out
 (as it does the report), so editing a summary never reruns a cell.
+
+This module reads and checks a study folder (:func:`load_study`); running it is
+:mod:`aaeval.studies.run`, the generated section :mod:`aaeval.studies.section`, and the summary
+kinds with their checks and writers :mod:`aaeval.studies.summaries`.
 """
 
 from __future__ import annotations
