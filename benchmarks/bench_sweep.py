@@ -76,7 +76,7 @@ class Clock:
 def patch(clock: Clock) -> None:
     """Time every part of a sweep that runs in this process."""
     import aaeval.renderers as renderers
-    from aaeval.sweeps import measure, runner, store, table, tasks
+    from aaeval.sweeps import measure, report_files, runner, store, tasks
     from aaeval.metrics import registry
 
     def on(owner, name, bucket, *, owns=None):
@@ -109,8 +109,8 @@ def patch(clock: Clock) -> None:
     for name in ("write_manifest", "check"):
         on(store.SweepStore, name, "store: manifest, checks")
     on(runner, "write_provenance", "store: manifest, checks")
-    on(table, "write_results", "results table")
-    on(table, "write_summary_tables", "results table")
+    on(report_files, "write_sweep_files", "results table")
+    on(report_files, "write_summary_tables", "results table")
 
 
 def startup(clock: Clock) -> None:

@@ -732,7 +732,7 @@ def studies(run: Run) -> None:
     nothing written outside, or (the sound one) regenerated."""
     from test_study_boundary import CONFIG as STUDY_CONFIG  # the boundary tests' small config
 
-    from aaeval.studies.study import BEGIN, END
+    from aaeval.studies.readme import BEGIN, END
 
     cases = {
         "sound": ({}, (0,)),
@@ -789,10 +789,10 @@ def report(run: Run, base: Path) -> None:
     from test_hostile_report import MARKUP, plant_markup
 
     from aaeval.sweeps import SweepStore
-    from aaeval.sweeps.table import write_results
+    from aaeval.sweeps.report_files import write_sweep_files
 
     plant_markup(out)
-    write_results(SweepStore(out))  # the tables the report reads are the sweep's: written again from the cells
+    write_sweep_files(SweepStore(out))  # the tables the report reads are the sweep's: written again from the cells
     run.cli("report", "markup in every field", ["report", str(out), "--quiet"], allowed=(0,), timeout=180)
     page = (out / "index.html").read_text() if (out / "index.html").is_file() else ""
     stray = "alert(" in page.replace("alert(&#x27;x&#x27;)", "")

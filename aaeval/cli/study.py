@@ -27,7 +27,8 @@ def add_arguments(p) -> None:
 def run(args) -> int:
     import sys
 
-    from aaeval.studies.study import IncompleteSweep, load_study, run_study
+    from aaeval.studies.run import IncompleteSweep, run_study
+    from aaeval.studies.study import load_study
     from aaeval.imageio import check_outputs
 
     if args.workers is not None and args.workers < 1:

@@ -95,6 +95,7 @@ def _fine_pixels(scene: Scene, options) -> float:
     warmup=_warmup,
     memory=lambda scene, o: FINE_PIXEL_BYTES * _fine_pixels(scene, o),
     seconds=lambda scene, o: FINE_PIXEL_SECONDS * _fine_pixels(scene, o),
+    speed_baseline="skia",
 )
 def render_catmull(scene: Scene, filter: str = DEFAULT_FILTER, threads: int = 0, shading: str = "piece",
                    blend: str = "linear", **specular_options) -> np.ndarray:

@@ -46,6 +46,9 @@ class Method:
     # whether it draws the scene's polygons itself (and so runs the near-tie pass over them);
     # False for one that hands the scene to another renderer (Mitsuba)
     draws_polygons: bool = True
+    # the method whose speed-pass time this one's is reported against (a peer drawing the same
+    # scenes), or None
+    speed_baseline: str | None = None
 
     @property
     def runs_near_ties(self) -> bool:
@@ -72,6 +75,7 @@ def register_method(
     memory: Callable[[Scene, Mapping[str, Any]], int] | None = None,
     seconds: Callable[[Scene, Mapping[str, Any]], float] | None = None,
     draws_polygons: bool = True,
+    speed_baseline: str | None = None,
 ):
     """Register ``render(scene, **options)`` under ``name``: ``register_method(name, render, ...)``
     or, as a decorator, ``@register_method(name, ...)``; a name registered twice is refused.
@@ -84,7 +88,7 @@ def register_method(
 
     def decorate(func):
         METHODS.add(name, Method(name, func, dict(options or {}), summary, exact, warmup, requires, samples, memory,
-                                 seconds, draws_polygons))
+                                 seconds, draws_polygons, speed_baseline))
         return func
 
     return decorate if func is None else decorate(func)

@@ -1,9 +1,9 @@
 """What the report reads: the files the sweep stored in its folder, and nothing else.
 
 The sweep measured every number and wrote it beside its cells
-(:func:`aaeval.sweeps.table.write_results`): ``results.parquet``, ``temporal.parquet``,
+(:func:`aaeval.sweeps.report_files.write_sweep_files`): ``results.parquet``, ``temporal.parquet``,
 ``speed.parquet``, ``metrics.json`` (each metric's title, format and direction),
-``specs.json`` (each spec's options and each method's choices, for the styles),
+``specs.json`` (each spec's options, each method's choices and speed baseline),
 ``controls.json``, ``specular_detection.npz`` and, in ``summaries/``, every table the page
 shows, aggregated by the sweep (:mod:`aaeval.sweeps.summaries`). :func:`read_sweep`
 loads them once;

@@ -14,7 +14,7 @@ _EXPORTS = {
     "SCHEMA_VERSION": "record", "CellRecord": "record", "RecordError": "record",
     "SweepSummary": "runner", "plan": "runner", "run_sweep": "runner",
     "SweepStore": "store", "code_version": "store",
-    "rebuild_results": "table", "write_results": "table",
+    "rebuild_results": "report_files", "write_results": "table",
 }
 
 __all__ = [

@@ -234,7 +234,7 @@ def run_sweep(experiment: Experiment, out: str | Path, *, workers: int | None = 
 
             # after the accuracy cells, in this process: one worker, the stated threads
             run_speed_pass(experiment, store.root, log=(lambda *_: None) if quiet else log)
-            from aaeval.sweeps.table import write_summary_tables
+            from aaeval.sweeps.report_files import write_summary_tables
 
             write_summary_tables(store)  # the speed pass's summary and the findings that read it
         return summary
@@ -242,7 +242,7 @@ def run_sweep(experiment: Experiment, out: str | Path, *, workers: int | None = 
 
 def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_failed, cache_dir,
                 log=print) -> SweepSummary:
-    from aaeval.sweeps.table import write_results
+    from aaeval.sweeps.report_files import write_sweep_files
 
     def write_manifest():  # only once the run can start: a failed start leaves the folder as it was
         store.write_manifest(experiment.text, manifest(experiment, planned))
@@ -269,7 +269,7 @@ def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_
             summary.add_error(sound[key]["error"], describe(unique[key]))
     if not todo:
         write_manifest()
-        write_results(store)
+        write_sweep_files(store)
         return summary
 
     executor = make_executor(workers, scheduler, experiment.max_seconds)
@@ -283,7 +283,7 @@ def _run_locked(experiment, store, planned, *, workers, scheduler, quiet, retry_
             _cells(todo, refs, store, executor, progress, summary)
     finally:
         executor.close()
-    write_results(store)
+    write_sweep_files(store)
     return summary
 
 

@@ -1,7 +1,7 @@
 """The summary tables of a sweep: every table the report shows, aggregated once by the sweep.
 
-When a sweep writes its tables (:func:`aaeval.sweeps.table.write_results`, and again
-after its speed pass, :func:`~aaeval.sweeps.table.write_summary_tables`) it reduces them with :mod:`aaeval.sweeps.aggregate` and stores
+When a sweep writes its tables (:func:`aaeval.sweeps.report_files.write_sweep_files`, and again
+after its speed pass, :func:`~aaeval.sweeps.report_files.write_summary_tables`) it reduces them with :mod:`aaeval.sweeps.aggregate` and stores
 each summary as ``DIR/summaries/<name>.parquet`` (:data:`SUMMARIES`). The report reads these
 and draws; each number on its page names the stored table, row and column it shows
 (``data-source``, ``data-row``, ``data-column``), which the tests look up.

@@ -18,14 +18,9 @@ finished: every temporal metric of the experiment over all its frames, computed 
 stored images by the measuring engine (:func:`aaeval.sweeps.measure.series_metrics`),
 and ``reference_sum_variation`` (the reference's own intensity-sum variation).
 
-Beside them, what the report shows that is not a cell (:data:`STUDY_FILES`):
-``metrics.json`` (every registered metric's :class:`~aaeval.metrics.info.MetricInfo`),
-``specs.json`` (each spec's method and options, and each method's declared choices, for
-the figures' styles), ``controls.json`` (every temporal metric on the controls whose
-answer is known, :mod:`aaeval.metrics.controls`) and ``specular_detection.npz``
-(Amanatides' detector on the sweep's first scene with shaded objects). Each finished
-cell's FLIP map lies beside its image (``flip/<key>.npy``). Every table the report shows is
-aggregated from these once and stored in ``summaries/`` (:mod:`aaeval.sweeps.summaries`).
+This module only tabulates. What the report reads beside these tables (the metrics' and
+specs' descriptions, the controls, the detector's map, the summaries) is written from them by
+:mod:`aaeval.sweeps.report_files`.
 """
 
 from __future__ import annotations
@@ -34,7 +29,6 @@ import json
 import math
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 
 from aaeval.sweeps.measure import SCENES, SceneCache, series_metrics
@@ -42,21 +36,16 @@ from aaeval.metrics import relative_variation
 from aaeval.sweeps.record import (SCHEMA_VERSION, TABLE_FIELDS, CellRecord, RecordError, agreement_column,
                                        noise_column)
 from aaeval.sweeps.store import SCHEMA_KEY, SweepStore, read_table
-from aaeval.sweeps.summaries import SUMMARY_FOLDER, summarize
-from aaeval.sweeps.typed_json import dumps
 from aaeval.imageio import atomic_write
 
-__all__ = ["results_frame", "temporal_frame", "write_results", "rebuild_results", "read_table", "short_label",
-           "varying_options", "RESULTS_COLUMNS", "TEMPORAL_COLUMNS", "STUDY_FILES", "specs_of",
-           "write_summary_tables"]
+__all__ = ["results_frame", "temporal_frame", "write_results", "read_table", "short_label",
+           "varying_options", "RESULTS_COLUMNS", "TEMPORAL_COLUMNS", "write_parquet"]
 
 #: Typed columns of ``results.parquet`` the sweep adds to the record's fields.
 SPEC_COLUMNS = ("label", "label_plain", "exact", "filter", "label_unfiltered", "ladder", "reference_method", "reference_label",
                 "reference_filter")
 #: Columns of ``results.parquet`` besides one per metric.
 RESULTS_COLUMNS = (*TABLE_FIELDS, *SPEC_COLUMNS, "shaded", "phase")
-#: The sweep's files besides its tables, written with them (:func:`write_results`).
-STUDY_FILES = ("metrics.json", "specs.json", "controls.json", "specular_detection.npz")
 #: Columns of ``temporal.parquet`` besides one per temporal metric.
 TEMPORAL_COLUMNS = ("group", "scene", "difficulty", "difficulty_label", "spec", "label", "method", "options", "ladder",
                     "frames",
@@ -233,87 +222,8 @@ def temporal_frame(store: SweepStore, results: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(out, columns=[*TEMPORAL_COLUMNS, *names])
 
 
-def _write_json(path: Path, data) -> None:
-    text = dumps(data, sort_keys=True, indent=1)
-    atomic_write(path, lambda tmp: Path(tmp).write_text(text + "\n"))
-
-
-def specs_of(results: pd.DataFrame) -> dict:
-    """Each spec's method and options (keyed by the ``options`` column's text, which names
-    them in every table) and each shown method's declared choices per option."""
-    from aaeval.renderers import METHODS
-
-    specs = {}
-    for method, options in dict.fromkeys(zip(results.get("method", []), results.get("options", []))):
-        specs.setdefault(method, {})[options] = json.loads(options)
-    choices = {}
-    for method in specs:
-        declared = METHODS.get(method)
-        choices[method] = {name: list(option.choices) for name, option in (declared.options.items() if declared else ())
-                           if option.choices}
-    return {"specs": specs, "choices": choices}
-
-
-def _controls() -> dict:
-    """Every registered temporal metric on the controls whose answer is known."""
-    from aaeval.metrics.controls import CONTROL_NOTES, CONTROLS, control_scores
-
-    return {"controls": list(CONTROLS), "notes": dict(CONTROL_NOTES), "scores": control_scores()}
-
-
-def _write_detection(store: SweepStore, results: pd.DataFrame) -> None:
-    """Amanatides' detector (:func:`aaeval.specular.render.specular_aliasing_map`) on frame 0 of
-    the first scene with shaded objects, conservative (power 1) and at P = 0.999; no file
-    when the sweep has no such scene."""
-    path = store.writable("specular_detection.npz")
-    shaded = results[results["shaded"]] if "shaded" in results else results.iloc[:0]
-    if shaded.empty:
-        path.unlink(missing_ok=True)
-        return
-    import numpy as np
-
-    from aaeval.specular.render import specular_aliasing_map
-
-    first = shaded.iloc[0]
-    entry = store.read_manifest()["scenes"][first["scene_digest"]]
-    scene = SCENES.scene(first["scene_digest"], entry["document"], entry["source"]).at_frame(0)
-    maps = {power: specular_aliasing_map(scene, power=power) for power in (1.0, 0.999)}
-    arrays = {"scene": np.array(first["scene"]), "dot": maps[1.0].dot,
-              **{f"{name}_{power:g}": getattr(found, name) for power, found in maps.items() for name in ("rate", "flag")}}
-    atomic_write(path, lambda tmp: np.savez(tmp, **arrays))  # tmp ends in .npz: savez adds nothing
-
-
-def write_studies(store: SweepStore, results: pd.DataFrame) -> None:
-    """The files of :data:`STUDY_FILES`: what the report shows beside the cells' tables."""
-    from aaeval.metrics import METRICS
-
-    _write_json(store.writable("metrics.json"), {name: m.info().to_dict() for name, m in METRICS.items()})
-    _write_json(store.writable("specs.json"), specs_of(results))
-    _write_json(store.writable("controls.json"), _controls())
-    _write_detection(store, results)
-    _write_missing_flips(store, results)
-
-
-def _write_missing_flips(store: SweepStore, results: pd.DataFrame) -> None:
-    """The FLIP map of every finished cell that has none: the worker stores it with the
-    image; cells a sweep finished before it did get theirs here, once."""
-    from aaeval.metrics.perceptual import flip_map
-
-    if results.empty:
-        return
-    ok = results[results["error"].isna()].drop_duplicates("key")
-    references: dict[str, np.ndarray] = {}
-    for key, ref_key in zip(ok["key"], ok["reference_key"]):
-        if store.flip_path(key).is_file():
-            continue
-        image = store.load_image(key)
-        if ref_key not in references:
-            references = {ref_key: store.load_reference(ref_key)}  # cells of one reference are neighbours
-        if image is not None and references[ref_key] is not None:
-            store.write_flip(key, flip_map(references[ref_key], image))
-
-
-def _write_parquet(frame: pd.DataFrame, path: Path) -> None:
+def write_parquet(frame: pd.DataFrame, path: Path) -> None:
+    """``frame`` as a parquet file carrying the schema version, written atomically."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
@@ -331,43 +241,6 @@ def write_results(store: SweepStore) -> pd.DataFrame:
     with store.lock("report"):
         results = results_frame(store)
         temporal = temporal_frame(store, results)
-        _write_parquet(results, store.writable("results.parquet"))
-        _write_parquet(temporal, store.writable("temporal.parquet"))
-        write_studies(store, results)
-        write_summary_tables(store)
+        write_parquet(results, store.writable("results.parquet"))
+        write_parquet(temporal, store.writable("temporal.parquet"))
     return results
-
-
-def write_summary_tables(store: SweepStore) -> None:
-    """``DIR/summaries/``: every table the report shows, from the tables just written
-    (:mod:`aaeval.sweeps.summaries`); again after the speed pass, whose summary it holds."""
-    from aaeval.sweeps.speed import read_speed
-    from aaeval.metrics.info import MetricInfo
-
-    root = store.root
-    infos = {name: MetricInfo.from_dict(entry) for name, entry in json.loads((root / "metrics.json").read_text()).items()}
-    # from the stored tables, not the frames in memory: a summary is of exactly what a reader of
-    # the folder finds (parquet's types), and after the speed pass only the files are at hand
-    found = summarize(read_table(root / "results.parquet"), read_table(root / "temporal.parquet"), read_speed(root),
-                      store.read_manifest(), infos, store)
-    folder = store.own_folder(SUMMARY_FOLDER)
-    for name, frame in found.items():
-        _write_parquet(frame, folder / f"{name}.parquet")
-
-
-def rebuild_results(store: SweepStore) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Both tables, rebuilt from the cell files on disk (``results.parquet`` and
-    ``temporal.parquet`` rewritten, :func:`write_results`) and returned.
-
-    While a sweep writes the folder (it holds the lock) nothing of it is rewritten or
-    moved: both tables are built in memory from the cells finished so far, and the sweep
-    rewrites ``results.parquet`` when it ends."""
-    with store.try_lock("report") as held:
-        if held:
-            results = write_results(store)
-            return results, read_table(store.root / "temporal.parquet")
-    owner = store.owner()
-    store.log(f"{store.root} is being written by a running {owner.get('command', 'sweep')} (pid "
-              f"{owner.get('pid', '?')}): reading the cells finished so far, leaving results.parquet to it")
-    results = results_frame(store, heal=False)
-    return results, temporal_frame(store, results)

@@ -152,11 +152,11 @@ def test_library_controls_match_this_file():
 def test_the_report_prints_every_measures_control_scores():
     import re
 
-    from aaeval.sweeps.table import _controls
+    from aaeval.sweeps.report_files import controls_of
     from aaeval.metrics.controls import control_scores
     from aaeval.report.controls_table import controls_html
 
-    page = controls_html(_controls())  # what the sweep stores in controls.json
+    page = controls_html(controls_of())  # what the sweep stores in controls.json
     for r in control_scores():
         cell = re.search(rf"data-measure='{r['measure']}' data-control='{r['control']}'>(.*?)</td>", page)
         assert cell, (r["measure"], r["control"])

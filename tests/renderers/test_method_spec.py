@@ -9,7 +9,7 @@ import pytest
 
 import aaeval.renderers.spec as spec_module
 from aaeval.sweeps import load_experiment, run_sweep
-from aaeval.sweeps.table import rebuild_results
+from aaeval.sweeps.report_files import rebuild_results
 from aaeval.sweeps.store import SweepStore
 from aaeval.renderers import MethodError, MethodSpec, render
 from aaeval.scenes import parse_scene

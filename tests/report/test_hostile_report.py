@@ -9,7 +9,7 @@ import os
 
 from aaeval.cli import main
 from aaeval.sweeps.store import SweepStore
-from aaeval.sweeps.table import write_results
+from aaeval.sweeps.report_files import write_sweep_files
 from tests.helpers.links_util import TINY, snapshot, sweep
 
 MARKUP = "<script>alert('x')</script>"
@@ -54,7 +54,7 @@ def test_markup_in_every_record_field_reaches_the_page_escaped(world, capsys):
     out = tmp_path / "out"
     assert sweep(tmp_path, config) == 0
     plant_markup(out)
-    write_results(SweepStore(out))  # the tables the report reads are the sweep's: written again from the cells
+    write_sweep_files(SweepStore(out))  # the tables the report reads are the sweep's: written again from the cells
     assert main(["report", str(out), "--quiet"]) == 0, capsys.readouterr().err
     page = (out / "index.html").read_text()
     assert "alert(" not in page.replace("alert(&#x27;x&#x27;)", "")

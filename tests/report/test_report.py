@@ -15,7 +15,7 @@ import pytest
 
 from aaeval.sweeps import load_experiment, run_sweep
 from aaeval.sweeps.store import SweepStore
-from aaeval.sweeps.table import write_results
+from aaeval.sweeps.report_files import write_sweep_files
 from aaeval.report import write_report
 from aaeval.report.names import figure_stem
 from aaeval.report.figures import pareto_front
@@ -161,7 +161,7 @@ def test_report_of_a_partial_sweep(tmp_path):
     assert len(stability) == 3
     for p in stability + [next(p for p in cells if group[p] == "edges")]:  # a whole group and one more cell
         p.unlink()
-    write_results(SweepStore(out))  # the tables of the cells left, as a sweep writes them when it stops
+    write_sweep_files(SweepStore(out))  # the tables of the cells left, as a sweep writes them when it stops
     text = write_report(out).read_text()
     assert "5 of 9 distinct cells finished" in text and "4 pending" in text
     assert ">stability</h2>" in text  # the group with nothing finished keeps its heading

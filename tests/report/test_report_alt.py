@@ -15,7 +15,7 @@ class _Alt(HTMLParser):
 
 
 def test_alt_text_is_the_captions_plain_text(tmp_path):
-    from aaeval.report.html import figure_html
+    from aaeval.report.page import figure_html
 
     name = 'scene "A" & <b>'
     caption = f"Slices of {html.escape(name)}: see <a href='#speed'>Speed</a>."

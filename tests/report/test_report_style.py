@@ -83,7 +83,7 @@ def _use_registered_metrics(folder: Path) -> None:
 def _styles(specs) -> Styles:
     """The styles of (method, options text) pairs, as a report gets them: through the specs
     the sweep stores (``specs.json``)."""
-    from aaeval.sweeps.table import specs_of
+    from aaeval.sweeps.report_files import specs_of
 
     method, options = zip(*specs)
     return Styles.from_sweep(specs_of(pd.DataFrame({"method": method, "options": options})))

@@ -1,5 +1,5 @@
 """The studies in experiments/ and the tool that writes their README's measured part
-(``aaeval study``, :mod:`aaeval.studies.study`)."""
+(``aaeval study``, :mod:`aaeval.studies`)."""
 
 from __future__ import annotations
 
@@ -12,7 +12,10 @@ import pytest
 
 from aaeval.cli import main
 from aaeval.sweeps import SweepStore, load_experiment, plan
-from aaeval.studies.study import BEGIN, END, StudyError, load_study, replace_section, run_study
+from aaeval.studies.folder import StudyError
+from aaeval.studies.readme import BEGIN, END, replace_section
+from aaeval.studies.run import run_study
+from aaeval.studies.study import load_study
 
 ROOT = Path(__file__).resolve().parents[2]
 STUDIES = sorted(p.parent for p in (ROOT / "experiments").glob("*/study.toml"))

@@ -1,6 +1,6 @@
 """The committed studies are what the command writes: regenerating a study's sweep gives the
 committed measured part of its README, all but the date, machine and timing lines
-(:func:`aaeval.studies.study.measured_part`), and every figure it shows is drawn.
+(:func:`aaeval.studies.readme.measured_part`), and every figure it shows is drawn.
 
 The four studies take about 3.3 minutes on 2 cores (weiler-atherton1977 16 s, khan-figures
 30 s, catmull1978 45 s, amanatides1992 105 s, with a cold reference cache): the smallest runs
@@ -14,7 +14,9 @@ from pathlib import Path
 
 import pytest
 
-from aaeval.studies.study import BEGIN, END, generate_section, load_study, measured_part, read_readme
+from aaeval.studies.readme import BEGIN, END, measured_part, read_readme
+from aaeval.studies.section import generate_section
+from aaeval.studies.study import load_study
 
 ROOT = Path(__file__).resolve().parents[2]
 STUDIES = sorted(p.parent for p in (ROOT / "experiments").glob("*/study.toml"))

@@ -10,7 +10,10 @@ from pathlib import Path
 import pytest
 
 from aaeval.cli import main
-from aaeval.studies.study import BEGIN, END, StudyError, load_study, run_study
+from aaeval.studies.folder import StudyError
+from aaeval.studies.readme import BEGIN, END
+from aaeval.studies.run import run_study
+from aaeval.studies.study import load_study
 from tests.helpers.cli_util import refused
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -11,7 +11,9 @@ from pathlib import Path
 import pytest
 
 from aaeval.metrics.agreement import EXACT_ROUNDING, Truth, truth_of, within_truth
-from aaeval.studies.study import BEGIN, END, load_study, run_study
+from aaeval.studies.readme import BEGIN, END
+from aaeval.studies.run import run_study
+from aaeval.studies.study import load_study
 
 
 @pytest.mark.parametrize("kind, level, expected", [

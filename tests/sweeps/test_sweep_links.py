@@ -17,7 +17,8 @@ import pytest
 
 from aaeval.cli import main
 from aaeval.sweeps import SweepStore
-from aaeval.sweeps.table import rebuild_results, write_results
+from aaeval.sweeps.report_files import rebuild_results
+from aaeval.sweeps.table import write_results
 from tests.helpers.links_util import TINY, snapshot, sweep
 
 @pytest.mark.parametrize("name", ["sweep.lock", "quarantine", "history", "cells", "images", "references"])

@@ -223,7 +223,7 @@ def test_a_metric_that_cannot_judge_a_cell_spoils_no_other_metric(tmp_path):
 def test_a_seeded_reference_states_its_measured_noise(tmp_path):
     import math
 
-    from aaeval.report.html import reference_statement
+    from aaeval.report.ground_truth_section import reference_statement
 
     text = SMALL.replace('reference = "catmull"', 'reference = "jitter:k=2,seed=3"')
     exp, out, _ = _run(tmp_path, text)
