@@ -2,7 +2,7 @@
 direction, its mask and what it needs. Importing this loads nothing that computes, so a
 reader of a sweep folder (the report) can format and label the stored values; the sweep
 stores every registered metric's :class:`MetricInfo` beside its tables
-(:func:`aaeval.sweeps.table.write_results`).
+(:func:`aaeval.sweeps.report_files.write_sweep_files`).
 """
 
 from __future__ import annotations
