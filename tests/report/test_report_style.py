@@ -25,8 +25,9 @@ from aaeval.report import figures
 from aaeval.sweeps.aggregate import failed_cells, spec_summary
 from aaeval.report.style import METHOD_STYLES, Styles, method_style
 
-# one worker builds the module's sweep fixture once (pyproject's --dist loadgroup);
-# split across two workers each would build it
+# one worker draws the module's figures once (pyproject's --dist loadgroup; split across two
+# workers each would draw them), and keeps them for the session: a module-scoped fixture is
+# torn down and drawn again when that worker runs another module's tests between these
 pytestmark = pytest.mark.xdist_group("report_style")
 
 DEFAULT = Path(__file__).parents[2] / "configs" / "sweeps" / "default.toml"
@@ -89,7 +90,7 @@ def _styles(specs) -> Styles:
     return Styles.from_sweep(specs_of(pd.DataFrame({"method": method, "options": options})))
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def drawn(tmp_path_factory):
     """Every chart kind of the report for every group, as (name, figure) pairs."""
     out = tmp_path_factory.mktemp("style")
