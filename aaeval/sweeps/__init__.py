@@ -13,7 +13,7 @@ _EXPORTS = {
     "read_provenance": "provenance",
     "SCHEMA_VERSION": "record", "CellRecord": "record", "RecordError": "record",
     "SweepSummary": "runner", "plan": "runner", "run_sweep": "runner",
-    "SweepStore": "store", "code_version": "store",
+    "SweepStore": "store", "code_version": "cache_keys",
     "rebuild_results": "table", "write_results": "table",
 }
 
