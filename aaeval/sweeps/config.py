@@ -53,7 +53,7 @@ from aaeval.sweeps.config_keys import (EXPERIMENT_KEYS, SPEED_KEYS, ConfigError,
                                        refuse_unknown)
 from aaeval.sweeps.scene_sources import SceneSource, read_scenes
 
-__all__ = ["ConfigError", "Experiment", "SpeedPass", "load_experiment", "parse_experiment", "SPEED_MIN_PIXELS"]
+__all__ = ["Experiment", "SpeedPass", "load_experiment", "parse_experiment", "SPEED_MIN_PIXELS"]
 
 #: The speed pass times images of at least this many pixels (below, a render is call overhead).
 SPEED_MIN_PIXELS = 256 * 256

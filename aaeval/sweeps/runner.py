@@ -17,7 +17,8 @@ import numpy as np
 
 from aaeval.sweeps.cache_keys import cell_key, code_version, reference_key
 from aaeval.sweeps.cells import Cell
-from aaeval.sweeps.config import ConfigError, Experiment
+from aaeval.sweeps.config import Experiment
+from aaeval.sweeps.config_keys import ConfigError
 from aaeval.sweeps.executors import make_executor
 from aaeval.sweeps.measure import reference_kind
 from aaeval.sweeps.provenance import write_provenance

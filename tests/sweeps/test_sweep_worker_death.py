@@ -199,7 +199,8 @@ def test_the_serial_executor_stops_a_cell_past_its_limit():
 
 
 def test_max_seconds_is_a_config_key():
-    from aaeval.sweeps.config import ConfigError, parse_experiment
+    from aaeval.sweeps.config import parse_experiment
+    from aaeval.sweeps.config_keys import ConfigError
 
     def parsed(value):
         return parse_experiment({"experiment": {"name": "t", "reference": "catmull", "max_seconds": value},
