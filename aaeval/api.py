@@ -232,7 +232,7 @@ def sweep(config, out: str | Path, **options: Any) -> Path:
         the script).
     """
     from aaeval.sweeps import Experiment, load_experiment, parse_experiment, run_sweep
-    from aaeval.sweeps.executors import NO_MAIN_GUARD
+    from aaeval.sweeps.task_failures import NO_MAIN_GUARD
 
     if _importing_a_worker():  # the script's top level, run again by a worker that imports it
         raise SystemExit(f"aaeval.sweep() called while a worker process imports the script: {NO_MAIN_GUARD}")

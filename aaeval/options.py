@@ -44,7 +44,9 @@ class Option:
     minimum strict); ``choices`` lists the values taken (any container: a live
     ``dict.keys()`` view follows a registry); ``check(value)`` returns why a value is
     refused, or None. Float options are always finite; an ``int`` option takes integers
-    only (an integral float such as ``3.0`` from a TOML file is one).
+    only (an integral float such as ``3.0`` from a TOML file is one). ``words`` says the
+    values taken as a user reads them (``"a whole number of threads from 1 to 4096"``):
+    given, it is the rule, and every refusal reads ``WHERE: expected WORDS, got RAW``.
     """
 
     type: type
@@ -55,9 +57,12 @@ class Option:
     maximum: float | None = None
     check: Callable[[Any], str | None] | None = None
     low_open: bool = False
+    words: str | None = None
 
     def rule(self) -> str:
         """The values taken, in words (``an integer in [1, 100000]``)."""
+        if self.words is not None:
+            return self.words
         if self.choices is not None:
             return f"one of {list(self.choices)}"
         kind = {int: "an integer", float: "a finite number"}.get(self.type, f"a {self.type.__name__}")
@@ -71,23 +76,30 @@ class Option:
             return f"{kind} <= {high}"
         return kind
 
-    def convert(self, raw: Any, where: str, error: type[Exception] = OptionError) -> Any:
+    def convert(self, raw: Any, where: str, error: type[Exception] = OptionError, *, text: bool = True) -> Any:
         """``raw`` (a string from a spec, or a value) as this option's type, checked;
-        ``error`` (one line naming ``where``) when the option does not take it."""
-        value = _coerce(raw, self.type)
-        if value is _REFUSED:
-            raise error(f"{where}: expected {self.type.__name__} ({self.rule()}), got {raw!r}")
-        if self.type is int and abs(value) > MAX_INT:
-            raise error(f"{where}: an integer of {value.bit_length()} bits, past the largest taken "
-                        f"({MAX_INT}, what native code and numpy hold)")
-        if self.choices is not None and value not in self.choices:
-            raise error(f"{where}: {value!r} is not one of {list(self.choices)}")
-        if self.type in (int, float) and not self._in_range(value):
-            raise error(f"{where}: must be {self.rule()}, got {raw!r}")
-        problem = self.check(value) if self.check is not None else None
-        if problem:
-            raise error(f"{where}: {problem}, got {raw!r}")
+        ``error`` (one line naming ``where``) when the option does not take it. With
+        ``text=False`` (a value read from a typed file such as TOML) a string is never parsed
+        as a number or a truth value."""
+        value = _REFUSED if isinstance(raw, str) and self.type in _PARSED and not text else _coerce(raw, self.type)
+        problem = self._problem(raw, value)
+        if problem is not None:
+            raise error(f"{where}: {problem if self.words is None else f'expected {self.words}, got {raw!r}'}")
         return value
+
+    def _problem(self, raw: Any, value: Any) -> str | None:
+        """Why this option does not take ``raw`` (``value``: it coerced to this option's type), or None."""
+        if value is _REFUSED:
+            return f"expected {self.type.__name__} ({self.rule()}), got {raw!r}"
+        if self.type is int and abs(value) > MAX_INT:
+            return (f"an integer of {value.bit_length()} bits, past the largest taken "
+                    f"({MAX_INT}, what native code and numpy hold)")
+        if self.choices is not None and value not in self.choices:
+            return f"{value!r} is not one of {list(self.choices)}"
+        if self.type in (int, float) and not self._in_range(value):
+            return f"must be {self.rule()}, got {raw!r}"
+        problem = self.check(value) if self.check is not None else None
+        return f"{problem}, got {raw!r}" if problem else None
 
     def _in_range(self, value: float) -> bool:
         # an int compares with the bounds exactly, however long (a float of it may overflow)
@@ -99,11 +111,14 @@ class Option:
 
 
 _REFUSED = object()
+#: The types whose values a spec's text gives as strings, parsed.
+_PARSED = (int, float, bool)
 
 
 def _coerce(raw: Any, kind: type) -> Any:
-    """``raw`` as ``kind`` (a spec's string parsed; an integral number as an int), or _REFUSED."""
-    if isinstance(raw, str) and kind is not str:
+    """``raw`` as ``kind`` (a spec's string parsed as a number or a truth value; an integral
+    number as an int), or _REFUSED."""
+    if isinstance(raw, str) and kind in _PARSED:
         if kind is bool:
             return {"1": True, "true": True, "yes": True, "on": True,
                     "0": False, "false": False, "no": False, "off": False}.get(raw.lower(), _REFUSED)

@@ -8,8 +8,8 @@ entries its own module defines; the method modules of :mod:`aaeval.renderers` an
 plugins of other packages (:mod:`aaeval.plugins`) register only when :func:`load` runs.
 
 :func:`load` is called where a program starts: the command line's ``main``, each sweep
-worker (:mod:`aaeval.sweeps.executors`), and every function of the public Python API
-(:mod:`aaeval.api`). Code below those (``aaeval.renderers.render``, a sweep's
+worker (:mod:`aaeval.sweeps.local_workers`, :mod:`aaeval.sweeps.dask_executor`), and every
+function of the public Python API (:mod:`aaeval.api`). Code below those (``aaeval.renderers.render``, a sweep's
 ``run_sweep``) expects it called; a program of its own calls it once first.
 """
 

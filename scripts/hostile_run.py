@@ -908,7 +908,7 @@ def api(run: Run) -> None:
     import numpy as np
 
     import aaeval
-    from aaeval.sweeps.config import ConfigError
+    from aaeval.sweeps.config_keys import ConfigError
     from aaeval.renderers import MethodError
     from aaeval.scenes import SceneError
     from tests.helpers.sweep_util import SMALL

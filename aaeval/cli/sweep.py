@@ -46,7 +46,7 @@ def run(args) -> int:
     scheduler = None
     try:
         if args.scheduler:  # reached, with a worker, before the folder is touched (no empty sweep.lock)
-            from aaeval.sweeps.executors import connect
+            from aaeval.sweeps.dask_executor import connect
 
             scheduler = connect(args.scheduler)
         summary = run_sweep(experiment, args.out, workers=args.workers, scheduler=scheduler, quiet=args.quiet,
@@ -55,7 +55,7 @@ def run(args) -> int:
         raise ValueError(str(exc)) from None
     finally:
         if scheduler is not None:
-            from aaeval.sweeps.executors import close_quietly
+            from aaeval.sweeps.dask_executor import close_quietly
 
             close_quietly(scheduler)
     if summary.cluster_lost:  # the cluster's own reason (lost, not answering, no worker left), once

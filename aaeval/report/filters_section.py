@@ -5,7 +5,7 @@ measured, averaged per (filter, method) by :func:`aaeval.sweeps.aggregate.per_sp
 
 Each cell of these groups was judged against the ground truth through its own filter
 (``mitsuba:filter=F``, or ``catmull:filter=F`` for an exact reference;
-:func:`aaeval.sweeps.config.reference_for`), never against the box.
+:func:`aaeval.sweeps.cells.reference_for`), never against the box.
 """
 
 from __future__ import annotations

@@ -6,5 +6,5 @@ the stored results, one summary kind at a time (:data:`aaeval.studies.summaries.
 The package lives outside :mod:`aaeval.report` because it runs sweeps and draws hidden lines,
 and the report package renders and measures nothing; like the report it cannot change a cell's
 result, so its source is not part of the code version a cell's key holds
-(:data:`aaeval.sweeps.store._PRESENTATION`).
+(:data:`aaeval.sweeps.cache_keys._PRESENTATION`).
 """

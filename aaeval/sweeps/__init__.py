@@ -9,11 +9,11 @@ from aaeval._lazy import lazy_names
 # Loaded on first use (PEP 562): a reader of a sweep folder (the report) imports the store
 # and the record without loading the renderers the sweep runs.
 _EXPORTS = {
-    "ConfigError": "config", "Experiment": "config", "load_experiment": "config", "parse_experiment": "config",
+    "ConfigError": "config_keys", "Experiment": "config", "load_experiment": "config", "parse_experiment": "config",
     "read_provenance": "provenance",
     "SCHEMA_VERSION": "record", "CellRecord": "record", "RecordError": "record",
     "SweepSummary": "runner", "plan": "runner", "run_sweep": "runner",
-    "SweepStore": "store", "code_version": "store",
+    "SweepStore": "store", "code_version": "cache_keys",
     "rebuild_results": "report_files", "write_results": "table",
 }
 

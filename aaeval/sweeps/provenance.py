@@ -45,7 +45,7 @@ def _version(dist: str) -> str | None:
 def provenance(executor: str, workers: int) -> dict:
     """This machine, the executor, and the library versions, as a JSON-ready dict."""
     import aaeval
-    from aaeval.sweeps.store import code_version
+    from aaeval.sweeps.cache_keys import code_version
 
     versions = {"python": platform.python_version(), "aaeval": aaeval.__version__}
     versions.update({name: _version(dist) for name, dist in _PACKAGES.items()})
@@ -67,7 +67,7 @@ def write_provenance(root: str | Path, executor: str, workers: int) -> dict:
 
 def read_provenance(root: str | Path) -> dict | None:
     """The sweep folder's provenance, or None for a folder written before it existed."""
-    from aaeval.sweeps.store import read_own_file
+    from aaeval.sweeps.folder_files import read_own_file
 
     path = Path(root) / PROVENANCE_FILE
     if not os.path.lexists(path):

@@ -2,7 +2,7 @@
 the machine (``$AAEVAL_CACHE_DIR/references/``, default ``~/.cache/aaeval/references/``).
 
 An entry is two files named by the reference key
-(:func:`aaeval.sweeps.store.reference_key`): ``KEY.npy``, the image (float64 linear
+(:func:`aaeval.sweeps.cache_keys.reference_key`): ``KEY.npy``, the image (float64 linear
 RGB), and ``KEY.json``, its :class:`ReferenceInfo` in typed JSON
 (:mod:`aaeval.sweeps.typed_json`), so a noise that was not measured (NaN) comes back
 as NaN and never as ``None``.
@@ -190,7 +190,7 @@ class ReferenceCache:
     def get(self, key: str, shape: tuple[int, ...] | None = None) -> tuple[np.ndarray, ReferenceInfo] | None:
         """The cached image (of ``shape``, when given) and its info, or None: missing or
         damaged (named once on stderr), it is rendered again and replaces the entry."""
-        from aaeval.sweeps.store import npy_problem
+        from aaeval.sweeps.folder_files import npy_problem
 
         image_path, note_path = self.path(key), self.note_path(key)
         if not os.path.lexists(image_path) and not os.path.lexists(note_path):

@@ -39,7 +39,7 @@ REPORT_FILES = ("metrics.json", "specs.json", "controls.json", "specular_detecti
 def write_sweep_files(store: SweepStore) -> pd.DataFrame:
     """Rebuild the tables from the cell files (:func:`aaeval.sweeps.table.write_results`) and write
     every file the report reads beside them, holding the folder's lock (a sweep calling this
-    already holds it; another process's running sweep is :class:`~aaeval.sweeps.store.FolderInUse`).
+    already holds it; another process's running sweep is :class:`~aaeval.sweeps.folder_lock.FolderInUse`).
     Returns ``results.parquet``'s frame."""
     with store.lock("report"):
         results = write_results(store)

@@ -15,13 +15,17 @@ from typing import TYPE_CHECKING, Any, Iterator
 
 import numpy as np
 
-from aaeval.sweeps.config import Cell, ConfigError, Experiment
-from aaeval.sweeps.executors import SchedulerLost, TaskTimedOut, WorkerDied, make_executor
+from aaeval.sweeps.cache_keys import cell_key, code_version, reference_key
+from aaeval.sweeps.cells import Cell
+from aaeval.sweeps.config import Experiment
+from aaeval.sweeps.config_keys import ConfigError
+from aaeval.sweeps.executors import make_executor
 from aaeval.sweeps.measure import reference_kind
 from aaeval.sweeps.provenance import write_provenance
 from aaeval.sweeps.record import SCHEMA_VERSION, Failure
 from aaeval.sweeps.reference_cache import ReferenceCache, ReferenceInfo, cache_folder_problem
-from aaeval.sweeps.store import SweepStore, cell_key, code_version, reference_key
+from aaeval.sweeps.store import SweepStore
+from aaeval.sweeps.task_failures import SchedulerLost, TaskTimedOut, WorkerDied
 from aaeval.sweeps.tasks import failed_record, run_cell, run_cells, run_reference
 from aaeval.plugins import cell_plugins
 

@@ -41,7 +41,7 @@ _META_KEY = b"aaeval_speed_identity"
 
 def speed_identity(experiment: Experiment) -> str:
     """Digest of what the pass times (scenes, specs, repeats, threads), the code and the machine."""
-    from aaeval.sweeps.store import code_version
+    from aaeval.sweeps.cache_keys import code_version
 
     what = [{"scenes": [s.digest for s in p.scenes], "specs": list(p.specs), "repeats": p.repeats,
              "threads": p.threads} for p in experiment.speed]

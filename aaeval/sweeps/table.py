@@ -237,7 +237,7 @@ def write_parquet(frame: pd.DataFrame, path: Path) -> None:
 def write_results(store: SweepStore) -> pd.DataFrame:
     """Rebuild ``results.parquet`` and ``temporal.parquet`` from the cell files, holding the
     folder's lock (a sweep calling this already holds it; another process's running sweep
-    is :class:`~aaeval.sweeps.store.FolderInUse`)."""
+    is :class:`~aaeval.sweeps.folder_lock.FolderInUse`)."""
     with store.lock("report"):
         results = results_frame(store)
         temporal = temporal_frame(store, results)

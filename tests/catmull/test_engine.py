@@ -13,7 +13,8 @@ import pytest
 
 from aaeval.cli import main
 from aaeval.sweeps import SweepStore, load_experiment, plan, run_sweep
-from aaeval.sweeps.config import ConfigError, parse_experiment
+from aaeval.sweeps.config import parse_experiment
+from aaeval.sweeps.config_keys import ConfigError
 from aaeval.sweeps.record import SCHEMA_VERSION, TIMING_FIELDS, CellRecord, RecordError
 from aaeval.sweeps.runner import manifest, record_identity
 from aaeval.sweeps.table import read_table, results_frame

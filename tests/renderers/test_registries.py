@@ -111,6 +111,26 @@ def test_an_open_minimum_and_non_finite_floats_are_refused():
     assert option.convert("1e-9", "x") == 1e-9
 
 
+def test_an_option_in_words_refuses_every_value_in_those_words():
+    option = Option(int, 1, "n", minimum=1, maximum=9, words="a whole number of things from 1 to 9")
+    assert option.rule() == "a whole number of things from 1 to 9"
+    for raw in (0, 10, "x", True, 2.5, 2**70):
+        with pytest.raises(OptionError) as info:
+            option.convert(raw, "n")
+        assert str(info.value) == f"n: expected a whole number of things from 1 to 9, got {raw!r}"
+    assert option.convert(9, "n") == 9
+
+
+@pytest.mark.parametrize("kind, raw", [(int, "3"), (float, "0.5"), (bool, "true"), (list, "ab"), (dict, "ab")])
+def test_a_value_from_a_typed_file_is_never_parsed_from_text(kind, raw):
+    """A TOML string is a string: ``repeats = "3"`` is refused where ``:repeats=3`` in a spec is not."""
+    option = Option(kind, None, "x")
+    if kind in (int, float, bool):
+        assert option.convert(raw, "x") is not None  # a spec's text is parsed
+    with pytest.raises(OptionError, match="expected"):
+        option.convert(raw, "x", text=False)
+
+
 def test_a_generator_refuses_with_its_own_error_type():
     with pytest.raises(GeneratorError, match=r"parameter frames: must be an integer in \[1, 100000\], got 0"):
         generate_scene("fan", 12, frames=0)

@@ -94,14 +94,14 @@ def test_render_stats_warms_up_the_spec_it_times(tmp_path, renders, stats):
 
 
 def test_a_config_reads_each_spec_text_once_and_sets_cache_as_an_option(monkeypatch):
-    from aaeval.sweeps import config
+    from aaeval.sweeps import cells
 
     read = []
     real = spec_module.parse_spec
-    for module in (config, spec_module):  # the config's own reading, and MethodSpec.parse's
+    for module in (cells, spec_module):  # the config's own reading, and MethodSpec.parse's
         monkeypatch.setattr(module, "parse_spec", lambda text: read.append(text) or real(text))
     methods = ["mitsuba:spp=4", "mitsuba:spp=8,cache=true", "supersample"]
-    got = config._expand_specs(methods, {"seed": [1, 2], "k": [2, 3]}, "groups[0]", with_given=True)
+    got = cells.expand_specs(methods, {"seed": [1, 2], "k": [2, 3]}, "groups[0]", with_given=True)
     assert read == methods  # each text read once; nothing spliced into it and read again
     monkeypatch.undo()
     expected = [MethodSpec.parse("mitsuba:spp=4,cache=false,seed=1"), MethodSpec.parse("mitsuba:spp=4,cache=false,seed=2"),

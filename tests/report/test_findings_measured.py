@@ -8,7 +8,8 @@ import re
 import pytest
 
 from aaeval.sweeps import load_experiment, run_sweep
-from aaeval.sweeps.config import applicable_metrics, parse_experiment
+from aaeval.sweeps.cells import applicable_metrics
+from aaeval.sweeps.config import parse_experiment
 from aaeval.metrics import METRICS
 from aaeval.report import write_report
 from aaeval.report.findings import QUESTIONS

@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from aaeval.catmull import render_flat
-from aaeval.sweeps.config import ConfigError, parse_experiment
+from aaeval.sweeps.config import parse_experiment
+from aaeval.sweeps.config_keys import ConfigError
 from aaeval.renderers import MethodSpec, render
 from aaeval.scenes import SceneError, load_scene, parse_scene
 from aaeval.scenes.phases import R2_STEP, phase_offsets

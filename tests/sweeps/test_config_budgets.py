@@ -72,7 +72,7 @@ methods = ["point"]
 
 
 def test_too_many_cells_are_refused_before_any_is_built(tmp_path, capsys):
-    from aaeval.sweeps.config import MAX_CELLS
+    from aaeval.sweeps.config_budgets import MAX_CELLS
 
     methods = ", ".join(f'"supersample:k={k}"' for k in range(1, 4))
     config = tmp_path / "cells.toml"

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from aaeval.sweeps.executors import WorkerDied
+from aaeval.sweeps.task_failures import WorkerDied
 from aaeval.sweeps.runner import _run_in_chunks, chunks
 from aaeval.sweeps.tasks import run_cell, run_cells
 

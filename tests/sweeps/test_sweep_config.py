@@ -47,6 +47,29 @@ def test_options_expand_only_for_methods_that_declare_them(tmp_path):
         ('name = "stability"', 'name = "edges"', "groups.name"),
         ('scenes = [{generator = "edges"', 'scenes = ["missing.toml", {generator = "edges"', "groups[0].scenes[0]"),
         ('name = "stability"', 'name = "stability"\nseeds = 3', "seeds"),
+        # each key read through its Option: the rule in the words users read
+        ("fail_above = 0.1", "fail_above = 0.1\nrepeats = 0",
+         "[experiment].repeats: expected a whole number of timed renders from 1 to 1000, got 0"),
+        ("fail_above = 0.1", 'fail_above = 0.1\nrepeats = "3"',
+         "[experiment].repeats: expected a whole number of timed renders from 1 to 1000, got '3'"),
+        ("fail_above = 0.1", "fail_above = nan", "[experiment].fail_above: expected a finite positive number, got nan"),
+        ("fail_above = 0.1", "fail_above = true", "[experiment].fail_above: expected a finite positive number, got True"),
+        ("fail_above = 0.1", 'fail_above = 0.1\nnoise_estimate = "yes"',
+         "[experiment].noise_estimate: expected true or false, got 'yes'"),
+        ("fail_above = 0.1", "fail_above = 0.1\nmax_seconds = inf",
+         "[experiment].max_seconds: expected a number of seconds above 0 and at most 86400 (a day), got inf"),
+        ('name = "small"', 'name = ""', "[experiment].name: expected a non-empty string, got ''"),
+        ('reference = "catmull"\n', "", "[experiment]: missing required key 'reference'"),
+        ('name = "stability"', 'name = "stability"\nrepeats = 1001',
+         "groups[1].repeats: expected a whole number of timed renders from 1 to 1000, got 1001"),
+        ('name = "stability"', 'name = "stability"\nanimate = 3', "groups[1].animate: expected a table"),
+        ('name = "stability"', 'name = "stability"\noptions = [1]', "groups[1].options: expected a table of option"),
+        ('name = "stability"\n', "", "groups[1]: missing required key 'name'"),
+        ('methods = ["catmull-jagged"]', 'methods = "catmull-jagged"',
+         "groups[1].methods: expected a non-empty list of method specs, got 'catmull-jagged'"),
+        ('methods = ["catmull-jagged"]', "methods = [1]", "groups[1].methods: expected a non-empty list of method specs"),
+        ('metrics = ["rmse", "psnr"]', "metrics = []", "[experiment].metrics: expected a non-empty list of metric names"),
+        ('temporal = ["sum_variation", "flicker"]', "temporal = [1]", "[experiment].temporal: expected a list of metric"),
     ],
 )
 def test_errors_name_file_and_key(tmp_path, old, new, key):
@@ -54,7 +77,7 @@ def test_errors_name_file_and_key(tmp_path, old, new, key):
     path = write_config(tmp_path, SMALL.replace(old, new, 1))
     with pytest.raises(ConfigError) as err:
         load_experiment(path)
-    assert str(path) in str(err.value)
+    assert str(path) in str(err.value) and "\n" not in str(err.value)
     assert key in str(err.value)
 
 

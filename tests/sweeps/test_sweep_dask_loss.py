@@ -79,7 +79,7 @@ def test_a_scheduler_killed_mid_sweep_is_named_and_the_rerun_finishes(tmp_path, 
 
 
 def test_the_executor_column_follows_a_dead_worker(tmp_path):
-    from aaeval.sweeps.executors import DaskExecutor
+    from aaeval.sweeps.dask_executor import DaskExecutor
 
     with local_cluster(2) as cluster:
         executor = DaskExecutor(cluster.scheduler_address)
@@ -105,7 +105,8 @@ def _nap(seconds):
 def test_a_dask_task_past_the_time_limit_is_answered_as_timed_out(monkeypatch):
     """Issue 36: a per-task time limit on Dask too (measured from when the scheduler shows the
     task processing); the other tasks still answer."""
-    from aaeval.sweeps.executors import DaskExecutor, TaskTimedOut
+    from aaeval.sweeps.dask_executor import DaskExecutor
+    from aaeval.sweeps.task_failures import TaskTimedOut
 
     with local_cluster(2) as cluster:
         executor = DaskExecutor(cluster.scheduler_address, max_seconds=2)
@@ -123,7 +124,8 @@ def test_a_dask_task_past_the_time_limit_is_answered_as_timed_out(monkeypatch):
 def test_a_dask_sweep_whose_last_worker_died_stops_naming_it(monkeypatch):
     """Issue 36: the only worker dies mid-run; after AAEVAL_DASK_WORKER_TIMEOUT seconds with
     none, every task not returned comes back as WorkersLost naming the cluster (no hang)."""
-    from aaeval.sweeps.executors import DaskExecutor, WorkersLost
+    from aaeval.sweeps.dask_executor import DaskExecutor
+    from aaeval.sweeps.task_failures import WorkersLost
 
     monkeypatch.setenv("AAEVAL_DASK_WORKER_TIMEOUT", "2")
     with local_cluster(1) as cluster:

@@ -124,7 +124,7 @@ def test_a_record_with_an_unknown_field_is_set_aside_and_rerun(world, capsys, co
 # --- case 13: report during a running sweep ---------------------------------------------------
 
 def test_report_leaves_the_tables_of_a_running_sweep_alone(world, capsys):
-    from aaeval.sweeps.store import FolderInUse
+    from aaeval.sweeps.folder_lock import FolderInUse
 
     tmp_path, outside, config = world
     out = tmp_path / "out"

@@ -186,14 +186,14 @@ def test_editing_what_only_draws_or_aggregates_keeps_the_cells(tmp_path, monkeyp
     import shutil
 
     import aaeval
-    from aaeval.sweeps import store
+    from aaeval.sweeps import cache_keys
 
     copy = tmp_path / "aaeval"
     shutil.copytree(Path(aaeval.__file__).parent, copy, ignore=shutil.ignore_patterns("__pycache__", "*.so"))
     monkeypatch.setattr(aaeval, "__file__", str(copy / "__init__.py"))
-    before = store._package_digest()
+    before = cache_keys._package_digest()
     for rel in ("sweeps/summaries.py", "sweeps/aggregate.py", "report/html.py"):
         (copy / rel).write_text((copy / rel).read_text() + "\n# edited\n")
-    assert store._package_digest() == before
+    assert cache_keys._package_digest() == before
     (copy / "sweeps/table.py").write_text((copy / "sweeps/table.py").read_text() + "\n# edited\n")
-    assert store._package_digest() != before
+    assert cache_keys._package_digest() != before

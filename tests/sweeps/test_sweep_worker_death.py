@@ -181,7 +181,8 @@ def test_images_and_metrics_that_cannot_be_measured_fail_their_cells(site, tmp_p
 
 def test_the_serial_executor_stops_a_cell_past_its_limit():
     """--workers 1 runs in this process: its limit is a SIGALRM that stops Python code."""
-    from aaeval.sweeps.executors import SerialExecutor, TaskTimedOut
+    from aaeval.sweeps.local_workers import SerialExecutor
+    from aaeval.sweeps.task_failures import TaskTimedOut
 
     def slow(seconds):
         try:
@@ -198,7 +199,8 @@ def test_the_serial_executor_stops_a_cell_past_its_limit():
 
 
 def test_max_seconds_is_a_config_key():
-    from aaeval.sweeps.config import ConfigError, parse_experiment
+    from aaeval.sweeps.config import parse_experiment
+    from aaeval.sweeps.config_keys import ConfigError
 
     def parsed(value):
         return parse_experiment({"experiment": {"name": "t", "reference": "catmull", "max_seconds": value},

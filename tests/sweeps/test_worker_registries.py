@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from aaeval.sweeps.executors import ProcessExecutor
+from aaeval.sweeps.local_workers import ProcessExecutor
 from aaeval.renderers import MethodSpec
 
 
@@ -30,7 +30,7 @@ def test_a_local_worker_parses_the_spec_it_receives_against_loaded_registries():
 def test_a_dask_worker_process_loads_the_registries_when_it_joins():
     import distributed
 
-    from aaeval.sweeps.executors import DaskExecutor
+    from aaeval.sweeps.dask_executor import DaskExecutor
 
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, protocol="tcp",
                                   dashboard_address=":0") as cluster:
