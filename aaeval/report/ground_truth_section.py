@@ -61,8 +61,10 @@ def ground_truth_section(page: Page, results: pd.DataFrame) -> str:
     refs = page.data.summary("references")
     per_group = refs[["group", "reference_label", "Mitsuba ground truth", "spp", "seed", "noise_mean", "noise_max"]]
     out.append(page.stored_table(per_group, REFS, "ground_truth_per_group", "Ground truth of every group",
-                                 {"reference_label": "reference", "noise_mean": "noise RMS (mean)",
-                                  "noise_max": "noise RMS (max)"}))
+                                 {"reference_label": "reference",
+                                  # an exact truth has no noise: its column holds its error bound
+                                  "noise_mean": "noise RMS, or an exact truth's error bound (mean)",
+                                  "noise_max": "noise RMS, or error bound (max)"}))
     checked = list(refs["validated"].astype(bool)) if "validated" in refs else [False] * len(refs)
     per_group = per_group.to_dict("records")
     bad = [g["group"] for g, ok in zip(per_group, checked) if not ok]
