@@ -2,7 +2,7 @@
 
 Prints the median milliseconds per frame (wall clock and process CPU time) over
 repeated renders after a warm-up render (JIT compilation excluded), and pixels per
-second, on one core (``threads=1``). Goal from issue 2: <= 250 ms a frame.
+second, on one core (``threads=1``). Goal: <= 250 ms a frame.
 
     PYTHONPATH=. python3 benchmarks/bench_catmull.py [--repeats 7] [--size 60]
 """

@@ -8,7 +8,7 @@ falls on all of them alike; the median wall time per spec, its ratio to the box 
 method and (``cpu x``) the ratio of the median process CPU times are printed. ``catmull``
 runs on one thread (``threads=1``). ``catmull:filter=F`` (F != box) includes finding the
 visible pieces (the Catmull kernel run on the half-pixel-shifted knot grid) and
-integrating them. The ``512x512, 2000 triangles`` scene is issue 20's filter row
+integrating them. The ``512x512, 2000 triangles`` scene is the filter table's row
 (bench_methods' 512² scene of 2000 triangles of 40 px, seed 1).
 """
 

@@ -1,4 +1,4 @@
-"""Every method on real art beside random triangles (issue 33 item 5), with time against size.
+"""Every method on real art beside random triangles, with time against size.
 
 Usage: ``PYTHONPATH=. python3 benchmarks/bench_real_art.py [--repeats 5] [--methods SPEC ...]
 [--sizes 100 339 1000] [--out benchmarks/results]``

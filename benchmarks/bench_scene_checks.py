@@ -1,4 +1,4 @@
-"""Time outside the render for large scenes (issue 33 item 4, issue 36): reading and checking.
+"""Time outside the render for large scenes: reading and checking.
 
 Usage: ``PYTHONPATH=. python3 benchmarks/bench_scene_checks.py [--triangles 100000] [--holes 2000]``
 

@@ -1,4 +1,4 @@
-"""Time and memory to load and validate one polygon of many vertices (issue 13, bug 5).
+"""Time and memory to load and validate one polygon of many vertices.
 
 Usage: ``PYTHONPATH=. /usr/bin/time -v python3 benchmarks/bench_validate_large_polygon.py [--vertices N]``
 

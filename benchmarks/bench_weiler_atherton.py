@@ -7,7 +7,7 @@ so that load from other processes falls on all alike; the table gives the median
 wall-clock and process-CPU milliseconds per frame with the spread (smallest-largest wall
 time) and each method's ratio of medians (wall and CPU) to ``catmull:threads=1``. W-A is
 single-threaded, so that is the one-core comparison; ``catmull`` with its default (every
-core) is listed too. Issue 11's goal: at 2000 triangles W-A within 3x of catmull.
+core) is listed too. The goal: at 2000 triangles W-A within 3x of catmull.
 
 W-A's object-space cost grows with the number of overlapping polygon pairs it clips
 (native: ``src/weiler_atherton/clipper.cpp``, ``solver.cpp``); catmull's with

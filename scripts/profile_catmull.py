@@ -1,4 +1,4 @@
-"""Where catmull's box render spends its time, sorted by what the work is for (issue 33's bound).
+"""Where catmull's box render spends its time, sorted by what the work is for.
 
 The kernel (``render_flat``, one thread) renders a random-triangle scene in a loop under
 ``perf record``; each sampled address is named by its chain of inlined functions

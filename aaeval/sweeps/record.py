@@ -34,7 +34,7 @@ __all__ = ["SCHEMA_VERSION", "CellRecord", "Failure", "RecordError", "RECORD_FIE
 #: Bump when a field is added, removed or changes meaning.
 SCHEMA_VERSION = 4
 
-#: Timing fields, in the record and the results table (issue 10's report reads these names).
+#: Timing fields, in the record and the results table.
 TIMING_FIELDS = ("render_s", "render_s_min", "render_s_max", "repeats", "megapixels", "ms_per_mpix")
 
 

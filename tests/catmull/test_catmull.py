@@ -14,6 +14,7 @@ from tests.helpers.randomscenes import degenerate_scene, random_scene, star, wit
 
 
 # seed 55 once left a rounding spike standing in for a whole region
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(60))
 def test_random_interpenetrating_scenes_match_geos(seed):
     scene = random_scene(seed)

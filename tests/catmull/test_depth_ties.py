@@ -73,6 +73,7 @@ def geos_rule_image(planes: np.ndarray, colors: list, eps: float) -> np.ndarray:
     return image
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("gap", [0.0, 1e-13, 1e-12, 1.5e-11])
 @pytest.mark.parametrize("method", DEPTH_METHODS)
 def test_two_planes_within_eps_show_the_later_polygon(method, gap):
@@ -123,6 +124,7 @@ def test_a_stack_of_120_covers_exactly_the_quad(method, tilt):
     assert render(scene, method)[..., 1].sum() == pytest.approx(shapely.Polygon(QUAD).area, abs=1e-9)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("tilt", [1e-13, 1e-12, 1e-10, 1e-9])
 @pytest.mark.parametrize("k", [4, 12])
 def test_near_coplanar_stack_follows_the_rule_per_pixel(k, tilt):

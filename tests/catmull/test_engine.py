@@ -45,6 +45,7 @@ def _fake_record(p, ref_meta=None) -> dict:
     return CellRecord(**record_identity(p, ref_meta or {}), **measured, **run).to_json()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("config", SHIPPED, ids=[p.stem for p in SHIPPED])
 def test_every_cell_of_every_shipped_config_is_one_row_with_its_own_label(config, tmp_path):
     experiment = load_experiment(config)
@@ -80,6 +81,7 @@ def test_every_cell_of_every_shipped_config_is_one_row_with_its_own_label(config
                     assert set(mine["scene"]) == {f"{entry['generator']}@{d:g}"}
 
 
+@pytest.mark.slow
 def test_two_difficulties_that_build_one_scene_stay_two_rows(tmp_path):
     # the curvature generator clamps the radius to 0.4 * size: at size 24, 1/0.05 and 1/0.1 both give 9.6
     text = """
@@ -132,7 +134,7 @@ def test_a_record_with_a_missing_or_unknown_field_or_another_schema_is_refused()
     from aaeval.sweeps.record import _INT, _STR
 
     fields = {f: None for f in CellRecord.__dataclass_fields__}  # every optional field null
-    fields.update({f: "x" for f in _STR}, **{f: 1 for f in _INT})  # the others of their types (issue 36)
+    fields.update({f: "x" for f in _STR}, **{f: 1 for f in _INT})  # the others of their types
     fields.update(metrics={}, metric_errors={}, options={}, schema_version=SCHEMA_VERSION)
     CellRecord.from_json(fields)
     with pytest.raises(RecordError, match="field 'frame' must be a whole number"):
@@ -171,6 +173,7 @@ def moving_sweep(tmp_path_factory):
     return tmp_path
 
 
+@pytest.mark.slow
 def test_cell_files_are_strict_json_records_with_timings_and_the_table_carries_the_schema(moving_sweep):
     out = moving_sweep / "out"
     for path in (out / "cells").glob("*.json"):
@@ -241,6 +244,7 @@ def toy_metric():
     METRICS.unregister("toy_mad")
 
 
+@pytest.mark.slow
 def test_a_metric_registered_once_shows_in_compare_sweep_and_report(toy_metric, tmp_path, capsys):
     from aaeval.report import write_report
 
@@ -292,6 +296,7 @@ methods = ["catmull:specular=none", "catmull:specular=amanatides"]
 """
 
 
+@pytest.mark.slow
 def test_highlight_metrics_run_in_a_sweep_over_the_ground_truth_highlight(tmp_path):
     from aaeval.metrics.masks import HIGHLIGHT_SPP, HIGHLIGHT_THRESHOLD
     from aaeval.groundtruth import groundtruth_phong

@@ -1,4 +1,4 @@
-"""The Python API (issue 35 item 1): ``aaeval.load_scene``, ``render``, ``compare``,
+"""The Python API: ``aaeval.load_scene``, ``render``, ``compare``,
 ``sweep``, ``open_sweep``, and Scene display in notebooks.
 
 ``compare`` is checked against an independent route: the ``aaeval compare`` command in a
@@ -148,6 +148,7 @@ def _notebook_png(scene) -> bytes:
     return formatter(scene)
 
 
+@pytest.mark.slow
 def test_sweep_then_open_sweep(tmp_path):
     config = write_config(tmp_path)
     folder = aaeval.sweep(config, tmp_path / "out", workers=1)
@@ -226,6 +227,7 @@ def test_right_arguments_of_other_kinds_are_taken():
     assert list(table["method"]) == ["point"] and table["rmse"].iloc[0] > 0
 
 
+@pytest.mark.slow
 def test_a_sweep_script_without_a_main_guard_raises_and_says_why(tmp_path):
     """Each local worker imports the script that started the sweep: without an
     ``if __name__ == "__main__":`` guard it runs the sweep again. The workers stop at once with

@@ -1,4 +1,4 @@
-"""Hostile command lines (issue 21): frame counts of scene files budgeted as generators'
+"""Hostile command lines: frame counts of scene files budgeted as generators'
 are (case 7); an output folder that cannot be written is refused before any rendering,
 naming the user's path (case 10); malformed import options are refused naming the option
 (case 12)."""

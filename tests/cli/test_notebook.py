@@ -1,4 +1,4 @@
-"""The example notebook (issue 35 item 2): examples/notebook.py runs top to bottom as a
+"""The example notebook: examples/notebook.py runs top to bottom as a
 script, and writes its two figures (error against time, the images)."""
 
 from __future__ import annotations
@@ -8,6 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from PIL import Image
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -19,6 +20,7 @@ def test_notebook_cells_are_percent_cells():
     assert len(cells) >= 8 and cells[0] == "# %% [markdown]"
 
 
+@pytest.mark.slow
 def test_notebook_runs_and_draws_its_figures(tmp_path):
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]),
            "AAEVAL_NOTEBOOK_OUT": str(tmp_path), "MPLBACKEND": "Agg"}

@@ -269,6 +269,7 @@ def test_profile_evaluation_is_native_and_numba_free():
 SHIPPED = ["catmull_fig1", "interpenetrating", "khan_concave_a", "abutting", "picket_fence", "beyond_image"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", SMOOTH)
 @pytest.mark.parametrize("scene_name", SHIPPED)
 def test_shipped_scenes_agree_with_oracle(name, scene_name):
@@ -280,6 +281,7 @@ def test_shipped_scenes_agree_with_oracle(name, scene_name):
     assert np.abs(image - reference).max() < EXACT
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", SMOOTH)
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_random_interpenetrating_scenes_agree_with_oracle(name, seed):

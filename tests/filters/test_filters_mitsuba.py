@@ -36,6 +36,7 @@ def shipped(name):
     return load_scene(Path(__file__).resolve().parents[2] / "configs" / "scenes" / f"{name}.toml")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scene_name", ["mixed", "interpenetrating", "abutting"])
 @pytest.mark.parametrize("name", SMOOTH)
 def test_mitsuba_filter_agrees_with_exact_within_measured_noise(name, scene_name):

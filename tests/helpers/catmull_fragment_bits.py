@@ -1,4 +1,4 @@
-"""Digests of the Catmull kernel's visible fragments on the same-bits scenes (issue 20).
+"""Digests of the Catmull kernel's visible fragments on the same-bits scenes.
 
 ``tests/helpers/same_bits.py`` records images; this records what ``visible_fragments`` returns
 (pixel, polygon, area, centroid), with and without centroids, on the same 115 scenes, so

@@ -1,4 +1,4 @@
-"""The outlines behind the simplicity check's same-answers regression (issue 20).
+"""The outlines behind the simplicity check's same-answers regression.
 
 Before the numba sweep line was replaced by the native one, its answers on every case here
 were recorded (``tests/data/same_bits_simplicity.json``); the native check must give the

@@ -1,4 +1,4 @@
-"""Damaged fonts (issue 36): each is built here from the shipped DejaVu Sans by patching its
+"""Damaged fonts: each is built here from the shipped DejaVu Sans by patching its
 bytes, and each is one line naming the file and what is wrong, exit 2, from ``aaeval import
 text`` and from the ``freetype`` method; WOFF is read, WOFF2 is refused by name."""
 

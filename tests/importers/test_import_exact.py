@@ -1,4 +1,4 @@
-"""Import stays exact on ordinary real input (issue 23, items 3-5).
+"""Import stays exact on ordinary real input.
 
 Every expected value comes from a route that shares nothing with the importer's geometry:
 fontTools' own AreaPen (exact area of the quadratic outline, components decomposed by the
@@ -86,6 +86,7 @@ def _fonttools_area_and_length(glyph_name, scale):
     return abs(pen.value) * scale * scale, length * scale, glyphs[glyph_name]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("char", ["é", "μ", "Å", "ǅ", "ﬁ", "ő", "Ǻ"])
 @pytest.mark.parametrize("tol", [1 / 16, 1 / 256])
 def test_composite_glyph_area_matches_fonttools(char, tol):
@@ -289,6 +290,7 @@ def test_straight_edged_fill_rules_render_within_1e9_of_geos(tmp_path, rule):
     assert len(kept) == 12
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(4))
 def test_fill_resolver_matches_geos_on_random_crossing_outlines(seed):
     """Random rings crossing each other and themselves (float coordinates, collinear and

@@ -111,6 +111,7 @@ def imported_layers(document):
     return [shapely.unary_union(by_z[z]) for z in sorted(by_z, reverse=True)]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("tol", [1 / 16, 1 / 4])
 @pytest.mark.parametrize("name", FILES)
 def test_imported_regions_match_geos_reference_to_tolerance(name, tol):

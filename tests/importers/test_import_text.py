@@ -58,6 +58,7 @@ def freetype_outline(gid, size):
     return abs(acc["area"]), acc["length"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("tol", [1 / 16, 1 / 4])
 @pytest.mark.parametrize("size", [9.0, 12.0, 16.0])
 def test_imported_pangram_area_matches_freetype_outline_area(size, tol):

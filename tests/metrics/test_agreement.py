@@ -1,4 +1,4 @@
-"""Issue 31: the truth's noise on each metric's own pixels, and the z-test that decides
+"""The truth's noise on each metric's own pixels, and the z-test that decides
 agreement and ties (aaeval/metrics/agreement.py)."""
 
 from __future__ import annotations

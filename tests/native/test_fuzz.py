@@ -56,6 +56,7 @@ HOSTILE = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(HOSTILE))
 def test_a_real_process_refuses_hostile_files_in_one_line(tmp_path, name):
     scene = tmp_path / "scene.toml"
@@ -103,6 +104,7 @@ CLASSES = (
 )
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name, case", CLASSES, ids=[name for name, _ in CLASSES])
 def test_each_hostile_class_ends_in_an_image_or_a_refusal_touching_nothing_outside(fuzz_dir, name, case):
     """Each hostile class once (a scene or SVG source placed where it could reach outside, a

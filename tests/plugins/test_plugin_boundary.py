@@ -1,4 +1,4 @@
-"""A plugin method's failures are input errors (issues 35 item 4, 36 item 2).
+"""A plugin method's failures are input errors.
 
 Whatever a method does wrong, raising, recursing without end, returning None, a list, a
 1-D array, the wrong shape, integers, complex numbers, NaN or infinity, ``aaeval render``
@@ -82,6 +82,7 @@ def run(site: Path, *args: str, cwd: Path) -> subprocess.CompletedProcess:
                           text=True, timeout=300)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("behaviour", sorted(RULES))
 def test_render_refuses_a_bad_result_in_one_line(site, tmp_path, behaviour):
     out = tmp_path / "out.npy"
@@ -93,6 +94,7 @@ def test_render_refuses_a_bad_result_in_one_line(site, tmp_path, behaviour):
     assert not out.exists()
 
 
+@pytest.mark.slow
 def test_compare_shows_the_failed_row_and_exits_non_zero(site, tmp_path):
     done = run(site, "compare", str(FAN), "-m", "point", "-m", "bad-nan", "--reference", "catmull",
                "--format", "csv", cwd=tmp_path)

@@ -1,4 +1,4 @@
-"""Plugins are part of a cell's identity (issue 35 item 3): the key of a cell whose method
+"""Plugins are part of a cell's identity: the key of a cell whose method
 comes from a plugin holds the plugin's distribution, version and a digest of its code, so an
 edited plugin reruns its cells (and ``--dry-run`` says so), and an unedited one does not.
 

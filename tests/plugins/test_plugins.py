@@ -1,4 +1,4 @@
-"""Methods, metrics and specular clamps as plugins (issue 24 item 5).
+"""Methods, metrics and specular clamps as plugins.
 
 The example package in examples/aaeval-plugin-example is "installed" by a dist-info
 folder holding its entry points (read from its pyproject.toml) on PYTHONPATH, as pip

@@ -12,6 +12,8 @@ import tomllib
 from importlib import metadata
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[2]
 #: The folders whose imports must be installable from pyproject.toml alone.
 CHECKED = ("aaeval", "tests", "examples", "benchmarks")
@@ -51,6 +53,7 @@ def _imports() -> dict[str, set[str]]:
     return found
 
 
+@pytest.mark.slow
 def test_every_import_is_a_declared_dependency():
     declared, owners = _declared(), metadata.packages_distributions()
     ours = {"aaeval", "tests", "__future__", *WRITTEN_BY_TESTS, *OPTIONAL}

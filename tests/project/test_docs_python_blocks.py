@@ -1,4 +1,4 @@
-"""Docs that run (issue 35 item 2): every ```python block of README.md and docs/*.md runs as
+"""Docs that run: every ```python block of README.md and docs/*.md runs as
 written and raises nothing.
 
 A page's blocks run in order in one fresh interpreter, sharing their names (as cells of a
@@ -54,6 +54,7 @@ def _pages_with_blocks() -> list[Path]:
     return [p for p in PAGES if python_blocks(p.read_text())]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("page", _pages_with_blocks(), ids=lambda p: p.relative_to(ROOT).as_posix())
 def test_python_blocks_run_as_written(page, tmp_path):
     for name in LINKED:

@@ -27,6 +27,8 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
+import pytest
+
 import aaeval
 from tests.helpers.package_modules import aaeval_modules
 
@@ -118,11 +120,13 @@ def find_cycle(graph: dict[str, set[str]]) -> list[str] | None:
     return None
 
 
+@pytest.mark.slow
 def test_the_imports_of_aaeval_have_no_cycle():
     cycle = find_cycle(import_graph())
     assert cycle is None, "import cycle: " + " -> ".join(cycle)
 
 
+@pytest.mark.slow
 def test_the_cycle_finder_finds_a_planted_cycle():
     graph = import_graph()
     graph["aaeval.scenes.format"] = graph["aaeval.scenes.format"] | {"aaeval.renderers.catmull"}

@@ -1,4 +1,4 @@
-"""Docs that run (issue 19): every shell line of the ``sh`` code blocks of the README and of
+"""Docs that run: every shell line of the ``sh`` code blocks of the README and of
 the pages it sends a developer to (docs/development.md, docs/performance.md: the inner test
 loop, the benchmarks) is run, as written, in a temporary folder, and must exit 0.
 
@@ -10,7 +10,7 @@ same shape (groups and a speed pass), so that ``bash scripts/quickstart.sh`` and
 experiment's half hour. ``python3 -m pytest`` runs as collection only (``--collect-only``, plain asserts):
 the suite cannot run itself inside itself. The benchmark lines run with
 ``AAEVAL_BENCH_SMOKE=1`` (``benchmarks/smoke.py``: smallest sizes, one repeat), so each
-takes seconds instead of minutes; they are still marked slow.
+takes seconds instead of minutes. The whole module is in the slow lane.
 """
 
 from __future__ import annotations
@@ -50,7 +50,8 @@ repeats = 2
 # every command on one worker (pyproject's --dist loadgroup), in the README's order: one
 # workspace, and the README's 'aaeval sweep'/'aaeval report' lines find what the quickstart
 # wrote, as they do for a reader (a second worker would build its own and sweep again)
-pytestmark = pytest.mark.xdist_group("readme")
+# slow: the README's commands run in order in one workspace (about 40 s)
+pytestmark = [pytest.mark.xdist_group("readme"), pytest.mark.slow]
 
 
 def readme_commands(text: str) -> list[str]:
@@ -101,11 +102,8 @@ def _run(command: str, cwd: Path) -> subprocess.CompletedProcess:
                           text=True, timeout=3600)
 
 
-def _slow(command: str) -> bool:
-    return "benchmarks/" in command
 
-
-@pytest.mark.parametrize("command", [pytest.param(c, marks=pytest.mark.slow) if _slow(c) else c for c in COMMANDS])
+@pytest.mark.parametrize("command", COMMANDS)
 def test_readme_command_exits_0(command, workspace):
     done = _run(command, workspace)
     assert done.returncode == 0, f"{command}\nexit {done.returncode}\n{done.stdout[-2000:]}\n{done.stderr[-2000:]}"

@@ -67,6 +67,7 @@ methods = ["jitter"]
 """
 
 
+@pytest.mark.slow
 def test_a_sweep_parses_its_specs_only_where_the_config_is_read(tmp_path, monkeypatch):
     config = tmp_path / "exp.toml"
     config.write_text(CONFIG)

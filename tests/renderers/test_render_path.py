@@ -1,4 +1,4 @@
-"""One render path (issue 34 item 3): every timed render goes through
+"""One render path: every timed render goes through
 ``aaeval.renderers.run.render_timed``, with one budget check per call, one warm-up
 cache, and a spec read from its text once where it enters."""
 
@@ -43,7 +43,7 @@ def renders(monkeypatch):
 
 
 def test_a_measured_spec_is_rendered_untimed_first_with_every_option(renders):
-    """Issue 23 item 8: catmull's own warm-up compiles the box path only; a timed
+    """Catmull's own warm-up compiles the box path only; a timed
     catmull:filter=tent (or any other option) must have rendered that very spec untimed first."""
     from aaeval.sweeps import measure
 

@@ -1,4 +1,4 @@
-"""The methods engines ship: MSAA, FXAA 3.11, TAA (issue 24).
+"""The methods engines ship: MSAA, FXAA 3.11, TAA.
 
 Published values are written here, not read from the code: the D3D11 standard sample
 patterns (as Mesa's OpenSWR rasterizer tabulates them, 1/256 pixel from the pixel's
@@ -275,6 +275,7 @@ def edge_animation():
     return scene_of([bar], 40, 32, (0.05, 0.05, 0.05), animation={"frames": 24, "translate": [0.13, 0.05]})
 
 
+@pytest.mark.slow
 def test_taa_flickers_less_than_point_on_a_translating_edge():
     scene = edge_animation()
     truth = np.stack([render(scene, "catmull", frame=k) for k in range(scene.frames)])

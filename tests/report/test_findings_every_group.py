@@ -50,6 +50,7 @@ def _question(text: str, key: str) -> str:
     return findings.split(f"<h3 id='finding-{key}'>")[1].split("<h3 ")[0]
 
 
+@pytest.mark.slow
 def test_two_groups_measuring_edge_aliasing_show_both_rankings(page):
     out, text = page
     edges = _question(text, "edges")
@@ -69,6 +70,7 @@ def test_two_groups_measuring_edge_aliasing_show_both_rankings(page):
         assert list(rows["value"]) == sorted(rows["value"])
 
 
+@pytest.mark.slow
 def test_each_findings_table_names_its_truth(page):
     out, text = page
     edges = _question(text, "edges")

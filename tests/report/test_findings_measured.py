@@ -1,4 +1,4 @@
-"""Issue 31: the findings read what was measured, whatever the groups are called, and an
+"""The findings read what was measured, whatever the groups are called, and an
 experiment that names no metrics measures every one that applies to its scenes."""
 
 from __future__ import annotations
@@ -64,6 +64,7 @@ def test_no_metric_list_means_every_metric_that_applies():
     assert flat.metrics == applicable_metrics(flat.scenes, "image")
 
 
+@pytest.mark.slow
 def test_a_users_experiment_with_its_own_group_names_gets_every_findings_table(tmp_path):
     config = tmp_path / "mine.toml"
     config.write_text(CONFIG)

@@ -1,4 +1,4 @@
-"""Hostile sweep folders for ``aaeval report`` (issue 36 item 1): a report output replaced
+"""Hostile sweep folders for ``aaeval report``: a report output replaced
 by a link to a file elsewhere is replaced, never written through; markup planted in the
 records reaches the page escaped."""
 
@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import json
 import os
+
+import pytest
 
 from aaeval.cli import main
 from aaeval.sweeps.store import SweepStore
@@ -32,6 +34,7 @@ def plant_markup(out) -> None:
     (out / "manifest.json").write_text(json.dumps(manifest))
 
 
+@pytest.mark.slow
 def test_a_report_output_replaced_by_a_link_is_replaced_not_written_through(world, capsys):
     tmp_path, outside, config = world
     out = tmp_path / "out"
@@ -49,6 +52,7 @@ def test_a_report_output_replaced_by_a_link_is_replaced_not_written_through(worl
         assert p.is_file() and not p.is_symlink(), p
 
 
+@pytest.mark.slow
 def test_markup_in_every_record_field_reaches_the_page_escaped(world, capsys):
     tmp_path, outside, config = world
     out = tmp_path / "out"

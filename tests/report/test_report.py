@@ -51,7 +51,8 @@ class _Links(HTMLParser):
 
 # one worker builds the small report for this module and test_report_browser.py (pyproject's
 # --dist loadgroup), instead of each worker building its own (about 30 s each)
-pytestmark = pytest.mark.xdist_group("small_report")
+# slow: a sweep and its report built first (about 7 s)
+pytestmark = [pytest.mark.xdist_group("small_report"), pytest.mark.slow]
 
 
 @pytest.fixture(scope="module")
@@ -134,7 +135,7 @@ def test_failed_is_defined_once_and_stated(report):
 
 
 def test_accuracy_cells_times_are_never_shown(report):
-    """Issue 19: cells may share the machine; only a speed pass is charted (this sweep has none)."""
+    """Cells may share the machine; only a speed pass is charted (this sweep has none)."""
     text = report.read_text()
     assert "speed_accuracy" not in text and "render ms" not in text and "ms per megapixel" not in text
     assert "has no speed pass" in text

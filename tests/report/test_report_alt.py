@@ -1,4 +1,4 @@
-"""A figure's ``alt`` text is its caption as plain text, escaped once (issue 21 case 13):
+"""A figure's ``alt`` text is its caption as plain text, escaped once:
 the caption is HTML (escaped names, links), so escaping it again showed ``&amp;quot;``."""
 
 from __future__ import annotations

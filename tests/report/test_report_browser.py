@@ -83,6 +83,7 @@ def _canvas(page, n: int = 0) -> str:
     return page.evaluate(f"document.querySelectorAll('.aav canvas')[{n}].toDataURL()")
 
 
+@pytest.mark.slow
 def test_page_loads_without_errors(browser_page):
     page, index, problems = browser_page
     assert problems == []
@@ -97,6 +98,7 @@ def test_page_loads_without_errors(browser_page):
         assert Path(unquote(url.path)).is_file(), f"link does not resolve: {href}"
 
 
+@pytest.mark.slow
 def test_viewer_flips_zooms_and_shows_errors(browser_page):
     page, _, problems = browser_page
     group = figure_stem("edges")
@@ -148,6 +150,7 @@ def test_viewer_flips_zooms_and_shows_errors(browser_page):
     assert problems == []
 
 
+@pytest.mark.slow
 def test_screenshot_is_the_page_not_a_blank(browser_page):
     page, _, _ = browser_page
     page.evaluate("window.scrollTo(0, 0)")
@@ -160,8 +163,9 @@ def test_screenshot_is_the_page_not_a_blank(browser_page):
     assert (grey < 128).mean() > 0.01  # text and figures are drawn, not a white page
 
 
+@pytest.mark.slow
 def test_keys_belong_to_the_viewer_under_the_pointer_or_in_focus(browser_page):
-    """Issue 19: Space and arrows scroll the page unless a viewer has the pointer or the focus;
+    """Space and arrows scroll the page unless a viewer has the pointer or the focus;
     captions carry the full label; Tab reaches every panel and Enter shows it."""
     page, _, problems = browser_page
     group = figure_stem("edges")

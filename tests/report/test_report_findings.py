@@ -1,4 +1,4 @@
-"""Issue 19: one answer per question. The findings come from the tables, the failure count means
+"""One answer per question. The findings come from the tables, the failure count means
 something, and the highlight flicker ranks alike in the findings, the group chart and the
 specular section."""
 
@@ -18,7 +18,8 @@ from tests.helpers.findings_util import findings_report
 
 # one worker builds the module's sweep fixture once (pyproject's --dist loadgroup);
 # split across two workers each would build it
-pytestmark = pytest.mark.xdist_group("report_findings")
+# slow: a sweep and its report built first (about 7 s)
+pytestmark = [pytest.mark.xdist_group("report_findings"), pytest.mark.slow]
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -15,6 +15,8 @@ import ast
 import importlib
 from pathlib import Path
 
+import pytest
+
 import aaeval
 from tests.helpers.package_modules import aaeval_modules
 
@@ -132,6 +134,7 @@ def _forbidden(seen: dict[str, str], banned) -> list[str]:
     return sorted(_path(seen, m) for m in seen if any(m == b or m.startswith(b + ".") for b in banned))
 
 
+@pytest.mark.slow
 def test_the_walk_sees_function_level_imports():
     """The walk is not blind where the old rule was: a function-level import is an edge."""
     assert "aaeval.catmull" in reachable(["aaeval.sweeps.measure"])  # measure imports Catmull in a function

@@ -1,4 +1,4 @@
-"""Issue 34: every number the page shows is found in the tables the sweep stored.
+"""Every number the page shows is found in the tables the sweep stored.
 
 Each table cell and each marked number of a caption names the file of the sweep folder, the
 row and the column it shows (``data-source``, ``data-row``, ``data-column``, and
@@ -75,6 +75,7 @@ def _marked(page: str) -> list[tuple[dict, str]]:
     return found
 
 
+@pytest.mark.slow
 def test_every_marked_number_is_the_stored_value(sweep):
     page = (sweep / "index.html").read_text()
     marked = _marked(page)
@@ -134,6 +135,7 @@ def test_no_caption_or_reference_shows_a_number_that_is_not_stored(sweep):
     assert [x for x in left if x[1]] == []
 
 
+@pytest.mark.slow
 @pytest.mark.xdist_group("small_report")
 def test_a_number_changed_in_a_stored_table_changes_on_the_page(tmp_path_factory, tmp_path):
     """The page draws the stored summary, not a value of its own: edit one stored count and

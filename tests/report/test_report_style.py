@@ -28,7 +28,8 @@ from aaeval.report.style import METHOD_STYLES, Styles, method_style
 # one worker draws the module's figures once (pyproject's --dist loadgroup; split across two
 # workers each would draw them), and keeps them for the session: a module-scoped fixture is
 # torn down and drawn again when that worker runs another module's tests between these
-pytestmark = pytest.mark.xdist_group("report_style")
+# slow: every chart kind drawn for every group (about 10 s)
+pytestmark = [pytest.mark.xdist_group("report_style"), pytest.mark.slow]
 
 DEFAULT = Path(__file__).parents[2] / "configs" / "sweeps" / "default.toml"
 # the one figure the style fixture writes to files (every format); the others are drawn only
@@ -251,7 +252,7 @@ def test_every_registered_method_has_its_own_line():
 
 
 def test_every_method_and_clamp_has_a_colour_of_its_own():
-    """Issue 19: colours compared with each other (CIELAB distance), not with the style table:
+    """Colours compared with each other (CIELAB distance), not with the style table:
     every registered method and every specular clamp of catmull, as one report would draw them."""
     import colorsys
 

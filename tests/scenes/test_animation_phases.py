@@ -1,4 +1,4 @@
-"""Issue 31: sub-pixel phases of an animation (docs/scene_format.md, ``phases``)."""
+"""Sub-pixel phases of an animation (docs/scene_format.md, ``phases``)."""
 
 from __future__ import annotations
 

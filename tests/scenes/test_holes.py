@@ -150,6 +150,7 @@ def test_catmull_where_two_squares_touch_at_a_vertex():
     np.testing.assert_allclose(render(scene, "catmull"), oracle_image(scene), atol=1e-9, rtol=0)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["icons", "map", "illustration"])
 def test_exact_methods_match_geos_on_shipped_content(name):
     path = CONTENT / f"{name}.toml"

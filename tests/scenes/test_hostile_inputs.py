@@ -1,7 +1,6 @@
-"""Hostile input files (issue 21): every reader refuses non-regular and oversized files
+"""Hostile input files: every reader refuses non-regular and oversized files
 before reading; a source file that is not SVG or not a font is one line naming it, exit 2;
-resvg draws no file the SVG names; and resvg places viewBox-only SVGs as the importer does
-(issue 23 item 7)."""
+resvg draws no file the SVG names; and resvg places viewBox-only SVGs as the importer does."""
 
 from __future__ import annotations
 
@@ -195,7 +194,7 @@ def test_freetype_refuses_a_font_that_is_a_device_or_fifo(tmp_path, capsys, monk
                 "not a regular file")
 
 
-# --- issue 23 item 7: resvg places a viewBox-only SVG once --------------------------------
+# --- resvg places a viewBox-only SVG once --------------------------------
 
 @pytest.mark.parametrize("scale", [1, 2, 4])
 def test_resvg_and_catmull_agree_on_viewbox_only_svgs(tmp_path, scale):
@@ -227,7 +226,7 @@ IDENTICAL = "[[polygons]]\ncolor = [1, 0.5, 0]\nvertices = [[1.3, 1.2, 0], [14.7
 
 @pytest.fixture(scope="module")
 def identical_triangles(tmp_path_factory):
-    """Issue 21's case at 2000 triangles (every pair overlapping): small enough to render
+    """The hostile case at 2000 triangles (every pair overlapping): small enough to render
     here if a budget were missing, so the test fails instead of exhausting the machine."""
     from aaeval.scenes import load_scene
 

@@ -176,7 +176,7 @@ def test_hidden_lines_stroke_must_be_a_positive_width(scene, tmp_path, capsys, s
 
 
 def test_every_kernel_is_compiled_ahead_and_no_jit_is_imported():
-    # the kernels are C++ built at install (issue 20): rendering with every method that
+    # the kernels are C++ built at install: rendering with every method that
     # had a numba kernel loads no JIT compiler, so a fresh machine pays no compile
     code = ("import sys; from aaeval import registries; from aaeval.renderers import render;"
             "from aaeval.scenes import load_scene; registries.load();"

@@ -49,6 +49,7 @@ def _check(rings):
 grid_points = st.lists(st.tuples(st.integers(0, 4), st.integers(0, 4)), min_size=3, max_size=9)
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(grid_points)
 def test_random_grid_rings_agree_with_every_pair(sweep_only, points):
@@ -59,6 +60,7 @@ def test_random_grid_rings_agree_with_every_pair(sweep_only, points):
     _check([ring])
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None)
 @given(st.lists(grid_points, min_size=1, max_size=3))
 def test_the_native_brute_force_names_the_pair_its_numpy_reference_names(rings):
@@ -78,6 +80,7 @@ def test_the_native_brute_force_names_the_pair_its_numpy_reference_names(rings):
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(st.lists(st.tuples(st.floats(0, 2 * math.pi), st.floats(0.1, 1.0)), min_size=3, max_size=14, unique_by=lambda t: t[0]),
        st.lists(st.tuples(st.integers(-3, 3), st.integers(-3, 3)), min_size=3, max_size=5))
+@pytest.mark.slow
 def test_star_rings_and_a_second_ring_agree_with_every_pair(sweep_only, star, other):
     # integer coordinates: orientation signs are exact, so ties (touching, collinear) are
     # decided the same way by both tests; near-ties within rounding may go either way

@@ -1,4 +1,4 @@
-"""The specular scene set where highlight aliasing exists (issue 31 item 7), measured against
+"""The specular scene set where highlight aliasing exists, measured against
 the exact shading (no noise) with the measure the findings rank highlight stability by.
 
 thin-highlight.toml: a highlight narrower than a pixel (Amanatides' plate 2) drifting by
@@ -37,6 +37,7 @@ def thin():
     return _series("thin")
 
 
+@pytest.mark.slow
 def test_thin_highlight_amanatides_ten_times_steadier_than_none(thin):
     truth, none, clamped, mask = thin
     assert mask.sum() >= 40  # a line of highlight down the image
@@ -58,6 +59,7 @@ def test_thin_highlight_controls(thin):
     assert highlight_profile_flicker(truth, 0.5 * truth, mask=mask) < 1e-6
 
 
+@pytest.mark.slow
 def test_wide_highlight_no_method_helps():
     truth, none, clamped, mask = _series("wide")
     f_none = highlight_profile_flicker(truth, none, mask=mask)
@@ -66,6 +68,7 @@ def test_wide_highlight_no_method_helps():
     assert f_clamp >= 0.5 * f_none  # the clamp gains nothing here
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["tilted", "upright"])
 def test_held_out_cylinders_amanatides_ten_times_steadier_at_any_direction(kind):
     """A thin cylinder at 19 degrees from horizontal and an upright one (held out from the

@@ -10,6 +10,7 @@ from aaeval.sweeps import load_experiment
 EXPERIMENTS = Path(__file__).resolve().parents[2] / "configs/sweeps"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["default", "specular"])
 def test_highlight_groups_are_judged_against_the_exact_truth(name):
     groups = [g for g in load_experiment(EXPERIMENTS / f"{name}.toml").groups

@@ -25,7 +25,7 @@ PAPERS = {"catmull1978": "Catmull", "khan-figures": "Khan", "amanatides1992": "A
 
 
 def test_there_are_the_four_studies():
-    # issue 31 item 6: at least four, one per seed paper, each listed in the index
+    # At least four, one per seed paper, each listed in the index
     assert {p.name for p in STUDIES} >= set(PAPERS)
     index = (ROOT / "experiments" / "README.md").read_text()
     for folder in STUDIES:

@@ -52,6 +52,7 @@ def _check(folder: Path, tmp_path: Path) -> None:
         assert (folder / rel).is_file(), f"{folder.name}/{rel} is shown in the README but not committed"
 
 
+@pytest.mark.slow
 def test_the_smallest_study_regenerates_as_committed(tmp_path):
     _check(SMALLEST, tmp_path)
 

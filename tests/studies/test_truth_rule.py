@@ -56,6 +56,7 @@ methods = ["catmull:specular=none", "catmull:shading=exact"]
 """
 
 
+@pytest.mark.slow
 def test_a_study_against_exact_shading_divides_nothing_by_its_bound(tmp_path):
     folder = tmp_path / "bounded"
     folder.mkdir()

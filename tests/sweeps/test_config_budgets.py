@@ -1,4 +1,4 @@
-"""Configs budgeted before any work (issue 36 item 4): a million-frame list, a 1e5-step
+"""Configs budgeted before any work: a million-frame list, a 1e5-step
 difficulty ladder, more cells than a config may plan and a speed pass no run would finish are
 refused at parse time in one line (exit 2) with their count or estimate; error lines stay
 readable; the memory estimate honours RLIMIT_AS."""

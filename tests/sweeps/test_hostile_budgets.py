@@ -72,6 +72,7 @@ def test_crow_past_the_memory_limit_is_refused_before_work(monkeypatch):
     check_budget(scene, small.method, small.options)  # the default factor fits
 
 
+@pytest.mark.slow
 def test_crows_memory_estimate_bounds_what_it_takes():
     """The estimate against the resident memory a render adds, sampled from /proc while it
     runs in a fresh process (the process's high-water mark would count its imports' peak)."""

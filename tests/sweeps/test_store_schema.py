@@ -1,4 +1,4 @@
-"""A sweep folder validated on read (issue 36 item 5): every field of a cell checked against
+"""A sweep folder validated on read: every field of a cell checked against
 the record's schema, a cell that fails quarantined with its reason (so the folder is never
 blocked) and run again; stored images checked against the record's size and dtype before
 they are read (a sparse 21 GB file is refused from its header); a manifest of the wrong
@@ -66,6 +66,7 @@ def _a_cell(out, unlike=None):
     raise AssertionError("no finished cell")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", sorted(TAMPER))
 def test_a_cell_of_the_wrong_types_is_quarantined_with_its_reason_and_run_again(finished, tmp_path, capsys, case):
     out = _copy(finished, tmp_path)
@@ -82,6 +83,7 @@ def test_a_cell_of_the_wrong_types_is_quarantined_with_its_reason_and_run_again(
     assert len(pd.read_parquet(out / "results.parquet")) == 9
 
 
+@pytest.mark.slow
 def test_the_report_runs_on_a_folder_whose_damaged_cell_was_run_again(finished, tmp_path, capsys):
     # once, not per damage: what the report reads is the table the rerun wrote, the same for all
     out = _copy(finished, tmp_path)
@@ -92,6 +94,7 @@ def test_the_report_runs_on_a_folder_whose_damaged_cell_was_run_again(finished, 
     assert main(["report", str(out)]) == 0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("damage", ["complex", "wrong shape", "sparse huge"])
 def test_an_image_unlike_its_record_is_refused_before_it_is_read(finished, tmp_path, capsys, damage):
     out = _copy(finished, tmp_path)

@@ -97,6 +97,7 @@ def test_scene_file_errors_are_reported_with_the_config_key(tmp_path):
     assert "groups[0].scenes[0]" in str(err.value) and "width" in str(err.value)
 
 
+@pytest.mark.slow
 def test_shipped_configs_are_valid():
     from pathlib import Path
 

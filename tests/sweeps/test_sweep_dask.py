@@ -19,6 +19,7 @@ def cluster():
         yield c
 
 
+@pytest.mark.slow
 def test_sweep_on_a_local_cluster_matches_the_local_run(tmp_path, cluster):
     assert cluster.scheduler_address.startswith("tcp://127.0.0.1:")
     exp = load_experiment(write_config(tmp_path))

@@ -1,4 +1,4 @@
-"""Dask losses say what was lost (issue 21 case 11): an unreachable scheduler or one with no
+"""Dask losses say what was lost: an unreachable scheduler or one with no
 workers is refused before the sweep folder is touched (no empty ``sweep.lock``), after a
 stated timeout; a scheduler that dies mid-sweep is named, the sweep exits 1 and a rerun
 finishes; the executor column follows dead workers."""
@@ -32,6 +32,7 @@ class _Quick(distributed.LocalCluster):
             return super().close(*args, **kwargs)
 
 
+@pytest.mark.slow
 def test_an_unreachable_scheduler_leaves_no_folder(tmp_path, capsys, monkeypatch):
     monkeypatch.setenv("AAEVAL_DASK_TIMEOUT", "2")
     config = write_config(tmp_path, MANY)
@@ -41,6 +42,7 @@ def test_an_unreachable_scheduler_leaves_no_folder(tmp_path, capsys, monkeypatch
     assert not (tmp_path / "out").exists()  # no empty sweep.lock left behind
 
 
+@pytest.mark.slow
 def test_a_scheduler_without_workers_is_refused_after_the_stated_wait(tmp_path, capsys, monkeypatch):
     monkeypatch.setenv("AAEVAL_DASK_WORKER_TIMEOUT", "2")
     config = write_config(tmp_path, MANY)
@@ -102,8 +104,9 @@ def _nap(seconds):
     return seconds
 
 
+@pytest.mark.slow
 def test_a_dask_task_past_the_time_limit_is_answered_as_timed_out(monkeypatch):
-    """Issue 36: a per-task time limit on Dask too (measured from when the scheduler shows the
+    """A per-task time limit on Dask too (measured from when the scheduler shows the
     task processing); the other tasks still answer."""
     from aaeval.sweeps.dask_executor import DaskExecutor
     from aaeval.sweeps.task_failures import TaskTimedOut
@@ -121,8 +124,9 @@ def test_a_dask_task_past_the_time_limit_is_answered_as_timed_out(monkeypatch):
     assert took < 6
 
 
+@pytest.mark.slow
 def test_a_dask_sweep_whose_last_worker_died_stops_naming_it(monkeypatch):
-    """Issue 36: the only worker dies mid-run; after AAEVAL_DASK_WORKER_TIMEOUT seconds with
+    """The only worker dies mid-run; after AAEVAL_DASK_WORKER_TIMEOUT seconds with
     none, every task not returned comes back as WorkersLost naming the cluster (no hang)."""
     from aaeval.sweeps.dask_executor import DaskExecutor
     from aaeval.sweeps.task_failures import WorkersLost
@@ -146,8 +150,9 @@ def test_a_dask_sweep_whose_last_worker_died_stops_naming_it(monkeypatch):
     assert len(out) == 20 and took < 60
 
 
+@pytest.mark.slow
 def test_a_peer_that_never_answers_is_refused_after_the_stated_wait(tmp_path, capsys, monkeypatch):
-    """Issue 36: a peer that accepts the connection and never answers held Client() forever."""
+    """A peer that accepts the connection and never answers held Client() forever."""
     import socket
 
     monkeypatch.setenv("AAEVAL_DASK_TIMEOUT", "2")

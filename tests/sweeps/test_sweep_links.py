@@ -1,5 +1,4 @@
-"""A sweep never reads, writes, truncates or moves anything outside its folder (issue 21
-case 1): a link (or a FIFO) is planted in place of each file and folder the store writes or
+"""A sweep never reads, writes, truncates or moves anything outside its folder: a link (or a FIFO) is planted in place of each file and folder the store writes or
 moves, and the files outside the folder are compared before and after. Also: a record with
 an unknown field is damaged like any other (case 9), and the report leaves the tables of
 a running sweep alone (case 13)."""
@@ -21,6 +20,7 @@ from aaeval.sweeps.report_files import rebuild_results
 from aaeval.sweeps.table import write_results
 from tests.helpers.links_util import TINY, snapshot, sweep
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["sweep.lock", "quarantine", "history", "cells", "images", "references"])
 def test_a_linked_lock_or_folder_is_refused_and_nothing_outside_changes(world, capsys, name):
     tmp_path, outside, config = world
@@ -53,6 +53,7 @@ def test_a_fifo_lock_is_refused_without_blocking(world, capsys):
     assert "sweep.lock is not a regular file" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("folder", ["cells", "images", "references"])
 @pytest.mark.parametrize("kind", ["link", "fifo"])
 def test_a_linked_cell_file_is_set_aside_as_a_link_and_its_target_untouched(world, capsys, folder, kind):
@@ -80,6 +81,7 @@ def test_a_linked_cell_file_is_set_aside_as_a_link_and_its_target_untouched(worl
 
 @pytest.mark.parametrize("name", ["experiment.toml", "manifest.json", "results.parquet", "temporal.parquet",
                                   "provenance.json"])
+@pytest.mark.slow
 def test_a_linked_top_level_file_is_replaced_never_written_through(world, capsys, name):
     tmp_path, outside, config = world
     out = tmp_path / "out"
@@ -98,6 +100,7 @@ def test_a_linked_top_level_file_is_replaced_never_written_through(world, capsys
 
 # --- case 9: a record with one unknown field -------------------------------------------------
 
+@pytest.mark.slow
 @pytest.mark.parametrize("command", ["sweep", "report"])
 def test_a_record_with_an_unknown_field_is_set_aside_and_rerun(world, capsys, command):
     tmp_path, outside, config = world
@@ -123,6 +126,7 @@ def test_a_record_with_an_unknown_field_is_set_aside_and_rerun(world, capsys, co
 
 # --- case 13: report during a running sweep ---------------------------------------------------
 
+@pytest.mark.slow
 def test_report_leaves_the_tables_of_a_running_sweep_alone(world, capsys):
     from aaeval.sweeps.folder_lock import FolderInUse
 
@@ -155,6 +159,7 @@ def test_report_leaves_the_tables_of_a_running_sweep_alone(world, capsys):
     assert parquet.stat().st_mtime_ns != stamp[0]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["figures", "tables", "viewer"])
 def test_report_refuses_a_linked_output_folder(world, capsys, name):
     tmp_path, outside, config = world

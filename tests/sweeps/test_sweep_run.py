@@ -69,6 +69,7 @@ def test_sweep_writes_one_file_per_cell_and_a_tidy_table(tmp_path):
     assert temporal.set_index("label").loc["catmull", "sum_variation"] < 1e-12
 
 
+@pytest.mark.slow
 def test_rerun_skips_finished_cells_and_runs_new_ones(tmp_path):
     exp, out, first = _run(tmp_path)
     stamps = {p.name: p.stat().st_mtime_ns for p in (out / "cells").glob("*.json")}
@@ -82,6 +83,7 @@ def test_rerun_skips_finished_cells_and_runs_new_ones(tmp_path):
     assert {p.name: p.stat().st_mtime_ns for p in (out / "cells").glob("*.json") if p.name in stamps} == stamps
 
 
+@pytest.mark.slow
 def test_reference_cache_is_shared_between_sweeps(tmp_path):
     _run(tmp_path)
     exp = load_experiment(write_config(tmp_path))
@@ -89,6 +91,7 @@ def test_reference_cache_is_shared_between_sweeps(tmp_path):
     assert summary.references_rendered == 0 and summary.references_cached == 6
 
 
+@pytest.mark.slow
 def test_failing_cell_is_recorded_and_the_sweep_goes_on(tmp_path, test_methods):
     text = SMALL.replace('methods = ["catmull-jagged"]', 'methods = ["catmull-jagged", "test-fails-on-fans"]')
     _, out, summary = _run(tmp_path, text)
@@ -107,6 +110,7 @@ def test_failing_cell_is_recorded_and_the_sweep_goes_on(tmp_path, test_methods):
     assert retried.ran == 2 and retried.failed == 2
 
 
+@pytest.mark.slow
 def test_a_sweep_with_failed_cells_exits_3_and_names_each_error_once(tmp_path, test_methods, capsys):
     from aaeval.cli import main
 

@@ -39,6 +39,7 @@ def _one(folder):
 
 @pytest.mark.parametrize("damage", ["empty cell", "truncated cell", "truncated image", "empty image",
                                     "truncated reference"])
+@pytest.mark.slow
 def test_a_damaged_file_is_named_set_aside_and_run_again(tmp_path, capsys, damage):
     _sweep(tmp_path)
     out = tmp_path / "out"
@@ -155,6 +156,7 @@ def test_another_config_is_refused_and_nothing_is_replaced(tmp_path, capsys):
     assert {n: (out / n).read_bytes() for n in before} == before
 
 
+@pytest.mark.slow
 def test_force_keeps_the_old_config_and_says_which_rows_leave_the_table(tmp_path, capsys):
     _sweep(tmp_path)
     out = tmp_path / "out"
@@ -169,6 +171,7 @@ def test_force_keeps_the_old_config_and_says_which_rows_leave_the_table(tmp_path
     assert "3 finished cells" in text.err and "not in this config" in text.err
 
 
+@pytest.mark.slow
 def test_a_smaller_config_of_the_same_experiment_says_which_rows_leave_the_table(tmp_path, capsys):
     _sweep(tmp_path)
     capsys.readouterr()

@@ -1,4 +1,4 @@
-"""Workers that die and cells past the time limit (issue 36): a plugin method that sleeps, calls
+"""Workers that die and cells past the time limit: a plugin method that sleeps, calls
 ``os._exit``, or kills itself with a signal takes only its own cells down. Each such cell is
 recorded as failed with the reason ("timed out: ...", "worker died: exit N / signal N"), the
 worker is replaced, every other cell is done, and a plain rerun tries those cells again.
@@ -119,7 +119,7 @@ def cells(out: Path) -> dict[tuple[str, int], dict]:
 
 @pytest.mark.slow
 def test_a_cell_past_the_time_limit_is_stopped_and_the_sweep_goes_on(site, tmp_path):
-    """Issue 36's "Done when" (there with AAEVAL_MAX_SECONDS=15; 8 here, the same path in less
+    """A cell past its time limit (a user would set AAEVAL_MAX_SECONDS=15; 8 here, the same path in less
     time; at 4 a loaded machine stopped the point cell too, its worker still starting): a
     method that sleeps 300 s: the sweep ends well before, that cell is recorded as failed,
     the other method's cell is done."""
@@ -136,7 +136,7 @@ def test_a_cell_past_the_time_limit_is_stopped_and_the_sweep_goes_on(site, tmp_p
 
 @pytest.mark.slow
 def test_a_method_that_calls_os_exit_fails_its_cells_only(site, tmp_path):
-    """Issue 36's "Done when": os._exit in a 2-worker sweep: no traceback, every other cell
+    """os._exit in a 2-worker sweep: no traceback, every other cell
     done; the cells that killed a worker say how it died."""
     done, _, out = sweep(site, tmp_path, ["exits", "segv", "point"], frames=3)
     assert "Traceback" not in done.stderr + done.stdout, done.stderr
@@ -163,8 +163,7 @@ def test_a_rerun_retries_the_cells_whose_worker_died(site, tmp_path):
 
 @pytest.mark.slow
 def test_images_and_metrics_that_cannot_be_measured_fail_their_cells(site, tmp_path):
-    """Issue 36 item 2: -1e300 (an infinite RMSE once stored as null, read back as NaN, never
-    above fail_above: "0 failed") and an object array (write_cell raised in the parent) fail
+    """-1e300 (an infinite RMSE: no threshold could judge it) and an object array (write_cell raised in the parent) fail
     their cells; a metric that answers inf fails the cell too. The report counts them."""
     done, _, out = sweep(site, tmp_path, ["huge", "objects", "point"], workers=1)
     assert done.returncode == 3 and "Traceback" not in done.stderr, done.stderr

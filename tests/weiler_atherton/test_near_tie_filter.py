@@ -63,6 +63,7 @@ def _check(scene, eps_z):
     return want
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name,make", CASES, ids=[c[0] for c in CASES])
 def test_tie_groups_equal_the_pairwise_definition(name, make):
     _check(*make())

@@ -6,9 +6,12 @@ from __future__ import annotations
 
 import json
 
+import pytest
+
 from tests.helpers.same_bits_wa_clipper import RECORD, cases
 
 
+@pytest.mark.slow
 def test_native_clipper_and_solver_give_the_recorded_arrays():
     expected = json.loads(RECORD.read_text())
     got = dict(cases())

@@ -142,6 +142,7 @@ def check_clip(a_rings, b_rings):
     assert geos(outside).symmetric_difference(want_out).area < 1e-9
 
 
+@pytest.mark.slow
 @FAST
 @given(st.data())
 def test_clip_degenerate_grid_polygons_match_geos(data):
@@ -155,6 +156,7 @@ def test_clip_degenerate_grid_polygons_match_geos(data):
 SHIFT = st.floats(-3, 3).filter(lambda v: v == 0 or abs(v) > 1e-6)
 
 
+@pytest.mark.slow
 @settings(max_examples=120, deadline=None, suppress_health_check=list(HealthCheck))
 @given(st.data(), st.floats(0, 2 * math.pi), SHIFT, SHIFT)
 def test_clip_float_polygons_match_geos(data, angle, dx, dy):
@@ -163,6 +165,7 @@ def test_clip_float_polygons_match_geos(data, angle, dx, dy):
     check_clip(a, b)
 
 
+@pytest.mark.slow
 @settings(max_examples=100, deadline=None, suppress_health_check=list(HealthCheck))
 @given(st.data())
 def test_clip_by_itself_and_by_own_pieces(data):
@@ -231,6 +234,7 @@ def test_clip_accepts_touching_contours():
     assert first_crossing(xs, ys, starts, 1e-12) == (-1, -1)
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None, suppress_health_check=list(HealthCheck))
 @given(st.data())
 def test_separation_shortcut_agrees_with_the_clipper(data):

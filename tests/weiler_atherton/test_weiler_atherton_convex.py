@@ -101,6 +101,7 @@ def scenes():
     return out + [load_scene(DATA / "wa_cyclic.toml")]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("index", range(29))
 def test_convex_road_gives_the_paper_clippers_image_and_regions(index):
     scene = scenes()[index]
@@ -112,6 +113,7 @@ def test_convex_road_gives_the_paper_clippers_image_and_regions(index):
     assert sum(p.area for p in pieces) == pytest.approx(union.area, abs=1e-9)
 
 
+@pytest.mark.slow
 def test_convex_road_is_taken_on_triangles_and_draws_the_same_lines():
     scene = random_triangles(150, 48, 48, size=14.0, depth_range=(0.0, 100.0), seed=7)
     # the outside of a clip comes as convex pieces: more of them than the paper's

@@ -180,18 +180,21 @@ def _check_clip(subject_rings, clip_rings):
 CLIP_SETTINGS = settings(max_examples=250, deadline=None, suppress_health_check=[HealthCheck.filter_too_much, HealthCheck.too_slow])
 
 
+@pytest.mark.slow
 @CLIP_SETTINGS
 @given(subject_and_clip())
 def test_clipper_matches_geos_on_degenerate_grid_polygons(pair):
     _check_clip(*pair)
 
 
+@pytest.mark.slow
 @CLIP_SETTINGS
 @given(subject_and_clip())
 def test_clipper_matches_geos_with_roles_swapped(pair):
     _check_clip(pair[1], pair[0])
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.filter_too_much, HealthCheck.too_slow])
 @given(subject_and_clip(), st.floats(0.05, 10.0), st.floats(-5.0, 5.0), st.floats(-5.0, 5.0))
 def test_clipper_matches_geos_off_grid(pair, scale, dx, dy):
@@ -281,6 +284,7 @@ GEOS_CASES = (
 )
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("make, args", GEOS_CASES, ids=lambda v: getattr(v, "__name__", None) or repr(v[0]))
 def test_scenes_match_geos(make, args):
     scene = make(*args)
