@@ -1,5 +1,6 @@
 """The ``aaeval`` command line. Each subcommand lives in its own module here and declares
-its ``NAME``, ``HELP``, ``DESCRIPTION`` (and ``EPILOG`` where it has one), its options in
+its ``NAME`` and ``HELP`` (and ``EPILOG`` where it has one), its description as its module
+docstring (what ``aaeval COMMAND --help`` prints, so written for users), its options in
 ``add_arguments(parser)`` where it has any, and ``run(args)`` where the command itself runs
 (``import`` hands each of its kinds a ``run`` of its own); ``main`` turns known errors into
 one-line messages and exit code 2.
@@ -15,6 +16,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import importlib
+import inspect
 import signal
 import sys
 
@@ -57,7 +59,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def add_command(sub, command) -> None:
     """The subparser of one command module, built from what the module declares."""
-    p = sub.add_parser(command.NAME, help=command.HELP, description=command.DESCRIPTION,
+    p = sub.add_parser(command.NAME, help=command.HELP, description=inspect.cleandoc(command.__doc__),
                        epilog=getattr(command, "EPILOG", None))
     if hasattr(command, "add_arguments"):
         command.add_arguments(p)

@@ -1,12 +1,16 @@
-"""``aaeval compare``: methods against a reference on the frames of a scene.
+"""Render SCENE with every --method and with the --reference on the frames asked, and print for
+each method and frame every image metric against the reference (see 'aaeval metrics'), its
+intensity sum and its render time (median of --repeats timed renders after an untimed warm-
+up); then per method the mean of each metric and, over two or more frames, the temporal
+metrics (intensity-sum variation beside the reference's, flicker, ...).
 
-Output formats (``--format``): ``table`` (default; rich tables at most 100 columns wide,
-metric columns split over several tables when they do not fit), ``csv`` (one row per
-method and frame, every field), ``markdown`` (the per-frame and summary tables as pipe
-tables) and ``json`` (the whole document). JSON is strict: a value that is not a finite
+Output formats (--format): table (default; rich tables at most 100 columns wide,
+metric columns split over several tables when they do not fit), csv (one row per
+method and frame, every field), markdown (the per-frame and summary tables as pipe
+tables) and json (the whole document). JSON is strict: a value that is not a finite
 number (NaN, infinity: PSNR of identical images, a metric on an empty mask) is written as
-the string ``"NaN"``, ``"Infinity"`` or ``"-Infinity"`` (``aaeval.sweeps.typed_json``).
-Column titles and number formats come from the metric registry (``aaeval metrics``).
+the string "NaN", "Infinity" or "-Infinity" (aaeval.sweeps.typed_json).
+Column titles and number formats come from the metric registry (aaeval metrics).
 """
 
 from __future__ import annotations
@@ -21,13 +25,6 @@ TABLE_WIDTH = 100
 
 NAME = "compare"
 HELP = "compare methods against a reference: image metrics, render times, temporal stability"
-DESCRIPTION = (
-    "Render SCENE with every --method and with the --reference on the frames asked, "
-    "and print for each method and frame every image metric against the reference (see 'aaeval "
-    "metrics'), its intensity sum and its render time (median of --repeats timed renders after an "
-    "untimed warm-up); then per method the mean of each metric and, over two or more frames, the "
-    "temporal metrics (intensity-sum variation beside the reference's, flicker, ...)."
-)
 EPILOG = ('JSON output is strict: a value that is not a finite number is written as "NaN", "Infinity" '
           'or "-Infinity".')
 

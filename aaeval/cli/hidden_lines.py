@@ -1,4 +1,7 @@
-"""``aaeval hidden-lines``: the visible edges of one frame as an SVG drawing."""
+"""Solve the hidden surfaces of SCENE with Weiler & Atherton's polygon clipper and write the
+visible parts of the polygon edges, and the lines where interpenetrating polygons cross, to
+an SVG file.
+"""
 
 from __future__ import annotations
 
@@ -6,11 +9,6 @@ from pathlib import Path
 
 NAME = "hidden-lines"
 HELP = "draw the visible edges of a scene (Weiler-Atherton hidden-line removal) as SVG"
-DESCRIPTION = (
-    "Solve the hidden surfaces of SCENE with Weiler & Atherton's polygon clipper and "
-    "write the visible parts of the polygon edges, and the lines where interpenetrating "
-    "polygons cross, to an SVG file."
-)
 
 
 def add_arguments(p) -> None:

@@ -1,4 +1,7 @@
-"""``aaeval import``: real content as scenes — SVG files and text set in a font."""
+"""Import real content as a scene: vector art from an SVG file, or text set in a
+TrueType/OpenType font. Curves are flattened to --tolerance pixels; anything the scene
+format cannot hold is listed by element, never dropped silently.
+"""
 
 from __future__ import annotations
 
@@ -10,11 +13,6 @@ from aaeval.importers.flatten import DEFAULT_TOLERANCE
 
 NAME = "import"
 HELP = "turn an SVG file or a string of text into a scene file"
-DESCRIPTION = (
-    "Import real content as a scene: vector art from an SVG file, or text set in a "
-    "TrueType/OpenType font. Curves are flattened to --tolerance pixels; anything the scene format "
-    "cannot hold is listed by element, never dropped silently."
-)
 
 
 def add_arguments(p) -> None:

@@ -1,14 +1,12 @@
-"""``aaeval invariance``: intensity sum per frame of an animated scene, and its variation."""
+"""Render every frame of SCENE's animation with SPEC and print each frame's intensity sum and
+the relative variation (max - min) / mean. Area sampling keeps the sum constant under
+translation inside the frame; point sampling does not.
+"""
 
 from __future__ import annotations
 
 NAME = "invariance"
 HELP = "intensity sum of every frame of an animation, and its relative variation"
-DESCRIPTION = (
-    "Render every frame of SCENE's animation with SPEC and print each frame's "
-    "intensity sum and the relative variation (max - min) / mean. Area sampling keeps the "
-    "sum constant under translation inside the frame; point sampling does not."
-)
 
 
 def add_arguments(p) -> None:

@@ -1,10 +1,10 @@
-"""``aaeval methods``: the registered methods and their options."""
+"""List every registered rendering method with its options and defaults.
+"""
 
 from __future__ import annotations
 
 NAME = "methods"
 HELP = "list rendering methods and their options"
-DESCRIPTION = "List every registered rendering method with its options and defaults."
 
 
 def run(args) -> int:

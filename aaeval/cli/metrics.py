@@ -1,15 +1,13 @@
-"""``aaeval metrics``: the registered metrics, what they measure and what they need."""
+"""List every registered metric (aaeval.metrics.METRICS) with its kind (image: one frame;
+temporal: every frame of an animation), whether higher or lower is better, what it needs
+(reference, scene, frames, a mask) and its table title. The names are what experiment
+configs and 'compare --metric' take.
+"""
 
 from __future__ import annotations
 
 NAME = "metrics"
 HELP = "list metrics: kind, direction, what each needs"
-DESCRIPTION = (
-    "List every registered metric (aaeval.metrics.METRICS) with its kind "
-    "(image: one frame; temporal: every frame of an animation), whether higher or lower is "
-    "better, what it needs (reference, scene, frames, a mask) and its table title. The names "
-    "are what experiment configs and 'compare --metric' take."
-)
 
 
 def run(args) -> int:

@@ -1,4 +1,7 @@
-"""``aaeval render``: one frame of a scene with one method, to .npy, .exr or .png."""
+"""Render SCENE with the method SPEC and write the image to OUT (.npy: float64 linear RGB
+HxWx3; .exr: float32 linear; .png: 8-bit sRGB for viewing). OUT's folder must exist unless
+--mkdir is given.
+"""
 
 from __future__ import annotations
 
@@ -6,11 +9,6 @@ from pathlib import Path
 
 NAME = "render"
 HELP = "render one frame of a scene with one method"
-DESCRIPTION = (
-    "Render SCENE with the method SPEC and write the image to OUT "
-    "(.npy: float64 linear RGB HxWx3; .exr: float32 linear; .png: 8-bit sRGB for viewing). "
-    "OUT's folder must exist unless --mkdir is given."
-)
 
 
 def add_arguments(p) -> None:

@@ -1,14 +1,13 @@
-"""``aaeval report``: the HTML report of a sweep folder."""
+"""Rebuild DIR/results.parquet from the cell files and write DIR/index.html with its figures
+(PNG files beside it, each with its SVG and PDF for papers): speed against accuracy,
+intensity sum per frame, flicker, stability as difficulty grows, an image grid with crops
+and error maps, and the tables.
+"""
 
 from __future__ import annotations
 
 NAME = "report"
 HELP = "write DIR/index.html: charts and tables of a sweep's results"
-DESCRIPTION = (
-    "Rebuild DIR/results.parquet from the cell files and write DIR/index.html with its "
-    "figures (PNG files beside it, each with its SVG and PDF for papers): speed against accuracy, intensity sum per frame, flicker, "
-    "stability as difficulty grows, an image grid with crops and error maps, and the tables."
-)
 
 
 def add_arguments(p) -> None:

@@ -1,15 +1,13 @@
-"""``aaeval study``: run a study folder's sweep and rewrite the measured part of its README."""
+"""Run (or resume) the sweep of the study folder DIR (its config.toml) into DIR/results, then
+rewrite only the part of DIR/README.md between the study markers with the numbers that bear
+on the paper's claim, read from the stored results (which numbers: DIR/study.toml). The
+hand-written text around the markers is kept.
+"""
 
 from __future__ import annotations
 
 NAME = "study"
 HELP = "run a study (experiments/NAME) and regenerate the measured part of its README"
-DESCRIPTION = (
-    "Run (or resume) the sweep of the study folder DIR (its config.toml) into DIR/results, then "
-    "rewrite only the part of DIR/README.md between the study markers with the numbers that bear on the "
-    "paper's claim, read from the stored results (which numbers: DIR/study.toml). The hand-written text "
-    "around the markers is kept."
-)
 
 
 def add_arguments(p) -> None:

@@ -1,4 +1,7 @@
-"""``aaeval sweep``: run an experiment config into a results folder, resumably."""
+"""Run every cell of the experiment CONFIG (TOML, see configs/sweeps/) and write one result
+file per cell into DIR, then DIR/results.parquet. Finished cells are kept: a rerun (after a
+crash, or with more cells in the config) runs only what is missing.
+"""
 
 from __future__ import annotations
 
@@ -6,11 +9,6 @@ import sys
 
 NAME = "sweep"
 HELP = "run an experiment sweep (scenes x methods x options x frames) into a folder"
-DESCRIPTION = (
-    "Run every cell of the experiment CONFIG (TOML, see configs/sweeps/) and write "
-    "one result file per cell into DIR, then DIR/results.parquet. Finished cells are kept: a rerun "
-    "(after a crash, or with more cells in the config) runs only what is missing."
-)
 
 
 def add_arguments(p) -> None:
