@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from aaeval.importers.fill import ring_area
+from aaeval.importers.fillrings import ring_area
 
 __all__ = ["Seg", "stroke_pieces", "MAX_TURN"]
 

@@ -1,0 +1,103 @@
+"""Clipping in SVG: ``clip-path`` regions and the clip of a viewport.
+
+:class:`ClipPaths` turns a ``clip-path: url(#id)`` into the region it keeps (device
+space): the union of the ``<clipPath>``'s shapes, each under its ``clip-rule``, in
+``userSpaceOnUse`` or ``objectBoundingBox`` units (on shapes), ``<use>`` of a shape
+followed. What it cannot apply (a reference to something else, a clip path with a clip
+path of its own, bounding-box units on a group, text inside) is listed and drawn
+unclipped. :func:`clip_layers` clips layers to a region or to a viewport's rectangle.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from aaeval.importers.fill import resolve_fill
+from aaeval.importers.scene import Layer
+from aaeval.importers.shapes import Region, Subpath, clip_regions, fill_regions
+from aaeval.importers.svgcomputed import parse_number
+from aaeval.importers.svgdocument import NOT_IMPORTED, SHAPES, XLINK_HREF, conditions_pass, svg_tag
+from aaeval.importers.svggeometry import flatten_segments, geometry
+from aaeval.importers.svgpath import IDENTITY, apply, compose, max_stretch, parse_transform, translate
+from aaeval.importers.svgstyle import LengthError, Lengths, parse_paint
+
+__all__ = ["ClipPaths", "clip_layers"]
+
+
+def clip_layers(layers: list[Layer], clip) -> list[Layer]:
+    """Each layer's regions within ``clip``: a convex polygon (a viewport) or regions."""
+    if isinstance(clip, np.ndarray):
+        clip = [Region(clip, [])]
+    return [Layer(layer.color, clip_regions(layer.regions, clip), layer.name) for layer in layers]
+
+
+class ClipPaths:
+    """The regions ``clip-path`` values keep, resolved in the document."""
+
+    def __init__(self, tree, computed, report, tol: float):
+        self.tree = tree
+        self.computed = computed
+        self.report = report
+        self.tol = tol
+
+    def region(self, value: str, name: str, ctm, box, lengths: Lengths):
+        """The region (device space) a ``clip-path`` keeps, or None where it is not applied
+        (then listed): a union of the clipPath's shapes, each under its clip-rule."""
+        paint = parse_paint(value) if value.strip().lower().startswith("url(") else None
+        target = self.tree.by_id.get(paint[1]) if paint and paint[0] == "url" and paint[1] else None
+        if target is None or svg_tag(target) != "clipPath":
+            self.report.note(f"{name}: clip-path {value.strip()[:60]} is not a clipPath in the file; drawn unclipped")
+            return None
+        tstyle = self.computed.tree_style(target)
+        if tstyle["clip-path"].strip().lower() not in ("", "none"):
+            self.report.note(f"{name}: clip-path #{target.get('id')} has a clip path of its own; drawn unclipped")
+            return None
+        space = compose(ctm, parse_transform(target.get("transform", "")) or IDENTITY)
+        if target.get("clipPathUnits", "").strip() == "objectBoundingBox":
+            if box is None or box[2] <= 0 or box[3] <= 0:
+                if box is None:
+                    self.report.note(f"{name}: clip-path in objectBoundingBox units on a group not applied; "
+                                     "drawn unclipped")
+                    return None
+                return []  # a box of no area: nothing is kept
+            space = compose(space, (box[2], 0.0, 0.0, box[3], box[0], box[1]))
+        rings = []
+        for child in target:
+            shape, tag = child, svg_tag(child)
+            if tag is None or not conditions_pass(child):
+                continue
+            placed = space
+            style = self.computed.tree_style(child)
+            if style["display"].strip().lower() == "none" or style["visibility"].strip().lower() != "visible":
+                continue
+            if child.get("transform"):
+                placed = compose(placed, parse_transform(child.get("transform")) or IDENTITY)
+            if tag == "use":
+                href = str(child.get("href") or child.get(XLINK_HREF) or "").strip()
+                shape = self.tree.by_id.get(href[1:]) if href.startswith("#") else None
+                tag = svg_tag(shape) if shape is not None else None
+                if tag not in SHAPES:
+                    continue
+                style = self.computed.style(shape, style)
+                x, y = parse_number(child.get("x"), 0.0), parse_number(child.get("y"), 0.0)
+                own = parse_transform(shape.get("transform", "")) or IDENTITY
+                placed = compose(compose(placed, translate(x, y)), own)
+            if tag not in SHAPES:
+                if tag in NOT_IMPORTED:
+                    self.report.note(f"{name}: clip-path #{target.get('id')} holds a <{tag}>; drawn unclipped")
+                    return None
+                continue
+            try:
+                segments = geometry(shape, tag, style, lengths.with_font(style["font"]))
+            except LengthError:
+                continue
+            stretch = max_stretch(placed)
+            if not segments or not (math.isfinite(stretch) and stretch > 0):
+                continue
+            rule = "evenodd" if style["clip-rule"].strip() == "evenodd" else "nonzero"
+            flat = flatten_segments(segments, self.tol / stretch)
+            subpaths = [Subpath(apply(placed, s.points), s.closed) for s in flat]
+            rings.extend(ring for region in fill_regions(subpaths, rule) for ring in (region.outer, *region.holes))
+        return [Region(outer, holes) for outer, holes in resolve_fill(rings, "nonzero")] if rings else []
