@@ -5,7 +5,8 @@
   :mod:`~aaeval.importers.svgwalk`; its cascade, colours and lengths
   :mod:`~aaeval.importers.svgstyle` (cssselect2, tinycss2) made into computed styles by
   :mod:`~aaeval.importers.svgcomputed`; path data, shapes and transforms
-  :mod:`~aaeval.importers.svgpath` and :mod:`~aaeval.importers.svggeometry`; paints,
+  :mod:`~aaeval.importers.svgpath`, :mod:`~aaeval.importers.svgtransform` and
+  :mod:`~aaeval.importers.svggeometry`; paints,
   strokes, markers, viewports and clip paths :mod:`~aaeval.importers.svgpaint`,
   :mod:`~aaeval.importers.svgstroke`, :mod:`~aaeval.importers.svgmarkers`,
   :mod:`~aaeval.importers.svgviewport`, :mod:`~aaeval.importers.svgclip`; what is not

@@ -20,8 +20,9 @@ from aaeval.importers.shapes import Region, Subpath, clip_regions, fill_regions
 from aaeval.importers.svgcomputed import parse_number
 from aaeval.importers.svgdocument import NOT_IMPORTED, SHAPES, XLINK_HREF, conditions_pass, svg_tag
 from aaeval.importers.svggeometry import flatten_segments, geometry
-from aaeval.importers.svgpath import IDENTITY, apply, compose, max_stretch, parse_transform, translate
+from aaeval.importers.svgpath import IDENTITY, apply, compose, max_stretch, translate
 from aaeval.importers.svgstyle import LengthError, Lengths, parse_paint
+from aaeval.importers.svgtransform import element_transform
 
 __all__ = ["ClipPaths", "clip_layers"]
 
@@ -54,7 +55,8 @@ class ClipPaths:
         if tstyle["clip-path"].strip().lower() not in ("", "none"):
             self.report.note(f"{name}: clip-path #{target.get('id')} has a clip path of its own; drawn unclipped")
             return None
-        space = compose(ctm, parse_transform(target.get("transform", "")) or IDENTITY)
+        own = element_transform(target.get("transform"), tstyle["transform-origin"], lengths)
+        space = compose(ctm, own or IDENTITY)
         if target.get("clipPathUnits", "").strip() == "objectBoundingBox":
             if box is None or box[2] <= 0 or box[3] <= 0:
                 if box is None:
@@ -73,7 +75,9 @@ class ClipPaths:
             if style["display"].strip().lower() == "none" or style["visibility"].strip().lower() != "visible":
                 continue
             if child.get("transform"):
-                placed = compose(placed, parse_transform(child.get("transform")) or IDENTITY)
+                own = element_transform(child.get("transform"), style["transform-origin"],
+                                        lengths.with_font(style["font"]))
+                placed = compose(placed, own or IDENTITY)
             if tag == "use":
                 href = str(child.get("href") or child.get(XLINK_HREF) or "").strip()
                 shape = self.tree.by_id.get(href[1:]) if href.startswith("#") else None
@@ -82,7 +86,8 @@ class ClipPaths:
                     continue
                 style = self.computed.style(shape, style)
                 x, y = parse_number(child.get("x"), 0.0), parse_number(child.get("y"), 0.0)
-                own = parse_transform(shape.get("transform", "")) or IDENTITY
+                own = element_transform(shape.get("transform"), style["transform-origin"],
+                                        lengths.with_font(style["font"])) or IDENTITY
                 placed = compose(compose(placed, translate(x, y)), own)
             if tag not in SHAPES:
                 if tag in NOT_IMPORTED:

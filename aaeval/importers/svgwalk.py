@@ -31,10 +31,11 @@ from aaeval.importers.svgdocument import (CONTAINERS, MARKABLE, MAX_USE_DEPTH, N
 from aaeval.importers.svggeometry import MAX_COORDINATE, bounding_box, flatten_segments, geometry, malformed
 from aaeval.importers.svgmarkers import draw_markers
 from aaeval.importers.svgpaint import Paints, paint_order
-from aaeval.importers.svgpath import apply, compose, max_stretch, parse_transform, translate
+from aaeval.importers.svgpath import apply, compose, max_stretch, translate
 from aaeval.importers.svgreport import Report
 from aaeval.importers.svgstroke import stroke_layer
 from aaeval.importers.svgstyle import INITIAL, LengthError, Lengths
+from aaeval.importers.svgtransform import element_transform
 from aaeval.importers.svgviewport import draw_viewport
 
 __all__ = ["Walk"]
@@ -109,13 +110,11 @@ class Walk:
         for prop in ("mix-blend-mode", "isolation"):
             if style[prop].strip().lower() not in (INITIAL[prop], "isolate"):
                 self.report.note(f"{name}: {prop} {style[prop]} ignored (drawn normal)")
-        transform = el.get("transform")
-        if transform is not None:
-            own = parse_transform(transform)
-            if own is None:
-                self.report.note(f"{name}: transform {transform[:40]!r} is not valid; drawn untransformed")
-            else:
-                ctm = compose(ctm, own)
+        own = element_transform(el.get("transform"), style["transform-origin"], lengths)
+        if own is False:
+            self.report.note(f"{name}: transform {el.get('transform')[:40]!r} is not valid; drawn untransformed")
+        elif own is not None:
+            ctm = compose(ctm, own)
         unsupported = [(prop, what) for prop, what in UNSUPPORTED.items()
                        if style[prop].strip().lower() not in ("", "none")]
         clipped = style["clip-path"].strip().lower() not in ("", "none")
@@ -176,7 +175,8 @@ class Walk:
                 tname = self.report.name(target, kind)
                 tstyle = self.computed.style(target, style, tname)
                 if tstyle["display"].strip().lower() != "none":
-                    own = parse_transform(target.get("transform", "")) if kind == "symbol" else None
+                    own = (element_transform(target.get("transform"), tstyle["transform-origin"], lengths)
+                           if kind == "symbol" else None)
                     placed = compose(ctm, own) if own else ctm
                     draw_viewport(self, target, el, tname, tstyle, placed, lengths, paints, out)
             else:

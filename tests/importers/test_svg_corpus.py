@@ -33,7 +33,8 @@ from aaeval.scenes import parse_scene
 
 CORPUS = Path(__file__).parents[1] / "data" / "svg" / "corpus"
 NS = "http://www.w3.org/2000/svg"
-RESVG_CASES = ["colours", "css", "structure", "nested", "paths", "markers", "strokes", "clip", "dashes"]
+RESVG_CASES = ["colours", "css", "structure", "nested", "paths", "markers", "strokes", "clip", "dashes",
+               "transform_origin"]
 
 
 def imported(tmp_path, name: str, text: str | None = None):
@@ -124,6 +125,47 @@ def test_geometry_set_through_css_matches_attributes(tmp_path):
     _, scene = imported(tmp_path, "css_geometry")
     _, reference = imported(tmp_path, "css_geometry_px", expected)
     np.testing.assert_allclose(render(scene, "catmull"), render(reference, "catmull"), atol=1e-12)
+
+
+@pytest.mark.parametrize("origin, point", [
+    ("center", (40.0, 25.0)), ("right bottom", (80.0, 50.0)), ("bottom left", (0.0, 50.0)), ("top", (40.0, 0.0)),
+    ("25% 60%", (20.0, 30.0)), ("12px", (12.0, 25.0)), ("left 1em", (0.0, 16.0)), ("center 10px", (40.0, 10.0)),
+    ("0.5in 3 0", (48.0, 3.0)), ("left right", (0.0, 0.0)), ("10px left", (0.0, 0.0)), ("nonsense", (0.0, 0.0)),
+])
+def test_transform_origin_is_the_transform_conjugated_by_the_origin(tmp_path, origin, point):
+    """CSS Transforms 1: the map is translate(origin) transform translate(-origin), with
+    keywords and percentages of the viewport (here the viewBox, 80 x 50 user units); a value
+    that does not parse is the initial 0 0. Set as an attribute and through CSS."""
+    ox, oy = point
+    body = '<rect x="30" y="15" width="20" height="20" fill="navy" transform="rotate(30) scale(1.5 0.75)" {}/>'
+    svg = f'<svg xmlns="{NS}" width="160" height="100" viewBox="0 0 80 50">{{}}</svg>'
+    expected = svg.format(f'<rect x="30" y="15" width="20" height="20" fill="navy" transform="translate({ox} {oy}) '
+                          f'rotate(30) scale(1.5 0.75) translate({-ox} {-oy})"/>')
+    _, reference = imported(tmp_path, "origin_expected", expected)
+    for how in (f'transform-origin="{origin}"', f'style="transform-origin: {origin}"'):
+        result, scene = imported(tmp_path, "origin", svg.format(body.format(how)))
+        assert result.ignored == []
+        np.testing.assert_allclose(render(scene, "catmull"), render(reference, "catmull"), atol=1e-12)
+
+
+def test_transform_origin_on_a_clip_path_and_in_a_nested_viewport(tmp_path):
+    """The reference box is the nearest viewport, sized as its viewBox: 'center' of a nested
+    <svg viewBox="0 0 20 10"> is (10, 5) in its user space; on a clipPath it turns the clip."""
+    nested = (f'<svg xmlns="{NS}" width="40" height="20"><svg x="4" y="2" width="32" height="16" viewBox="0 0 20 10">'
+              '<rect x="5" y="2" width="10" height="6" fill="green" transform="rotate(90)" {}/></svg></svg>')
+    _, scene = imported(tmp_path, "nested_origin", nested.format('transform-origin="center"'))
+    _, reference = imported(tmp_path, "nested_expected", nested.format('').replace(
+        'transform="rotate(90)"', 'transform="translate(10 5) rotate(90) translate(-10 -5)"'))
+    np.testing.assert_allclose(render(scene, "catmull"), render(reference, "catmull"), atol=1e-12)
+    clipped = (f'<svg xmlns="{NS}" width="40" height="40"><clipPath id="c" transform="rotate(45)" {{}}>'
+               '<rect x="10" y="10" width="20" height="20"/></clipPath>'
+               '<rect width="40" height="40" fill="navy" clip-path="url(#c)"/></svg>')
+    _, scene = imported(tmp_path, "clip_origin", clipped.format('transform-origin="20 20"'))
+    _, reference = imported(tmp_path, "clip_expected", clipped.format('').replace(
+        'transform="rotate(45)"', 'transform="translate(20 20) rotate(45) translate(-20 -20)"'))
+    np.testing.assert_allclose(render(scene, "catmull"), render(reference, "catmull"), atol=1e-12)
+    assert render(scene, "catmull").tobytes() != render(imported(tmp_path, "clip_plain", clipped.format(''))[1],
+                                                        "catmull").tobytes()
 
 
 @pytest.mark.parametrize("transform", ["skewX(30)", "scale(3 1)", "matrix(1 0.3 -0.2 0.5 0 0)"])
