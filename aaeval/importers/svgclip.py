@@ -1,10 +1,11 @@
 """Clipping in SVG: ``clip-path`` regions and the clip of a viewport.
 
 :class:`ClipPaths` turns a ``clip-path: url(#id)`` into the region it keeps (device
-space): the union of the ``<clipPath>``'s shapes, each under its ``clip-rule``, in
-``userSpaceOnUse`` or ``objectBoundingBox`` units (on shapes), ``<use>`` of a shape
-followed. What it cannot apply (a reference to something else, a clip path with a clip
-path of its own, bounding-box units on a group, text inside) is listed and drawn
+space): the union of the ``<clipPath>``'s shapes, each under its ``clip-rule`` and cut
+by its own ``clip-path`` (in the child's user space), in ``userSpaceOnUse`` or
+``objectBoundingBox`` units (on shapes), ``<use>`` of a shape followed. What it cannot
+apply (a reference to something else, a ``<clipPath>`` with a clip path of its own, a
+cycle of references, bounding-box units on a group, text inside) is listed and drawn
 unclipped. :func:`clip_layers` clips layers to a region or to a viewport's rectangle.
 """
 
@@ -19,7 +20,7 @@ from aaeval.importers.scene import Layer
 from aaeval.importers.shapes import Region, Subpath, clip_regions, fill_regions
 from aaeval.importers.svgcomputed import parse_number
 from aaeval.importers.svgdocument import NOT_IMPORTED, SHAPES, XLINK_HREF, conditions_pass, svg_tag
-from aaeval.importers.svggeometry import flatten_segments, geometry
+from aaeval.importers.svggeometry import bounding_box, flatten_segments, geometry
 from aaeval.importers.svgpath import IDENTITY, apply, compose, max_stretch, translate
 from aaeval.importers.svgstyle import LengthError, Lengths, parse_paint
 from aaeval.importers.svgtransform import element_transform
@@ -42,6 +43,7 @@ class ClipPaths:
         self.computed = computed
         self.report = report
         self.tol = tol
+        self.resolving: set[int] = set()  # clipPaths being resolved: one met again is a cycle
 
     def region(self, value: str, name: str, ctm, box, lengths: Lengths):
         """The region (device space) a ``clip-path`` keeps, or None where it is not applied
@@ -51,6 +53,19 @@ class ClipPaths:
         if target is None or svg_tag(target) != "clipPath":
             self.report.note(f"{name}: clip-path {value.strip()[:60]} is not a clipPath in the file; drawn unclipped")
             return None
+        if id(target) in self.resolving:
+            self.report.note(f"{name}: clip-path #{target.get('id')} refers back to itself (a cycle, an error in SVG); "
+                             "drawn unclipped by it")
+            return None
+        self.resolving.add(id(target))
+        try:
+            return self._union(target, name, ctm, box, lengths)
+        finally:
+            self.resolving.discard(id(target))
+
+    def _union(self, target, name: str, ctm, box, lengths: Lengths):
+        """The union of a clipPath's shapes (device space), each under its clip-rule and
+        clipped by its own clip-path; None where the clipPath is not applied."""
         tstyle = self.computed.tree_style(target)
         if tstyle["clip-path"].strip().lower() not in ("", "none"):
             self.report.note(f"{name}: clip-path #{target.get('id')} has a clip path of its own; drawn unclipped")
@@ -104,5 +119,12 @@ class ClipPaths:
             rule = "evenodd" if style["clip-rule"].strip() == "evenodd" else "nonzero"
             flat = flatten_segments(segments, self.tol / stretch)
             subpaths = [Subpath(apply(placed, s.points), s.closed) for s in flat]
-            rings.extend(ring for region in fill_regions(subpaths, rule) for ring in (region.outer, *region.holes))
+            regions = fill_regions(subpaths, rule)
+            if style["clip-path"].strip().lower() not in ("", "none"):  # a child's own clip, in its user space
+                shape_lengths = lengths.with_font(style["font"])
+                own_box = bounding_box(shape, tag, style, shape_lengths, self.tol)
+                clip = self.region(style["clip-path"], name, placed, own_box, shape_lengths)
+                if clip is not None:
+                    regions = clip_regions(regions, clip)
+            rings.extend(ring for region in regions for ring in (region.outer, *region.holes))
         return [Region(outer, holes) for outer, holes in resolve_fill(rings, "nonzero")] if rings else []

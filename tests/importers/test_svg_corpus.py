@@ -34,7 +34,7 @@ from aaeval.scenes import parse_scene
 CORPUS = Path(__file__).parents[1] / "data" / "svg" / "corpus"
 NS = "http://www.w3.org/2000/svg"
 RESVG_CASES = ["colours", "css", "structure", "nested", "paths", "markers", "strokes", "clip", "dashes",
-               "transform_origin"]
+               "transform_origin", "clip_children"]
 
 
 def imported(tmp_path, name: str, text: str | None = None):
@@ -166,6 +166,41 @@ def test_transform_origin_on_a_clip_path_and_in_a_nested_viewport(tmp_path):
     np.testing.assert_allclose(render(scene, "catmull"), render(reference, "catmull"), atol=1e-12)
     assert render(scene, "catmull").tobytes() != render(imported(tmp_path, "clip_plain", clipped.format(''))[1],
                                                         "catmull").tobytes()
+
+
+def test_a_clip_path_child_clipped_by_its_own_clip_path_keeps_the_intersection(tmp_path):
+    """A clipPath child with a clip-path of its own contributes only the part inside it:
+    the same region as the two clip paths nested on a group and its shape (GEOS
+    intersection of the imported outlines). A cycle of such references is listed."""
+    nested = (f'<svg xmlns="{NS}" width="30" height="30"><clipPath id="disc"><circle cx="15" cy="15" r="11"/>'
+              '</clipPath><clipPath id="star"><path d="M 15 2 L 23 27 L 2 11 L 28 11 L 7 27 Z" {}/></clipPath>'
+              '<g {}><rect width="30" height="30" fill="green" {}/></g></svg>')
+    result, _ = imported(tmp_path, "child_clip", nested.format('clip-path="url(#disc)"', '',
+                                                               'clip-path="url(#star)"'))
+    expected, _ = imported(tmp_path, "group_clip", nested.format('', 'clip-path="url(#star)"',
+                                                                 'clip-path="url(#disc)"'))
+    assert result.ignored == [] and expected.ignored == []
+
+    def union(document):
+        return shapely.unary_union([ShapelyPolygon([v[:2] for v in p["vertices"]],
+                                                   [[v[:2] for v in h] for h in p.get("holes", [])])
+                                    for p in document["polygons"]])
+
+    got, want = union(result.document), union(expected.document)
+    assert want.area > 100 and got.symmetric_difference(want).area < 1e-9
+    # in the child's user space, its transform included: the lower half of its own box, turned
+    turned = (f'<svg xmlns="{NS}" width="30" height="30"><clipPath id="half" clipPathUnits="objectBoundingBox">'
+              '<rect y="0.5" width="1" height="0.5"/></clipPath><clipPath id="c"><rect x="-10" y="-4" width="8" '
+              'height="20" transform="translate(20 8) rotate(15)" clip-path="url(#half)"/></clipPath>'
+              '<rect width="30" height="30" fill="navy" clip-path="url(#c)"/></svg>')
+    result, _ = imported(tmp_path, "turned", turned)
+    half = shapely.affinity.translate(shapely.affinity.rotate(shapely.box(-10, 6, -2, 16), 15, origin=(0, 0)), 20, 8)
+    assert union(result.document).symmetric_difference(half).area < 1e-9
+    cycle = (f'<svg xmlns="{NS}" width="30" height="30"><clipPath id="a"><rect width="20" height="20" '
+             'clip-path="url(#b)"/></clipPath><clipPath id="b"><rect x="5" y="5" width="20" height="20" '
+             'clip-path="url(#a)"/></clipPath><rect width="30" height="30" fill="green" clip-path="url(#a)"/></svg>')
+    result, _ = imported(tmp_path, "cycle", cycle)
+    assert any("#a" in item and "cycle" in item for item in result.ignored), result.ignored
 
 
 @pytest.mark.parametrize("transform", ["skewX(30)", "scale(3 1)", "matrix(1 0.3 -0.2 0.5 0 0)"])
