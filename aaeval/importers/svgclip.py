@@ -3,9 +3,9 @@
 :class:`ClipPaths` turns a ``clip-path: url(#id)`` into the region it keeps (device
 space): the union of the ``<clipPath>``'s shapes, each under its ``clip-rule`` and cut
 by its own ``clip-path`` (in the child's user space), in ``userSpaceOnUse`` or
-``objectBoundingBox`` units (on shapes), ``<use>`` of a shape followed. What it cannot
-apply (a reference to something else, a ``<clipPath>`` with a clip path of its own, a
-cycle of references, bounding-box units on a group, text inside) is listed and drawn
+``objectBoundingBox`` units (on shapes), ``<use>`` of a shape followed, cut by the
+``<clipPath>``'s own ``clip-path``. What it cannot apply (a reference to something else,
+a cycle of references, bounding-box units on a group, text inside) is listed and drawn
 unclipped. :func:`clip_layers` clips layers to a region or to a viewport's rectangle.
 """
 
@@ -65,11 +65,18 @@ class ClipPaths:
 
     def _union(self, target, name: str, ctm, box, lengths: Lengths):
         """The union of a clipPath's shapes (device space), each under its clip-rule and
-        clipped by its own clip-path; None where the clipPath is not applied."""
+        clipped by its own clip-path, within the clipPath's own clip-path (in the user space
+        of the element it clips); None where the clipPath is not applied."""
         tstyle = self.computed.tree_style(target)
-        if tstyle["clip-path"].strip().lower() not in ("", "none"):
-            self.report.note(f"{name}: clip-path #{target.get('id')} has a clip path of its own; drawn unclipped")
-            return None
+        kept = self._children(target, tstyle, name, ctm, box, lengths)
+        if kept and tstyle["clip-path"].strip().lower() not in ("", "none"):
+            clip = self.region(tstyle["clip-path"], name, ctm, box, lengths)
+            if clip is not None:
+                kept = clip_regions(kept, clip)
+        return kept
+
+    def _children(self, target, tstyle, name: str, ctm, box, lengths: Lengths):
+        """The union of a clipPath's children (device space); None where it is not applied."""
         own = element_transform(target.get("transform"), tstyle["transform-origin"], lengths)
         space = compose(ctm, own or IDENTITY)
         if target.get("clipPathUnits", "").strip() == "objectBoundingBox":

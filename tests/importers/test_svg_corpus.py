@@ -188,6 +188,10 @@ def test_a_clip_path_child_clipped_by_its_own_clip_path_keeps_the_intersection(t
 
     got, want = union(result.document), union(expected.document)
     assert want.area > 100 and got.symmetric_difference(want).area < 1e-9
+    # a clip path on the clipPath itself cuts the union of its children
+    own_clip = nested.replace('<clipPath id="star">', '<clipPath id="star" clip-path="url(#disc)">')
+    result, _ = imported(tmp_path, "own_clip", own_clip.format('', '', 'clip-path="url(#star)"'))
+    assert result.ignored == [] and union(result.document).symmetric_difference(want).area < 1e-9
     # in the child's user space, its transform included: the lower half of its own box, turned
     turned = (f'<svg xmlns="{NS}" width="30" height="30"><clipPath id="half" clipPathUnits="objectBoundingBox">'
               '<rect y="0.5" width="1" height="0.5"/></clipPath><clipPath id="c"><rect x="-10" y="-4" width="8" '
