@@ -143,6 +143,10 @@ class Seg:
         return d / norm[:, None]
 
     def _fallback_direction(self, t: float) -> np.ndarray:
+        if self.kind == "arc" and self.arc[6] != 0:
+            # a sliver of an arc (a dash ending on a segment's end leaves one) still has the
+            # ellipse's direction: the derivative per unit of angle, which does not vanish
+            return self.derivative(np.array([t]))[0] / abs(self.arc[6])
         if self.kind == "bezier" and t <= 0.0:
             for p in self.ctrl[1:]:
                 if np.any(p != self.ctrl[0]):

@@ -207,6 +207,25 @@ def test_a_clip_path_child_clipped_by_its_own_clip_path_keeps_the_intersection(t
     assert any("#a" in item and "cycle" in item for item in result.ignored), result.ignored
 
 
+def test_dashes_ending_on_a_segment_end_are_stroked(tmp_path):
+    """pathLength 100 and dashes of 25 on a circle put every dash end on the end of a
+    quarter arc, where rounding leaves a sliver of the next arc: the dashes are the two
+    quarter arcs as paths of their own (the sliver once sent the stroker to its vertex limit)."""
+    dashed = (f'<svg xmlns="{NS}" width="40" height="40"><circle cx="20" cy="20" r="14" fill="none" stroke="navy" '
+              'stroke-width="4" stroke-dasharray="25" pathLength="100"/></svg>')
+    quarters = (f'<svg xmlns="{NS}" width="40" height="40"><path d="M 34 20 A 14 14 0 0 1 20 34 M 6 20 A 14 14 0 0 1 '
+                '20 6" fill="none" stroke="navy" stroke-width="4"/></svg>')
+    result, scene = imported(tmp_path, "dashed", dashed)
+    _, reference = imported(tmp_path, "quarters", quarters)
+    assert result.ignored == []
+    np.testing.assert_allclose(render(scene, "catmull"), render(reference, "catmull"), atol=1e-9)
+    sliver = (f'<svg xmlns="{NS}" width="20" height="20"><path d="M 4 10 L 10 10 A 6 6 0 0 1 10.000000000000002 10" '
+              'fill="none" stroke="navy" stroke-width="2"/></svg>')
+    result, _ = imported(tmp_path, "sliver", sliver)
+    (polygon,) = result.document["polygons"]
+    assert sorted({tuple(v[:2]) for v in polygon["vertices"]}) == [(4, 9), (4, 11), (10, 9), (10, 11)]
+
+
 @pytest.mark.parametrize("transform", ["skewX(30)", "scale(3 1)", "matrix(1 0.3 -0.2 0.5 0 0)"])
 def test_strokes_are_outlined_in_user_space_then_transformed(tmp_path, transform):
     """GEOS buffers the polyline in user space; the affine image of that buffer is the
