@@ -11,9 +11,13 @@ An import that would pass one is refused with one line naming the limit (an
   (finer than that is below float64's resolution of the coordinates and only costs
   vertices); :func:`min_tolerance` gives the bound.
 
+Fill rules (:mod:`aaeval.importers.fill`) have their own limits, raised as a
+:class:`FillError`: :data:`MAX_EDGES` edges in one outline (as given, or once its crossings
+would be cut: checked before the cut) and :data:`MAX_PAIRS` edge pairs whose boxes overlap
+(a quadratic number of crossings), refused instead of running for hours.
+
 The file itself is read by :func:`aaeval.readlimits.read_bytes` (regular files only, of
-bounded size). Fill rules have their own limits on edges and close edge pairs
-(:mod:`aaeval.importers.fill`).
+bounded size).
 """
 
 from __future__ import annotations
@@ -22,16 +26,22 @@ import contextvars
 import math
 
 __all__ = ["ImportLimitError", "MAX_ELEMENTS", "MAX_VERTICES", "MAX_GLYPHS", "TOLERANCE_RTOL",
-           "min_tolerance", "check_tolerance", "VertexBudget", "charge"]
+           "min_tolerance", "check_tolerance", "VertexBudget", "charge", "FillError", "MAX_EDGES", "MAX_PAIRS"]
 
 MAX_ELEMENTS = 20_000
 MAX_VERTICES = 2_000_000
 MAX_GLYPHS = 20_000
 TOLERANCE_RTOL = 1e-7
+MAX_EDGES = 300_000
+MAX_PAIRS = 40_000_000
 
 
 class ImportLimitError(ValueError):
     """An import over one of the stated limits."""
+
+
+class FillError(ValueError):
+    """An outline too large or too complex to resolve within the stated limits."""
 
 
 def min_tolerance(width: float, height: float) -> float:

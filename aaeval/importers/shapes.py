@@ -14,7 +14,8 @@ from typing import Iterable, NamedTuple
 
 import numpy as np
 
-from aaeval.importers.fill import resolve_fill, ring_area
+from aaeval.importers.fill import resolve_fill
+from aaeval.importers.fillrings import ring_area
 from aaeval.importers.limits import charge
 from aaeval.importers.stroke import Seg, stroke_pieces
 

@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from aaeval.importers.fill import ring_area
+from aaeval.importers.fillrings import ring_area
 
 __all__ = ["Seg", "stroke_pieces", "MAX_TURN"]
 
@@ -143,6 +143,10 @@ class Seg:
         return d / norm[:, None]
 
     def _fallback_direction(self, t: float) -> np.ndarray:
+        if self.kind == "arc" and self.arc[6] != 0:
+            # a sliver of an arc (a dash ending on a segment's end leaves one) still has the
+            # ellipse's direction: the derivative per unit of angle, which does not vanish
+            return self.derivative(np.array([t]))[0] / abs(self.arc[6])
         if self.kind == "bezier" and t <= 0.0:
             for p in self.ctrl[1:]:
                 if np.any(p != self.ctrl[0]):

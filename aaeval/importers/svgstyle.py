@@ -33,6 +33,7 @@ INITIAL = {
     "marker-end": "none", "clip-path": "none", "clip-rule": "nonzero", "mask": "none", "filter": "none",
     "font-size": "16px", "overflow": "visible", "mix-blend-mode": "normal", "isolation": "auto",
     "vector-effect": "none", "shape-rendering": "auto", "stop-color": "black", "stop-opacity": "1",
+    "transform-origin": "0 0",
 }
 INHERITED = {"fill", "fill-rule", "fill-opacity", "stroke", "stroke-width", "stroke-linecap", "stroke-linejoin",
              "stroke-miterlimit", "stroke-dasharray", "stroke-dashoffset", "stroke-opacity", "color", "visibility",
@@ -44,7 +45,7 @@ PRESENTATION = set(INITIAL) | set(GEOMETRY)
 # at-rules that cannot change what shapes draw
 HARMLESS_AT_RULES = {"font-face", "charset", "page", "font-feature-values", "counter-style", "property"}
 # CSS properties that change what is drawn but that aaeval does not apply
-NOT_APPLIED = {"transform", "transform-origin", "transform-box", "d", "clip"}
+NOT_APPLIED = {"transform", "transform-box", "d", "clip"}
 FONT_KEYWORDS = {"xx-small": 9, "x-small": 10, "small": 13, "medium": 16, "large": 18, "x-large": 24,
                  "xx-large": 32, "xxx-large": 48}
 DEFAULT_FONT_SIZE = 16.0

@@ -80,10 +80,10 @@ def test_a_path_crossing_itself_into_too_many_edges_is_refused_before_the_cut(tm
     was checked only after the cut)."""
     import math
 
-    from aaeval.importers import fill
+    from aaeval.importers import fillcut
 
     monkeypatch.chdir(tmp_path)
-    monkeypatch.setattr(fill, "MAX_EDGES", 5000)
+    monkeypatch.setattr(fillcut, "MAX_EDGES", 5000)
     star = " L".join(f"{10 + 9 * math.cos(i * 2.399):.4f} {10 + 9 * math.sin(i * 2.399):.4f}" for i in range(200))
     (tmp_path / "star.svg").write_text(SVG.format(f'<path d="M{star} Z"/>'))
     err = refused(["import", "svg", "star.svg", "-o", "x.toml"], capsys, "star.svg", "crosses itself into",

@@ -33,7 +33,8 @@ from aaeval.scenes import parse_scene
 
 CORPUS = Path(__file__).parents[1] / "data" / "svg" / "corpus"
 NS = "http://www.w3.org/2000/svg"
-RESVG_CASES = ["colours", "css", "structure", "nested", "paths", "markers", "strokes", "clip", "dashes"]
+RESVG_CASES = ["colours", "css", "structure", "nested", "paths", "markers", "strokes", "clip", "dashes",
+               "transform_origin", "clip_children"]
 
 
 def imported(tmp_path, name: str, text: str | None = None):
@@ -124,6 +125,105 @@ def test_geometry_set_through_css_matches_attributes(tmp_path):
     _, scene = imported(tmp_path, "css_geometry")
     _, reference = imported(tmp_path, "css_geometry_px", expected)
     np.testing.assert_allclose(render(scene, "catmull"), render(reference, "catmull"), atol=1e-12)
+
+
+@pytest.mark.parametrize("origin, point", [
+    ("center", (40.0, 25.0)), ("right bottom", (80.0, 50.0)), ("bottom left", (0.0, 50.0)), ("top", (40.0, 0.0)),
+    ("25% 60%", (20.0, 30.0)), ("12px", (12.0, 25.0)), ("left 1em", (0.0, 16.0)), ("center 10px", (40.0, 10.0)),
+    ("0.5in 3 0", (48.0, 3.0)), ("left right", (0.0, 0.0)), ("10px left", (0.0, 0.0)), ("nonsense", (0.0, 0.0)),
+])
+def test_transform_origin_is_the_transform_conjugated_by_the_origin(tmp_path, origin, point):
+    """CSS Transforms 1: the map is translate(origin) transform translate(-origin), with
+    keywords and percentages of the viewport (here the viewBox, 80 x 50 user units); a value
+    that does not parse is the initial 0 0. Set as an attribute and through CSS."""
+    ox, oy = point
+    body = '<rect x="30" y="15" width="20" height="20" fill="navy" transform="rotate(30) scale(1.5 0.75)" {}/>'
+    svg = f'<svg xmlns="{NS}" width="160" height="100" viewBox="0 0 80 50">{{}}</svg>'
+    expected = svg.format(f'<rect x="30" y="15" width="20" height="20" fill="navy" transform="translate({ox} {oy}) '
+                          f'rotate(30) scale(1.5 0.75) translate({-ox} {-oy})"/>')
+    _, reference = imported(tmp_path, "origin_expected", expected)
+    for how in (f'transform-origin="{origin}"', f'style="transform-origin: {origin}"'):
+        result, scene = imported(tmp_path, "origin", svg.format(body.format(how)))
+        assert result.ignored == []
+        np.testing.assert_allclose(render(scene, "catmull"), render(reference, "catmull"), atol=1e-12)
+
+
+def test_transform_origin_on_a_clip_path_and_in_a_nested_viewport(tmp_path):
+    """The reference box is the nearest viewport, sized as its viewBox: 'center' of a nested
+    <svg viewBox="0 0 20 10"> is (10, 5) in its user space; on a clipPath it turns the clip."""
+    nested = (f'<svg xmlns="{NS}" width="40" height="20"><svg x="4" y="2" width="32" height="16" viewBox="0 0 20 10">'
+              '<rect x="5" y="2" width="10" height="6" fill="green" transform="rotate(90)" {}/></svg></svg>')
+    _, scene = imported(tmp_path, "nested_origin", nested.format('transform-origin="center"'))
+    _, reference = imported(tmp_path, "nested_expected", nested.format('').replace(
+        'transform="rotate(90)"', 'transform="translate(10 5) rotate(90) translate(-10 -5)"'))
+    np.testing.assert_allclose(render(scene, "catmull"), render(reference, "catmull"), atol=1e-12)
+    clipped = (f'<svg xmlns="{NS}" width="40" height="40"><clipPath id="c" transform="rotate(45)" {{}}>'
+               '<rect x="10" y="10" width="20" height="20"/></clipPath>'
+               '<rect width="40" height="40" fill="navy" clip-path="url(#c)"/></svg>')
+    _, scene = imported(tmp_path, "clip_origin", clipped.format('transform-origin="20 20"'))
+    _, reference = imported(tmp_path, "clip_expected", clipped.format('').replace(
+        'transform="rotate(45)"', 'transform="translate(20 20) rotate(45) translate(-20 -20)"'))
+    np.testing.assert_allclose(render(scene, "catmull"), render(reference, "catmull"), atol=1e-12)
+    assert render(scene, "catmull").tobytes() != render(imported(tmp_path, "clip_plain", clipped.format(''))[1],
+                                                        "catmull").tobytes()
+
+
+def test_a_clip_path_child_clipped_by_its_own_clip_path_keeps_the_intersection(tmp_path):
+    """A clipPath child with a clip-path of its own contributes only the part inside it:
+    the same region as the two clip paths nested on a group and its shape (GEOS
+    intersection of the imported outlines). A cycle of such references is listed."""
+    nested = (f'<svg xmlns="{NS}" width="30" height="30"><clipPath id="disc"><circle cx="15" cy="15" r="11"/>'
+              '</clipPath><clipPath id="star"><path d="M 15 2 L 23 27 L 2 11 L 28 11 L 7 27 Z" {}/></clipPath>'
+              '<g {}><rect width="30" height="30" fill="green" {}/></g></svg>')
+    result, _ = imported(tmp_path, "child_clip", nested.format('clip-path="url(#disc)"', '',
+                                                               'clip-path="url(#star)"'))
+    expected, _ = imported(tmp_path, "group_clip", nested.format('', 'clip-path="url(#star)"',
+                                                                 'clip-path="url(#disc)"'))
+    assert result.ignored == [] and expected.ignored == []
+
+    def union(document):
+        return shapely.unary_union([ShapelyPolygon([v[:2] for v in p["vertices"]],
+                                                   [[v[:2] for v in h] for h in p.get("holes", [])])
+                                    for p in document["polygons"]])
+
+    got, want = union(result.document), union(expected.document)
+    assert want.area > 100 and got.symmetric_difference(want).area < 1e-9
+    # a clip path on the clipPath itself cuts the union of its children
+    own_clip = nested.replace('<clipPath id="star">', '<clipPath id="star" clip-path="url(#disc)">')
+    result, _ = imported(tmp_path, "own_clip", own_clip.format('', '', 'clip-path="url(#star)"'))
+    assert result.ignored == [] and union(result.document).symmetric_difference(want).area < 1e-9
+    # in the child's user space, its transform included: the lower half of its own box, turned
+    turned = (f'<svg xmlns="{NS}" width="30" height="30"><clipPath id="half" clipPathUnits="objectBoundingBox">'
+              '<rect y="0.5" width="1" height="0.5"/></clipPath><clipPath id="c"><rect x="-10" y="-4" width="8" '
+              'height="20" transform="translate(20 8) rotate(15)" clip-path="url(#half)"/></clipPath>'
+              '<rect width="30" height="30" fill="navy" clip-path="url(#c)"/></svg>')
+    result, _ = imported(tmp_path, "turned", turned)
+    half = shapely.affinity.translate(shapely.affinity.rotate(shapely.box(-10, 6, -2, 16), 15, origin=(0, 0)), 20, 8)
+    assert union(result.document).symmetric_difference(half).area < 1e-9
+    cycle = (f'<svg xmlns="{NS}" width="30" height="30"><clipPath id="a"><rect width="20" height="20" '
+             'clip-path="url(#b)"/></clipPath><clipPath id="b"><rect x="5" y="5" width="20" height="20" '
+             'clip-path="url(#a)"/></clipPath><rect width="30" height="30" fill="green" clip-path="url(#a)"/></svg>')
+    result, _ = imported(tmp_path, "cycle", cycle)
+    assert any("#a" in item and "cycle" in item for item in result.ignored), result.ignored
+
+
+def test_dashes_ending_on_a_segment_end_are_stroked(tmp_path):
+    """pathLength 100 and dashes of 25 on a circle put every dash end on the end of a
+    quarter arc, where rounding leaves a sliver of the next arc: the dashes are the two
+    quarter arcs as paths of their own (the sliver once sent the stroker to its vertex limit)."""
+    dashed = (f'<svg xmlns="{NS}" width="40" height="40"><circle cx="20" cy="20" r="14" fill="none" stroke="navy" '
+              'stroke-width="4" stroke-dasharray="25" pathLength="100"/></svg>')
+    quarters = (f'<svg xmlns="{NS}" width="40" height="40"><path d="M 34 20 A 14 14 0 0 1 20 34 M 6 20 A 14 14 0 0 1 '
+                '20 6" fill="none" stroke="navy" stroke-width="4"/></svg>')
+    result, scene = imported(tmp_path, "dashed", dashed)
+    _, reference = imported(tmp_path, "quarters", quarters)
+    assert result.ignored == []
+    np.testing.assert_allclose(render(scene, "catmull"), render(reference, "catmull"), atol=1e-9)
+    sliver = (f'<svg xmlns="{NS}" width="20" height="20"><path d="M 4 10 L 10 10 A 6 6 0 0 1 10.000000000000002 10" '
+              'fill="none" stroke="navy" stroke-width="2"/></svg>')
+    result, _ = imported(tmp_path, "sliver", sliver)
+    (polygon,) = result.document["polygons"]
+    assert sorted({tuple(v[:2]) for v in polygon["vertices"]}) == [(4, 9), (4, 11), (10, 9), (10, 11)]
 
 
 @pytest.mark.parametrize("transform", ["skewX(30)", "scale(3 1)", "matrix(1 0.3 -0.2 0.5 0 0)"])
