@@ -63,6 +63,9 @@ def svg_tag(el) -> str | None:
     return None if tag.startswith("{") else tag
 
 
+#: The user language ``systemLanguage`` is tested against (the resvg method renders with it too).
+LANGUAGE = "en"
+
 
 def conditions_pass(el) -> bool:
     """SVG 2's conditional processing: requiredExtensions (none supported), systemLanguage."""
@@ -70,7 +73,7 @@ def conditions_pass(el) -> bool:
         return False
     languages = el.get("systemLanguage")
     if languages is not None:
-        return any(lang.strip().lower().split("-")[0] == "en" for lang in languages.split(","))
+        return any(lang.strip().lower().split("-")[0] == LANGUAGE for lang in languages.split(","))
     return True
 
 

@@ -144,6 +144,7 @@ def render_resvg(scene: Scene) -> np.ndarray:
     from PIL import Image
 
     from aaeval.imageio import srgb_to_linear
+    from aaeval.importers.svgdocument import LANGUAGE
     from aaeval.scenes.sources import source_path
 
     svg = required_table(scene, "resvg")
@@ -160,9 +161,10 @@ def render_resvg(scene: Scene) -> np.ndarray:
     placed = placed_svg(text, scene.width, scene.height, svg.scale, svg.offset, name=str(path))
     try:
         # dpi: CSS's 96 px per inch; resvg-py passes its default 0 through, and every absolute
-        # unit (in, cm, mm, Q, pt, pc) would have no length
+        # unit (in, cm, mm, Q, pt, pc) would have no length; languages: the import's, so a
+        # <switch> on systemLanguage picks the same child in both
         png = resvg_py.svg_to_bytes(svg_string=placed, background=_to_hex(scene.background), skip_system_fonts=True,
-                                    dpi=96.0)
+                                    dpi=96.0, languages=[LANGUAGE])
     except ValueError as exc:  # resvg's own refusals, e.g. "nodes limit reached" on a <use> bomb
         raise SourceError(f"{path}: resvg refuses this SVG ({_one_line(exc)})") from None
     pixels = np.asarray(Image.open(io.BytesIO(bytes(png))).convert("RGB"), dtype=np.float64) / 255.0
