@@ -39,7 +39,7 @@ from aaeval import registries
 from aaeval.renderers import render_timed
 from aaeval.catmull import available_cores
 from aaeval.scenes.generate import random_triangles
-from smoke import SMOKE, smallest
+from smoke import SMOKE, smallest, time_against_size_axes
 
 registries.load()  # a program fills the registries once, before it renders
 
@@ -143,14 +143,9 @@ def plot(rows, fill, path):
         ax.plot([p[0] for p in pts], [p[1] for p in pts], "o", ms=5, alpha=0.8, label=spec)
     work = np.array(sorted({float(r["work"]) for r in rows}))
     ax.plot(work, work * fill * 1e3, "k--", lw=1.5, label="fill rate (write each unit of work once)")
-    ax.set_xscale("log")
+    time_against_size_axes(ax, xlabel="work: pixels x (1 + depth complexity)", ylabel="median wall ms per frame",
+                           title="Render time against work (random interpenetrating triangles)", legend_size=7)
     ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())  # 3x10^5 4x10^5 ... collide
-    ax.set_yscale("log")
-    ax.set_xlabel("work: pixels x (1 + depth complexity)")
-    ax.set_ylabel("median wall ms per frame")
-    ax.set_title("Render time against work (random interpenetrating triangles)")
-    ax.legend(fontsize=7)
-    ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
 

@@ -30,7 +30,7 @@ from aaeval.renderers import render_timed
 from aaeval.scenes.document import parse_scene
 from aaeval.scenes.format import SceneError
 from aaeval.scenes.generate import illustration_like, random_triangles
-from smoke import SMOKE, smallest
+from smoke import SMOKE, smallest, time_against_size_axes
 
 registries.load()  # a program fills the registries once, before it renders
 
@@ -121,13 +121,9 @@ def plot(rows, path: Path) -> None:
         tiger = sorted((p[0], p[1]) for p in points if p[2].startswith("tiger-like seed 1"))
         if tiger:
             ax.plot(*zip(*tiger), "-", color=ax.lines[-1].get_color(), alpha=0.5)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("scene vertices (tiger-like seed 1 joined by lines)")
-    ax.set_ylabel("median render time, ms (one core)")
-    ax.set_title("Real art and random triangles: render time against scene size")
-    ax.legend(fontsize=8)
-    ax.grid(True, which="both", alpha=0.3)
+    time_against_size_axes(ax, xlabel="scene vertices (tiger-like seed 1 joined by lines)",
+                           ylabel="median render time, ms (one core)",
+                           title="Real art and random triangles: render time against scene size", legend_size=8)
     fig.tight_layout()
     tmp = path.with_suffix(".tmp.png")
     fig.savefig(tmp)

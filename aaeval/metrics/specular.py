@@ -293,8 +293,8 @@ def highlight_energy_flicker(frames_true, frames_test, *, mask) -> float:
 
     Parameters
     ----------
-    frames_true, frames_test : ndarray, shape (T, H, W) or (T, H, W, C), T >= 2
-    mask : ndarray of bool, shape (H, W) or (T, H, W)
+    frames_true, frames_test, mask
+        As for :func:`highlight_bias`.
 
     Returns
     -------

@@ -107,9 +107,7 @@ def temporal_bias(frames_true, frames_test) -> float:
     bias : float
         ``sqrt(mean over pixels and channels of (mean over frames of the error)**2)``.
     """
-    frames_true, frames_test = check_frames_pair(frames_true, frames_test)
-    error = frames_test - frames_true
-    return float(np.sqrt(np.mean(np.mean(error, axis=0) ** 2)))
+    return float(np.sqrt(np.mean(np.mean(_errors(frames_true, frames_test), axis=0) ** 2)))
 
 
 def flicker(frames_true, frames_test) -> float:
@@ -129,11 +127,9 @@ def flicker(frames_true, frames_test) -> float:
     Returns
     -------
     flicker : float
-        ``sqrt(mean over pixels and channels of var over frames of the error)``.
+        ``sqrt(mean over pixels and channels of var over frames of the error)``; 0 for one frame.
     """
-    frames_true, frames_test = check_frames_pair(frames_true, frames_test)
-    error = frames_test - frames_true
-    return float(np.sqrt(np.mean(np.var(error, axis=0))))
+    return float(np.sqrt(np.mean(np.var(_errors(frames_true, frames_test), axis=0))))
 
 
 def image_flicker(frames_true, frames_test, *, mask) -> float:
@@ -163,3 +159,9 @@ def image_flicker(frames_true, frames_test, *, mask) -> float:
     if not mask.any():
         return float("nan")
     return float(np.sqrt(np.mean(np.var(frames_test, axis=0)[mask])))
+
+
+def _errors(frames_true, frames_test) -> np.ndarray:
+    """The test's error on every frame and pixel channel, after the checks."""
+    frames_true, frames_test = check_frames_pair(frames_true, frames_test)
+    return frames_test - frames_true
