@@ -69,14 +69,22 @@ class Seg:
             return sweep == 0 or (rx == 0 and ry == 0)
         return bool(np.all(self.ctrl == self.ctrl[0]))
 
+    def _arc(self, t: np.ndarray, *, derivative: bool) -> np.ndarray:
+        """The arc's points at ``t`` (or their derivative): the ellipse's own axes turned by
+        its rotation, and moved to its centre for points."""
+        cx, cy, rx, ry, rot, start, sweep = self.arc
+        th = start + sweep * t
+        c, s = math.cos(rot), math.sin(rot)
+        if derivative:
+            x, y = -rx * np.sin(th) * sweep, ry * np.cos(th) * sweep
+            return np.column_stack([c * x - s * y, s * x + c * y])
+        x, y = rx * np.cos(th), ry * np.sin(th)
+        return np.column_stack([cx + c * x - s * y, cy + s * x + c * y])
+
     def points(self, t: np.ndarray) -> np.ndarray:
         t = np.asarray(t, dtype=np.float64)
         if self.kind == "arc":
-            cx, cy, rx, ry, rot, start, sweep = self.arc
-            th = start + sweep * t
-            c, s = math.cos(rot), math.sin(rot)
-            x, y = rx * np.cos(th), ry * np.sin(th)
-            out = np.column_stack([cx + c * x - s * y, cy + s * x + c * y])
+            out = self._arc(t, derivative=False)
             out[t == 0.0] = self.ctrl[0]
             out[t == 1.0] = self.ctrl[-1]
             return out
@@ -90,11 +98,7 @@ class Seg:
     def derivative(self, t: np.ndarray) -> np.ndarray:
         t = np.asarray(t, dtype=np.float64)
         if self.kind == "arc":
-            cx, cy, rx, ry, rot, start, sweep = self.arc
-            th = start + sweep * t
-            c, s = math.cos(rot), math.sin(rot)
-            x, y = -rx * np.sin(th) * sweep, ry * np.cos(th) * sweep
-            return np.column_stack([c * x - s * y, s * x + c * y])
+            return self._arc(t, derivative=True)
         k = len(self.ctrl) - 1
         diff = k * np.diff(self.ctrl, axis=0)
         if k == 1:
