@@ -15,8 +15,8 @@ The truth is a thin vertical highlight (0.4 px wide, energy :data:`ENERGY` per r
 - ``steady_blur``: the truth blurred by a Gaussian of 1 px in every frame (wider, but
   steady: a flicker measure must score it 0).
 
-:func:`control_scores` computes every registered temporal metric on every control (so a new
-measure is scored without further work); :data:`EXPECTED` states the answers known by
+:func:`control_scores` computes every registered temporal metric (or those named: a sweep
+scores the ones it measured) on every control, so a new measure is scored without further work; :data:`EXPECTED` states the answers known by
 construction, and :data:`WORSE` the pairs of controls a measure must rank one way
 (the first worse than the second). ``tests/metrics/test_metric_controls.py`` holds every
 measure to them, and the report's "how to read" prints the scores beside them.
@@ -122,16 +122,16 @@ def controls() -> tuple[np.ndarray, dict[str, np.ndarray], dict[str, np.ndarray]
     return rgb(truth), {name: rgb(gray[name]) for name in CONTROLS}, masks
 
 
-def control_scores() -> list[dict]:
-    """Every registered temporal metric on every control: rows of ``measure``, ``title``,
-    ``control``, ``score`` (NaN where the measure raised), ``expected`` (NaN where the
-    construction fixes no answer)."""
+def control_scores(names=None) -> list[dict]:
+    """Every registered temporal metric (those of ``names`` when given) on every control:
+    rows of ``measure``, ``title``, ``control``, ``score`` (NaN where the measure raised),
+    ``expected`` (NaN where the construction fixes no answer)."""
     from aaeval.metrics.registry import METRICS, compute_temporal_metric
 
     truth, tests, masks = controls()
     rows = []
     for name, metric in METRICS.items():
-        if metric.kind != "temporal" or metric.unavailable():
+        if metric.kind != "temporal" or metric.unavailable() or (names is not None and name not in names):
             continue
         context = {}
         if metric.mask:

@@ -54,6 +54,7 @@ __all__ = [
     "MetricError",
     "register_metric",
     "get_metric",
+    "default_metrics",
     "check_metric_names",
     "compute_metric",
     "compute_temporal_metric",
@@ -81,6 +82,9 @@ class Metric(MetricInfo):
     func: Callable[..., float] | None = None
     requires: str | None = None  # a module the function imports, not installed with aaeval itself
     extra: str | None = None  # the optional-dependency group of aaeval that installs it
+    # measured when a config or a comparison names no metrics of its kind; False for a costly
+    # one (a perceptual model) that is asked for by name
+    by_default: bool = True
 
     def unavailable(self) -> str | None:
         """Why this metric cannot be computed on this machine, or None when it can."""
@@ -133,7 +137,8 @@ METRICS: Registry = _MetricRegistry("metric", MetricError)
 def register_metric(name: str, func: Callable[..., float] | None = None, *, kind: str, title: str, fmt: str,
                     higher_is_better: bool = False, needs: tuple[str, ...] = ("reference",),
                     mask: str | None = None, summary: str | None = None, target: float | None = None,
-                    rms: bool = False, requires: str | None = None, extra: str | None = None) -> Metric:
+                    rms: bool = False, requires: str | None = None, extra: str | None = None,
+                    by_default: bool = True) -> Metric:
     """Register a metric; the only step needed for compare, sweeps, tables and reports to know it.
 
     ``register_metric(name, func, ...)`` returns the :class:`Metric`; without ``func`` it is
@@ -141,7 +146,8 @@ def register_metric(name: str, func: Callable[..., float] | None = None, *, kind
     computed by an optional package names the module it imports (``requires``) and the
     optional-dependency group of aaeval that installs it (``extra``): where the module is
     missing it stays listed, as unavailable with that reason, and a config asking for it is
-    refused before any work.
+    refused before any work. ``by_default=False``: measured only where named
+    (:func:`default_metrics` leaves it out).
 
     Raises
     ------
@@ -153,7 +159,7 @@ def register_metric(name: str, func: Callable[..., float] | None = None, *, kind
     if func is None:
         return lambda f: register_metric(name, f, kind=kind, title=title, fmt=fmt, higher_is_better=higher_is_better,
                                          needs=needs, mask=mask, summary=summary, target=target, rms=rms,
-                                         requires=requires, extra=extra).func
+                                         requires=requires, extra=extra, by_default=by_default).func
     if not isinstance(name, str) or not name.isidentifier():
         raise MetricError(f"metric name must be an identifier (it becomes a table column), got {name!r}")
     if name in METRICS:
@@ -180,8 +186,20 @@ def register_metric(name: str, func: Callable[..., float] | None = None, *, kind
     doc = (inspect.getdoc(func) or "").split("\n", 1)[0]
     metric = Metric(name=name, func=func, kind=kind, title=title, fmt=fmt, higher_is_better=bool(higher_is_better),
                     needs=tuple(needs), mask=mask, summary=summary or doc,
-                    target=None if target is None else float(target), rms=bool(rms), requires=requires, extra=extra)
+                    target=None if target is None else float(target), rms=bool(rms), requires=requires, extra=extra,
+                    by_default=bool(by_default))
     return METRICS.add(name, metric)
+
+
+def default_metrics(kind: str, scenes=None) -> tuple[str, ...]:
+    """What is measured where no metrics of ``kind`` are named (a sweep group, a comparison):
+    every registered ``kind`` metric measured by default (``by_default``), available on this
+    machine, and able to say something about at least one of ``scenes``
+    (:meth:`Metric.applies_to`; every scene when ``scenes`` is None), in registration order."""
+    scenes = None if scenes is None else list(scenes)
+    return tuple(name for name, metric in METRICS.items()
+                 if metric.kind == kind and metric.by_default and metric.unavailable() is None
+                 and (scenes is None or any(metric.applies_to(scene) for scene in scenes)))
 
 
 def get_metric(name: str, kind: str | None = None) -> Metric:
@@ -312,6 +330,6 @@ register_metric("highlight_flicker", highlight_flicker, kind="temporal", title="
                 summary="RMS of the frame-to-frame change of the error over the highlight pixels (a moving bias counts)")
 # Perceptual: how visible the difference is, popping weighed above a steady error of one size.
 register_metric("cvvdp", cvvdp, kind="temporal", title="ColorVideoVDP JOD", fmt=".3f", higher_is_better=True,
-                requires=CVVDP_MODULE, extra="cvvdp",
+                requires=CVVDP_MODULE, extra="cvvdp", by_default=False,  # a neural model: asked for by name
                 summary="ColorVideoVDP (Mantiuk et al. 2024) in JOD, 10: indistinguishable from the reference; "
                         "sRGB on a 4K 30-inch monitor at 30 frames per second")

@@ -15,13 +15,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
+from aaeval.metrics import default_metrics
 from aaeval.renderers import MethodError, MethodSpec, parse_spec
 from aaeval.scenes import SceneError
 from aaeval.sweeps.config_keys import (GROUP_KEYS, ConfigError, brief, metric_names, method_spec, read_key,
                                        refuse_unknown)
 from aaeval.sweeps.scene_sources import SceneSource, animated, read_scenes
 
-__all__ = ["Cell", "Group", "read_group", "expand_specs", "reference_for", "applicable_metrics", "MAX_FRAME_LIST"]
+__all__ = ["Cell", "Group", "read_group", "expand_specs", "reference_for", "MAX_FRAME_LIST"]
 
 #: The longest list of frame numbers a group may give: the most frames a scene may have
 #: (``aaeval.scenes.generate``'s frame limit).
@@ -110,9 +111,10 @@ def read_group(raw: Any, where: str, base: Path, reference: MethodSpec, metrics:
     if given["animate"] is not None:
         scenes = animated(scenes, given["animate"], f"{where}.animate")
     if metrics is None:
-        metrics = applicable_metrics(scenes, "image")
+        metrics = default_metrics("image", [src.parsed for src in scenes])
     if temporal is None:
-        temporal = applicable_metrics(scenes, "temporal") if any(src.frames > 1 for src in scenes) else ()
+        moving = any(src.frames > 1 for src in scenes)
+        temporal = default_metrics("temporal", [src.parsed for src in scenes]) if moving else ()
     specs = expand_specs(given["methods"], given["options"], where)
     frames = _frames(given["frames"], f"{where}.frames", scenes)
     repeats = repeats if given["repeats"] is None else given["repeats"]
@@ -182,16 +184,6 @@ def _base_spec(text: str, where: str) -> tuple[MethodSpec, set[str]]:
     if "cache" in spec.method.options and "cache" not in given:
         spec, given = spec.with_options(cache=False), given | {"cache"}
     return spec, given
-
-
-def applicable_metrics(scenes, kind: str) -> tuple[str, ...]:
-    """Every registered ``kind`` metric that can say something about at least one of
-    ``scenes`` (:meth:`aaeval.metrics.Metric.applies_to`), in registration order: what a
-    group measures when neither it nor the experiment names its metrics."""
-    from aaeval.metrics import METRICS
-
-    return tuple(name for name, metric in METRICS.items()
-                 if metric.kind == kind and any(metric.applies_to(src.parsed) for src in scenes))
 
 
 def _frames(raw: Any, where: str, scenes: tuple[SceneSource, ...]) -> Any:

@@ -21,21 +21,13 @@ from aaeval.sweeps.measure import (
     render_reference,
     series_metrics,
 )
-from aaeval.metrics import MASKS, METRICS, relative_variation
+from aaeval.metrics import default_metrics, relative_variation
 from aaeval.options import MAX_INT
 from aaeval.renderers import MethodSpec
 from aaeval.renderers.budget import check_frames
 from aaeval.scenes import Scene, load_scene
 
-__all__ = ["ComparisonPlan", "parse_frames", "plan_comparison", "run_comparison", "default_metrics"]
-
-
-def default_metrics(kind: str, scene: Scene | None = None) -> tuple[str, ...]:
-    """Every registered metric of ``kind`` available here, less those whose mask is always
-    empty on ``scene`` (highlight metrics on a scene without shaded objects)."""
-    return tuple(n for n, m in METRICS.items()
-                 if m.kind == kind and m.unavailable() is None
-                 and (scene is None or m.mask is None or MASKS[m.mask].applies_to(scene)))
+__all__ = ["ComparisonPlan", "parse_frames", "plan_comparison", "run_comparison"]
 
 
 @dataclass(frozen=True)
@@ -93,7 +85,7 @@ def plan_comparison(
     """Check every input and return the plan; raises before anything is rendered.
 
     ``metrics`` and ``temporal`` default to every registered metric of their kind that
-    applies to the scene (:func:`default_metrics`).
+    applies to the scene (:func:`aaeval.metrics.default_metrics`).
 
     Raises
     ------
@@ -125,8 +117,8 @@ def plan_comparison(
         raise ValueError(f"--repeats must be a whole number in [1, {MAX_INT}] (and fit the time limit), got {shown}")
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
-    metrics = default_metrics("image", scene) if metrics is None else metrics
-    temporal = default_metrics("temporal", scene) if temporal is None else temporal
+    metrics = default_metrics("image", [scene]) if metrics is None else metrics
+    temporal = default_metrics("temporal", [scene]) if temporal is None else temporal
     # a file's frame count is budgeted as a generator's, before the frame list is built
     check_frames(scene, _frame_count(frames, scene.frames), f"--frames {frames} --repeats {repeats}",
                  specs=(reference, *methods), held=1 + len(methods), repeats=repeats)

@@ -94,9 +94,7 @@ def test_a_metric_whose_module_is_missing_is_listed_unavailable_and_refused():
         assert "aaeval_no_such_module" in why and "aaeval[probe]" in why
         with pytest.raises(registry.MetricError, match="unavailable here: optional_probe needs"):
             registry.check_metric_names(["flicker", "optional_probe"], "temporal")
-        from aaeval.sweeps.compare import default_metrics
-
-        assert "optional_probe" not in default_metrics("temporal")
+        assert "optional_probe" not in registry.default_metrics("temporal")
     finally:
         registry.METRICS.unregister("optional_probe")
     with pytest.raises(registry.MetricError, match="go together"):

@@ -8,9 +8,8 @@ import re
 import pytest
 
 from aaeval.sweeps import load_experiment, run_sweep
-from aaeval.sweeps.cells import applicable_metrics
 from aaeval.sweeps.config import parse_experiment
-from aaeval.metrics import METRICS
+from aaeval.metrics import METRICS, default_metrics
 from aaeval.report import write_report
 from aaeval.report.findings import QUESTIONS
 
@@ -61,7 +60,7 @@ def test_no_metric_list_means_every_metric_that_applies():
     assert {"sum_variation", "sum_bias", "flicker", "temporal_bias"} <= set(flat.temporal)
     assert "highlight_profile_flicker" not in flat.temporal
     assert still.temporal == ()  # nothing moves: nothing to measure over frames
-    assert flat.metrics == applicable_metrics(flat.scenes, "image")
+    assert flat.metrics == default_metrics("image", [src.parsed for src in flat.scenes])
 
 
 @pytest.mark.slow
