@@ -1,7 +1,7 @@
 """Benchmark: the exact Catmull renderer against the other methods, same scenes, one run.
 
 Scenes are random interpenetrating triangles (:func:`aaeval.scenes.generate.random_triangles`)
-in four groups: ``table`` (the rows of docs/performance.md's table), ``count`` (polygon count 500 to
+in four groups: ``table`` (the rows of benchmarks/results/bench_methods.md's table), ``count`` (polygon count 500 to
 32000 at 512x512), ``size`` (image side 256 to 2048, triangles scaled with it) and ``depth``
 (depth complexity: triangle size 10 to 80 at 512x512). Every method renders every scene;
 the methods take turns inside each repeat (interleaved, so a machine shared with other work

@@ -90,7 +90,7 @@ def _one_thread():
     call. Each pixel's error is computed alone, so the map is the same whatever the number of
     threads; but a team of threads costs more than it gives on the small images of a sweep,
     where each core already runs its own worker: 32 calls on 24 x 24 pixels took 2.1 s with
-    two threads beside another busy process, 53 ms with one (docs/performance.md)."""
+    two threads beside another busy process, 53 ms with one (benchmarks/results/bench_sweep.md)."""
     global _OPENMP
     if _OPENMP is None:
         from threadpoolctl import ThreadpoolController
