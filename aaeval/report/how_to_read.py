@@ -38,7 +38,7 @@ error, the part that stays with the object) and its flicker (what is left, frame
 same split is made on the highlight's energy, so a clamp that dims the highlight wherever it goes shows as bias,
 not as flicker. Each is one registered metric (aaeval/metrics), used by every table, chart and section.</li>
 <li id='controls'><b>Controls.</b> Each temporal measure is checked on images whose answer is known before it judges
-a method (aaeval/metrics/controls.py; computed as this page was built):
+a method (aaeval/metrics/controls.py; scored by the sweep, for the measures it took):
 {controls_html(page.data.controls)}</li>
 <li><b>Failed.</b> {html.escape(page.definition)} The same definition is used by every table and chart; a metric
 that could not be computed for a cell is listed separately and does not make the cell fail.</li>
