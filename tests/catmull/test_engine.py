@@ -3,7 +3,6 @@ per cell, and aggregations checked against independent recomputations."""
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
@@ -18,16 +17,9 @@ from aaeval.sweeps.config_keys import ConfigError
 from aaeval.sweeps.record import SCHEMA_VERSION, TIMING_FIELDS, CellRecord, RecordError
 from aaeval.sweeps.table import read_table
 from aaeval.metrics import METRICS, register_metric
-from tests.helpers.sweep_util import MOVING, moving_config, run_moving_sweep, write_config
+from tests.helpers.sweep_util import MOVING, moving_config, run_moving_sweep, strict_json, write_config
 
 ROOT = Path(__file__).resolve().parents[2]
-
-
-def _strict_json(text: str):
-    def refuse(constant):
-        raise ValueError(f"not JSON: {constant}")
-
-    return json.loads(text, parse_constant=refuse)
 
 
 @pytest.mark.parametrize("group, message", [
@@ -79,13 +71,13 @@ def moving_sweep(tmp_path_factory):
 def test_cell_files_are_strict_json_records_with_timings_and_the_table_carries_the_schema(moving_sweep):
     out = moving_sweep / "out"
     for path in (out / "cells").glob("*.json"):
-        record = CellRecord.from_json(_strict_json(path.read_text()))
+        record = CellRecord.from_json(strict_json(path.read_text()))
         assert record.repeats == 3 and record.render_s_min <= record.render_s <= record.render_s_max
         assert record.megapixels == 14 * 10 / 1e6
         assert record.ms_per_mpix == pytest.approx(record.render_s * 1e3 / record.megapixels)
     table = read_table(out / "results.parquet")
     assert set(TIMING_FIELDS) <= set(table.columns)
-    provenance = _strict_json((out / "provenance.json").read_text())
+    provenance = strict_json((out / "provenance.json").read_text())
     assert provenance["cores"] >= 1 and provenance["workers"] == 1 and provenance["versions"]["numpy"]
     assert provenance["cpu_model"] and provenance["machine"]
 
@@ -97,7 +89,7 @@ def test_compare_and_a_sweep_give_identical_numbers(moving_sweep, capsys):
     assert main(["compare", str(moving_sweep / "moving.toml"), "-m", "catmull-jagged", "-m", "supersample:k=3",
                  "-r", "catmull", "--frames", "all", "--metric", "rmse", "--metric", "ssim", "--metric",
                  "edge_rmse", "--temporal", "sum_variation", "--temporal", "flicker", "--format", "json"]) == 0
-    doc = _strict_json(capsys.readouterr().out)
+    doc = strict_json(capsys.readouterr().out)
     for row in doc["rows"]:
         cell = results[(results["spec"] == row["method"]) & (results["frame"] == row["frame"])]
         assert len(cell) == 1
@@ -132,7 +124,7 @@ def test_a_metric_registered_once_shows_in_compare_sweep_and_report(toy_metric, 
     assert "TOY MAD" in printed
     assert main(["compare", str(tmp_path / "moving.toml"), "-m", "catmull-jagged", "-r", "catmull",
                  "--format", "json"]) == 0
-    doc = _strict_json(capsys.readouterr().out)
+    doc = strict_json(capsys.readouterr().out)
     assert doc["rows"][0]["toy_mad"] > 0
     exp = load_experiment(moving_config(tmp_path, metrics='["rmse", "toy_mad"]', temporal="[]"))
     run_sweep(exp, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache")

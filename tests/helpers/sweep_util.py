@@ -53,6 +53,16 @@ def slow_sweep(config: Path, out: Path, cache: Path, *, workers: int, pause: flo
                              str(out), str(cache), str(workers)], env=env, start_new_session=True, **popen)
 
 
+def strict_json(text: str):
+    """``text`` read as strict JSON: a bare NaN or Infinity is refused, not read as a float."""
+    import json
+
+    def refuse(constant):
+        raise ValueError(f"not JSON: {constant}")
+
+    return json.loads(text, parse_constant=refuse)
+
+
 def write_config(tmp_path: Path, text: str = SMALL, name: str = "exp.toml") -> Path:
     path = tmp_path / name
     path.write_text(text)

@@ -17,6 +17,7 @@ import pytest
 import aaeval
 from aaeval.sweeps.cache_keys import code_version
 from aaeval.sweeps.provenance import PROVENANCE_FILE, provenance, read_provenance, write_provenance
+from tests.helpers.sweep_util import strict_json
 
 
 def test_provenance_names_this_machine_and_the_versions_the_modules_report():
@@ -38,7 +39,7 @@ def test_written_provenance_is_strict_json_and_reads_back_as_written(tmp_path):
     assert read_provenance(tmp_path) is None  # a folder written before provenance existed
     info = write_provenance(tmp_path, "dask", 2)
     text = (tmp_path / PROVENANCE_FILE).read_text()
-    assert json.loads(text, parse_constant=lambda c: pytest.fail(f"{c} is not strict JSON")) == info
+    assert strict_json(text) == info
     assert read_provenance(tmp_path) == info
     assert not [p.name for p in tmp_path.iterdir() if p.name != PROVENANCE_FILE]  # no temporary file left
 
