@@ -3,7 +3,6 @@ per cell, and aggregations checked against independent recomputations."""
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
@@ -12,99 +11,15 @@ import pandas as pd
 import pytest
 
 from aaeval.cli import main
-from aaeval.sweeps import SweepStore, load_experiment, plan, run_sweep
+from aaeval.sweeps import SweepStore, load_experiment, run_sweep
 from aaeval.sweeps.config import parse_experiment
 from aaeval.sweeps.config_keys import ConfigError
 from aaeval.sweeps.record import SCHEMA_VERSION, TIMING_FIELDS, CellRecord, RecordError
-from aaeval.sweeps.runner import manifest, record_identity
-from aaeval.sweeps.table import read_table, results_frame
+from aaeval.sweeps.table import read_table
 from aaeval.metrics import METRICS, register_metric
-from tests.helpers.sweep_util import write_config
+from tests.helpers.sweep_util import MOVING, moving_config, run_moving_sweep, strict_json, write_config
 
 ROOT = Path(__file__).resolve().parents[2]
-SHIPPED = sorted((ROOT / "configs" / "sweeps").glob("*.toml"))
-
-MOVING = (Path(__file__).resolve().parents[1] / "data" / "scenes" / "two_triangles_14x10.toml").read_text()
-
-
-def _strict_json(text: str):
-    def refuse(constant):
-        raise ValueError(f"not JSON: {constant}")
-
-    return json.loads(text, parse_constant=refuse)
-
-
-# --- one row per cell ------------------------------------------------------------------
-
-def _fake_record(p, ref_meta=None) -> dict:
-    """A record for a planned cell without rendering (what the table does with it is tested)."""
-    measured = {"repeats": 1, "render_s": 1e-3, "render_s_min": 1e-3, "render_s_max": 1e-3, "megapixels": 1.0,
-                "ms_per_mpix": 1.0, "intensity_sum": 1.0, "metrics": {m: 0.5 for m in p.cell.metrics},
-                "metric_errors": {}, "error": None, "traceback": None}
-    run = {"host": "h", "pid": 1, "executor": "this process", "workers": 1, "finished_at": "now"}
-    return CellRecord(**record_identity(p, ref_meta or {}), **measured, **run).to_json()
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("config", SHIPPED, ids=[p.stem for p in SHIPPED])
-def test_every_cell_of_every_shipped_config_is_one_row_with_its_own_label(config, tmp_path):
-    experiment = load_experiment(config)
-    planned = plan(experiment)
-    keys = [p.key for p in planned]
-    assert len(keys) == len(set(keys)), "two cells share a key"
-    store = SweepStore(tmp_path)
-    store.write_manifest(experiment.text, manifest(experiment, planned))
-    written = set()
-    for p in planned:  # the store checks that every finished cell has its image and reference, of its size
-        blank = np.zeros((p.cell.scene_source.parsed.height, p.cell.scene_source.parsed.width, 3))
-        if p.reference_key not in written:  # one reference serves every method of a scene frame
-            store.write_reference(p.reference_key, blank)
-            written.add(p.reference_key)
-        store.write_cell(_fake_record(p), blank)
-    table = results_frame(store)
-    assert len(table) == len(planned) == len(store.read_manifest()["cells"])
-    assert not table["key"].duplicated().any()
-    # every (group, scene, difficulty, spec, frame) of the config is there exactly once
-    wanted = sorted((c.group, c.scene_source.name, c.scene_source.difficulty, c.spec, c.frame) for c in experiment.cells())
-    got = sorted(zip(table["group"], table["scene"], [None if math.isnan(d) else d for d in table["difficulty"]],
-                     table["spec"], table["frame"]))
-    assert got == wanted
-    # every difficulty listed in the config appears with its own label
-    raw = experiment.text and __import__("tomllib").loads(experiment.text)
-    for g in raw["groups"]:
-        for entry in g["scenes"]:
-            if isinstance(entry, dict) and "generator" in entry:
-                rows = table[table["group"] == g["name"]]
-                for d in entry["difficulty"]:
-                    mine = rows[rows["difficulty"] == float(d)]
-                    assert len(mine) > 0, (g["name"], d)
-                    assert set(mine["scene"]) == {f"{entry['generator']}@{d:g}"}
-
-
-@pytest.mark.slow
-def test_two_difficulties_that_build_one_scene_stay_two_rows(tmp_path):
-    # the curvature generator clamps the radius to 0.4 * size: at size 24, 1/0.05 and 1/0.1 both give 9.6
-    text = """
-[experiment]
-name = "clamped"
-reference = "catmull"
-metrics = ["rmse"]
-
-[[groups]]
-name = "curv"
-scenes = [{generator = "curvature", difficulty = [0.05, 0.1], size = 24}]
-methods = ["catmull-jagged"]
-"""
-    exp = load_experiment(write_config(tmp_path, text))
-    a, b = exp.groups[0].scenes
-    assert a.digest == b.digest  # the same scene twice: what made the old table lose a row
-    summary = run_sweep(exp, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache")
-    assert summary.total == 2 and summary.ran == 2
-    table = pd.read_parquet(tmp_path / "out" / "results.parquet")
-    assert sorted(table["difficulty"]) == [0.05, 0.1]
-    assert sorted(table["scene"]) == ["curvature@0.05", "curvature@0.1"]
-    assert table["key"].is_unique
-    assert table["rmse"].iloc[0] == table["rmse"].iloc[1]
 
 
 @pytest.mark.parametrize("group, message", [
@@ -147,69 +62,24 @@ def test_a_record_with_a_missing_or_unknown_field_or_another_schema_is_refused()
         CellRecord.from_json({**fields, "schema_version": 1})
 
 
-def _moving_config(tmp_path, metrics='["rmse", "ssim", "edge_rmse"]', temporal='["sum_variation", "flicker"]',
-                   repeats=1) -> Path:
-    (tmp_path / "moving.toml").write_text(MOVING)
-    return write_config(tmp_path, f"""
-[experiment]
-name = "moving"
-reference = "catmull"
-metrics = {metrics}
-temporal = {temporal}
-
-[[groups]]
-name = "moving"
-scenes = ["moving.toml"]
-methods = ["catmull-jagged", "supersample:k=3"]
-repeats = {repeats}
-""")
-
-
 @pytest.fixture(scope="module")
 def moving_sweep(tmp_path_factory):
-    tmp_path = tmp_path_factory.mktemp("moving")
-    exp = load_experiment(_moving_config(tmp_path, repeats=3))
-    run_sweep(exp, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache")
-    return tmp_path
+    return run_moving_sweep(tmp_path_factory.mktemp("moving"))
 
 
 @pytest.mark.slow
 def test_cell_files_are_strict_json_records_with_timings_and_the_table_carries_the_schema(moving_sweep):
     out = moving_sweep / "out"
     for path in (out / "cells").glob("*.json"):
-        record = CellRecord.from_json(_strict_json(path.read_text()))
+        record = CellRecord.from_json(strict_json(path.read_text()))
         assert record.repeats == 3 and record.render_s_min <= record.render_s <= record.render_s_max
         assert record.megapixels == 14 * 10 / 1e6
         assert record.ms_per_mpix == pytest.approx(record.render_s * 1e3 / record.megapixels)
     table = read_table(out / "results.parquet")
     assert set(TIMING_FIELDS) <= set(table.columns)
-    provenance = _strict_json((out / "provenance.json").read_text())
+    provenance = strict_json((out / "provenance.json").read_text())
     assert provenance["cores"] >= 1 and provenance["workers"] == 1 and provenance["versions"]["numpy"]
     assert provenance["cpu_model"] and provenance["machine"]
-
-
-def test_every_temporal_metric_equals_a_recomputation_over_all_stored_frames(moving_sweep):
-    out = moving_sweep / "out"
-    store = SweepStore(out)
-    results = pd.read_parquet(out / "results.parquet")
-    temporal = pd.read_parquet(out / "temporal.parquet")
-    assert len(temporal) == 2
-    for _, row in temporal.iterrows():
-        cells = results[results["spec"] == row["spec"]].sort_values("frame")
-        assert list(cells["frame"]) == [0, 1, 2, 3] and row["frames"] == 4
-        tests = np.stack([np.load(store.image_path(k)) for k in cells["key"]])
-        refs = np.stack([np.load(store.reference_path(k)) for k in cells["reference_key"]])
-        # written out here, not through aaeval.metrics
-        error = tests - refs
-        flicker = math.sqrt(float(np.mean(np.var(error, axis=0))))
-        sums = tests.reshape(4, -1).sum(axis=1)
-        ref_sums = refs.reshape(4, -1).sum(axis=1)
-        assert row["flicker"] == pytest.approx(flicker, rel=1e-9)
-        assert row["sum_variation"] == pytest.approx((sums.max() - sums.min()) / sums.mean(), rel=1e-9)
-        assert row["reference_sum_variation"] == pytest.approx(
-            (ref_sums.max() - ref_sums.min()) / ref_sums.mean(), rel=1e-6, abs=1e-15)
-        # the last frame matters: without it the numbers differ
-        assert row["flicker"] != pytest.approx(math.sqrt(float(np.mean(np.var(error[:-1], axis=0)))), rel=1e-6)
 
 
 def test_compare_and_a_sweep_give_identical_numbers(moving_sweep, capsys):
@@ -219,7 +89,7 @@ def test_compare_and_a_sweep_give_identical_numbers(moving_sweep, capsys):
     assert main(["compare", str(moving_sweep / "moving.toml"), "-m", "catmull-jagged", "-m", "supersample:k=3",
                  "-r", "catmull", "--frames", "all", "--metric", "rmse", "--metric", "ssim", "--metric",
                  "edge_rmse", "--temporal", "sum_variation", "--temporal", "flicker", "--format", "json"]) == 0
-    doc = _strict_json(capsys.readouterr().out)
+    doc = strict_json(capsys.readouterr().out)
     for row in doc["rows"]:
         cell = results[(results["spec"] == row["method"]) & (results["frame"] == row["frame"])]
         assert len(cell) == 1
@@ -254,9 +124,9 @@ def test_a_metric_registered_once_shows_in_compare_sweep_and_report(toy_metric, 
     assert "TOY MAD" in printed
     assert main(["compare", str(tmp_path / "moving.toml"), "-m", "catmull-jagged", "-r", "catmull",
                  "--format", "json"]) == 0
-    doc = _strict_json(capsys.readouterr().out)
+    doc = strict_json(capsys.readouterr().out)
     assert doc["rows"][0]["toy_mad"] > 0
-    exp = load_experiment(_moving_config(tmp_path, metrics='["rmse", "toy_mad"]', temporal="[]"))
+    exp = load_experiment(moving_config(tmp_path, metrics='["rmse", "toy_mad"]', temporal="[]"))
     run_sweep(exp, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache")
     table = pd.read_parquet(tmp_path / "out" / "results.parquet")
     assert (table["toy_mad"] > 0).all()

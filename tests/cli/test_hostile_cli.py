@@ -5,7 +5,6 @@ naming the user's path (case 10); malformed import options are refused naming th
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import pytest
@@ -106,23 +105,6 @@ def test_compare_json_into_an_unwritable_folder_fails_before_rendering(tmp_path,
                    "--quiet"], capsys, "/proc/c.json")
     assert not rendered
     assert "/proc/." not in err  # the user's path, not a temporary file beside it
-
-
-def test_atomic_write_names_the_users_path_not_its_temporary_file(tmp_path):
-    from aaeval.imageio import atomic_write
-
-    with pytest.raises(OSError) as info:
-        atomic_write("/proc/aaeval-out.json", lambda tmp: Path(tmp).write_text("x"))
-    assert info.value.filename == "/proc/aaeval-out.json"
-    target = tmp_path / "out.json"
-
-    def fail(tmp):
-        raise PermissionError(13, "Permission denied", tmp)
-
-    with pytest.raises(OSError) as info:
-        atomic_write(target, fail)
-    assert info.value.filename == str(target) and not target.exists()
-    assert not [p for p in tmp_path.iterdir()]  # no temporary file left
 
 
 def test_import_into_an_unwritable_folder_names_the_users_path(tmp_path, capsys, monkeypatch):

@@ -53,10 +53,71 @@ def slow_sweep(config: Path, out: Path, cache: Path, *, workers: int, pause: flo
                              str(out), str(cache), str(workers)], env=env, start_new_session=True, **popen)
 
 
+def strict_json(text: str):
+    """``text`` read as strict JSON: a bare NaN or Infinity is refused, not read as a float."""
+    import json
+
+    def refuse(constant):
+        raise ValueError(f"not JSON: {constant}")
+
+    return json.loads(text, parse_constant=refuse)
+
+
 def write_config(tmp_path: Path, text: str = SMALL, name: str = "exp.toml") -> Path:
     path = tmp_path / name
     path.write_text(text)
     return path
+
+
+def run_small_sweep(tmp_path: Path, text: str = SMALL, **kw):
+    """Run the config ``text`` (one worker, quietly) into ``tmp_path/out``; its summary."""
+    from aaeval.sweeps import load_experiment, run_sweep
+
+    exp = load_experiment(write_config(tmp_path, text))
+    return run_sweep(exp, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache", **kw)
+
+
+def quarantined(out: Path) -> list[str]:
+    """Names of the files the sweep folder ``out`` has set aside."""
+    q = out / "quarantine"
+    return sorted(p.name for p in q.rglob("*") if p.is_file()) if q.is_dir() else []
+
+
+def first_file(folder: Path) -> Path:
+    """The first file of ``folder`` by name, hidden files left out."""
+    return sorted(p for p in folder.iterdir() if not p.name.startswith("."))[0]
+
+
+# A 14x10 scene that moves over four frames, swept with two methods against catmull
+MOVING = (Path(__file__).resolve().parents[1] / "data" / "scenes" / "two_triangles_14x10.toml").read_text()
+
+
+def moving_config(tmp_path: Path, metrics='["rmse", "ssim", "edge_rmse"]', temporal='["sum_variation", "flicker"]',
+                  repeats=1) -> Path:
+    """``tmp_path/moving.toml`` (:data:`MOVING`) and a config sweeping it; the config's path."""
+    (tmp_path / "moving.toml").write_text(MOVING)
+    return write_config(tmp_path, f"""
+[experiment]
+name = "moving"
+reference = "catmull"
+metrics = {metrics}
+temporal = {temporal}
+
+[[groups]]
+name = "moving"
+scenes = ["moving.toml"]
+methods = ["catmull-jagged", "supersample:k=3"]
+repeats = {repeats}
+""")
+
+
+def run_moving_sweep(tmp_path: Path) -> Path:
+    """The moving config swept (three timed repeats a cell) into ``tmp_path/out``; ``tmp_path``."""
+    from aaeval.sweeps import load_experiment, run_sweep
+
+    exp = load_experiment(moving_config(tmp_path, repeats=3))
+    run_sweep(exp, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache")
+    return tmp_path
 
 
 # 120 cells of about a tenth of a second: enough to stop a scheduler or a worker mid-sweep.

@@ -6,7 +6,6 @@ from __future__ import annotations
 import json
 import re
 from html.parser import HTMLParser
-from pathlib import Path
 from urllib.parse import unquote, urlparse
 
 import numpy as np
@@ -19,7 +18,6 @@ from aaeval.sweeps.report_files import write_sweep_files
 from aaeval.report import write_report
 from aaeval.report.names import figure_stem
 from aaeval.report.figures import pareto_front
-from aaeval.report.names import figure_stem
 from tests.helpers.report_util import small_report
 from tests.helpers.sweep_util import write_config
 
@@ -179,11 +177,3 @@ def test_pareto_front_matches_brute_force():
 def test_report_of_a_folder_that_is_not_a_sweep(tmp_path):
     with pytest.raises(FileNotFoundError, match="not a sweep folder|manifest"):
         write_report(tmp_path)
-
-
-def test_labels_show_options_that_vary_even_at_their_default():
-    from aaeval.sweeps.table import short_label
-
-    assert short_label("supersample") == "supersample"
-    assert short_label("supersample", {"k"}) == "supersample:k=4"
-    assert short_label("mitsuba:spp=64,cache=false,seed=1") == "mitsuba:seed=1,spp=64"

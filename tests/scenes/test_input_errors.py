@@ -10,7 +10,6 @@ from pathlib import Path
 
 import pytest
 
-from aaeval.imageio import atomic_write
 from tests.helpers.cli_util import refused
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -140,20 +139,6 @@ def test_sweep_out_and_cache_must_be_writable_folders(tmp_path, capsys):
     refused(["sweep", config, "--out", afile], capsys, "--out", "not a directory")
     refused(["sweep", config, "--out", tmp_path / "o", "--cache", afile], capsys, "--cache", "not a directory")
     refused(["sweep", config, "--out", "/proc/aaeval-sweep"], capsys, "--out", "/proc")
-
-
-def test_a_full_disk_says_so_and_keeps_the_old_file(tmp_path, capsys):
-    target = tmp_path / "kept.json"
-    target.write_text("earlier")
-
-    def fill(tmp):  # a real ENOSPC from the kernel: /dev/full is always full
-        with open("/dev/full", "w") as full:
-            full.write("x" * 65536)
-
-    with pytest.raises(OSError, match="no space left on device") as info:
-        atomic_write(target, fill)
-    assert info.value.errno == errno.ENOSPC and info.value.filename == str(target)
-    assert target.read_text() == "earlier" and [p.name for p in tmp_path.iterdir()] == ["kept.json"]
 
 
 def test_the_command_line_turns_os_errors_into_one_line(tmp_path, capsys, monkeypatch):

@@ -17,6 +17,7 @@ from aaeval.metrics import METRICS
 from aaeval.renderers import MethodError, render
 from aaeval.scenes import SceneError
 from tests.helpers.oracle import document_oracle_image, document_visible_areas
+from tests.helpers.sweep_util import strict_json
 
 TINY = (Path(__file__).resolve().parents[1] / "data" / "scenes" / "two_triangles_16x12.toml").read_text()
 
@@ -155,13 +156,6 @@ def test_parse_frames():
     assert parse_frames(1, 1) == (0,)
 
 
-def _strict(text):
-    def refuse(constant):
-        raise ValueError(f"not JSON: {constant}")
-
-    return json.loads(text, parse_constant=refuse)
-
-
 LONG = ["catmull", "catmull-jagged", "mitsuba:sampler=stratified,seed=1,spp=4", "supersample:k=3"]
 
 
@@ -173,8 +167,8 @@ def test_every_format_holds_every_metric_and_the_table_fits_100_columns(scene_fi
     for name in FLAT_METRICS:
         assert METRICS[name].title in table
     assert compare(*args, "--format", "json", "--json", tmp_path / "c.json") == 0
-    doc = _strict(capsys.readouterr().out)
-    assert doc == _strict((tmp_path / "c.json").read_text())
+    doc = strict_json(capsys.readouterr().out)
+    assert doc == strict_json((tmp_path / "c.json").read_text())
     exact = next(r for r in doc["rows"] if r["method"] == "catmull")
     assert exact["psnr"] == "Infinity"  # strict JSON has no inf: its tag
     assert compare(*args, "--format", "csv") == 0

@@ -13,8 +13,8 @@ import pandas as pd
 import pytest
 
 from aaeval.cli import main
-from aaeval.sweeps import SweepStore, load_experiment, run_sweep
-from tests.helpers.sweep_util import SMALL, write_config
+from aaeval.sweeps import SweepStore
+from tests.helpers.sweep_util import run_small_sweep
 
 TAMPER = {
     "string frame": ("frame", "0"),
@@ -34,15 +34,10 @@ TAMPER = {
 }
 
 
-def _sweep(tmp_path):
-    exp = load_experiment(write_config(tmp_path, SMALL))
-    return run_sweep(exp, tmp_path / "out", workers=1, quiet=True, cache_dir=tmp_path / "cache")
-
-
 @pytest.fixture(scope="module")
 def finished(tmp_path_factory):
     base = tmp_path_factory.mktemp("finished")
-    _sweep(base)
+    run_small_sweep(base)
     return base
 
 
@@ -75,7 +70,7 @@ def test_a_cell_of_the_wrong_types_is_quarantined_with_its_reason_and_run_again(
     record[field] = value
     path.write_text(json.dumps(record))
     capsys.readouterr()
-    again = _sweep(tmp_path)
+    again = run_small_sweep(tmp_path)
     err = capsys.readouterr().err
     assert str(path) in err and (repr(field) in err or field in err), err
     assert again.ran == 1 and not again.lost
@@ -90,7 +85,7 @@ def test_the_report_runs_on_a_folder_whose_damaged_cell_was_run_again(finished, 
     path, record = _a_cell(out)
     record["frame"] = "0"
     path.write_text(json.dumps(record))
-    assert _sweep(tmp_path).ran == 1
+    assert run_small_sweep(tmp_path).ran == 1
     assert main(["report", str(out)]) == 0
 
 
@@ -111,7 +106,7 @@ def test_an_image_unlike_its_record_is_refused_before_it_is_read(finished, tmp_p
                                                      "shape": (50_000, 50_000, 1)})
             f.truncate(f.tell() + 50_000 * 50_000 * 8)
     capsys.readouterr()
-    again = _sweep(tmp_path)
+    again = run_small_sweep(tmp_path)
     err = capsys.readouterr().err
     assert str(image) in err, err
     assert again.ran == 1 and len(SweepStore(out).finished()) == 9
