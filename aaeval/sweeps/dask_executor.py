@@ -246,7 +246,11 @@ class DaskExecutor:
     def close(self) -> None:
         if self._own:
             close_quietly(self.client)
-        self._quiet.__exit__(None, None, None)
+        if self.lost is None:
+            self._quiet.__exit__(None, None, None)
+        # else distributed stays silent for the rest of the process: the lost client's
+        # background threads still log the closed connection (with a traceback) after close
+        # returns, and the sweep has said what happened in one line
 
 
 def _short(exc: BaseException, limit: int = 300) -> str:
