@@ -10,6 +10,8 @@ import io
 
 import numpy as np
 import pytest
+import resvg_py
+from PIL import Image
 
 from aaeval.fileio import linear_to_srgb8
 from aaeval.importers.svg import import_svg
@@ -29,8 +31,6 @@ SHAPES = f"""<svg xmlns="http://www.w3.org/2000/svg" width="{{w}}" height="{{w}}
 
 def _resvg_srgb(upscale: int) -> np.ndarray:
     """resvg's render at ``upscale`` times the size, each block averaged in sRGB (8-bit codes)."""
-    resvg_py = pytest.importorskip("resvg_py")
-    from PIL import Image
 
     png = bytes(resvg_py.svg_to_bytes(svg_string=SHAPES.format(w=SIZE * upscale)))
     big = np.asarray(Image.open(io.BytesIO(png)).convert("RGB"), dtype=np.float64)
