@@ -429,6 +429,39 @@ def test_ciede2000_maps_in_bulk_are_the_maps_of_one_call_per_pair():
             assert ciede2000_map(a, b) is ciede2000_map(a, b)  # kept, not computed again
 
 
+def test_maps_once_per_pair_belongs_to_the_thread_that_entered_it():
+    """Cells measured at once on threads of one process (a Dask worker's threads) keep their
+    own maps: a thread leaving its block neither ends another's nor sees its pairs."""
+    import threading
+
+    from aaeval.metrics._pairs import maps_once_per_pair
+
+    rng = np.random.default_rng(11)
+    pairs = [(rng.random((6, 7, 3)), rng.random((6, 7, 3))) for _ in range(8)]
+    expected = [ciede2000_map(a, b) for a, b in pairs]
+    errors, barrier = [], threading.Barrier(len(pairs))
+
+    def cell(k):
+        try:
+            a, b = pairs[k]
+            with maps_once_per_pair():
+                first = ciede2000_map(a, b)
+                barrier.wait(timeout=30)  # every thread inside its block at once
+                if k % 2:  # half leave at once while the others still read theirs
+                    return
+                assert ciede2000_map(a, b) is first and np.array_equal(first, expected[k])
+        except Exception as exc:  # noqa: BLE001 - reported below, in the test's thread
+            errors.append(repr(exc))
+
+    threads = [threading.Thread(target=cell, args=(k,)) for k in range(len(pairs))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert errors == []
+    assert ciede2000_map(*pairs[0]) is not ciede2000_map(*pairs[0])  # outside every block: computed each time
+
+
 def test_a_chunk_of_frames_measures_what_each_frame_measures_alone(monkeypatch):
     """measure_frames on a chunk (the sweep's task): the metrics of each frame measured
     alone, the CIEDE2000 maps of the chunk in one colour difference."""
