@@ -76,17 +76,10 @@ class ComputedStyles:
                 out[prop] = value
         # colour: currentColor (and anything invalid) takes the parent's
         parent_color = parent["color"] if parent else INITIAL["color"]
-        try:
-            color = parse_color(out["color"])
-        except ValueError:
-            color = None
+        color = parse_color(out["color"])
         out["color"] = out["color"] if isinstance(color, tuple) else parent_color
         for prop in ("fill", "stroke"):
-            try:
-                valid = parse_paint(out[prop]) is not None
-            except ValueError:
-                valid = True  # a colour space aaeval cannot convert: reported where painted
-            if not valid:
+            if parse_paint(out[prop]) is None:
                 out[prop] = parent[prop] if parent else INITIAL[prop]
         parent_font = parent["font"] if parent else font_size(INITIAL["font-size"], 16.0, 16.0)
         root_font = parent["root-font"] if parent else None

@@ -43,11 +43,7 @@ class Paints:
 
     def paint(self, raw: str, style: dict, what: str, name: str, context) -> np.ndarray | None:
         """The linear RGB a fill or stroke paints, or None when it paints nothing."""
-        try:
-            paint = parse_paint(raw)
-        except ValueError as exc:
-            self.report.note(f"{name}: {what}: {exc}; not painted")
-            return None
+        paint = parse_paint(raw)
         if paint is None or paint[0] == "none":
             return None
         if paint[0] == "context":

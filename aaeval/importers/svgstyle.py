@@ -106,18 +106,50 @@ class Lengths:
 
 
 def parse_color(text: str):
-    """(r, g, b, alpha) in sRGB 0..1, ``"currentcolor"``, or None when not a colour."""
+    """(r, g, b, alpha) in sRGB 0..1 (any CSS Color 4 colour, clipped to the sRGB gamut),
+    ``"currentcolor"``, or None when not a colour."""
     from tinycss2 import color4
 
     color = color4.parse_color(str(text).strip())
     if color is None or isinstance(color, str):
         return color
-    try:
-        srgb = color.to("srgb")
-    except NotImplementedError:
-        raise ValueError(f"the colour {str(text)[:40]!r} is in a colour space aaeval does not convert") from None
-    r, g, b = (min(1.0, max(0.0, float(v))) for v in srgb.coordinates)
+    r, g, b = (min(1.0, max(0.0, float(v))) for v in _srgb_coordinates(color))
     return (r, g, b, float(color.alpha))
+
+
+#: CSS Color 4's predefined RGB spaces as colour-science names them (each with its own
+#: transfer function and white point).
+_RGB_SPACES = {"display-p3": "Display P3", "a98-rgb": "Adobe RGB (1998)", "prophoto-rgb": "ProPhoto RGB",
+               "rec2020": "ITU-R BT.2020"}
+#: CSS Color 4's D50 white (xy), the white of xyz-d50, lab and lch.
+_D50 = (0.3457, 0.3585)
+
+
+def _srgb_coordinates(color) -> tuple[float, float, float]:
+    """A CSS Color 4 colour (tinycss2) in sRGB, before clipping to the gamut: tinycss2 turns
+    hsl and hwb into sRGB and lab, lch, oklab and oklch into CIE XYZ; colour-science does the
+    rest (Bradford adaptation between D50 and D65, as CSS Color 4 specifies)."""
+    import colour
+    import numpy as np
+
+    coordinates = np.array([c or 0.0 for c in color.coordinates], dtype=np.float64)
+    space = color.space
+    if space in ("srgb", "hsl", "hwb"):
+        return tuple(color.to("srgb").coordinates)
+    srgb = colour.RGB_COLOURSPACES["sRGB"]
+    if space == "srgb-linear":
+        linear = coordinates
+    elif space in _RGB_SPACES:
+        linear = colour.RGB_to_RGB(coordinates, colour.RGB_COLOURSPACES[_RGB_SPACES[space]], srgb,
+                                   chromatic_adaptation_transform="Bradford", apply_cctf_decoding=True)
+    else:  # xyz-d65 and xyz-d50 as given; lab and lch through D50, oklab and oklch through D65
+        xyz = color if space.startswith("xyz") else color.to("xyz-d50" if space in ("lab", "lch") else "xyz-d65")
+        d65 = colour.xy_to_XYZ(srgb.whitepoint)
+        white = d65 if xyz.space == "xyz-d65" else colour.xy_to_XYZ(_D50)
+        adapted = colour.adaptation.chromatic_adaptation_VonKries(np.asarray(xyz.coordinates, dtype=np.float64),
+                                                                  white, d65, "Bradford")
+        linear = srgb.matrix_XYZ_to_RGB @ adapted
+    return tuple(float(v) for v in srgb.cctf_encoding(np.asarray(linear, dtype=np.float64)))
 
 
 def parse_paint(text: str):
@@ -245,13 +277,10 @@ def _valid(name: str, value: str) -> bool:
     lower-priority declaration applies); properties aaeval does not parse pass."""
     if value.strip().lower() in ("inherit", "initial", "unset"):
         return True
-    try:
-        if name in ("fill", "stroke"):
-            return parse_paint(value) is not None
-        if name in ("color", "stop-color"):
-            return parse_color(value) is not None
-    except ValueError:
-        return True  # a colour in a space aaeval cannot convert: kept, and reported where painted
+    if name in ("fill", "stroke"):
+        return parse_paint(value) is not None
+    if name in ("color", "stop-color"):
+        return parse_color(value) is not None
     return True
 
 
