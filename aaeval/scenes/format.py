@@ -141,6 +141,32 @@ class Scene:
             self.offset(int(k)) - self.offset(self.frame)
         if not shift.any():
             return replace(self, frame=int(k))
+        return self._shifted(shift, frame=int(k))
+
+    def window(self, x0: int, y0: int, width: int, height: int) -> "Scene":
+        """The scene seen through the pixel window of columns ``x0 .. x0 + width - 1`` and
+        rows ``y0 .. y0 + height - 1``: everything moved by ``(-x0, -y0)`` (polygons, holes
+        and every section, point lights and spin pivots included) in an image of
+        ``width x height``, at every frame of the animation.
+
+        A box-filtered pixel depends only on what covers its own square, so rendering the
+        window gives the full render's crop ``[y0 : y0 + height, x0 : x0 + width]`` (up to
+        rounding of the moved coordinates) for the cost of the window: a figure that shows a
+        small part of a large scene renders only that part.
+        """
+        for name, value in (("x0", x0), ("y0", y0), ("width", width), ("height", height)):
+            if not isinstance(value, (int, np.integer)) or isinstance(value, bool):
+                raise SceneError(f"{self.source}: window {name} must be an integer, got {value!r}")
+        if not (0 <= x0 and 0 <= y0 and 0 < width and 0 < height
+                and x0 + width <= self.width and y0 + height <= self.height):
+            raise SceneError(f"{self.source}: window {width}x{height} at ({x0}, {y0}) is not inside "
+                             f"the {self.width}x{self.height} image")
+        moved = self._shifted(np.array([-float(x0), -float(y0)]), frame=self.frame)
+        return replace(moved, width=int(width), height=int(height),
+                       source=f"{self.source} (window {width}x{height} at {x0}, {y0})")
+
+    def _shifted(self, shift: np.ndarray, frame: int) -> "Scene":
+        """The scene with everything moved by ``shift`` (px, (2,)), at ``frame``."""
         arrays = _translated(self.arrays, shift)
         moved = tuple(
             Polygon(vertices=arrays.vertices[s : s + n], color=p.color, index=p.index, plane=arrays.planes[i])
@@ -151,7 +177,7 @@ class Scene:
             for name, value in self.extensions.items()
         }
         holed = tuple(h.translated(shift) for h in self.holed)
-        scene = replace(self, polygons=moved, frame=int(k), extensions=extensions, holed=holed)
+        scene = replace(self, polygons=moved, frame=frame, extensions=extensions, holed=holed)
         scene.__dict__["arrays"] = arrays  # already known: spare rebuilding it
         return scene
 

@@ -94,6 +94,12 @@ def _without_highlights(path: Path):
     return parse_scene(document, source=f"{path} (ks = 0)")
 
 
+def _strip_window(scene):
+    """``scene`` seen through :data:`STRIP`."""
+    rows, cols = STRIP
+    return scene.window(cols.start, rows.start, cols.stop - cols.start, rows.stop - rows.start)
+
+
 def amanatides_plates(folder: Path) -> list[str]:
     path = SCENES / "shaded" / "cylinders.toml"
     scene = _scene("shaded/cylinders.toml")
@@ -106,9 +112,11 @@ def amanatides_plates(folder: Path) -> list[str]:
     plates = _save(fig, folder, "plates")
     # the strip: the thin cylinder over frames, each method's row; beside it the highlight's light
     # in the probe (the image less the exact render with the specular term off) over the truth's
-    dull = _frames(_without_highlights(path), PLATES[0][0], CURVE_FRAMES)
-    rows = [_frames(scene, spec, CURVE_FRAMES) for spec, _ in PLATES]
-    light = [(frames - dull)[:, PROBE[0], PROBE[1]].sum(axis=(1, 2, 3)) for frames in rows]
+    # only the strip's window is rendered: its pixels are the full render's crop
+    dull = _frames(_strip_window(_without_highlights(path)), PLATES[0][0], CURVE_FRAMES)
+    rows = [_frames(_strip_window(scene), spec, CURVE_FRAMES) for spec, _ in PLATES]
+    probe = tuple(slice(p.start - w.start, p.stop - w.start) for p, w in zip(PROBE, STRIP))
+    light = [(frames - dull)[:, probe[0], probe[1]].sum(axis=(1, 2, 3)) for frames in rows]
     ratio = [e / light[0] for e in light]
     fig, axes = plt.subplots(len(PLATES), len(STRIP_FRAMES) + 1, figsize=(12, 8.4),
                              gridspec_kw={"width_ratios": [1] * len(STRIP_FRAMES) + [3.0]})
@@ -117,7 +125,7 @@ def amanatides_plates(folder: Path) -> list[str]:
 
     # the highlight alone (the image less the render without it), on one square-root scale for
     # every panel: a thin bright line and a dim broken one both show
-    highlights = [(frames - dull)[:, STRIP[0], STRIP[1]].mean(axis=-1) for frames in rows]
+    highlights = [(frames - dull).mean(axis=-1) for frames in rows]
     norm = PowerNorm(0.5, vmin=0.0, vmax=max(float(h[list(STRIP_FRAMES)].max()) for h in highlights))
     for r, (frames, (_, title)) in enumerate(zip(highlights, PLATES)):
         for k in STRIP_FRAMES:

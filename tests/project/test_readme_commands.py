@@ -7,8 +7,10 @@ The folder holds what the lines name: ``configs/scenes`` (the shipped scenes),
 repository), and ``configs/sweeps/default.toml`` replaced by a small experiment of the
 same shape (groups and a speed pass), so that ``bash scripts/quickstart.sh`` and the README's
 ``aaeval sweep``/``aaeval report`` lines run the whole path in seconds, not the default
-experiment's half hour. ``python3 -m pytest`` runs as collection only (``--collect-only``, plain asserts):
-the suite cannot run itself inside itself. The benchmark lines run with
+experiment's half hour. ``python3 -m pytest`` runs as collection only (``--collect-only``, plain asserts)
+of one small module with slow and quick tests (:data:`COLLECTED`): the suite cannot run itself
+inside itself, and the suite's own run already imports every test module, so what the line adds
+is that its command and options parse and select tests. The benchmark lines run with
 ``AAEVAL_BENCH_SMOKE=1`` (``benchmarks/smoke.py``: smallest sizes, one repeat), so each
 takes seconds instead of minutes. The whole module is in the slow lane.
 """
@@ -89,12 +91,20 @@ def workspace(tmp_path_factory):
     return tmp
 
 
+#: What the README's ``python3 -m pytest`` lines collect: a module with slow and quick tests, so
+#: that ``-m "not slow"`` selects some of them and leaves out others.
+COLLECTED = "tests/studies/test_studies_regenerate.py"
+
+
+def _is_pytest(command: str) -> bool:
+    return command.split()[:3] == ["python3", "-m", "pytest"]
+
+
 def _run(command: str, cwd: Path) -> subprocess.CompletedProcess:
-    if command.split()[:3] == ["python3", "-m", "pytest"]:
-        # the suite cannot run itself inside itself: it is collected, every test module
-        # imported; with plain asserts, as rewriting them (half the collection's time, redone
-        # in every process where bytecode is not written) is checked by the run itself
-        command = command + " --collect-only -q -n 0 --assert=plain"
+    if _is_pytest(command):
+        # the suite cannot run itself inside itself: one module is collected with the line's
+        # options; with plain asserts, as rewriting them is checked by the suite's own run
+        command = command + f" --collect-only -q -n 0 --assert=plain {COLLECTED}"
         cwd = ROOT
     # benchmarks at their smallest (benchmarks/smoke.py): the command runs, its numbers mean nothing
     env = {**os.environ, "AAEVAL_SKIP_INSTALL": "1", "PYTHONDONTWRITEBYTECODE": "1", "AAEVAL_BENCH_SMOKE": "1"}
@@ -107,6 +117,8 @@ def _run(command: str, cwd: Path) -> subprocess.CompletedProcess:
 def test_readme_command_exits_0(command, workspace):
     done = _run(command, workspace)
     assert done.returncode == 0, f"{command}\nexit {done.returncode}\n{done.stdout[-2000:]}\n{done.stderr[-2000:]}"
+    if _is_pytest(command):  # the line's options selected tests of the module
+        assert re.search(rf"^{re.escape(COLLECTED)}: [1-9]", done.stdout, flags=re.M), done.stdout[-2000:]
     if command.startswith("bash scripts/quickstart.sh"):
         assert "cells:" in done.stdout  # progress lines although stdout is not a terminal
         assert (workspace / "reports" / "default" / "index.html").is_file()

@@ -99,14 +99,16 @@ temporal = ["highlight_bias", "highlight_profile_flicker"]
 [[groups]]
 name = "specular-thin"
 scenes = ["{scene}"]
-frames = [0, 1, 2, 3, 4, 5]
+frames = [0, 1, 2, 3]
 methods = ["catmull", "mitsuba:spp=4096,seed=0,cache=true"]
 options.catmull = {{ specular = ["none", "amanatides"] }}
 """
 # cache=true: the cross-check row's image at seed 0 is the render the highlight mask was
 # read from (the same spp, sampler and seed, cached on disk), not the same render made again
-# for its timing (a sweep renders for real unless told): 7 of the sweep's 19 Mitsuba
-# renders. Nothing here reads the row's time; its image is the same bits.
+# for its timing (a sweep renders for real unless told): a third of the sweep's Mitsuba
+# renders (each frame's mask, its cross-check and the cross-check's noise twin at seed 1).
+# Nothing here reads the row's time; its image is the same bits. Four frames: the highlight
+# drifts 1.1 px over them, and none pops 73x more than the clamp, as over six.
 
 
 @pytest.mark.slow
@@ -132,7 +134,7 @@ def test_findings_rank_amanatides_ten_times_steadier_on_the_thin_highlight(tmp_p
     table = ranked(temporal, group, question.column, {name: m.info() for name, m in METRICS.items()})
     value = {MethodSpec.parse(spec).options["specular"]: v for m, spec, v in zip(table["method"], table["spec"],
                                                                                   table["value"]) if m == "catmull"}
-    assert value["none"] >= 10 * value["amanatides"], value  # measured 73x (5.5e-3 and 7.6e-5)
+    assert value["none"] >= 10 * value["amanatides"], value  # measured 73x (5.6e-3 and 7.7e-5)
     results = pd.read_parquet(out / "results.parquet")
     assert set(results["reference_kind"]) == {"exact"}
     assert (results["reference_noise_rmse"] > 0).all() and (results["reference_noise_rmse"] < 1e-12).all()

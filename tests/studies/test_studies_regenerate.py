@@ -2,10 +2,12 @@
 committed measured part of its README, all but the date, machine and timing lines
 (:func:`aaeval.studies.readme.measured_part`), and every figure it shows is drawn.
 
-The four studies take about 3.3 minutes on 2 cores (weiler-atherton1977 16 s, khan-figures
-30 s, catmull1978 45 s, amanatides1992 105 s, with a cold reference cache): the smallest runs
-in the default suite, all four under ``-m slow``. Nothing is written into experiments/: the
-sweep, the drawings and the figures go to a temporary folder."""
+The four studies take about 15 s of CPU with a cold reference cache (amanatides1992 about
+11 s, each other one 1-3 s): the smallest runs in the default suite, all four under
+``-m slow``. Each sweep runs in the test's own process (``workers=1``): the
+numbers do not depend on the executor (the executors have their own tests), and two worker
+processes cost more to start than these few small cells take. Nothing is written into
+experiments/: the sweep, the drawings and the figures go to a temporary folder."""
 
 from __future__ import annotations
 
@@ -34,7 +36,7 @@ def _regenerate(folder: Path, tmp_path: Path) -> str:
     from aaeval.sweeps import run_sweep
 
     study = replace(load_study(folder, results=tmp_path / "results"), drawings=tmp_path / "drawings")
-    summary = run_sweep(study.experiment, study.results, workers=2, quiet=True, cache_dir=tmp_path / "cache")
+    summary = run_sweep(study.experiment, study.results, workers=1, quiet=True, cache_dir=tmp_path / "cache")
     assert not summary.lost and not summary.failed
     return generate_section(study)
 
