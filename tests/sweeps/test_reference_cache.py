@@ -94,19 +94,23 @@ def test_numpy_values_and_tuples_encode_as_plain_json():
 
 
 def _encode_by_protocol(obj):
-    """The typed-JSON rules written out one isinstance check at a time: the oracle for
-    :func:`encode`'s shortcuts by exact type."""
-    if isinstance(obj, Mapping):
-        return {str(k): _encode_by_protocol(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_encode_by_protocol(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _encode_by_protocol(obj.tolist())
-    if isinstance(obj, np.generic):
-        obj = obj.item()
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return "NaN" if math.isnan(obj) else ("Infinity" if obj > 0 else "-Infinity")
-    return obj
+    """The typed-JSON rules, case by case by protocol: the oracle for :func:`encode`'s
+    shortcuts by exact type."""
+    match obj:
+        case Mapping():
+            return {str(k): _encode_by_protocol(v) for k, v in obj.items()}
+        case list() | tuple():
+            return list(map(_encode_by_protocol, obj))
+        case np.ndarray():
+            return _encode_by_protocol(obj.tolist())
+        case np.generic():
+            return _encode_by_protocol(obj.item())
+        case float() if math.isnan(obj):
+            return "NaN"
+        case float() if math.isinf(obj):
+            return "Infinity" if obj > 0 else "-Infinity"
+        case _:
+            return obj
 
 
 class _Key(str):
