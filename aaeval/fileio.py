@@ -206,7 +206,8 @@ def _temporary(path: Path) -> str:
     """A new empty temporary file beside ``path`` (in an existing folder), of the mode a plain
     ``open`` gives (0666 less the umask, applied by the kernel as it creates the file)."""
     for _ in range(_TEMPORARY_TRIES):
-        tmp = os.path.join(path.parent, f".{path.stem}.{os.urandom(6).hex()}{path.suffix}")
+        # eight random characters, as mkstemp draws: a long file name still fits the file system's limit
+        tmp = os.path.join(path.parent, f".{path.stem}.{os.urandom(4).hex()}{path.suffix}")
         try:
             fd = os.open(tmp, _CREATE, 0o666)
         except FileExistsError:  # another writer's temporary file of that name: draw again
