@@ -70,20 +70,6 @@ def _check_creatable(folder: Path, option: str, path: Path) -> None:
         raise OutputError(f"{option} {path}: cannot write in {existing} ({exc.strerror})") from None
 
 
-def _umask() -> int:
-    # read, not set-and-restore: os.umask() would race with threads creating files
-    try:
-        with open("/proc/self/status") as status:
-            for line in status:
-                if line.startswith("Umask:"):
-                    return int(line.split()[1], 8)
-    except (OSError, ValueError):
-        pass
-    mask = os.umask(0o022)
-    os.umask(mask)
-    return mask
-
-
 def _fsync_dir(folder: Path) -> None:
     try:
         fd = os.open(folder, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
@@ -180,7 +166,6 @@ def atomic_write_many(writes) -> list[Path]:
     """
     writes = [(Path(path), write) for path, write in writes]
     folders = list(dict.fromkeys(path.parent for path, _ in writes))
-    mode = 0o666 & ~_umask()
     pending: list[str] = []  # temporary files not yet renamed
     try:
         for folder in folders:
@@ -190,7 +175,7 @@ def atomic_write_many(writes) -> list[Path]:
                 path = next(path for path, _ in writes if path.parent == folder)
                 raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from None
         for path, write in writes:
-            pending.append(_temporary(path, mode))
+            pending.append(_temporary(path))
             try:
                 write(pending[-1])
             except BaseException as exc:
@@ -211,21 +196,27 @@ def atomic_write_many(writes) -> list[Path]:
     return [path for path, _ in writes]
 
 
-def _temporary(path: Path, mode: int) -> str:
-    """A new empty temporary file beside ``path`` (in an existing folder), of ``mode``."""
-    try:
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
-    except OSError as exc:  # name the user's path, not the temporary file's
-        raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from None
-    try:
-        os.fchmod(fd, mode)  # mkstemp makes 0600 whatever the umask
-    except BaseException:
+#: Flags of a new temporary file: created here or refused (never an existing file, never
+#: through a link), not inherited by a child.
+_CREATE = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0)
+_TEMPORARY_TRIES = 100
+
+
+def _temporary(path: Path) -> str:
+    """A new empty temporary file beside ``path`` (in an existing folder), of the mode a plain
+    ``open`` gives (0666 less the umask, applied by the kernel as it creates the file)."""
+    for _ in range(_TEMPORARY_TRIES):
+        # eight random characters, as mkstemp draws: a long file name still fits the file system's limit
+        tmp = os.path.join(path.parent, f".{path.stem}.{os.urandom(4).hex()}{path.suffix}")
+        try:
+            fd = os.open(tmp, _CREATE, 0o666)
+        except FileExistsError:  # another writer's temporary file of that name: draw again
+            continue
+        except OSError as exc:  # name the user's path, not the temporary file's
+            raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from None
         os.close(fd)
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-    os.close(fd)
-    return tmp
+        return tmp
+    raise OSError(errno.EEXIST, "no free temporary file name", str(path))
 
 
 def _refuse_write(exc: BaseException, tmp: str | None, path: Path):

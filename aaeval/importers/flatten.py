@@ -38,11 +38,26 @@ def bezier_steps(control: np.ndarray, tol: float) -> int:
     k = len(control) - 1
     if k < 2:
         return 1
-    if not np.isfinite(control).all():
-        raise ValueError("a curve has a control point that is not a finite number")
-    second = control[2:] - 2.0 * control[1:-1] + control[:-2]
-    m = float(np.hypot(second[:, 0], second[:, 1]).max())
+    if control.shape == (3, 2):
+        m = _quadratic_second_difference(control)
+    else:
+        if not np.isfinite(control).all():
+            raise ValueError(_NOT_FINITE)
+        second = control[2:] - 2.0 * control[1:-1] + control[:-2]
+        m = float(np.hypot(second[:, 0], second[:, 1]).max())
     return int(min(MAX_STEPS, max(1, math.ceil(math.sqrt(k * (k - 1) * m / (8.0 * tol))))))
+
+
+_NOT_FINITE = "a curve has a control point that is not a finite number"
+
+
+def _quadratic_second_difference(control: np.ndarray) -> float:
+    """``|P0 - 2 P1 + P2|`` of a quadratic (every TrueType curve), in plain floats: the same
+    operations in the same order as the array form, a third of its time on three points."""
+    (x0, y0), (x1, y1), (x2, y2) = control.tolist()
+    if not all(map(math.isfinite, (x0, y0, x1, y1, x2, y2))):
+        raise ValueError(_NOT_FINITE)
+    return float(np.hypot((x2 - 2.0 * x1) + x0, (y2 - 2.0 * y1) + y0))  # numpy's hypot, as for arrays
 
 
 def bezier_points(control, tol: float) -> np.ndarray:

@@ -179,45 +179,11 @@ def layout(font_file: str | Path, string: str, size: float, origin) -> list[Plac
 
 def glyph_subpaths(font_file: str | Path, glyph: PlacedGlyph, tol: float) -> list[Subpath]:
     """A placed glyph's outline in image pixels, flattened to ``tol``."""
-    from fontTools.pens.basePen import BasePen
     from fontTools.pens.transformPen import TransformPen
     from fontTools.ttLib import TTLibError
 
-    glyph_set = _font(str(font_file)).getGlyphSet()
-
-    class FlattenPen(BasePen):
-        # BasePen with a glyph set decomposes components: each component's outline is
-        # drawn through its own 2x3 transform (nested components compose), as FreeType
-        # does; a flipped component keeps its contour direction, as in FreeType.
-        def __init__(self):
-            super().__init__(glyph_set)
-            self.subpaths: list[Subpath] = []
-            self.points: list = []
-
-        def _moveTo(self, pt):
-            self._finish()
-            self.points = [pt]
-
-        def _lineTo(self, pt):
-            self.points.append(pt)
-
-        def _qCurveToOne(self, pt1, pt2):
-            self.points.extend(bezier_points([self._getCurrentPoint(), pt1, pt2], tol))
-
-        def _curveToOne(self, pt1, pt2, pt3):
-            self.points.extend(bezier_points([self._getCurrentPoint(), pt1, pt2, pt3], tol))
-
-        def _closePath(self):
-            self._finish()
-
-        _endPath = _closePath
-
-        def _finish(self):
-            if len(self.points) >= 3:
-                self.subpaths.append(Subpath(np.array(self.points, dtype=np.float64), True))
-            self.points = []
-
-    pen = FlattenPen()
+    glyph_set = _glyph_set(_font(str(font_file)))
+    pen = _flatten_pen()(glyph_set, tol)
     s = glyph.scale
     # font units (y up) to image pixels (y down) at the glyph's pen position
     try:
@@ -231,6 +197,54 @@ def glyph_subpaths(font_file: str | Path, glyph: PlacedGlyph, tol: float) -> lis
         raise TextError(f"{font_file}: glyph {glyph.glyph!r} cannot be read ({type(exc).__name__}: {exc})") from None
     pen._finish()
     return pen.subpaths
+
+
+@lru_cache(maxsize=8)
+def _glyph_set(font):
+    """The glyphs of ``font`` (as :func:`_font` read it) for drawing, made once per font."""
+    return font.getGlyphSet()
+
+
+@lru_cache(maxsize=1)
+def _flatten_pen():
+    """The pen that flattens a glyph's outline (a class made once: fontTools is imported only
+    when text is imported)."""
+    from fontTools.pens.basePen import BasePen
+
+    class FlattenPen(BasePen):
+        # BasePen with a glyph set decomposes components: each component's outline is
+        # drawn through its own 2x3 transform (nested components compose), as FreeType
+        # does; a flipped component keeps its contour direction, as in FreeType.
+        def __init__(self, glyph_set, tol: float):
+            super().__init__(glyph_set)
+            self.tol = tol
+            self.subpaths: list[Subpath] = []
+            self.points: list = []
+
+        def _moveTo(self, pt):
+            self._finish()
+            self.points = [pt]
+
+        def _lineTo(self, pt):
+            self.points.append(pt)
+
+        def _qCurveToOne(self, pt1, pt2):
+            self.points.extend(bezier_points([self._getCurrentPoint(), pt1, pt2], self.tol))
+
+        def _curveToOne(self, pt1, pt2, pt3):
+            self.points.extend(bezier_points([self._getCurrentPoint(), pt1, pt2, pt3], self.tol))
+
+        def _closePath(self):
+            self._finish()
+
+        _endPath = _closePath
+
+        def _finish(self):
+            if len(self.points) >= 3:
+                self.subpaths.append(Subpath(np.array(self.points, dtype=np.float64), True))
+            self.points = []
+
+    return FlattenPen
 
 
 def line_metrics(font_file: str | Path, size: float) -> tuple[float, float, float]:

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import functools
+import io
 import math
 import os
 import stat
@@ -41,14 +43,14 @@ def npy_problem(path: str | Path, shape: tuple[int, ...] | None = None) -> str |
     point is a problem too: a sparse file whose header matches its size would otherwise be
     read whole (21 GB), and a complex or wrong-shaped image stopped the report.
     """
-    readers = {(1, 0): np.lib.format.read_array_header_1_0, (2, 0): np.lib.format.read_array_header_2_0}
     try:
         size = os.stat(path).st_size
         with open(path, "rb") as f:
             version = np.lib.format.read_magic(f)
-            if version not in readers:
+            if version not in _HEADER_LENGTH:
                 return f"unsupported .npy version {version}"
-            stored, _, dtype = readers[version](f)
+            length = f.read(_HEADER_LENGTH[version])
+            stored, dtype = _npy_header(version, length + f.read(min(_header_size(length), _MAX_HEADER)))
             if dtype.hasobject:
                 return "holds Python objects, not numbers"
             if shape is not None and (tuple(stored) != tuple(shape)):
@@ -63,6 +65,24 @@ def npy_problem(path: str | Path, shape: tuple[int, ...] | None = None) -> str |
     if size != expected:
         return f"{size} bytes where its header promises {expected}" + (" (truncated)" if size < expected else "")
     return None
+
+
+#: The bytes of the header length field of each ``.npy`` version read.
+_HEADER_LENGTH = {(1, 0): 2, (2, 0): 4}
+_MAX_HEADER = 10000  # numpy's own limit: it refuses a longer header before reading it
+
+
+def _header_size(length: bytes) -> int:
+    return int.from_bytes(length, "little") if len(length) in (2, 4) else 0
+
+
+@functools.lru_cache(maxsize=256)
+def _npy_header(version: tuple[int, int], header: bytes) -> tuple[tuple[int, ...], np.dtype]:
+    """The shape and dtype a ``.npy`` header (after its magic) states, read by numpy: a sweep's
+    images share a few headers, and numpy parses each one as Python source."""
+    readers = {(1, 0): np.lib.format.read_array_header_1_0, (2, 0): np.lib.format.read_array_header_2_0}
+    shape, _, dtype = readers[version](io.BytesIO(header))
+    return shape, dtype
 
 
 # a cell record, manifest or config of a sweep folder is small; anything larger is damage

@@ -117,7 +117,8 @@ class CellRecord:
 
     def to_json(self) -> dict:
         """A typed-JSON-ready dict (NaN and infinities as their tags)."""
-        return encode(dataclasses.asdict(self))
+        # encode copies every dict and list, so the fields need no deep copy of their own
+        return encode({name: getattr(self, name) for name in RECORD_FIELDS})
 
     @classmethod
     def from_json(cls, data: Mapping[str, Any], *, where: str = "record") -> "CellRecord":

@@ -158,18 +158,26 @@ class SweepStore:
         named through ``log``; with ``heal`` it and the files of its cell are moved to
         ``quarantine/`` so that the next sweep runs the cell again.
         """
+        return {key: raw for key, (raw, _) in self._sound(heal).items()}
+
+    def sound_records(self, heal: bool = True):
+        """:meth:`check` with each record read: ``key ->``
+        :class:`~aaeval.sweeps.record.CellRecord`."""
+        return {key: record for key, (_, record) in self._sound(heal).items()}
+
+    def _sound(self, heal: bool):
         for folder in (self.cells_dir, self.images_dir, self.refs_dir, self.flips_dir):
             if os.path.islink(folder):  # reading through it would read, and healing move, files elsewhere
                 raise StoreError(f"{folder} is a symbolic link; a sweep reads and moves only files inside "
                                  f"{self.root} (remove the link)")
         if not self.cells_dir.is_dir():
             return {}
-        sound: dict[str, dict] = {}
+        sound: dict[str, tuple] = {}
         bad_refs: dict[str, str] = {}
         for path in sorted(self.cells_dir.glob("*.json")):
             if path.name.startswith("."):  # a temporary file of a write in flight
                 continue
-            record, problem = self._parse_cell(path)
+            record, parsed, problem = self._parse_cell(path)
             if problem is None and not record.get("error"):
                 shape = (record["height"], record["width"], 3)
                 problem = self._array_problem(self.image_path(path.stem), "its image", shape)
@@ -179,7 +187,7 @@ class SweepStore:
                         bad_refs[ref] = self._array_problem(self.reference_path(ref), "its reference", shape)
                     problem = bad_refs[ref]
             if problem is None:
-                sound[path.stem] = record
+                sound[path.stem] = record, parsed
             else:
                 companions = [self.image_path(path.stem), self.flip_path(path.stem)]
                 self._quarantine.set_aside(path, problem, heal, companions)
@@ -188,20 +196,21 @@ class SweepStore:
                 self._quarantine.move(self.reference_path(ref), heal)
         return sound
 
-    def _parse_cell(self, path: Path) -> tuple[dict, str | None]:
+    def _parse_cell(self, path: Path):
+        """``(stored record, CellRecord, None)``, or ``({}, None, why it is damaged)``."""
         from aaeval.sweeps.record import CellRecord, RecordError
 
         try:
             record = json.loads(read_own_file(path).decode("utf-8"))
         except (OSError, ValueError) as exc:  # UnicodeDecodeError and JSONDecodeError are ValueErrors
-            return {}, f"not a cell record ({exc})"
+            return {}, None, f"not a cell record ({exc})"
         if not isinstance(record, dict) or record.get("key") != path.stem:
-            return {}, "not the record of this cell's key"
+            return {}, None, "not the record of this cell's key"
         try:  # a field missing, unknown or of another schema: damaged like any other record
-            CellRecord.from_json(record, where="record")
+            parsed = CellRecord.from_json(record, where="record")
         except (RecordError, TypeError, ValueError, AttributeError) as exc:
-            return {}, f"not a readable cell record ({str(exc).removeprefix('record: ')})"
-        return record, None
+            return {}, None, f"not a readable cell record ({str(exc).removeprefix('record: ')})"
+        return record, parsed, None
 
     def set_aside(self, key: str, problem: str, heal: bool = True) -> None:
         """Quarantine the cell ``key`` (record and image) with ``problem``, as :meth:`check`
@@ -234,7 +243,7 @@ class SweepStore:
         return path
 
     def read_cell(self, key: str) -> dict:
-        record, problem = self._parse_cell(self.cell_path(key))
+        record, _, problem = self._parse_cell(self.cell_path(key))
         if problem is not None:
             raise StoreError(f"{self.cell_path(key)}: {problem}")
         return record

@@ -33,7 +33,7 @@ import pandas as pd
 
 from aaeval.sweeps.measure import SCENES, SceneCache, series_metrics
 from aaeval.metrics import relative_variation
-from aaeval.sweeps.record import (SCHEMA_VERSION, TABLE_FIELDS, CellRecord, RecordError, agreement_column,
+from aaeval.sweeps.record import (SCHEMA_VERSION, TABLE_FIELDS, RecordError, agreement_column,
                                        noise_column)
 from aaeval.sweeps.store import SCHEMA_KEY, SweepStore, read_table
 from aaeval.imageio import atomic_write
@@ -57,12 +57,12 @@ def results_frame(store: SweepStore, *, heal: bool = True) -> pd.DataFrame:
     cells are left where they are, for a reader that does not hold the folder's lock)."""
     manifest = store.read_manifest()
     metrics = list(manifest.get("metrics", []))
-    done = store.check(heal=heal)  # every sound record, read and checked once
+    done = store.sound_records(heal=heal)  # every sound record, read and checked once
     out = []
     for row in manifest["cells"]:
         if row["key"] not in done:
             continue
-        record = CellRecord.from_json(done[row["key"]], where=str(store.cell_path(row["key"])))
+        record = done[row["key"]]
         wrong = next((name for name in ("group", "scene", "spec", "frame") if getattr(record, name) != row[name]),
                      None)
         if wrong:  # a record edited after it was written: set aside (healing) or left out, never blocking

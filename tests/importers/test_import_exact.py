@@ -346,3 +346,27 @@ def test_curved_strokes_match_geos_sweep_of_a_fine_flattening(tmp_path, d, width
     length = 2 * np.hypot(*np.diff(fine, axis=0).T).sum() + 4 * width
     assert abs(got.area - expected.area) <= tol * length, (got.area, expected.area, tol * length)
     assert got.symmetric_difference(expected).area <= 2 * tol * length
+
+
+# --- the fill rules' candidate pairs: every overlapping pair of edge boxes, small or large --
+
+@pytest.mark.parametrize("n", [2, 17, 64, 65, 300])
+@pytest.mark.parametrize("with_active", [False, True])
+def test_candidate_pairs_are_the_overlapping_pairs_checked_one_by_one(n, with_active):
+    # both ways: every pair checked at once (up to ALL_PAIRS_EDGES boxes) and the grid (above)
+    from aaeval.importers.fillpairs import ALL_PAIRS_EDGES, candidate_pairs
+
+    assert 2 <= ALL_PAIRS_EDGES < 300
+    rng = np.random.default_rng(n)
+    lo = np.round(rng.random((n, 2)) * 20.0, 1)  # on a 0.1 grid: boxes that touch and share edges
+    hi = lo + np.round(rng.random((n, 2)) * rng.choice([0.0, 0.5, 4.0], (n, 1)), 1)
+    lo[0], hi[0] = (0.0, 0.0), (25.0, 25.0)  # a box over all the others: pairs whatever the draw
+    eps = 1e-9
+    active = (rng.random(n) < 0.3) | (np.arange(n) == n - 1) if with_active else None
+    expected = [(a, b) for a in range(n) for b in range(a + 1, n)
+                if all(lo[a, k] <= hi[b, k] + eps and lo[b, k] <= hi[a, k] + eps for k in (0, 1))
+                and (active is None or active[a] or active[b])]
+    i, j = candidate_pairs(lo, hi, eps, active)
+    assert i.dtype == j.dtype == np.int64
+    assert list(zip(i.tolist(), j.tolist())) == expected
+    assert expected  # the boxes do overlap somewhere

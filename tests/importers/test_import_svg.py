@@ -148,6 +148,22 @@ def test_flattening_is_adaptive_not_fine():
     assert len(pts) < 60
 
 
+def test_a_quadratic_gets_wangs_step_count_to_the_bit():
+    # the bound computed here on arrays, as for every other degree; quadratics take plain
+    # floats: the same count, also where the square root lands on a whole number
+    rng = np.random.default_rng(11)
+    curves = rng.normal(size=(3000, 3, 2)) * np.exp(rng.uniform(-12, 12, (3000, 1, 1)))
+    exact = np.array([[0, 0], [-2, 0], [0, 0]], float)  # |P0 - 2 P1 + P2| = 4: the bound is 4 steps exactly
+    assert bezier_steps(exact, 1 / 16) == 4
+    for control in [*curves, exact]:
+        second = control[2:] - 2.0 * control[1:-1] + control[:-2]
+        m = float(np.hypot(second[:, 0], second[:, 1]).max())
+        wang = int(min(1 << 16, max(1, np.ceil(np.sqrt(2 * m / (8.0 / 16))))))
+        assert bezier_steps(control, 1 / 16) == wang
+    with pytest.raises(ValueError, match="not a finite number"):
+        bezier_steps(np.array([[0, 0], [np.inf, 1], [2, 2]], float), 1 / 16)
+
+
 def test_fill_rules_give_holes_where_they_should():
     result = import_svg(DATA / "fill_rules.svg")
     scene = parse_scene(result.document)

@@ -39,17 +39,23 @@ def test_a_report_output_replaced_by_a_link_is_replaced_not_written_through(worl
     tmp_path, outside, config = world
     out = tmp_path / "out"
     assert sweep(tmp_path, config) == 0
-    assert main(["report", str(out), "--quiet"]) == 0
-    outputs = [p for d in ("figures", "tables", "viewer") for p in (out / d).iterdir()] + [out / "index.html"]
+    # a draft names every output; each figure's SVG and PDF twins sit beside its PNG
+    assert main(["report", str(out), "--quiet", "--png-only"]) == 0
+    drafted = [p for d in ("figures", "tables", "viewer") for p in (out / d).iterdir()] + [out / "index.html"]
+    twins = [p.with_suffix(s) for p in drafted if p.parent.name == "figures" for s in (".svg", ".pdf")]
+    outputs = drafted + twins
     assert any(p.suffix == ".svg" for p in outputs)
     for p in outputs:
-        p.unlink()
+        p.unlink(missing_ok=True)
         os.symlink(outside / "victim.txt", p)
     before = snapshot(outside)
     assert main(["report", str(out), "--quiet"]) == 0, capsys.readouterr().err
     assert snapshot(outside) == before
     for p in outputs:
         assert p.is_file() and not p.is_symlink(), p
+    # and a link sat at every output the full report writes
+    written = {p for d in ("figures", "tables", "viewer") for p in (out / d).iterdir()} | {out / "index.html"}
+    assert written == set(outputs)
 
 
 @pytest.mark.slow

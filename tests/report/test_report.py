@@ -161,7 +161,7 @@ def test_report_of_a_partial_sweep(tmp_path):
     for p in stability + [next(p for p in cells if group[p] == "edges")]:  # a whole group and one more cell
         p.unlink()
     write_sweep_files(SweepStore(out))  # the tables of the cells left, as a sweep writes them when it stops
-    text = write_report(out).read_text()
+    text = write_report(out, formats=("png",)).read_text()  # the page's text; the figures' twins say nothing here
     assert "5 of 9 distinct cells finished" in text and "4 pending" in text
     assert ">stability</h2>" in text  # the group with nothing finished keeps its heading
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 import json
 import math
 import os
+from collections.abc import Mapping
+from types import MappingProxyType
 
 import numpy as np
 import pandas as pd
@@ -89,6 +91,59 @@ def test_typed_json_is_strict_and_keeps_nan_inf_and_none_apart(value):
 def test_numpy_values_and_tuples_encode_as_plain_json():
     assert encode({"a": np.float32(np.inf), "b": (np.int64(3), np.array([np.nan, 1.0]))}) == \
         {"a": "Infinity", "b": [3, ["NaN", 1.0]]}
+
+
+def _encode_by_protocol(obj):
+    """The typed-JSON rules, case by case by protocol: the oracle for :func:`encode`'s
+    shortcuts by exact type."""
+    match obj:
+        case Mapping():
+            return {str(k): _encode_by_protocol(v) for k, v in obj.items()}
+        case list() | tuple():
+            return list(map(_encode_by_protocol, obj))
+        case np.ndarray():
+            return _encode_by_protocol(obj.tolist())
+        case np.generic():
+            return _encode_by_protocol(obj.item())
+        case float() if math.isnan(obj):
+            return "NaN"
+        case float() if math.isinf(obj):
+            return "Infinity" if obj > 0 else "-Infinity"
+        case _:
+            return obj
+
+
+class _Key(str):
+    def __str__(self):
+        return f"key {super().__str__()}"
+
+
+_scalars = st.one_of(st.none(), st.booleans(), st.integers(), st.floats(allow_nan=True, allow_infinity=True),
+                     st.text(max_size=4), st.floats(width=32).map(np.float32), st.floats().map(np.float64),
+                     st.integers(-2**63, 2**63 - 1).map(np.int64), st.booleans().map(np.bool_))
+_keys = st.one_of(st.text(max_size=3), st.integers(-5, 5), st.booleans(), st.none(), st.floats(),
+                  st.text(max_size=3).map(_Key), st.integers(-5, 5).map(np.int64))
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.recursive(_scalars, lambda inner: st.lists(inner, max_size=3) | st.lists(inner, max_size=3).map(tuple)
+                    | st.dictionaries(_keys, inner, max_size=3) | st.lists(st.floats(), max_size=3).map(np.array)
+                    | st.dictionaries(st.text(max_size=3), inner, max_size=3).map(MappingProxyType),
+                    max_leaves=12))
+def test_encode_gives_the_bytes_of_the_typed_json_rules(value):
+    expected = json.dumps(_encode_by_protocol(value), allow_nan=False, indent=1)
+    assert dumps(value, indent=1) == expected
+
+
+def test_a_cell_record_encodes_by_the_typed_json_rules(tmp_path):
+    from aaeval.sweeps import SweepStore
+
+    record = {"key": "k0", "metrics": {"psnr": math.inf, "rmse": np.float64(np.nan), "flip": np.float32(0.25),
+                                       "ssim": None}, "frame": np.int64(3), "size": (24, 24),
+              "reference_noise": {"rmse": -math.inf}, "options": {"k": 4, "exact": np.bool_(True)}}
+    SweepStore(tmp_path).write_cell(record, None)
+    expected = json.dumps(_encode_by_protocol(record), allow_nan=False, indent=1) + "\n"
+    assert (tmp_path / "cells" / "k0.json").read_text() == expected
 
 
 def _entry(tmp_path):

@@ -86,7 +86,9 @@ def test_the_report_runs_on_a_folder_whose_damaged_cell_was_run_again(finished, 
     record["frame"] = "0"
     path.write_text(json.dumps(record))
     assert run_small_sweep(tmp_path).ran == 1
-    assert main(["report", str(out)]) == 0
+    # PNG only: the report reads the same tables and draws the same figures; SVG and PDF are
+    # the same figures saved again, whatever the folder held
+    assert main(["report", str(out), "--png-only"]) == 0
 
 
 @pytest.mark.slow

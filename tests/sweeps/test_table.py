@@ -46,13 +46,14 @@ def test_every_cell_of_every_shipped_config_is_one_row_with_its_own_label(config
     assert len(keys) == len(set(keys)), "two cells share a key"
     store = SweepStore(tmp_path)
     store.write_manifest(experiment.text, manifest(experiment, planned))
-    written = set()
+    written, cells = set(), []
     for p in planned:  # the store checks that every finished cell has its image and reference, of its size
         blank = np.zeros((p.cell.scene_source.parsed.height, p.cell.scene_source.parsed.width, 3))
         if p.reference_key not in written:  # one reference serves every method of a scene frame
             store.write_reference(p.reference_key, blank)
             written.add(p.reference_key)
-        store.write_cell(_fake_record(p), blank)
+        cells.append((_fake_record(p), blank, None))
+    store.write_cells(cells)  # one batch, its syncs shared, as a sweep writes the cells it has finished
     table = results_frame(store)
     assert len(table) == len(planned) == len(store.read_manifest()["cells"])
     assert not table["key"].duplicated().any()
