@@ -243,7 +243,8 @@ class DaskExecutor:
     def _result(self, future) -> Any:
         """A finished task's result. It comes through the scheduler, which may have stopped
         since (:class:`SchedulerLost` after ``AAEVAL_DASK_TIMEOUT`` seconds); the worker that
-        held it may have died since (:class:`_ResultLost`: the task is not finished any more)."""
+        held it may have died since (:class:`_ResultLost`: the task is not finished any more,
+        or the scheduler answers but has no worker left to fetch it from)."""
         deadline = time.monotonic() + self.answer_within
         while True:
             try:
@@ -252,6 +253,9 @@ class DaskExecutor:
                 if future.status != "finished":
                     raise _ResultLost() from None
                 if time.monotonic() >= deadline:
+                    # the scheduler may still be asking the dead worker (Dask's connect timeout)
+                    if not scheduler_workers(self.client, self.answer_within):
+                        raise _ResultLost() from None
                     raise _no_answer(self.client, self.answer_within, exc) from None
 
     def _lost(self, why: str) -> SchedulerLost:
