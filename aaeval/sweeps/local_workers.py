@@ -201,9 +201,9 @@ class ProcessExecutor:
                 busy = [w for w in self._pool if w.task is not None]
                 if not busy:
                     continue
-                deadline = min((w.task[1] for w in busy if w.task[1] is not None), default=math.inf)
+                deadline = min((w.task[1] for w in busy if w.task[1] is not None), default=math.inf) + self.max_seconds
                 ready = wait_ready([w.conn for w in busy] + [w.process.sentinel for w in busy],
-                                   timeout=max(0.0, min(deadline + self.max_seconds - time.monotonic(), 3600.0)))
+                                   timeout=max(0.0, min(deadline - time.monotonic(), 3600.0)))
                 now = time.monotonic()
                 for worker in busy:
                     i, started = worker.task
