@@ -210,10 +210,11 @@ class DaskExecutor:
                             exc = WorkerDied(f"worker died: every worker that ran it died ({_short(exc)})")
                         outcome = (i, None, exc)
                     else:
-                        try:  # the result comes through the scheduler: it may have stopped since
-                            outcome = (i, future.result(timeout=self.answer_within), None)
-                        except TimeoutError as exc:
-                            raise _no_answer(self.client, self.answer_within, exc) from None
+                        try:
+                            outcome = (i, self._result(future), None)
+                        except _ResultLost:  # computed again once a worker has it (the watch ends a wait for none)
+                            finished.add(future)
+                            continue
                     returned.add(i)
                     yield outcome
                     future.release()
@@ -238,6 +239,24 @@ class DaskExecutor:
             for i in range(len(payloads)):
                 if i not in returned:
                     yield i, None, self.lost
+
+    def _result(self, future) -> Any:
+        """A finished task's result. It comes through the scheduler, which may have stopped
+        since (:class:`SchedulerLost` after ``AAEVAL_DASK_TIMEOUT`` seconds); the worker that
+        held it may have died since (:class:`_ResultLost`: the task is not finished any more,
+        or the scheduler answers but has no worker left to fetch it from)."""
+        deadline = time.monotonic() + self.answer_within
+        while True:
+            try:
+                return future.result(timeout=min(0.5, max(0.05, deadline - time.monotonic())))
+            except TimeoutError as exc:
+                if future.status != "finished":
+                    raise _ResultLost() from None
+                if time.monotonic() >= deadline:
+                    # the scheduler may still be asking the dead worker (Dask's connect timeout)
+                    if not scheduler_workers(self.client, self.answer_within):
+                        raise _ResultLost() from None
+                    raise _no_answer(self.client, self.answer_within, exc) from None
 
     def _lost(self, why: str) -> SchedulerLost:
         return SchedulerLost(f"the Dask scheduler at {self.address} was lost during the sweep ({why}); finished "
@@ -309,6 +328,10 @@ class _ClusterWatch:
             with _quietly():  # a worker without a nanny cannot be restarted: its thread runs on
                 ex.client.restart_workers(list(workers), timeout=30, raise_for_error=False)
         return late
+
+
+class _ResultLost(Exception):
+    """A finished task's result went with its worker before it was fetched."""
 
 
 class _quietly:

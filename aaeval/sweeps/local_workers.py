@@ -4,6 +4,7 @@ Each executor has one method, ``run(fn, payloads)``, yielding ``(index, result, 
 tasks finish (:data:`~aaeval.sweeps.task_failures.Outcome`). A local worker that dies or runs
 past the time limit is its task's failure (:class:`~aaeval.sweeps.task_failures.WorkerDied`,
 :class:`~aaeval.sweeps.task_failures.TaskTimedOut`); it is replaced and the other tasks go on.
+A task's time limit counts from when its worker has started: a slow start is not the task's.
 
 A local worker loads the registries (:func:`aaeval.registries.load`) when it starts, before
 its first task, so the method specs its tasks carry are parsed against the same methods and
@@ -95,7 +96,7 @@ def _exit_with_parent(parent: int) -> None:
 
     def watch() -> None:
         while os.getppid() == parent:
-            time.sleep(0.5)
+            time.sleep(0.1)  # a killed sweep's workers stop within a tenth of a second; a getppid costs nothing
         os._exit(1)  # no cleanup to wait for: results go back to the parent, which is gone
 
     threading.Thread(target=watch, name="aaeval-parent-watch", daemon=True).start()
@@ -133,7 +134,9 @@ class _Worker:
                                        name="aaeval-sweep-worker")
         self.process.start()
         child.close()
-        self.task: tuple[int, float] | None = None  # (index, when it was sent)
+        # (index, when its clock started): None until the worker is ready, so that a slow
+        # start (importing aaeval, loading the registries and plugins) is not the task's time
+        self.task: tuple[int, float | None] | None = None
         self.ready = False  # it said so: it got past its start (importing, loading the registries)
 
     def stop(self) -> None:
@@ -194,11 +197,11 @@ class ProcessExecutor:
                             todo.appendleft((i, payload))
                             self._retire(worker)
                             continue
-                        worker.task = (i, time.monotonic())
+                        worker.task = (i, time.monotonic() if worker.ready else None)
                 busy = [w for w in self._pool if w.task is not None]
                 if not busy:
                     continue
-                deadline = min(w.task[1] for w in busy) + self.max_seconds
+                deadline = min((w.task[1] for w in busy if w.task[1] is not None), default=math.inf) + self.max_seconds
                 ready = wait_ready([w.conn for w in busy] + [w.process.sentinel for w in busy],
                                    timeout=max(0.0, min(deadline - time.monotonic(), 3600.0)))
                 now = time.monotonic()
@@ -211,8 +214,9 @@ class ProcessExecutor:
                                 answer = worker.conn.recv()
                         except (EOFError, OSError):
                             answer = None
-                        if answer == _READY:
+                        if answer == _READY:  # its task (sent ahead, waiting in the pipe) starts now
                             worker.ready = True
+                            worker.task = (i, time.monotonic())
                             continue
                         if answer is None and not worker.ready:  # it never started: no task's doing
                             worker.process.join(5)
@@ -227,7 +231,7 @@ class ProcessExecutor:
                         worker.task = None
                         ok, value = answer
                         yield (i, value, None) if ok else (i, None, value)
-                    elif now - started >= self.max_seconds:
+                    elif started is not None and now - started >= self.max_seconds:
                         self._retire(worker)  # killed: its native code cannot be interrupted otherwise
                         yield i, None, timed_out(self.max_seconds)
         except (KeyboardInterrupt, SystemExit):

@@ -148,3 +148,27 @@ def wait_for_cells(out: Path, at_least: int, limit: float = 300, running=lambda:
             break
         time.sleep(0.02)
     return n
+
+
+def still_running(procs, timeout: float) -> list:
+    """Those of ``procs`` (psutil processes) still running after up to ``timeout`` seconds.
+
+    A process that exited is ended even while it is a zombie: an orphan is reaped by the
+    system's init, which in some containers gets to it a second or more later (a wait on
+    its pid, as ``psutil.wait_procs`` does, waits that long), and a zombie computes nothing.
+    """
+    import psutil
+
+    def running(p) -> bool:
+        try:
+            return p.is_running() and p.status() != psutil.STATUS_ZOMBIE
+        except psutil.NoSuchProcess:
+            return False
+
+    deadline = time.monotonic() + timeout
+    alive = list(procs)
+    while True:
+        alive = [p for p in alive if running(p)]
+        if not alive or time.monotonic() >= deadline:
+            return alive
+        time.sleep(0.02)

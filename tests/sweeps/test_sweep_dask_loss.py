@@ -34,17 +34,17 @@ class _Quick(distributed.LocalCluster):
 
 @pytest.mark.slow
 def test_an_unreachable_scheduler_leaves_no_folder(tmp_path, capsys, monkeypatch):
-    monkeypatch.setenv("AAEVAL_DASK_TIMEOUT", "2")
+    monkeypatch.setenv("AAEVAL_DASK_TIMEOUT", "1")
     config = write_config(tmp_path, MANY)
     code = main(["sweep", str(config), "--out", str(tmp_path / "out"), "--scheduler", "tcp://127.0.0.1:9", "-q"])
     err = capsys.readouterr().err
-    assert code == 2 and "cannot reach the Dask scheduler" in err and "2 s" in err
+    assert code == 2 and "cannot reach the Dask scheduler" in err and "1 s" in err
     assert not (tmp_path / "out").exists()  # no empty sweep.lock left behind
 
 
 @pytest.mark.slow
 def test_a_scheduler_without_workers_is_refused_after_the_stated_wait(tmp_path, capsys, monkeypatch):
-    monkeypatch.setenv("AAEVAL_DASK_WORKER_TIMEOUT", "2")
+    monkeypatch.setenv("AAEVAL_DASK_WORKER_TIMEOUT", "1")
     config = write_config(tmp_path, MANY)
     with local_cluster(0) as cluster:
         start = time.monotonic()
@@ -52,7 +52,7 @@ def test_a_scheduler_without_workers_is_refused_after_the_stated_wait(tmp_path, 
                      cluster.scheduler_address, "-q"])
         waited = time.monotonic() - start
     err = capsys.readouterr().err
-    assert code == 2 and "has no workers" in err and "2 s" in err, err
+    assert code == 2 and "has no workers" in err and "1 s" in err, err
     assert waited < 120  # a hang guard, not a timing claim
     assert not (tmp_path / "out").exists()
 
@@ -104,6 +104,16 @@ def _nap(seconds):
     return seconds
 
 
+# Holds _held's task until the test has its answer: the in-process cluster's close waits for
+# a task's thread, which no time limit can stop
+RELEASE = threading.Event()
+
+
+def _held(seconds):
+    RELEASE.wait(seconds)
+    return seconds
+
+
 @pytest.mark.slow
 def test_a_dask_task_past_the_time_limit_is_answered_as_timed_out(monkeypatch):
     """A per-task time limit on Dask too (measured from when the scheduler shows the
@@ -111,13 +121,15 @@ def test_a_dask_task_past_the_time_limit_is_answered_as_timed_out(monkeypatch):
     from aaeval.sweeps.dask_executor import DaskExecutor
     from aaeval.sweeps.task_failures import TaskTimedOut
 
+    RELEASE.clear()
     with local_cluster(2) as cluster:
         executor = DaskExecutor(cluster.scheduler_address, max_seconds=2)
         try:
             start = time.monotonic()
-            out = {i: (result, exc) for i, result, exc in executor.run(_nap, [(6,), (0.1,)])}
+            out = {i: (result, exc) for i, result, exc in executor.run(_held, [(60,), (0.1,)])}
             took = time.monotonic() - start
         finally:
+            RELEASE.set()
             executor.close()
     assert isinstance(out[0][1], TaskTimedOut) and "2 s" in str(out[0][1])
     assert out[1] == (0.1, None)
@@ -131,8 +143,11 @@ def test_a_dask_sweep_whose_last_worker_died_stops_naming_it(monkeypatch):
     from aaeval.sweeps.dask_executor import DaskExecutor
     from aaeval.sweeps.task_failures import WorkersLost
 
-    monkeypatch.setenv("AAEVAL_DASK_WORKER_TIMEOUT", "2")
-    with local_cluster(1) as cluster:
+    monkeypatch.setenv("AAEVAL_DASK_WORKER_TIMEOUT", "1")
+    # connect attempts give up after 3 s during the run too: a result fetched just as its worker
+    # died is asked of that worker until then (30 s by default, past the 20 s the sweep waits
+    # for an answer: "the scheduler did not answer")
+    with dask.config.set({"distributed.comm.timeouts.connect": "3s"}), local_cluster(1) as cluster:
         executor = DaskExecutor(cluster.scheduler_address)
         try:
             name = next(iter(cluster.workers))
@@ -146,8 +161,47 @@ def test_a_dask_sweep_whose_last_worker_died_stops_naming_it(monkeypatch):
             executor.close()
     lost = [exc for _, _, exc in out if exc is not None]
     assert lost and all(isinstance(exc, WorkersLost) for exc in lost)
-    assert "the last worker of the Dask cluster at" in str(lost[0]) and "2 s" in str(lost[0])
+    assert "the last worker of the Dask cluster at" in str(lost[0]) and "1 s" in str(lost[0])
     assert len(out) == 20 and took < 60
+
+
+@pytest.mark.slow
+def test_a_result_lost_with_the_last_worker_is_not_a_silent_scheduler(monkeypatch):
+    """Two tasks finish together; the only worker dies before the second's result is fetched:
+    the cluster would compute it again if it had a worker, so it ends as WorkersLost after
+    AAEVAL_DASK_WORKER_TIMEOUT, not as a scheduler that "did not answer" within
+    AAEVAL_DASK_TIMEOUT (20 s: the scheduler answers; the result is gone)."""
+    from aaeval.sweeps.dask_executor import DaskExecutor
+    from aaeval.sweeps.task_failures import WorkersLost
+
+    monkeypatch.setenv("AAEVAL_DASK_WORKER_TIMEOUT", "1")
+    RELEASE.clear()
+    with dask.config.set({"distributed.comm.timeouts.connect": "3s"}), \
+            _Quick(n_workers=1, threads_per_worker=2, processes=False, protocol="tcp", host="127.0.0.1",
+                   dashboard_address=":0") as cluster:
+        executor = DaskExecutor(cluster.scheduler_address)
+        try:
+            def release_both():
+                deadline = time.monotonic() + 60
+                while time.monotonic() < deadline and sum(
+                        t.state == "processing" for t in cluster.scheduler.tasks.values()) < 2:
+                    time.sleep(0.01)
+                RELEASE.set()
+
+            releaser = threading.Thread(target=release_both, daemon=True)
+            releaser.start()
+            out = []
+            for outcome in executor.run(_held, [(30,), (30,)]):
+                if not out:
+                    time.sleep(0.2)  # the other task has finished too: its result is on the worker
+                    cluster.sync(cluster.workers[next(iter(cluster.workers))].close)
+                out.append(outcome)
+            releaser.join()
+        finally:
+            RELEASE.set()
+            executor.close()
+    assert out[0][1:] == (30, None), out
+    assert isinstance(out[1][2], WorkersLost) and "the last worker" in str(out[1][2]), out
 
 
 @pytest.mark.slow
@@ -155,7 +209,7 @@ def test_a_peer_that_never_answers_is_refused_after_the_stated_wait(tmp_path, ca
     """A peer that accepts the connection and never answers held Client() forever."""
     import socket
 
-    monkeypatch.setenv("AAEVAL_DASK_TIMEOUT", "2")
+    monkeypatch.setenv("AAEVAL_DASK_TIMEOUT", "1")
     server = socket.socket()
     server.bind(("127.0.0.1", 0))
     server.listen(8)
@@ -185,7 +239,7 @@ def test_a_peer_that_never_answers_is_refused_after_the_stated_wait(tmp_path, ca
             c.close()
         server.close()
     err = capsys.readouterr().err
-    assert code == 2 and "did not answer within 2 s" in err and err.count("\n") == 1, err
+    assert code == 2 and "did not answer within 1 s" in err and err.count("\n") == 1, err
     assert waited < 30
     assert not (tmp_path / "out").exists()
 

@@ -21,6 +21,7 @@ import psutil
 import pytest
 
 from aaeval.sweeps import SweepStore
+from tests.helpers.sweep_util import still_running
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -59,7 +60,7 @@ def _kill_at(proc: subprocess.Popen, seconds: float) -> bool:
     family = psutil.Process(proc.pid).children(recursive=True)
     os.kill(proc.pid, signal.SIGKILL)
     proc.communicate(timeout=30)
-    _, alive = psutil.wait_procs(family, timeout=15)
+    alive = still_running(family, timeout=15)
     assert not alive, f"orphaned: {[(p.pid, p.cmdline()[:3]) for p in alive]}"
     return True
 

@@ -12,7 +12,7 @@ import psutil
 import pytest
 
 from aaeval.sweeps import SweepStore
-from tests.helpers.sweep_util import slow_config, slow_sweep, write_config
+from tests.helpers.sweep_util import slow_config, slow_sweep, still_running, write_config
 
 
 @pytest.mark.slow
@@ -35,7 +35,7 @@ def test_kill_ends_the_workers_keeps_finished_cells_and_says_interrupted(tmp_pat
         assert proc.returncode == code, err.decode()
         lines = err.decode().strip().splitlines()
         assert lines == [f"aaeval sweep: interrupted ({signal.Signals(signum).name})"], lines
-        _, alive = psutil.wait_procs(family, timeout=10)
+        alive = still_running(family, timeout=10)
         assert not alive, f"orphaned: {[(p.pid, p.cmdline()[:3]) for p in alive]}"
         store = SweepStore(out)
         done = store.finished()
