@@ -37,6 +37,12 @@ __all__ = ["SerialExecutor", "ProcessExecutor"]
 #: What a local worker sends once it is ready (its registries loaded), before any answer.
 _READY = "aaeval-worker-ready"
 
+#: Seconds a local worker may take to start (import aaeval, load the registries and plugins)
+#: before the sweep gives up on its workers: a start takes about a second, a loaded
+#: machine's a few; one that hangs (a plugin waiting on something only workers see) must not
+#: hang the sweep, now that a task's own limit counts from the worker's start.
+START_SECONDS = 120.0
+
 
 class _Alarm(BaseException):
     """Raised in this process by SIGALRM when a serial task is past its limit. A
@@ -138,6 +144,7 @@ class _Worker:
         # start (importing aaeval, loading the registries and plugins) is not the task's time
         self.task: tuple[int, float | None] | None = None
         self.ready = False  # it said so: it got past its start (importing, loading the registries)
+        self.spawned = time.monotonic()
 
     def stop(self) -> None:
         if self.process.is_alive():
@@ -201,7 +208,8 @@ class ProcessExecutor:
                 busy = [w for w in self._pool if w.task is not None]
                 if not busy:
                     continue
-                deadline = min((w.task[1] for w in busy if w.task[1] is not None), default=math.inf) + self.max_seconds
+                deadline = min([w.task[1] + self.max_seconds for w in busy if w.task[1] is not None]
+                               + [w.spawned + START_SECONDS for w in busy if not w.ready])
                 ready = wait_ready([w.conn for w in busy] + [w.process.sentinel for w in busy],
                                    timeout=max(0.0, min(deadline - time.monotonic(), 3600.0)))
                 now = time.monotonic()
@@ -220,7 +228,8 @@ class ProcessExecutor:
                             continue
                         if answer is None and not worker.ready:  # it never started: no task's doing
                             worker.process.join(5)
-                            yield from self._cannot_start(worker.process.exitcode, todo)
+                            died = worker_died(worker.process.exitcode)
+                            yield from self._cannot_start(todo, f"end before their first task ({died}): {NO_MAIN_GUARD}")
                             return
                         if answer is None:  # the process ended without answering
                             worker.process.join(5)
@@ -231,6 +240,10 @@ class ProcessExecutor:
                         worker.task = None
                         ok, value = answer
                         yield (i, value, None) if ok else (i, None, value)
+                    elif not worker.ready and now - worker.spawned >= START_SECONDS:
+                        yield from self._cannot_start(todo, f"did not start within {START_SECONDS:g} s "
+                                                            "(importing aaeval and loading its plugins)")
+                        return
                     elif started is not None and now - started >= self.max_seconds:
                         self._retire(worker)  # killed: its native code cannot be interrupted otherwise
                         yield i, None, timed_out(self.max_seconds)
@@ -241,10 +254,10 @@ class ProcessExecutor:
             self.terminate()
             raise
 
-    def _cannot_start(self, exitcode: int | None, todo: deque) -> Iterator[Outcome]:
-        """Every task not answered, back as :class:`WorkersCannotStart`; the pool ended."""
-        self.broken = WorkersCannotStart(f"local worker processes end before their first task "
-                                         f"({worker_died(exitcode)}): {NO_MAIN_GUARD}")
+    def _cannot_start(self, todo: deque, why: str) -> Iterator[Outcome]:
+        """Every task not answered, back as :class:`WorkersCannotStart` (the workers ``why``);
+        the pool ended."""
+        self.broken = WorkersCannotStart(f"local worker processes {why}")
         in_flight = [w.task[0] for w in self._pool if w.task is not None]
         self.terminate()
         for i in [*in_flight, *(i for i, _ in todo)]:

@@ -209,6 +209,31 @@ def test_a_task_s_clock_starts_when_its_worker_has_started(tmp_path, monkeypatch
     assert out[1][0] == 1 and isinstance(out[1][2], TaskTimedOut), out
 
 
+@pytest.mark.slow
+def test_a_worker_that_never_finishes_starting_ends_the_run_instead_of_hanging(tmp_path, monkeypatch):
+    """A task's clock waits for its worker's start, so a start that hangs has its own limit
+    (here 0.5 s against a 1.5 s plugin load): every task comes back as WorkersCannotStart
+    naming it, and the run ends."""
+    from aaeval import registries
+    from aaeval.sweeps import local_workers
+    from aaeval.sweeps.task_failures import WorkersCannotStart
+
+    registries.load()
+    (tmp_path / "aaeval_slow_start.py").write_text(SLOW_START)
+    fake_install(tmp_path, "aaeval-slow-start", {"aaeval.metrics": {"slow-start": "aaeval_slow_start"}})
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setattr(local_workers, "START_SECONDS", 0.5)
+    executor = local_workers.ProcessExecutor(1, max_seconds=30)
+    start = time.monotonic()
+    try:
+        out = list(executor.run(time.sleep, [(0,), (0,)]))
+    finally:
+        executor.close()
+    assert time.monotonic() - start < 10
+    assert sorted(i for i, _, _ in out) == [0, 1]
+    assert all(isinstance(exc, WorkersCannotStart) and "did not start within 0.5 s" in str(exc) for _, _, exc in out)
+
+
 def test_the_serial_executor_stops_a_cell_past_its_limit():
     """--workers 1 runs in this process: its limit is a SIGALRM that stops Python code."""
     from aaeval.sweeps.local_workers import SerialExecutor
