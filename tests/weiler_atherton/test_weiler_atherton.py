@@ -138,8 +138,20 @@ def check_clip(a_rings, b_rings):
     assert shape_area(outside) == pytest.approx(want_out.area, abs=1e-9)
     assert shape_area(inside) + shape_area(outside) == pytest.approx(ga.area, abs=1e-9)
     # the same point sets, not only the same areas
-    assert geos(inside).symmetric_difference(want_in).area < 1e-9
-    assert geos(outside).symmetric_difference(want_out).area < 1e-9
+    assert _point_sets_differ_by(geos(inside), want_in) < 1e-9
+    assert _point_sets_differ_by(geos(outside), want_out) < 1e-9
+
+
+def _point_sets_differ_by(got, want) -> float:
+    """Area of the symmetric difference, overlaid on a 1e-12 grid: GEOS's floating overlay
+    fails on two rings a few ulps apart (the intersection of (0,4),(2,0),(7,1) and
+    (1,4),(3,0),(7,0) against our own, a vertex 1 ulp away: the whole polygon came back
+    as their difference); snap-rounding is robust, and moves a polygon's area by at most
+    its perimeter x 1e-12. Only the polygons count (an overlay's zero-area lines and points
+    have no area, and the grid overlay refuses mixed dimensions)."""
+    got, want = (shapely.MultiPolygon([p for p in shapely.get_parts(shapely.get_parts(g)) if p.geom_type == "Polygon"])
+                 for g in (got, want))
+    return shapely.symmetric_difference(got, want, grid_size=1e-12).area
 
 
 @pytest.mark.slow
