@@ -250,11 +250,18 @@ class DaskExecutor:
             try:
                 return future.result(timeout=min(0.5, max(0.05, deadline - time.monotonic())))
             except TimeoutError as exc:
+                if self.client.status != "running":  # the connection closed: no answer will come
+                    raise self._lost("the connection to it closed") from None
                 if future.status != "finished":
                     raise _ResultLost() from None
                 if time.monotonic() >= deadline:
-                    # the scheduler may still be asking the dead worker (Dask's connect timeout)
-                    if not scheduler_workers(self.client, self.answer_within):
+                    # the scheduler may still be asking the dead worker (Dask's connect timeout);
+                    # one that does not answer at once has already had its wait
+                    try:
+                        workers = scheduler_workers(self.client, min(1.0, self.answer_within))
+                    except SchedulerLost:
+                        raise _no_answer(self.client, self.answer_within, exc) from None
+                    if not workers:
                         raise _ResultLost() from None
                     raise _no_answer(self.client, self.answer_within, exc) from None
 
