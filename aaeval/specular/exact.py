@@ -14,6 +14,10 @@ unclamped shade, which this integral replaces, so ``crow`` here equals ``none``.
 
 from __future__ import annotations
 
+import hashlib
+import pickle
+import threading
+from dataclasses import fields
 from typing import NamedTuple
 
 import numpy as np
@@ -26,7 +30,7 @@ from aaeval.scenes.shaded import expand_shaded
 from aaeval.specular.methods import specular_options
 from aaeval.specular.render import shaded_pieces, fragment_parameters
 
-__all__ = ["ExactShading", "DEFAULT_TOL", "exact_shading", "render_exact"]
+__all__ = ["ExactShading", "DEFAULT_TOL", "exact_shading", "error_bound", "render_exact"]
 
 # error per unit area each fan triangle is refined to: a pixel's bound stays near 1e-12
 DEFAULT_TOL = 1e-12
@@ -54,6 +58,9 @@ class ExactShading(NamedTuple):
 def exact_shading(scene: Scene, *, tol: float = DEFAULT_TOL, threads: int = 0, **options) -> ExactShading:
     """Render a scene with ``[shaded]`` objects with the shade integrated exactly.
 
+    Every call integrates (a render is timed for real); its error bound is kept for
+    :func:`error_bound`.
+
     Parameters
     ----------
     scene : Scene
@@ -67,6 +74,38 @@ def exact_shading(scene: Scene, *, tol: float = DEFAULT_TOL, threads: int = 0, *
     options = specular_options(**options)
     if not tol > 0:
         raise ValueError(f"tol must be > 0, got {tol!r}")
+    result = _integrate(scene, tol, threads, options)
+    with _LAST_LOCK:
+        _LAST_BOUND[:] = [_content_key(scene, tol, options), result.bound.copy()]
+    return result
+
+
+def error_bound(scene: Scene, *, tol: float = DEFAULT_TOL, **options) -> np.ndarray:
+    """The per-pixel error bound of :func:`exact_shading` (``bound``), taken from the last
+    integration in this process when it was of the same scene, ``tol`` and options (a
+    sweep's reference renders the frame, then asks for its bound), else integrated now."""
+    checked = specular_options(**options)
+    key = _content_key(scene, tol, checked)
+    with _LAST_LOCK:
+        if _LAST_BOUND and _LAST_BOUND[0] == key:
+            return _LAST_BOUND[1].copy()
+    return exact_shading(scene, tol=tol, **options).bound
+
+
+#: ``[key, bound]`` of the last integration in this process (one frame's bound)
+_LAST_BOUND: list = []
+_LAST_LOCK = threading.Lock()
+
+
+def _content_key(scene: Scene, tol: float, options: dict) -> bytes:
+    """A digest of everything the integration reads: the scene's fields (not the caches an
+    object gathers as it is used), ``tol`` and the options. Two scenes that pickle alike
+    render alike; any difference only misses the cache."""
+    content = (tuple(getattr(scene, f.name) for f in fields(scene)), tol, sorted(options.items()))
+    return hashlib.blake2b(pickle.dumps(content, protocol=5)).digest()
+
+
+def _integrate(scene: Scene, tol: float, threads: int, options: dict) -> ExactShading:
     expanded = expand_shaded(scene)
     field = expanded.field
     start, length, x, y, planes, source, eps_z = kernel_inputs(expanded.scene)

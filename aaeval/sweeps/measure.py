@@ -199,11 +199,11 @@ def exact_shading_bound(scene, spec, frame: int) -> float | None:
     at = scene.at_frame(frame)
     if not has_shaded(at):
         return None
-    from aaeval.specular.exact import exact_shading
+    from aaeval.specular.exact import error_bound
 
     # the specular options alone: pixel filter, blending space and threads do not change the bound
     options = {k: v for k, v in spec.options.items() if k not in ("shading", "threads", "filter", "blend")}
-    bound = exact_shading(at, **options).bound
+    bound = error_bound(at, **options)  # the reference just rendered gives it, unless blended
     return float(np.sqrt(np.mean(bound ** 2)))
 
 

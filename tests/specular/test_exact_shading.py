@@ -187,3 +187,27 @@ def test_clamps_compose_with_exact(spec):
         assert np.array_equal(image, plain)
     else:
         assert np.abs(image - plain).max() > 1e-3
+
+
+@pytest.mark.slow
+def test_a_references_bound_comes_from_its_own_render_not_a_second_integration(monkeypatch):
+    """A sweep's exact-shading reference renders the frame, then reads its error bound: one
+    integration, the same bound as a fresh one; another frame or other options integrate."""
+    from aaeval.renderers import MethodSpec
+    from aaeval.scenes import load_scene
+    from aaeval.specular import exact
+    from aaeval.sweeps.measure import render_reference
+
+    from pathlib import Path
+
+    scene = load_scene(Path(__file__).resolve().parents[2] / "configs/scenes/shaded/thin-highlight.toml")
+    calls = []
+    integrate = exact._integrate
+    monkeypatch.setattr(exact, "_integrate", lambda *a: calls.append(a[0].frame) or integrate(*a))
+    out = render_reference(scene, MethodSpec.parse("catmull:shading=exact"), 1, estimate_noise=True)
+    assert calls == [1]
+    fresh = integrate(scene.at_frame(1), exact.DEFAULT_TOL, 0, exact.specular_options()).bound
+    assert out["noise_rmse"] == float(np.sqrt(np.mean(fresh ** 2))) > 0
+    exact.error_bound(scene.at_frame(2))  # another frame: integrated
+    exact.error_bound(scene.at_frame(2), specular="amanatides")  # other options: integrated
+    assert calls == [1, 2, 2]
