@@ -4,7 +4,7 @@ A PDF embeds the glyphs it shows as a TrueType (Type 42) subset of the font, whi
 matplotlib cuts with fontTools from the whole font file for every figure: most of that time
 goes to reading the font's large layout tables (DejaVu Sans kerns thousands of glyphs).
 Within :func:`subsets_from_base` the cut is made in two steps: once per process the font is
-cut down to a *base* holding the characters a chart's text uses (Latin, Greek, punctuation,
+cut down to a *base* holding the characters a chart's text uses (Latin, Greek, punctuation, superscripts, super- and subscripts,
 mathematical signs and arrows), and each figure's subset is then cut from that small base.
 Subsetting keeps what the requested glyphs reach (their substitutions, kerning pairs among
 them), all of which the base kept, so the two steps give the same font file as one
@@ -24,7 +24,7 @@ from matplotlib.backends import _backend_pdf_ps
 __all__ = ["BASE_CHARACTERS", "subsets_from_base", "prepare_base"]
 
 #: The code point ranges of the base (half-open): what a chart's labels, titles and legends write.
-BASE_CHARACTERS = ((0x20, 0x7F), (0xA0, 0x180), (0x370, 0x400), (0x2000, 0x2070),
+BASE_CHARACTERS = ((0x20, 0x7F), (0xA0, 0x180), (0x370, 0x400), (0x2000, 0x20A0),
                    (0x2190, 0x2200), (0x2200, 0x2300), (0xFB00, 0xFB07))  # the last: ligatures (fi, ffi)
 
 _whole_font_subset = _backend_pdf_ps.get_glyphs_subset

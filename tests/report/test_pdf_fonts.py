@@ -36,7 +36,7 @@ def test_a_subset_cut_from_the_base_is_the_subset_cut_from_the_whole_font():
     cases = [{inside[0]}, set(inside)] + [set(rng.sample(inside, k)) for k in (30, 200)]
     cases += [{outside, *inside[:10]}, {also_outside, *inside[:10]}]  # cut from the whole font
     # kerning and ligature partners (AV, fi) among the requested glyphs
-    cases.append({charmap[ord(c)] for c in "AVAWTo fifl ffi -1.5e3 ≤ σ Δ × −"})
+    cases.append({charmap[ord(c)] for c in "AVAWTo fifl ffi -1.5e3 10⁻³ ≤ σ Δ × −"})
     cases.append({charmap[c] for c in (0xFB02, 0xFB03, ord("f"), ord("l"), ord(" "))})  # ligatures matplotlib shapes
     expected = [_cut(g) for g in cases]
     matplotlibs = _backend_pdf_ps.get_glyphs_subset
