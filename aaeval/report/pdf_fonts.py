@@ -5,7 +5,8 @@ matplotlib cuts with fontTools from the whole font file for every figure: most o
 goes to reading the font's large layout tables (DejaVu Sans kerns thousands of glyphs).
 Within :func:`subsets_from_base` the cut is made in two steps: once per process the font is
 cut down to a *base* holding the characters a chart's text uses (Latin, Greek, punctuation,
-super- and subscripts, mathematical signs, arrows and ligatures), and each figure's subset is then cut from that small base.
+super- and subscripts, mathematical signs, arrows and ligatures), and each figure's subset
+is then cut from that small base.
 Subsetting keeps what the requested glyphs reach (their substitutions, kerning pairs among
 them), all of which the base kept, so the two steps give the same font file as one
 (tests/report/test_pdf_fonts.py compares the bytes); a figure needing a glyph outside the
