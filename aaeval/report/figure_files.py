@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import importlib
 import inspect
 import math
 import multiprocessing
@@ -22,6 +23,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.image  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib import font_manager  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.transforms import Bbox  # noqa: E402
@@ -33,6 +35,9 @@ __all__ = ["FORMATS", "DPI", "drawing", "figure", "save", "twin_formats", "write
 #: The formats a figure can be written in: the page shows the PNG; SVG and PDF are for papers.
 FORMATS = ("png", "svg", "pdf")
 DPI = 100
+#: The matplotlib backend writing each paper format, imported before the workers fork so that
+#: each of them does not import it again (PDF's, with fontTools' subsetter, takes half a second).
+_BACKENDS = {"svg": "matplotlib.backends.backend_svg", "pdf": "matplotlib.backends.backend_pdf"}
 
 
 def save(fig, path: Path) -> Path:
@@ -124,7 +129,10 @@ class _Workers:
 
     def open(self, count: int, formats: tuple[str, ...]) -> None:
         self.formats = formats
-        if count:  # forked at the first job, with what the parent holds then
+        if count:
+            for fmt in formats:
+                if fmt in _BACKENDS:
+                    importlib.import_module(_BACKENDS[fmt])  # forked at the first job, with what the parent holds then
             self.executor = ProcessPoolExecutor(count, mp_context=multiprocessing.get_context("fork"),
                                                 initializer=_in_worker)
 
@@ -196,9 +204,15 @@ def drawing(formats=FORMATS):
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
     _workers.open(cores if hasattr(os, "fork") and cores > 1 else 0,
                   tuple(f for f in FORMATS if f in formats or f == "png"))
-    try:
-        yield
-    except BaseException:
-        _workers.close(check=False)  # the body's error is the one to see
-        raise
-    _workers.close()
+    with contextlib.ExitStack() as stack:
+        if "pdf" in formats:
+            from aaeval.report import pdf_fonts  # fontTools' subsetter: only for a report writing PDFs
+
+            pdf_fonts.prepare_base(font_manager.findfont(font_manager.FontProperties()))  # once, shared by the workers
+            stack.enter_context(pdf_fonts.subsets_from_base())
+        try:
+            yield
+        except BaseException:
+            _workers.close(check=False)  # the body's error is the one to see
+            raise
+        _workers.close()

@@ -47,7 +47,7 @@ def test_report_of_groups_whose_names_slug_alike_keeps_each_groups_figures(tmp_p
     exp = load_experiment(write_config(tmp_path, text))
     out = tmp_path / "out"
     run_sweep(exp, out, workers=1, quiet=True, cache_dir=tmp_path / "cache")
-    index = write_report(out)
+    index = write_report(out, formats=("png",))  # the collision is in the figures' stems, the same for every format
     page = index.read_text()
     figs = sorted(p.name for p in (out / "figures").glob("*.png"))
     stems = {}
