@@ -528,23 +528,18 @@ def configs(run: Run) -> None:
 
 # ---------------------------------------------------------------------------------- store
 
-#: The finished sweep the cache cases damage: one group of three still cells. Every case
-#: reruns the whole sweep from its damaged cache; the reference cache is read the same way
-#: for any group, and the nine cells of ``SMALL`` (two groups, an animation) cost twice
-#: the time a case for the same reads.
-CACHE_SWEEP = """
-[experiment]
-name = "cache"
-description = "reference cache cases"
-reference = "catmull"
-metrics = ["rmse", "psnr"]
-temporal = []
+def _cache_sweep() -> str:
+    """The config the cache cases damage a finished sweep of: ``SMALL`` (tests/helpers/
+    sweep_util.py) with only its group of three still cells. Every case reruns the whole
+    sweep from its damaged cache; the reference cache is read the same way for any group,
+    and SMALL's nine cells (two groups, an animation) cost twice the time for the same reads."""
+    from tests.helpers.sweep_util import SMALL
 
-[[groups]]
-name = "stability"
-scenes = [{generator = "fan", difficulty = [3, 6, 12], size = 5}]
-methods = ["catmull-jagged"]
-"""
+    head, *groups = SMALL.split("[[groups]]")
+    (still,) = [g for g in groups if 'name = "stability"' in g]
+    return head + "[[groups]]" + still
+
+
 CACHE_SWEEP_CELLS = 3
 
 
@@ -715,7 +710,7 @@ def _huge_header(image: Path) -> None:
 def cache(run: Run, base: Path) -> None:
     """The reference cache read as input: each damaged entry is named, rendered again and
     replaced (the rerun keeps every row); a cache path that is not a folder is refused.
-    ``base`` is a finished sweep of :data:`CACHE_SWEEP`."""
+    ``base`` is a finished sweep of :func:`_cache_sweep`."""
     for n, (name, damage) in enumerate(CACHE_DAMAGES.items()):
         dest = _copy(base, run.work / f"cache{n}")
         notes = sorted((dest / "cache" / "references").glob("*.json"))
@@ -1165,7 +1160,7 @@ def main_run(argv=None) -> int:
         for category in args.only:
             t0 = time.monotonic()
             if category == "cache":
-                cache(run, _finished(run.work, CACHE_SWEEP, "finished-cache"))
+                cache(run, _finished(run.work, _cache_sweep(), "finished-cache"))
             elif category in ("store", "report"):
                 globals()[category](run, base)
             else:
