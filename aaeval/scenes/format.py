@@ -316,15 +316,22 @@ def point_list(raw: list, where: str) -> np.ndarray:
     return np.array([vector(p, 3, f"{where}[{j}]") for j, p in enumerate(raw)])
 
 
+def next_vertices(ring: np.ndarray) -> np.ndarray:
+    """Each vertex's successor around a ring: ``np.roll(ring, -1, axis=0)`` without its
+    argument handling, which cost more than the arithmetic on a glyph's small rings."""
+    return np.concatenate((ring[1:], ring[:1]))
+
+
 def newell_normal(vertices: np.ndarray) -> np.ndarray:
     """Newell's normal of a polygon: twice its vector area, robust for concave outlines."""
     v = vertices - vertices.mean(axis=0)
-    nxt = np.roll(v, -1, axis=0)
+    nxt = next_vertices(v)
+    d, s = v - nxt, v + nxt
     return np.array(
         [
-            np.sum((v[:, 1] - nxt[:, 1]) * (v[:, 2] + nxt[:, 2])),
-            np.sum((v[:, 2] - nxt[:, 2]) * (v[:, 0] + nxt[:, 0])),
-            np.sum((v[:, 0] - nxt[:, 0]) * (v[:, 1] + nxt[:, 1])),
+            np.sum(d[:, 1] * s[:, 2]),
+            np.sum(d[:, 2] * s[:, 0]),
+            np.sum(d[:, 0] * s[:, 1]),
         ]
     )
 
@@ -332,7 +339,7 @@ def newell_normal(vertices: np.ndarray) -> np.ndarray:
 def _plane_of(vertices: np.ndarray) -> np.ndarray:
     """Depth plane ``z = a x + b y + c``; NaN when the polygon is seen edge-on."""
     n = newell_normal(vertices)
-    size = np.ptp(vertices[:, :2], axis=0).max() if len(vertices) else 0.0
+    size = (vertices[:, :2].max(axis=0) - vertices[:, :2].min(axis=0)).max() if len(vertices) else 0.0
     if abs(n[2]) <= 1e-12 * max(size, 1.0) ** 2:
         return np.full(3, np.nan)
     centre = vertices.mean(axis=0)
@@ -342,7 +349,7 @@ def _plane_of(vertices: np.ndarray) -> np.ndarray:
 
 def check_no_repeats(vertices: np.ndarray, where: str) -> None:
     """Refuse a ring with a vertex equal to the next one (a zero-length edge)."""
-    same = np.all(vertices == np.roll(vertices, -1, axis=0), axis=1)
+    same = np.all(vertices == next_vertices(vertices), axis=1)
     if same.any():
         j = int(np.flatnonzero(same)[0])
         k = (j + 1) % len(vertices)
@@ -358,7 +365,7 @@ def check_planar(vertices: np.ndarray, where: str) -> np.ndarray:
     """
     centred = vertices - vertices.mean(axis=0)
     _, sing, axes = np.linalg.svd(centred, full_matrices=False)
-    size = np.ptp(vertices, axis=0).max()
+    size = (vertices.max(axis=0) - vertices.min(axis=0)).max()
     if size == 0.0 or sing[1] <= 1e-12 * sing[0]:
         if _collinear_exactly(vertices):
             raise SceneError(f"{where}: degenerate polygon (all vertices on one line or point)")

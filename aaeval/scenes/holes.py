@@ -31,6 +31,7 @@ from aaeval.scenes.format import (
     SceneError,
     check_no_repeats,
     check_simple,
+    next_vertices,
     parse_polygon,
     point_list,
 )
@@ -81,7 +82,7 @@ class HoledPolygon:
 def ring_area(xy: np.ndarray) -> float:
     """Signed area of a closed ring (shoelace; positive counter-clockwise in y-up axes)."""
     x, y = xy[:, 0], xy[:, 1]
-    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+    return 0.5 * float(np.sum(x * next_vertices(y) - next_vertices(x) * y))
 
 
 def polygons_with_holes(raw_polygons: list, source: str) -> tuple[tuple[Polygon, ...], tuple[HoledPolygon, ...]]:
@@ -333,7 +334,7 @@ def points_inside(points: np.ndarray, ring: np.ndarray) -> np.ndarray:
     """Even-odd test of many points (m, 2) against a ring (n, 2); a point on the
     boundary may come out either way."""
     x, y = points[:, 0, None], points[:, 1, None]
-    a, b = ring[None, :, :2], np.roll(ring, -1, axis=0)[None, :, :2]
+    a, b = ring[None, :, :2], next_vertices(ring)[None, :, :2]
     straddle = (a[..., 1] > y) != (b[..., 1] > y)
     with np.errstate(divide="ignore", invalid="ignore"):
         cross_x = a[..., 0] + (y - a[..., 1]) * (b[..., 0] - a[..., 0]) / (b[..., 1] - a[..., 1])
@@ -376,16 +377,18 @@ def convex_pieces(xy: np.ndarray, faces: np.ndarray) -> list[list[int]]:
     Returns each piece as a counter-clockwise (y up) cycle of indices into ``xy``.
     """
 
-    def cross(o, a, b):
-        return (xy[a, 0] - xy[o, 0]) * (xy[b, 1] - xy[o, 1]) - (xy[a, 1] - xy[o, 1]) * (xy[b, 0] - xy[o, 0])
+    xs, ys = xy[:, 0].tolist(), xy[:, 1].tolist()  # Python floats: the same float64 arithmetic, no array indexing
 
-    pieces: dict[int, list[int]] = {}
-    owner: dict[tuple[int, int], int] = {}  # directed edge -> piece
-    for k, (a, b, c) in enumerate(faces.tolist()):
-        cycle = [a, b, c] if cross(a, b, c) > 0 else [a, c, b]
-        pieces[k] = cycle
-        for i in range(3):
-            owner[(cycle[i], cycle[(i + 1) % 3])] = k
+    def cross(o, a, b):
+        return (xs[a] - xs[o]) * (ys[b] - ys[o]) - (ys[a] - ys[o]) * (xs[b] - xs[o])
+
+    # every triangle counter-clockwise, at once (elementwise float64: the bits of ``cross``)
+    x, y = xy[faces, 0], xy[faces, 1]
+    turn = (x[:, 1] - x[:, 0]) * (y[:, 2] - y[:, 0]) - (y[:, 1] - y[:, 0]) * (x[:, 2] - x[:, 0])
+    cycles = np.where((turn > 0)[:, None], faces, faces[:, [0, 2, 1]])
+    pieces: dict[int, list[int]] = dict(enumerate(cycles.tolist()))
+    starts, ends = cycles.ravel().tolist(), cycles[:, [1, 2, 0]].ravel().tolist()
+    owner: dict[tuple[int, int], int] = dict(zip(zip(starts, ends), np.repeat(np.arange(len(faces)), 3).tolist()))  # directed edge -> piece
     for a, b in list(owner):
         p, q = owner.get((a, b)), owner.get((b, a))
         if p is None or q is None or p == q:

@@ -12,6 +12,10 @@ from aaeval.metrics import registry
 
 CVVDP = registry.METRICS["cvvdp"]
 
+# One worker: importing PyTorch and loading ColorVideoVDP's model take about 3 s, once a
+# process (the metric is kept per display), so tests on two workers paid them twice.
+pytestmark = pytest.mark.xdist_group("cvvdp")
+
 
 @pytest.fixture
 def cvvdp_installed():
