@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import functools
 import importlib
 import inspect
 import signal
@@ -41,7 +42,11 @@ def _version() -> str:
     return f"aaeval {aaeval.__version__}"
 
 
+@functools.cache
 def build_parser() -> argparse.ArgumentParser:
+    """The command line's parser, built once per process: its commands and options are
+    fixed (no choice depends on the registries), and a script or test calling :func:`main`
+    hundreds of times otherwise builds every subparser each time."""
     parser = argparse.ArgumentParser(
         prog="aaeval",
         description="aaeval: a research testbed for anti-aliasing quality. "
