@@ -9,6 +9,6 @@ import pytest
 @pytest.mark.xdist_group("probe")
 def test_a_grouped_test_carries_its_group_to_the_scheduler(request):
     if not getattr(request.config.option, "loadgroup", False):
-        pytest.skip("not a worker of --dist loadgroup")
+        pytest.skip("only under the suite's --dist loadgroup (pyproject.toml's addopts); with -n 0 every test runs in one process and there are no groups to keep together")
     assert request.node.nodeid.endswith("@probe"), (
         "pytest-xdist groups nothing with this pytest (pytest-dev/pytest-xdist#1386): install the test extra's pytest")
