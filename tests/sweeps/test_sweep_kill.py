@@ -3,7 +3,13 @@ the store's promises under batched writes. Every file on disk after a kill is wh
 cell set aside as damaged), no finished cell on disk is lost by a later kill, a rerun runs
 exactly the cells not on disk (none twice), and the final table has every cell once, with
 the numbers of a sweep never killed. A real sweep in a subprocess with real workers and the
-real ``fsync``/``syncfs`` (tests/conftest.py changes only this process)."""
+real ``fsync``/``syncfs`` (tests/conftest.py changes only this process).
+
+Its metrics write a record and a FLIP map per cell, as a default sweep does; CIEDE2000 is
+left out because its import (colour-science, about 1.4 s of CPU in each of the test's dozen
+worker processes) is most of a worker's cost and adds nothing to what is checked here: a
+metric that gives the same bits in any chunk is the same bits after a kill
+(tests/metrics/test_metrics.py checks CIEDE2000 in bulk against one call per pair)."""
 
 from __future__ import annotations
 
@@ -29,7 +35,7 @@ CONFIG = """
 [experiment]
 name = "kill"
 reference = "catmull"
-metrics = ["rmse", "ciede2000_mean", "ciede2000_p95", "flip"]
+metrics = ["rmse", "flip"]
 
 [[groups]]
 name = "killed"
@@ -114,5 +120,5 @@ def test_kill_9_at_random_moments_loses_nothing_written_and_doubles_nothing(tmp_
 
     table, reference = _table(out), _table(whole)
     assert len(table) == CELLS and table.index.equals(reference.index)
-    for metric in ("rmse", "ciede2000_mean", "ciede2000_p95", "flip", "intensity_sum"):
+    for metric in ("rmse", "flip", "intensity_sum"):
         pd.testing.assert_series_equal(table[metric], reference[metric], check_exact=False, rtol=1e-12)
