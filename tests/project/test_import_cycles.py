@@ -25,6 +25,7 @@ package importing its plugins, so no registry needs an import pointing back up.
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import pytest
@@ -82,14 +83,18 @@ def _targets(node, module: str, is_package: bool, modules: dict[str, Path]) -> s
 
 
 def import_graph() -> dict[str, set[str]]:
+    """module -> the aaeval modules it imports; a copy each call (a test may plant an edge)."""
+    return {module: set(targets) for module, targets in _parsed_graph().items()}
+
+
+@functools.cache  # parsing every module is most of these tests' time; the files do not change
+def _parsed_graph() -> dict[str, frozenset[str]]:
     modules = _modules()
     graph = {}
     for module, path in modules.items():
         tree = ast.parse(path.read_text(), str(path))
         is_package = path.name == "__init__.py"
-        graph[module] = set()
-        for node in _imports(tree):
-            graph[module] |= _targets(node, module, is_package, modules)
+        graph[module] = frozenset(t for node in _imports(tree) for t in _targets(node, module, is_package, modules))
     return graph
 
 

@@ -12,6 +12,7 @@ truth or sweep code: the masks it is given are rendered by the sweep's measuring
 from __future__ import annotations
 
 import ast
+import functools
 import importlib
 from pathlib import Path
 
@@ -56,13 +57,16 @@ def _with_packages(names) -> set[str]:
     return out
 
 
+# each walk below reads the same modules: parsed once per test process (the files do not change)
+@functools.cache
 def _parse(module: str):
     path = MODULES[module]
     package = module if path.name == "__init__.py" else module.rpartition(".")[0]
     return ast.parse(path.read_text()), package
 
 
-def _lazy(module: str) -> set[str]:
+@functools.cache
+def _lazy(module: str) -> frozenset[str]:
     """What a package's PEP 562 ``__getattr__`` imports: loaded only when a name it serves is
     asked for (``from aaeval import render``, ``aaeval.render``), not by importing the package.
     A ``__getattr__`` written out is read from its imports; one made by
@@ -70,15 +74,16 @@ def _lazy(module: str) -> set[str]:
     tree, package = _parse(module)
     for node in tree.body:
         if isinstance(node, ast.FunctionDef) and node.name == "__getattr__":
-            return _with_packages(n for sub in ast.walk(node) if isinstance(sub, (ast.Import, ast.ImportFrom))
-                                  for n in _names(sub, package))
+            return frozenset(_with_packages(n for sub in ast.walk(node) if isinstance(sub, (ast.Import, ast.ImportFrom))
+                                            for n in _names(sub, package)))
     served = getattr(getattr(importlib.import_module(module), "__getattr__", None), "module_of", None)
     if served is not None:
-        return _with_packages(f"{module}.{sub}" for sub in set(served.values())) | {"aaeval._lazy"}
-    return set()
+        return frozenset(_with_packages(f"{module}.{sub}" for sub in set(served.values())) | {"aaeval._lazy"})
+    return frozenset()
 
 
-def _imports(module: str) -> set[str]:
+@functools.cache
+def _imports(module: str) -> frozenset[str]:
     """Every aaeval module an import anywhere in ``module`` loads (its packages' ``__init__``
     too), and what a lazy package serves where ``module`` asks it for a name."""
     tree, package = _parse(module)
@@ -107,7 +112,7 @@ def _imports(module: str) -> set[str]:
     for name in asked:
         if name in MODULES:
             out |= _lazy(name)
-    return out - {module}
+    return frozenset(out - {module})
 
 
 def reachable(starts) -> dict[str, str]:
