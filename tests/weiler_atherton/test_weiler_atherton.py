@@ -311,7 +311,7 @@ def test_coverage_matches_geos_per_pixel():
     np.testing.assert_allclose(got, want, atol=1e-12)
 
 
-def random_scene(seed, n=6, width=16, height=12, grid=None):
+def interpenetrating_scene(seed, n=6, width=16, height=12, grid=None):
     rng = np.random.default_rng(seed)
     polys = []
     for _ in range(n):
@@ -327,7 +327,7 @@ def random_scene(seed, n=6, width=16, height=12, grid=None):
 @pytest.mark.parametrize("seed", range(12))
 def test_agrees_with_catmull_on_random_interpenetrating_scenes(seed, grid):
     try:
-        scene = random_scene(seed, grid=grid)
+        scene = interpenetrating_scene(seed, grid=grid)
     except ValueError:
         pytest.skip("rounding made a polygon degenerate")  # refused by the scene format
     want = render(scene, "catmull")
