@@ -238,7 +238,6 @@ def plugins(run: Run) -> None:
     for name in names:
         run.cli("plugins", f"compare {name}", ["compare", str(fan), "--method", f"hostile-{name}", "--method", "point",
                                                  "--reference", "catmull"], allowed=(1,))
-    config = (ROOT / "tests" / "sweep_util.py")  # noqa: F841  (the format follows sweep_util)
     for name in names:
         cfg = folder / f"sweep_{name}.toml"
         cfg.write_text(f"""
@@ -299,7 +298,7 @@ def killed(scene):
 
 
 def _worker_deaths(run: Run, folder: Path) -> None:
-    from test_plugins import fake_install
+    from tests.helpers.plugin_util import fake_install
 
     site = folder / "site"
     site.mkdir()
@@ -804,7 +803,7 @@ def report(run: Run, base: Path) -> None:
         run.record("report", f"link {p.relative_to(out)}", problems)
     dest = _copy(base, run.work / "report2")
     out = dest / "out"
-    from test_hostile_report import MARKUP, plant_markup
+    from tests.helpers.links_util import plant_markup
 
     from aaeval.sweeps import SweepStore
     from aaeval.sweeps.report_files import write_sweep_files

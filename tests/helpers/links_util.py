@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 
 from aaeval.cli import main
@@ -51,3 +52,23 @@ def snapshot(folder):
 def sweep(tmp_path, config, *extra):
     return main(["sweep", str(config), "--out", str(tmp_path / "out"), "--workers", "1", "--quiet",
                  "--cache", str(tmp_path / "cache"), *extra])
+
+
+MARKUP = "<script>alert('x')</script>"
+
+
+def plant_markup(out) -> None:
+    """Markup in every text field of every cell record and of the manifest of the sweep
+    folder ``out`` (tests/report/test_hostile_report.py, scripts/hostile_run.py)."""
+    fields = ["group", "scene", "scene_source", "difficulty_label", "method", "spec", "reference",
+              "reference_kind", "host", "executor", "code_version", "error"]
+    for cell in (out / "cells").glob("*.json"):
+        record = json.loads(cell.read_text())
+        record.update({f: MARKUP + f for f in fields}, failure="method")  # an error comes with its kind
+        cell.write_text(json.dumps(record))
+    manifest = json.loads((out / "manifest.json").read_text())
+    manifest.update(experiment=MARKUP + "experiment", description=MARKUP + "description",
+                    code_version=MARKUP + "code_version")
+    for cell in manifest["cells"]:  # the manifest's copy must agree with the record's
+        cell.update({f: MARKUP + f for f in ("group", "scene", "spec", "difficulty_label", "reference")})
+    (out / "manifest.json").write_text(json.dumps(manifest))

@@ -4,7 +4,6 @@ records reaches the page escaped."""
 
 from __future__ import annotations
 
-import json
 import os
 
 import pytest
@@ -12,27 +11,7 @@ import pytest
 from aaeval.cli import main
 from aaeval.sweeps.store import SweepStore
 from aaeval.sweeps.report_files import write_sweep_files
-from tests.helpers.links_util import TINY, snapshot, sweep
-
-MARKUP = "<script>alert('x')</script>"
-
-
-def plant_markup(out) -> None:
-    """Markup in every text field of every cell record and of the manifest of the sweep
-    folder ``out`` (also used by scripts/hostile_run.py)."""
-    fields = ["group", "scene", "scene_source", "difficulty_label", "method", "spec", "reference",
-              "reference_kind", "host", "executor", "code_version", "error"]
-    for cell in (out / "cells").glob("*.json"):
-        record = json.loads(cell.read_text())
-        record.update({f: MARKUP + f for f in fields}, failure="method")  # an error comes with its kind
-        cell.write_text(json.dumps(record))
-    manifest = json.loads((out / "manifest.json").read_text())
-    manifest.update(experiment=MARKUP + "experiment", description=MARKUP + "description",
-                    code_version=MARKUP + "code_version")
-    for cell in manifest["cells"]:  # the manifest's copy must agree with the record's
-        cell.update({f: MARKUP + f for f in ("group", "scene", "spec", "difficulty_label", "reference")})
-    (out / "manifest.json").write_text(json.dumps(manifest))
-
+from tests.helpers.links_util import TINY, plant_markup, snapshot, sweep
 
 @pytest.mark.slow
 def test_a_report_output_replaced_by_a_link_is_replaced_not_written_through(world, capsys):
