@@ -1,6 +1,9 @@
 """Shared test set-up."""
 
 import os
+import shutil
+import tempfile
+from pathlib import Path
 
 import pytest
 
@@ -40,6 +43,31 @@ def _private_cache(tmp_path_factory):
         os.environ.pop("AAEVAL_CACHE_DIR", None)
     else:
         os.environ["AAEVAL_CACHE_DIR"] = old
+
+
+#: Linux's memory file system, where :func:`memory_tmp_path` makes its folders
+MEMORY_FS = Path("/dev/shm")
+MEMORY_FS_FREE = 2 << 30  # bytes it must have free (a container's default /dev/shm is 64 MiB)
+
+
+@pytest.fixture
+def memory_tmp_path(tmp_path):
+    """An empty folder on a memory file system (/dev/shm) where the machine has one with room,
+    else ``tmp_path``; removed after the test.
+
+    For tests that write thousands of small files and check what is written, not how a disk
+    keeps it: creating, writing and renaming them on the ext4 /tmp cost the table test of the
+    shipped configs 15.2 s of system CPU, 1.6 s in memory (the same files, the same calls).
+    """
+    if not (MEMORY_FS.is_dir() and os.access(MEMORY_FS, os.W_OK)
+            and shutil.disk_usage(MEMORY_FS).free > MEMORY_FS_FREE):
+        yield tmp_path
+        return
+    folder = Path(tempfile.mkdtemp(prefix="aaeval-test-", dir=MEMORY_FS))
+    try:
+        yield folder
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 @pytest.fixture

@@ -121,6 +121,9 @@ def _fonttools_quiet():
 
     log = logging.getLogger("fontTools")
     level = log.level
+    if level == logging.CRITICAL:  # held back already (a whole import is): setLevel walks every logger
+        yield
+        return
     log.setLevel(logging.CRITICAL)
     try:
         yield
@@ -299,7 +302,7 @@ def import_text(
     except ImportLimitError as exc:
         raise TextError(str(exc)) from None
     layers = []
-    with budget_scope(VertexBudget()):
+    with budget_scope(VertexBudget()), _fonttools_quiet():
         for size, glyphs in lines:
             for glyph in glyphs:
                 regions = fill_regions(glyph_subpaths(file, glyph, tolerance), "nonzero")

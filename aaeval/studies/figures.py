@@ -81,17 +81,15 @@ STRIP_FRAMES = tuple(range(8))
 CURVE_FRAMES = tuple(range(16))
 
 
-def _without_highlights(path: Path):
-    """The scene of ``path`` with every material's specular term off (ks = 0): its light
-    without the highlights, to subtract from each image."""
-    import tomllib
+def _exact_frames(scene, frames) -> tuple[np.ndarray, np.ndarray]:
+    """The exact shading of each of ``frames`` (the ``catmull:shading=exact`` images) and,
+    subtracted from it, its specular term: the same integral without the highlights (the
+    render with every ks = 0, to rounding), from the one integration."""
+    from aaeval.specular.exact import exact_shading
 
-    from aaeval.scenes.document import parse_scene
-
-    document = tomllib.loads(path.read_text(encoding="utf-8"))
-    for shape in document.get("shaded", {}).get("cylinders", []):
-        shape["material"]["ks"] = 0.0
-    return parse_scene(document, source=f"{path} (ks = 0)")
+    shaded = [exact_shading(scene.at_frame(k)) for k in frames]
+    images = np.stack([s.image for s in shaded])
+    return images, images - np.stack([s.specular for s in shaded])[..., None]  # the specular term is white
 
 
 def _strip_window(scene):
@@ -101,7 +99,6 @@ def _strip_window(scene):
 
 
 def amanatides_plates(folder: Path) -> list[str]:
-    path = SCENES / "shaded" / "cylinders.toml"
     scene = _scene("shaded/cylinders.toml")
     plt = _plt()
     images = [_frames(scene, spec, [0])[0] for spec, _ in PLATES]
@@ -113,8 +110,8 @@ def amanatides_plates(folder: Path) -> list[str]:
     # the strip: the thin cylinder over frames, each method's row; beside it the highlight's light
     # in the probe (the image less the exact render with the specular term off) over the truth's
     # only the strip's window is rendered: its pixels are the full render's crop
-    dull = _frames(_strip_window(_without_highlights(path)), PLATES[0][0], CURVE_FRAMES)
-    rows = [_frames(_strip_window(scene), spec, CURVE_FRAMES) for spec, _ in PLATES]
+    truth, dull = _exact_frames(_strip_window(scene), CURVE_FRAMES)  # the first plate's row: the truth
+    rows = [truth] + [_frames(_strip_window(scene), spec, CURVE_FRAMES) for spec, _ in PLATES[1:]]
     probe = tuple(slice(p.start - w.start, p.stop - w.start) for p, w in zip(PROBE, STRIP))
     light = [(frames - dull)[:, probe[0], probe[1]].sum(axis=(1, 2, 3)) for frames in rows]
     ratio = [e / light[0] for e in light]

@@ -31,7 +31,9 @@ def write_errors(sweep, item: Mapping, study: Study, where: str, checks: list[bo
         truths.append(truth)
         for label in labels_in(of_scene):
             s = of_scene[of_scene["label"] == label]
-            diff = max((_max_abs(store, row) for row in s.itertuples()), default=float("nan"))
+            # two columns, not itertuples: a named tuple class of every column is made per call
+            diff = max((_max_abs(store, key, ref) for key, ref in zip(s["key"], s["reference_key"])),
+                       default=float("nan"))
             worst.setdefault(label, []).append(diff)
             first = float(s[metrics[0]].astype(float).mean())
             errors.setdefault(label, []).append((first, truth))
@@ -58,9 +60,9 @@ def write_errors(sweep, item: Mapping, study: Study, where: str, checks: list[bo
     return out + [""]
 
 
-def _max_abs(store, row) -> float:
-    image = store.load_image(row.key)
-    reference = store.load_reference(row.reference_key)
+def _max_abs(store, key: str, reference_key: str) -> float:
+    image = store.load_image(key)
+    reference = store.load_reference(reference_key)
     if image is None or reference is None:
         return float("nan")
     return float(np.max(np.abs(image - reference)))

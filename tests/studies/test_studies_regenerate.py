@@ -54,15 +54,16 @@ def _check(folder: Path, tmp_path: Path) -> None:
         assert (folder / rel).is_file(), f"{folder.name}/{rel} is shown in the README but not committed"
 
 
+# memory_tmp_path: a sweep folder, its cache and the drawings are hundreds of small files
 @pytest.mark.slow
-def test_the_smallest_study_regenerates_as_committed(tmp_path):
-    _check(SMALLEST, tmp_path)
+def test_the_smallest_study_regenerates_as_committed(memory_tmp_path):
+    _check(SMALLEST, memory_tmp_path)
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("folder", [s for s in STUDIES if s != SMALLEST], ids=lambda p: p.name)
-def test_every_study_regenerates_as_committed(folder, tmp_path):
-    _check(folder, tmp_path)
+def test_every_study_regenerates_as_committed(folder, memory_tmp_path):
+    _check(folder, memory_tmp_path)
 
 
 @pytest.mark.parametrize("folder", STUDIES, ids=lambda p: p.name)

@@ -39,12 +39,12 @@ def _fake_record(p, ref_meta=None) -> dict:
 
 @pytest.mark.slow
 @pytest.mark.parametrize("config", SHIPPED, ids=[p.stem for p in SHIPPED])
-def test_every_cell_of_every_shipped_config_is_one_row_with_its_own_label(config, tmp_path):
+def test_every_cell_of_every_shipped_config_is_one_row_with_its_own_label(config, memory_tmp_path):
     experiment = load_experiment(config)
     planned = plan(experiment)
     keys = [p.key for p in planned]
     assert len(keys) == len(set(keys)), "two cells share a key"
-    store = SweepStore(tmp_path)
+    store = SweepStore(memory_tmp_path)  # thousands of cells, each an image and a record
     store.write_manifest(experiment.text, manifest(experiment, planned))
     written, cells = set(), []
     for p in planned:  # the store checks that every finished cell has its image and reference, of its size
