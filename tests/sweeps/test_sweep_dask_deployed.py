@@ -38,7 +38,8 @@ def _env(tmp_path: Path, answer_within: float = 5) -> dict:
 
 class Deployed:
     """``dask scheduler`` and one ``dask worker`` (one thread, with its nanny), each in a
-    session of its own so that teardown ends it and its children."""
+    session of its own so that teardown ends it and its children. Both start at once: the
+    worker finds the scheduler's address in its scheduler file when it is written."""
 
     def __init__(self, tmp_path: Path):
         self.tmp_path = tmp_path
@@ -46,9 +47,9 @@ class Deployed:
         env = _env(tmp_path)
         self.scheduler = self._start(["scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
                                       "--scheduler-file", str(self.file)], env, "scheduler.log")
+        self.worker = self._start(["worker", "--scheduler-file", str(self.file), "--host", "127.0.0.1", "--nthreads",
+                                   "1", "--nworkers", "1", "--no-dashboard", "--death-timeout", "60"], env, "worker.log")
         self.address = self._address()
-        self.worker = self._start(["worker", self.address, "--host", "127.0.0.1", "--nthreads", "1",
-                                   "--nworkers", "1", "--no-dashboard", "--death-timeout", "60"], env, "worker.log")
 
     def _start(self, args: list[str], env: dict, log: str) -> subprocess.Popen:
         with open(self.tmp_path / log, "wb") as out:
