@@ -162,6 +162,10 @@ class DaskExecutor:
 
         self.max_seconds = task_limit(max_seconds)
         self.answer_within = env_seconds("AAEVAL_DASK_TIMEOUT", CONNECT_TIMEOUT)
+        # a scheduler that is there answers a question in milliseconds: where the sweep only
+        # asks whether it is (a count for the records, after a lost connection), one that
+        # does not answer within this is taken as gone, not waited for the whole timeout
+        self._quick = min(1.0, self.answer_within / 3)
         self._own = not isinstance(address, Client)
         self.client = connect(address)
         self._quiet = quiet_distributed().__enter__()  # until close(): a lost scheduler is said in one line
@@ -173,9 +177,11 @@ class DaskExecutor:
         self.description = f"Dask cluster {self.address} ({self.workers} workers)"
         self.lost: SchedulerLost | None = None
 
-    def _live_workers(self) -> int:
+    def _live_workers(self, within: float | None = None) -> int:
+        """How many workers the scheduler has, asked with an answer due within ``within``
+        seconds (default ``AAEVAL_DASK_TIMEOUT``); 0 when none comes."""
         try:
-            n = len(scheduler_workers(self.client, self.answer_within))
+            n = len(scheduler_workers(self.client, self.answer_within if within is None else within))
         except Exception:  # noqa: BLE001 - no answer: none known
             n = 0
         self._counted = (time.monotonic(), n)
@@ -188,7 +194,7 @@ class DaskExecutor:
         it has stopped answering)."""
         when, n = self._counted
         if time.monotonic() - when >= RECOUNT_SECONDS:
-            n = self._live_workers()
+            n = self._live_workers(self._quick)
         if n == self.started_with or n == 0:
             return {"executor": self.description, "workers": self.workers}
         change = f"{self.started_with - n} lost" if n < self.started_with else f"{n - self.started_with} joined"
@@ -245,7 +251,8 @@ class DaskExecutor:
         except GeneratorExit:  # the caller stopped reading
             raise
         except BaseException as exc:  # noqa: BLE001 - a lost connection comes in many classes
-            if self.client.status == "running" and not isinstance(exc, SchedulerLost) and self._live_workers():
+            if (self.client.status == "running" and not isinstance(exc, SchedulerLost)
+                    and self._live_workers(self._quick)):
                 raise  # the cluster is fine: not ours to hide
             if isinstance(exc, SchedulerLost):  # said already: which and why
                 self.lost = exc
@@ -262,7 +269,7 @@ class DaskExecutor:
         or the scheduler answers but has no worker left to fetch it from)."""
         # the last part of the wait asks whether the scheduler answers at all: all of it is
         # AAEVAL_DASK_TIMEOUT, as stated
-        ask = min(1.0, self.answer_within / 3)
+        ask = self._quick
         deadline = time.monotonic() + self.answer_within - ask
         while True:
             try:
