@@ -29,6 +29,12 @@ __all__ = ["DaskExecutor", "connect", "close_quietly", "quiet_distributed", "sch
 CONNECT_TIMEOUT = 20.0
 WORKER_TIMEOUT = 60.0
 
+#: Seconds a count of the cluster's workers stands for the records written after it.
+RECOUNT_SECONDS = 1.0
+
+#: Seconds between two looks at the cluster while a sweep waits (:class:`_ClusterWatch`): a
+#: task past its time limit, or a cluster left without workers, is seen within this.
+CHECK_SECONDS = 0.5
 
 
 def connect(address: Any):
@@ -113,20 +119,22 @@ def _client_within(Client, address: Any, timeout: float):
 
     Client's own ``timeout`` bounds the TCP connect, not the handshake after it: a peer that
     accepts the connection and never answers (a wrong port, a stalled scheduler) held it
-    forever. So the Client is built in a thread the sweep waits for at most ``timeout`` (plus
-    a little for its own timeout to fire first); a thread still waiting is abandoned (a
-    daemon: it ends with the process)."""
+    forever. So the Client is built in a thread the sweep waits for ``timeout`` seconds, the
+    stated wait, and no longer; the Client's own connect gives up a little before that (a
+    quarter of the wait, at most half a second), so that its error, which says why (a refused
+    connection, an unknown host), comes first where it comes at all. A thread still waiting
+    is abandoned (a daemon: it ends with the process)."""
     box: dict = {}
 
     def build() -> None:
         try:
-            box["client"] = Client(address, timeout=f"{timeout}s")
+            box["client"] = Client(address, timeout=f"{timeout - min(0.5, timeout / 4)}s")
         except BaseException as exc:  # noqa: BLE001 - handed to the waiting thread
             box["error"] = exc
 
     thread = threading.Thread(target=build, name="aaeval-dask-connect", daemon=True)
     thread.start()
-    thread.join(timeout + 2)
+    thread.join(timeout)
     if "client" in box:
         return box["client"]
     exc = box.get("error")
@@ -154,6 +162,10 @@ class DaskExecutor:
 
         self.max_seconds = task_limit(max_seconds)
         self.answer_within = env_seconds("AAEVAL_DASK_TIMEOUT", CONNECT_TIMEOUT)
+        # a scheduler that is there answers a question in milliseconds: where the sweep only
+        # asks whether it is (a count for the records, after a lost connection), one that
+        # does not answer within this is taken as gone, not waited for the whole timeout
+        self._quick = min(1.0, self.answer_within / 3)
         self._own = not isinstance(address, Client)
         self.client = connect(address)
         self._quiet = quiet_distributed().__enter__()  # until close(): a lost scheduler is said in one line
@@ -165,15 +177,24 @@ class DaskExecutor:
         self.description = f"Dask cluster {self.address} ({self.workers} workers)"
         self.lost: SchedulerLost | None = None
 
-    def _live_workers(self) -> int:
+    def _live_workers(self, within: float | None = None) -> int:
+        """How many workers the scheduler has, asked with an answer due within ``within``
+        seconds (default ``AAEVAL_DASK_TIMEOUT``); 0 when none comes."""
         try:
-            return len(scheduler_workers(self.client, self.answer_within))
+            n = len(scheduler_workers(self.client, self.answer_within if within is None else within))
         except Exception:  # noqa: BLE001 - no answer: none known
-            return 0
+            n = 0
+        self._counted = (time.monotonic(), n)
+        return n
 
     def current(self) -> dict:
-        """The executor as a record's ``executor`` and ``workers`` fields, now."""
-        n = self._live_workers()
+        """The executor as a record's ``executor`` and ``workers`` fields, as counted at most
+        :data:`RECOUNT_SECONDS` ago: the scheduler is asked once a second, not once a record
+        (a round trip each on a remote cluster, and a whole ``AAEVAL_DASK_TIMEOUT`` each when
+        it has stopped answering)."""
+        when, n = self._counted
+        if time.monotonic() - when >= RECOUNT_SECONDS:
+            n = self._live_workers(self._quick)
         if n == self.started_with or n == 0:
             return {"executor": self.description, "workers": self.workers}
         change = f"{self.started_with - n} lost" if n < self.started_with else f"{n - self.started_with} joined"
@@ -230,7 +251,8 @@ class DaskExecutor:
         except GeneratorExit:  # the caller stopped reading
             raise
         except BaseException as exc:  # noqa: BLE001 - a lost connection comes in many classes
-            if self.client.status == "running" and not isinstance(exc, SchedulerLost) and self._live_workers():
+            if (self.client.status == "running" and not isinstance(exc, SchedulerLost)
+                    and self._live_workers(self._quick)):
                 raise  # the cluster is fine: not ours to hide
             if isinstance(exc, SchedulerLost):  # said already: which and why
                 self.lost = exc
@@ -245,7 +267,10 @@ class DaskExecutor:
         since (:class:`SchedulerLost` after ``AAEVAL_DASK_TIMEOUT`` seconds); the worker that
         held it may have died since (:class:`_ResultLost`: the task is not finished any more,
         or the scheduler answers but has no worker left to fetch it from)."""
-        deadline = time.monotonic() + self.answer_within
+        # the last part of the wait asks whether the scheduler answers at all: all of it is
+        # AAEVAL_DASK_TIMEOUT, as stated
+        ask = self._quick
+        deadline = time.monotonic() + self.answer_within - ask
         while True:
             try:
                 return future.result(timeout=min(0.5, max(0.05, deadline - time.monotonic())))
@@ -258,7 +283,7 @@ class DaskExecutor:
                     # the scheduler may still be asking the dead worker (Dask's connect timeout);
                     # one that does not answer at once has already had its wait
                     try:
-                        workers = scheduler_workers(self.client, min(1.0, self.answer_within))
+                        workers = scheduler_workers(self.client, ask)
                     except SchedulerLost:
                         raise _no_answer(self.client, self.answer_within, exc) from None
                     if not workers:
@@ -285,10 +310,11 @@ def _short(exc: BaseException, limit: int = 300) -> str:
 
 
 class _ClusterWatch:
-    """What a Dask sweep checks while it waits (once a second): a task processing past the
-    time limit is cancelled and its worker restarted where it has a nanny (Dask cannot stop a
-    running task otherwise); a cluster left without any worker for ``AAEVAL_DASK_WORKER_TIMEOUT``
-    seconds ends the sweep, naming it (its tasks would wait forever)."""
+    """What a Dask sweep checks while it waits (every :data:`CHECK_SECONDS`): a task
+    processing past the time limit is cancelled and its worker restarted where it has a
+    nanny (Dask cannot stop a running task otherwise); a cluster left without any worker for
+    ``AAEVAL_DASK_WORKER_TIMEOUT`` seconds ends the sweep, naming it (its tasks would wait
+    forever)."""
 
     def __init__(self, executor: "DaskExecutor"):
         self.executor = executor
@@ -301,7 +327,7 @@ class _ClusterWatch:
         now = time.monotonic()
         if now < self.next_check:
             return []
-        self.next_check = now + 1.0
+        self.next_check = now + CHECK_SECONDS
         ex = self.executor
         if not scheduler_workers(ex.client, ex.answer_within):  # a scheduler that does not answer ends the sweep
             self.empty_since = self.empty_since or now
@@ -313,7 +339,7 @@ class _ClusterWatch:
         self.empty_since = None
         try:
             processing = ex.client.sync(ex.client.scheduler.processing, workers=None, callback_timeout=ex.answer_within)
-        except Exception:  # noqa: BLE001 - no answer now: checked again in a second
+        except Exception:  # noqa: BLE001 - no answer now: checked again at the next look
             return []
         late, workers = [], set()
         running = {}

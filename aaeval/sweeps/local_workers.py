@@ -17,10 +17,12 @@ when it is gone, so even a ``kill -9`` of the sweep leaves no orphan computing.
 
 from __future__ import annotations
 
+import atexit
 import math
 import multiprocessing
 import os
 import signal
+import sys
 import threading
 import time
 from collections import deque
@@ -108,6 +110,20 @@ def _exit_with_parent(parent: int) -> None:
     threading.Thread(target=watch, name="aaeval-parent-watch", daemon=True).start()
 
 
+def _exit_now(code: int) -> None:
+    """End this worker without the interpreter's teardown (a tenth of a second or more of
+    freeing modules, which the sweep waits for): its answers went back over the pipe and it
+    owns nothing that needs freeing. Its exit handlers still run (a coverage run saves its
+    data there) and what a method printed is flushed."""
+    atexit._run_exitfuncs()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except Exception:  # noqa: BLE001 - a closed or broken stream: nothing to keep
+            pass
+    os._exit(code)
+
+
 def _worker_main(conn, parent: int) -> None:
     """A local worker: run ``(fn, args)`` messages one at a time, answer ``(ok, value)``."""
     # Ctrl-C reaches the whole process group: the sweep decides, and ends its workers itself
@@ -121,7 +137,7 @@ def _worker_main(conn, parent: int) -> None:
         except (EOFError, OSError):
             return
         if message is None:
-            return
+            _exit_now(0)
         fn, args = message
         try:
             answer = (True, fn(*args))

@@ -19,7 +19,7 @@ from tests.helpers.sweep_util import slow_config, slow_sweep, still_running, wri
 @pytest.mark.parametrize("signum, code", [(signal.SIGTERM, 143), (signal.SIGHUP, 129)])
 def test_kill_ends_the_workers_keeps_finished_cells_and_says_interrupted(tmp_path, signum, code):
     config, out = write_config(tmp_path, slow_config("signals", 40)), tmp_path / "out"
-    proc = slow_sweep(config, out, tmp_path / "cache", workers=2, pause=0.4, cwd=tmp_path, stdout=subprocess.PIPE,
+    proc = slow_sweep(config, out, tmp_path / "cache", workers=2, pause=0.2, cwd=tmp_path, stdout=subprocess.PIPE,
                       stderr=subprocess.PIPE)
     family: list[psutil.Process] = []
     try:
