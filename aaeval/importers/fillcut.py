@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from aaeval.importers.fillpairs import candidate_pairs
+from aaeval.importers.fillpairs import candidate_pairs, distinct
 from aaeval.importers.limits import MAX_EDGES, FillError
 
 __all__ = ["edge_vertices", "cut_edges", "merge_edges", "cross"]
@@ -82,20 +82,8 @@ def cut_edges(pts, ea, eb, w, eps, active=None):
     i, j = candidate_pairs(lo, hi, eps, active)
     split_edge, split_vid, new_points, new_edges = [], [], [], []
     if len(i):
-        # end points of one edge on the interior of the other (both ways)
-        for e, f in ((i, j), (j, i)):
-            for end in (ea, eb):
-                v = end[f]
-                on = (v != ea[e]) & (v != eb[e])
-                p, a, b = pts[v], A[e], B[e]
-                d = b - a
-                length2 = (d * d).sum(axis=1)
-                t = ((p - a) * d).sum(axis=1) / length2
-                dist = np.abs(cross(d[:, 0], d[:, 1], p[:, 0] - a[:, 0], p[:, 1] - a[:, 1])) / np.sqrt(length2)
-                on &= (dist <= eps) & (t > 0.0) & (t < 1.0)
-                split_edge.append(e[on])
-                split_vid.append(v[on])
-        # proper crossings: no end point of one on the other (those are splits above)
+        # proper crossings: no end point of one on the other (those are splits below); counted
+        # first, so an outline refused for its crossings costs no more than counting them
         a, b, c, d = A[i], B[i], A[j], B[j]
         shared = (ea[i] == ea[j]) | (ea[i] == eb[j]) | (eb[i] == ea[j]) | (eb[i] == eb[j])
         ab, cd = b - a, d - c
@@ -112,6 +100,19 @@ def cut_edges(pts, ea, eb, w, eps, active=None):
             x = a[proper] + t[:, None] * ab[proper]
             new_points.append(x)
             new_edges.append((i[proper], j[proper]))
+        # end points of one edge on the interior of the other (both ways)
+        for e, f in ((i, j), (j, i)):
+            for end in (ea, eb):
+                v = end[f]
+                on = (v != ea[e]) & (v != eb[e])
+                p, a, b = pts[v], A[e], B[e]
+                d = b - a
+                length2 = (d * d).sum(axis=1)
+                t = ((p - a) * d).sum(axis=1) / length2
+                dist = np.abs(cross(d[:, 0], d[:, 1], p[:, 0] - a[:, 0], p[:, 1] - a[:, 1])) / np.sqrt(length2)
+                on &= (dist <= eps) & (t > 0.0) & (t < 1.0)
+                split_edge.append(e[on])
+                split_vid.append(v[on])
     if new_points:
         x = np.concatenate(new_points)
         ei = np.concatenate([p[0] for p in new_edges])
@@ -125,7 +126,7 @@ def cut_edges(pts, ea, eb, w, eps, active=None):
         old_lab = lab[:n0]
         rep[old_lab] = np.arange(n0)  # existing vertices keep their ids (clusters of old ones: last wins)
         new_lab = lab[n0:]
-        fresh = np.unique(new_lab[rep[new_lab] < 0])
+        fresh = distinct(new_lab[rep[new_lab] < 0])
         rep[fresh] = n0 + np.arange(len(fresh))
         pts = np.concatenate([pts, uniq[fresh]])
         vid = rep[new_lab]

@@ -13,7 +13,7 @@ import numpy as np
 
 from aaeval.importers.limits import MAX_PAIRS, FillError
 
-__all__ = ["candidate_pairs", "ALL_PAIRS_EDGES"]
+__all__ = ["candidate_pairs", "distinct", "ALL_PAIRS_EDGES"]
 
 
 #: Up to this many edges every pair is checked at once: a glyph's outline (40 edges typically)
@@ -77,8 +77,19 @@ def candidate_pairs(lo, hi, eps, active=None):
         ok &= active[i] | active[j]
     i, j = i[ok], j[ok]
     ok = np.all(lo[i] <= hi[j] + eps, axis=1) & np.all(lo[j] <= hi[i] + eps, axis=1)
-    code = np.unique(i[ok] * n + j[ok])
+    code = distinct(i[ok] * n + j[ok])
     return code // n, code % n
+
+
+def distinct(values: np.ndarray) -> np.ndarray:
+    """The distinct values of an integer array, sorted: ``np.unique(values)`` by a sort.
+
+    NumPy 2.3 and later find ``np.unique``'s values by hashing, which on millions of
+    distinct integers (the pair codes of a self-crossing outline) is about 15 times slower
+    than sorting them (2 million: 2.1 s against 0.13 s).
+    """
+    values = np.sort(values, axis=None)
+    return values[np.r_[True, values[1:] != values[:-1]]] if len(values) else values
 
 
 def _all_pairs(lo, hi, eps, active):
