@@ -69,7 +69,10 @@ def check_frames(scene: Scene, frames: int, where: str, specs: tuple[str | Metho
 
 
 def check_budget(scene: Scene, method: Method, options: Mapping[str, Any]) -> None:
-    """Refuse, with the estimate, a render whose samples, memory or time cannot fit."""
+    """Refuse a scene the method must not draw (:attr:`Method.check`), then, with the
+    estimate, a render whose samples, memory or time cannot fit."""
+    if method.check is not None:
+        method.check(scene, options)
     pixels = scene.width * scene.height
     where = f"{scene.source}: method {method.name!r} on a {scene.width}x{scene.height} image"
     if method.samples is not None:

@@ -43,6 +43,8 @@ class Method:
     memory: Callable[[Scene, Mapping[str, Any]], int] | None = None
     # estimated seconds of the render, for a scene and options (None: not estimated)
     seconds: Callable[[Scene, Mapping[str, Any]], float] | None = None
+    # refuses (MethodError) a scene the method must not draw, before the budget and the clock
+    check: Callable[[Scene, Mapping[str, Any]], None] | None = None
     # whether it draws the scene's polygons itself (and so runs the near-tie pass over them);
     # False for one that hands the scene to another renderer (Mitsuba)
     draws_polygons: bool = True
@@ -74,6 +76,7 @@ def register_method(
     samples: Callable[[Mapping[str, Any]], int] | None = None,
     memory: Callable[[Scene, Mapping[str, Any]], int] | None = None,
     seconds: Callable[[Scene, Mapping[str, Any]], float] | None = None,
+    check: Callable[[Scene, Mapping[str, Any]], None] | None = None,
     draws_polygons: bool = True,
     speed_baseline: str | None = None,
 ):
@@ -84,11 +87,13 @@ def register_method(
     beyond the image) and ``seconds(scene, options)`` (the render's estimated time) let
     :func:`aaeval.renderers.budget.check_budget` refuse requests that cannot fit;
     :func:`aaeval.renderers.cost.scene_load` gives the counts an estimate is built from.
+    ``check(scene, options)``, called there first, refuses a scene the method must not draw
+    (raising :class:`MethodError`): work that is no part of the render, so not timed.
     """
 
     def decorate(func):
         METHODS.add(name, Method(name, func, dict(options or {}), summary, exact, warmup, requires, samples, memory,
-                                 seconds, draws_polygons, speed_baseline))
+                                 seconds, check, draws_polygons, speed_baseline))
         return func
 
     return decorate if func is None else decorate(func)

@@ -9,7 +9,10 @@ So its differences from the exact image are resvg's own: coverage per shape from
 supersampled scanlines (tiny-skia, after Skia's SkScan_AntiPath: edges snap to 1/4 px),
 conflation where shapes abut, blending in sRGB rather than linear light, 8-bit output,
 and its own curve flattening. Scenes without an ``[svg]`` table, or whose import ignored something
-(resvg would draw it), are refused.
+(resvg would draw it), are refused, and so is a source the importer refuses (before the render
+and its clock, :func:`check_source`): the scene cannot be that SVG's import then, and what the
+importer's limits stop can cost resvg minutes (a path of 100,000 edges crossing each other:
+every crossing a reordering of tiny-skia's active edges, 17 s a render at 24 x 24 px).
 
 The source is read through the bounded reader (:mod:`aaeval.readlimits`) and parsed before
 resvg sees it: a file that is not SVG (not XML, empty, an entity bomb) is refused in one line
@@ -22,6 +25,8 @@ nested, it would take 100% of the canvas and be scaled twice.
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import io
 import math
 import xml.etree.ElementTree as ET
@@ -32,7 +37,7 @@ from aaeval.readlimits import read_bytes
 from aaeval.renderers.registry import MethodError, register_method, required_table
 from aaeval.scenes import Scene
 
-__all__ = ["render_resvg", "placed_svg"]
+__all__ = ["render_resvg", "placed_svg", "check_source"]
 
 SVG_NS = "http://www.w3.org/2000/svg"
 
@@ -133,11 +138,40 @@ def _warmup() -> None:
     resvg_py.svg_to_bytes(svg_string='<svg xmlns="http://www.w3.org/2000/svg" width="4" height="4"><rect width="2" height="3"/></svg>')
 
 
+def check_source(scene: Scene, options) -> None:
+    """Refuse a scene whose SVG source the importer refuses, in the importer's words
+    (:attr:`aaeval.renderers.registry.Method.check`): resvg draws faithfully imported SVGs
+    only. The source is imported once per process for each content, scale and tolerance."""
+    from aaeval.scenes.sources import source_path
+
+    svg = required_table(scene, "resvg")
+    path = source_path(scene.source, svg.file)
+    data = read_bytes(path, what="SVG ([svg].file)")
+    refusal = _import_refusal(str(path), hashlib.blake2b(data).hexdigest(), float(svg.scale), float(svg.tolerance))
+    if refusal is not None:
+        raise SourceError(f"{scene.source}: method 'resvg' draws faithfully imported SVGs only, and the import "
+                          f"refuses the source: {refusal}")
+
+
+@functools.lru_cache(maxsize=64)
+def _import_refusal(path: str, digest: str, scale: float, tolerance: float) -> str | None:
+    """The importer's one-line refusal of the SVG at ``path`` (``digest``: its content, so an
+    edited file is imported again), or None when it imports."""
+    from aaeval.importers.svg import import_svg
+
+    try:
+        import_svg(path, tolerance=tolerance, scale=scale)
+    except ValueError as exc:  # SvgError and the import's limits
+        return _one_line(exc)
+    return None
+
+
 @register_method(
     "resvg",
     summary="resvg SVG renderer on scenes imported from SVG: per-shape analytic AA, sRGB 8-bit blending",
     warmup=_warmup,
     requires="svg",
+    check=check_source,
 )
 def render_resvg(scene: Scene) -> np.ndarray:
     import resvg_py

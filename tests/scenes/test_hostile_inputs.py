@@ -157,6 +157,23 @@ def test_resvg_refuses_a_use_bomb_in_one_line(tmp_path, capsys, monkeypatch):
     refused(["render", str(svg_scene(tmp_path, "bomb.svg")), "-m", "resvg", "-o", "x.npy"], capsys, "bomb.svg")
 
 
+def test_resvg_refuses_a_source_the_import_refuses_before_drawing_it(tmp_path, capsys, monkeypatch):
+    """A scene whose source the importer refuses cannot be that source's import: resvg
+    refuses it in the importer's words and draws nothing (an 801-point star crosses itself
+    into 640,000 edges; the 100,000-point one the fuzz test met took resvg 17 s a render)."""
+    import math
+
+    monkeypatch.chdir(tmp_path)
+    n, k = 801, 399
+    points = " L".join(f"{4 + 3 * math.cos(2 * math.pi * k * i / n):.4f} {4 + 3 * math.sin(2 * math.pi * k * i / n):.4f}"
+                       for i in range(n))
+    (tmp_path / "star.svg").write_text(f'<svg xmlns="http://www.w3.org/2000/svg" width="8" height="8">'
+                                       f'<path d="M{points} Z"/></svg>')
+    err = refused(["render", str(svg_scene(tmp_path, "star.svg")), "-m", "resvg", "-o", "x.npy"], capsys, "star.svg",
+                  "the import refuses the source", "crosses itself", written=[tmp_path / "x.npy"])
+    assert "over the limit of" in err
+
+
 def test_resvg_still_draws_internal_references(tmp_path, monkeypatch):
     from aaeval.renderers import render
     from aaeval.scenes import load_scene
